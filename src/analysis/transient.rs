@@ -1,0 +1,486 @@
+//! Time integration of the coupled system driven by the stacks' voltages.
+//!
+//! The run advances whole drive periods. Because F_p depends on the voltage alone, each
+//! period's stack forces are computed up front (h exact in voltage space), then the
+//! Newmark loop steps through the period. At each period end the mean power at every
+//! interface point and the RMS of every transmitted force are compared with the previous
+//! period; the run is in steady state when both change by less than the tolerance.
+
+use crate::assembly::{Model, System};
+use crate::error::{Error, Result};
+use crate::post::power::{mean_product, EnergyBalance};
+use crate::post::spectra::{harmonics, power_from_acceleration, power_per_harmonic};
+use crate::solve::newmark::{Newmark, Scheme};
+use num_complex::Complex64;
+use serde::Serialize;
+use std::collections::VecDeque;
+
+/// How to run.
+#[derive(Clone, Debug)]
+pub struct TransientSettings {
+    pub dt: Option<f64>,
+    pub periods: Option<usize>,
+    pub duration: Option<f64>,
+    pub scheme: Scheme,
+    pub steady_state: bool,
+    pub tolerance: f64,
+    pub max_periods: usize,
+    /// Highest harmonic of the drive analysed (sets the Δt limit and the spectra length).
+    pub harmonics: usize,
+    /// Periods kept at the end of the run for output.
+    pub record_periods: usize,
+}
+
+impl Default for TransientSettings {
+    fn default() -> Self {
+        TransientSettings { dt: None, periods: None, duration: None, scheme: Scheme::average_acceleration(), steady_state: true, tolerance: 1e-4, max_periods: 400, harmonics: 9, record_periods: 3 }
+    }
+}
+
+/// Time histories of one link (stack or leg), SI units.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct LinkSeries {
+    pub actuator: usize,
+    pub name: String,
+    /// Foot position on the beam (m), None on the rigid ground.
+    pub foot_x: Option<f64>,
+    /// Stretch u = z_top − z_foot (m) and its rate (m/s).
+    pub stretch: Vec<f64>,
+    pub stretch_rate: Vec<f64>,
+    /// Components of the transmitted force (N): k·u, c·u̇, −F_p.
+    pub f_stiffness: Vec<f64>,
+    pub f_damping: Vec<f64>,
+    pub f_pzt: Vec<f64>,
+    /// Force on the base at the foot, positive up (N).
+    pub transmitted: Vec<f64>,
+    /// Force across the actuator–structure interface: transmitted minus foot-mass inertia (N).
+    pub interface: Vec<f64>,
+    /// Base velocity (m/s) and acceleration (m/s²) at the foot.
+    pub base_velocity: Vec<f64>,
+    pub base_acceleration: Vec<f64>,
+    /// Instantaneous power into the base at the foot (W).
+    pub power: Vec<f64>,
+}
+
+/// History of one body DOF (m or rad, and rates).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct BodySeries {
+    pub actuator: usize,
+    pub dof: String,
+    pub q: Vec<f64>,
+    pub q_dot: Vec<f64>,
+    pub q_ddot: Vec<f64>,
+}
+
+/// The drive of one actuator: voltage (V), hysteretic displacement h (m), free stroke
+/// δ = d_p·V − h (m), active force F_p (N).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DriveSeries {
+    pub actuator: usize,
+    pub voltage: Vec<f64>,
+    pub h: Vec<f64>,
+    pub stroke: Vec<f64>,
+    pub f_p: Vec<f64>,
+}
+
+/// Beam motion at a sensor: w (m), ẇ (m/s), ẅ (m/s²).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SensorSeries {
+    pub name: String,
+    pub x: f64,
+    pub w: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+}
+
+/// Harmonic content of a link's signals over the last period, k = 0..=harmonics.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct LinkSpectrum {
+    /// Frequencies k·f₀ (Hz).
+    pub frequency: Vec<f64>,
+    #[serde(skip)]
+    pub transmitted: Vec<Complex64>,
+    #[serde(skip)]
+    pub interface: Vec<Complex64>,
+    #[serde(skip)]
+    pub velocity: Vec<Complex64>,
+    #[serde(skip)]
+    pub acceleration: Vec<Complex64>,
+    /// Power per harmonic from force and velocity (W).
+    pub power: Vec<f64>,
+    /// Power per harmonic from force and acceleration, as measured (W).
+    pub power_from_acceleration: Vec<f64>,
+    /// Σ over all harmonics up to Nyquist (equals the mean power).
+    pub power_total: f64,
+}
+
+/// Energy balances of the beam (interface work in) and of the whole system (stack work in).
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct Balances {
+    pub beam: EnergyBalance,
+    pub system: EnergyBalance,
+}
+
+/// Result of a transient run.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct TransientResult {
+    /// Time step used (s) and drive period (s).
+    pub dt: f64,
+    pub period: f64,
+    pub steps_per_period: usize,
+    pub periods_run: usize,
+    pub steps_run: usize,
+    /// Whether the steady-state criterion was met, and the last relative change.
+    pub converged: bool,
+    pub final_change: f64,
+    /// Times of the recorded window (s).
+    pub t: Vec<f64>,
+    pub links: Vec<LinkSeries>,
+    pub bodies: Vec<BodySeries>,
+    pub drives: Vec<DriveSeries>,
+    pub sensors: Vec<SensorSeries>,
+    /// Mean power into the base at each link's foot over the last period (W).
+    pub mean_power: Vec<f64>,
+    /// Net mean power into the base per actuator (W).
+    pub net_power: Vec<f64>,
+    pub spectra: Vec<LinkSpectrum>,
+    /// Over the whole run, and over the last period.
+    pub energy_run: Balances,
+    pub energy_last_period: Balances,
+    /// Mean power dissipated in the beam over the last period (W).
+    pub beam_dissipation: f64,
+}
+
+/// Per-sample raw channels of one period.
+#[derive(Clone, Default)]
+struct PeriodRecord {
+    t: Vec<f64>,
+    /// [link] → samples
+    u: Vec<Vec<f64>>,
+    ud: Vec<Vec<f64>>,
+    fv: Vec<Vec<f64>>,
+    fa: Vec<Vec<f64>>,
+    /// [body dof] → samples
+    q: Vec<Vec<f64>>,
+    qd: Vec<Vec<f64>>,
+    qdd: Vec<Vec<f64>>,
+    /// [actuator] → samples
+    v: Vec<Vec<f64>>,
+    h: Vec<Vec<f64>>,
+    fp: Vec<Vec<f64>>,
+    /// [sensor] → samples
+    sw: Vec<Vec<f64>>,
+    sv: Vec<Vec<f64>>,
+    sa: Vec<Vec<f64>>,
+}
+
+impl PeriodRecord {
+    fn new(nl: usize, nb: usize, na: usize, ns: usize, cap: usize) -> Self {
+        let mk = |k: usize| vec![Vec::with_capacity(cap); k];
+        PeriodRecord { t: Vec::with_capacity(cap), u: mk(nl), ud: mk(nl), fv: mk(nl), fa: mk(nl), q: mk(nb), qd: mk(nb), qdd: mk(nb), v: mk(na), h: mk(na), fp: mk(na), sw: mk(ns), sv: mk(ns), sa: mk(ns) }
+    }
+
+    fn append(&mut self, o: &PeriodRecord) {
+        self.t.extend(&o.t);
+        for (a, b) in [(&mut self.u, &o.u), (&mut self.ud, &o.ud), (&mut self.fv, &o.fv), (&mut self.fa, &o.fa), (&mut self.q, &o.q), (&mut self.qd, &o.qd), (&mut self.qdd, &o.qdd), (&mut self.v, &o.v), (&mut self.h, &o.h), (&mut self.fp, &o.fp), (&mut self.sw, &o.sw), (&mut self.sv, &o.sv), (&mut self.sa, &o.sa)] {
+            for (x, y) in a.iter_mut().zip(b) {
+                x.extend(y);
+            }
+        }
+    }
+}
+
+/// The time grid of a run: step, samples per period and the period (s).
+pub fn time_grid(model: &Model, s: &TransientSettings) -> Result<(f64, usize, f64, bool)> {
+    let first = model.actuators.first().ok_or_else(|| Error::input("<case>", "actuator", "a transient analysis needs at least one actuator to drive the system"))?;
+    let period = first.stack().voltage.period();
+    for (i, a) in model.actuators.iter().enumerate().skip(1) {
+        let p = a.stack().voltage.period();
+        if let (Some(p0), Some(pi)) = (period, p) {
+            let ratio = p0.max(pi) / p0.min(pi);
+            if (ratio - ratio.round()).abs() > 1e-9 {
+                return Err(Error::input("<case>", format!("actuator[{i}].voltage"), "all actuators must share a common drive period for a periodic transient"));
+            }
+        }
+    }
+    match period {
+        Some(p) if s.duration.is_none() => {
+            let p = model.actuators.iter().filter_map(|a| a.stack().voltage.period()).fold(p, f64::max);
+            let f0 = 1.0 / p;
+            let dt_max = 1.0 / (20.0 * s.harmonics as f64 * first.stack().voltage.fundamental_frequency().unwrap_or(f0));
+            let n = match s.dt {
+                Some(dt) => {
+                    if dt > dt_max * (1.0 + 1e-12) {
+                        return Err(Error::input("<case>", "analysis.dt", format!("Δt = {dt} s is too coarse for harmonic {} of the drive: it must not exceed 1/20 of that harmonic's period, {dt_max:.6e} s", s.harmonics)));
+                    }
+                    (p / dt - 1e-9).ceil() as usize
+                }
+                None => ((p / dt_max).ceil() as usize).max(200),
+            };
+            Ok((p / n as f64, n, p, true))
+        }
+        _ => {
+            let d = s.duration.ok_or_else(|| Error::input("<case>", "analysis.duration", "a non-periodic drive needs `duration`"))?;
+            let hf = model.actuators.iter().filter_map(|a| a.stack().voltage.highest_frequency()).fold(0.0, f64::max);
+            let dt = match (s.dt, hf > 0.0) {
+                (Some(dt), _) => dt,
+                (None, true) => 1.0 / (20.0 * hf),
+                (None, false) => return Err(Error::input("<case>", "analysis.dt", "the drive has no frequency to derive a time step from: give `dt`")),
+            };
+            let n = (d / dt - 1e-9).ceil() as usize;
+            Ok((d / n as f64, n, d, false))
+        }
+    }
+}
+
+/// Runs the transient.
+pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<TransientResult> {
+    let (dt, n_per, period, periodic) = time_grid(model, s)?;
+    let n = sys.n();
+    let na = model.actuators.len();
+    let nl = sys.links.len();
+    let body_dofs: Vec<(usize, String, usize)> = sys.dofs.bodies.iter().enumerate().flat_map(|(a, ds)| {
+        let names = model.actuators[a].component().dof_names;
+        ds.iter().enumerate().map(move |(k, &d)| (a, names[k].to_string(), d)).collect::<Vec<_>>()
+    }).collect();
+    let sensor_dofs: Vec<Option<usize>> = model.sensors.iter().map(|se| sys.w_dof_at(model, se.x, "sensor")).collect::<Result<_>>()?;
+
+    let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, s.scheme, dt)?;
+    let stacks: Vec<_> = model.actuators.iter().map(|a| a.stack().clone()).collect();
+    let mut h_now: Vec<f64> = stacks.iter().map(|st| st.h0).collect();
+    let mut f = vec![0.0; n];
+    let load = |f: &mut [f64], fp: &[f64]| {
+        f.iter_mut().for_each(|x| *x = 0.0);
+        for (a, b) in sys.drives.iter().enumerate() {
+            for &(d, c) in b {
+                f[d] += c * fp[a];
+            }
+        }
+    };
+    let fp0: Vec<f64> = stacks.iter().enumerate().map(|(a, st)| if st.hysteresis_on { st.active_force(st.voltage.value(0.0), h_now[a]) } else { st.active_force(st.voltage.value(0.0), 0.0) }).collect();
+    load(&mut f, &fp0);
+    let zeros = vec![0.0; n];
+    nm.initialize(&zeros, &zeros, &f, &mut [])?;
+
+    let total_periods = if !periodic { 1 } else if let Some(p) = s.periods { p } else if s.steady_state { s.max_periods } else { 1 };
+    let keep = if periodic { s.record_periods.max(1) } else { 1 };
+    let mut window: VecDeque<PeriodRecord> = VecDeque::new();
+    let mut prev_metrics: Option<Vec<f64>> = None;
+    let mut converged = false;
+    let mut final_change = f64::NAN;
+    let mut periods_run = 0;
+    let mut run_bal = Balances::default();
+    let mut per_bal = Balances::default();
+    let stored = |nm: &Newmark| -> (f64, f64) {
+        let eb = 0.5 * sys.m_beam.bilinear(&nm.v, &nm.v) + 0.5 * sys.k_beam.bilinear(&nm.u, &nm.u);
+        let es = 0.5 * sys.m.bilinear(&nm.v, &nm.v) + 0.5 * sys.k.bilinear(&nm.u, &nm.u);
+        (eb, es)
+    };
+    let (eb_start, es_start) = stored(&nm);
+    let mut v_old = vec![0.0; n];
+    let mut vbar = vec![0.0; n];
+    let mut cv = vec![0.0; n];
+    let mut fp_prev = fp0.clone();
+    let mut fint_prev = vec![0.0; nl];
+    let mut vfoot_prev = vec![0.0; nl];
+    let link_state = |nm: &Newmark, l: usize, fp: &[f64]| -> (f64, f64, f64, f64, f64) {
+        let lk = &sys.links[l];
+        let u: f64 = lk.stretch.iter().map(|&(d, c)| c * nm.u[d]).sum();
+        let ud: f64 = lk.stretch.iter().map(|&(d, c)| c * nm.v[d]).sum();
+        let (fv, fa) = lk.foot_dof.map_or((0.0, 0.0), |d| (nm.v[d], nm.a[d]));
+        let ft = lk.k * u + lk.c * ud - if lk.active { fp[lk.actuator] } else { 0.0 };
+        (u, ud, fv, fa, ft - lk.foot_mass * fa)
+    };
+    for l in 0..nl {
+        let (_, _, fv, _, fi) = link_state(&nm, l, &fp0);
+        fint_prev[l] = fi;
+        vfoot_prev[l] = fv;
+    }
+
+    let mut times = vec![0.0; n_per + 1];
+    let mut hist_h: Vec<Vec<f64>> = vec![Vec::new(); na];
+    let mut hist_v: Vec<Vec<f64>> = vec![Vec::new(); na];
+    let mut fp_step = vec![0.0; na];
+    for p in 0..total_periods {
+        let t0 = p as f64 * period;
+        for (j, t) in times.iter_mut().enumerate() {
+            *t = t0 + j as f64 * dt;
+        }
+        for (a, st) in stacks.iter().enumerate() {
+            hist_v[a] = times.iter().map(|&t| st.voltage.value(t)).collect();
+            hist_h[a] = if st.hysteresis_on { st.hysteresis.history(&st.voltage, &times, h_now[a]) } else { vec![0.0; times.len()] };
+            h_now[a] = hist_h[a][n_per];
+        }
+        let mut rec = PeriodRecord::new(nl, body_dofs.len(), na, model.sensors.len(), n_per);
+        let (eb0, es0) = stored(&nm);
+        let mut pb = Balances::default();
+        for j in 0..n_per {
+            // Record the state at t_j.
+            let fp_j: Vec<f64> = (0..na).map(|a| stacks[a].active_force(hist_v[a][j], hist_h[a][j])).collect();
+            rec.t.push(times[j]);
+            for l in 0..nl {
+                let (u, ud, fv, fa, _) = link_state(&nm, l, &fp_j);
+                rec.u[l].push(u);
+                rec.ud[l].push(ud);
+                rec.fv[l].push(fv);
+                rec.fa[l].push(fa);
+            }
+            for (b, (_, _, d)) in body_dofs.iter().enumerate() {
+                rec.q[b].push(nm.u[*d]);
+                rec.qd[b].push(nm.v[*d]);
+                rec.qdd[b].push(nm.a[*d]);
+            }
+            for a in 0..na {
+                rec.v[a].push(hist_v[a][j]);
+                rec.h[a].push(hist_h[a][j]);
+                rec.fp[a].push(fp_j[a]);
+            }
+            for (si, d) in sensor_dofs.iter().enumerate() {
+                let (w, v, acc) = d.map_or((0.0, 0.0, 0.0), |d| (nm.u[d], nm.v[d], nm.a[d]));
+                rec.sw[si].push(w);
+                rec.sv[si].push(v);
+                rec.sa[si].push(acc);
+            }
+            // Step to t_{j+1}.
+            for a in 0..na {
+                fp_step[a] = stacks[a].active_force(hist_v[a][j + 1], hist_h[a][j + 1]);
+            }
+            load(&mut f, &fp_step);
+            v_old.copy_from_slice(&nm.v);
+            nm.step(&f);
+            // Energy by the midpoint rule, which the trapezoidal scheme balances exactly.
+            for i in 0..n {
+                vbar[i] = 0.5 * (v_old[i] + nm.v[i]);
+            }
+            sys.c_beam.mul_vec(&vbar, &mut cv);
+            let d_beam: f64 = dt * vbar.iter().zip(&cv).map(|(a, b)| a * b).sum::<f64>();
+            sys.c.mul_vec(&vbar, &mut cv);
+            let d_sys: f64 = dt * vbar.iter().zip(&cv).map(|(a, b)| a * b).sum::<f64>();
+            let mut w_beam = 0.0;
+            for l in 0..nl {
+                let (_, _, fv, _, fi) = link_state(&nm, l, &fp_step);
+                w_beam += dt * 0.5 * (fint_prev[l] + fi) * 0.5 * (vfoot_prev[l] + fv);
+                fint_prev[l] = fi;
+                vfoot_prev[l] = fv;
+            }
+            let mut w_sys = 0.0;
+            for (a, b) in sys.drives.iter().enumerate() {
+                let gv: f64 = b.iter().map(|&(d, c)| c * vbar[d]).sum();
+                w_sys += dt * 0.5 * (fp_prev[a] + fp_step[a]) * gv;
+            }
+            fp_prev.copy_from_slice(&fp_step);
+            pb.beam.input += w_beam;
+            pb.beam.dissipated += d_beam;
+            pb.system.input += w_sys;
+            pb.system.dissipated += d_sys;
+        }
+        let (eb1, es1) = stored(&nm);
+        pb.beam.stored_change = eb1 - eb0;
+        pb.system.stored_change = es1 - es0;
+        for (acc, x) in [(&mut run_bal.beam, &pb.beam), (&mut run_bal.system, &pb.system)] {
+            acc.input += x.input;
+            acc.dissipated += x.dissipated;
+        }
+        per_bal = pb;
+        periods_run = p + 1;
+        // Steady-state metrics: mean power and RMS transmitted force per link.
+        let mut metrics = Vec::with_capacity(2 * nl);
+        for l in 0..nl {
+            let lk = &sys.links[l];
+            let ft: Vec<f64> = (0..n_per).map(|j| lk.k * rec.u[l][j] + lk.c * rec.ud[l][j] - if lk.active { rec.fp[lk.actuator][j] } else { 0.0 }).collect();
+            let fi: Vec<f64> = ft.iter().zip(&rec.fa[l]).map(|(x, a)| x - lk.foot_mass * a).collect();
+            metrics.push(mean_product(&fi, &rec.fv[l]));
+            metrics.push((mean_product(&ft, &ft)).sqrt());
+        }
+        window.push_back(rec);
+        if window.len() > keep {
+            window.pop_front();
+        }
+        if let Some(prev) = &prev_metrics {
+            let pscale = metrics.iter().step_by(2).fold(0.0f64, |m, x| m.max(x.abs()));
+            let fscale = metrics.iter().skip(1).step_by(2).fold(0.0f64, |m, x| m.max(x.abs()));
+            let mut change = 0.0f64;
+            for (k, (a, b)) in metrics.iter().zip(prev).enumerate() {
+                let scale = if k % 2 == 0 { pscale } else { fscale };
+                if scale > 0.0 {
+                    change = change.max((a - b).abs() / scale);
+                }
+            }
+            final_change = change;
+            if periodic && s.steady_state && change < s.tolerance && periods_run >= keep {
+                converged = true;
+                if s.periods.is_none() {
+                    break;
+                }
+            }
+        }
+        prev_metrics = Some(metrics);
+    }
+    let (eb_end, es_end) = stored(&nm);
+    run_bal.beam.stored_change = eb_end - eb_start;
+    run_bal.system.stored_change = es_end - es_start;
+
+    // Assemble the recorded window.
+    let mut all = PeriodRecord::new(nl, body_dofs.len(), na, model.sensors.len(), keep * n_per);
+    for r in &window {
+        all.append(r);
+    }
+    let last = window.back().expect("at least one period");
+    let mut result = TransientResult { dt, period, steps_per_period: n_per, periods_run, steps_run: periods_run * n_per, converged, final_change, t: all.t.clone(), energy_run: run_bal, energy_last_period: per_bal, ..Default::default() };
+    result.beam_dissipation = per_bal.beam.dissipated / period;
+    let omega0 = 2.0 * std::f64::consts::PI / period;
+    for (l, lk) in sys.links.iter().enumerate() {
+        let series = |r: &PeriodRecord| {
+            let mut ls = LinkSeries { actuator: lk.actuator, name: lk.name.clone(), foot_x: lk.foot_x, ..Default::default() };
+            for j in 0..r.t.len() {
+                let (u, ud) = (r.u[l][j], r.ud[l][j]);
+                let fpz = if lk.active { -r.fp[lk.actuator][j] } else { 0.0 };
+                let ft = lk.k * u + lk.c * ud + fpz;
+                let fi = ft - lk.foot_mass * r.fa[l][j];
+                ls.stretch.push(u);
+                ls.stretch_rate.push(ud);
+                ls.f_stiffness.push(lk.k * u);
+                ls.f_damping.push(lk.c * ud);
+                ls.f_pzt.push(fpz);
+                ls.transmitted.push(ft);
+                ls.interface.push(fi);
+                ls.base_velocity.push(r.fv[l][j]);
+                ls.base_acceleration.push(r.fa[l][j]);
+                ls.power.push(fi * r.fv[l][j]);
+            }
+            ls
+        };
+        let lp = series(last);
+        let fh = harmonics(&lp.transmitted);
+        let ih = harmonics(&lp.interface);
+        let vh = harmonics(&lp.base_velocity);
+        let ah = harmonics(&lp.base_acceleration);
+        let pv = power_per_harmonic(&ih, &vh, n_per);
+        let pa = power_from_acceleration(&ih, &ah, omega0, n_per);
+        let hmax = s.harmonics.min(fh.len() - 1);
+        result.mean_power.push(mean_product(&lp.interface, &lp.base_velocity));
+        result.spectra.push(LinkSpectrum {
+            frequency: (0..=hmax).map(|k| k as f64 / period).collect(),
+            transmitted: fh[..=hmax].to_vec(),
+            interface: ih[..=hmax].to_vec(),
+            velocity: vh[..=hmax].to_vec(),
+            acceleration: ah[..=hmax].to_vec(),
+            power: pv[..=hmax].to_vec(),
+            power_from_acceleration: pa[..=hmax].to_vec(),
+            power_total: pv.iter().sum(),
+        });
+        result.links.push(series(&all));
+    }
+    result.net_power = (0..na).map(|a| sys.links.iter().zip(&result.mean_power).filter(|(lk, _)| lk.actuator == a).map(|(_, p)| p).sum()).collect();
+    for (b, (a, name, _)) in body_dofs.iter().enumerate() {
+        result.bodies.push(BodySeries { actuator: *a, dof: name.clone(), q: all.q[b].clone(), q_dot: all.qd[b].clone(), q_ddot: all.qdd[b].clone() });
+    }
+    for a in 0..na {
+        let d_p = stacks[a].hysteresis.d_p;
+        result.drives.push(DriveSeries { actuator: a, voltage: all.v[a].clone(), h: all.h[a].clone(), stroke: all.v[a].iter().zip(&all.h[a]).map(|(v, h)| d_p * v - h).collect(), f_p: all.fp[a].clone() });
+    }
+    for (si, se) in model.sensors.iter().enumerate() {
+        result.sensors.push(SensorSeries { name: se.name.clone(), x: se.x, w: all.sw[si].clone(), v: all.sv[si].clone(), a: all.sa[si].clone() });
+    }
+    Ok(result)
+}

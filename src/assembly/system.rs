@@ -1,0 +1,256 @@
+//! The model and its assembled system.
+
+use super::dofs::DofMap;
+use crate::actuator::{Actuator, Component, FootBase};
+use crate::beam::{element_mass, element_stiffness, Beam, SupportKind};
+use crate::error::{Error, Result};
+use crate::linalg::{Csr, Skyline};
+
+/// Rayleigh damping of the beam, C_beam = a₀·M_beam + a₁·K_beam.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Rayleigh {
+    /// Mass-proportional coefficient a₀ (1/s).
+    pub a0: f64,
+    /// Stiffness-proportional coefficient a₁ (s).
+    pub a1: f64,
+}
+
+impl Rayleigh {
+    /// Coefficients giving damping ratio ζ at circular frequencies ωᵢ and ωⱼ (rad/s).
+    pub fn from_ratio(zeta: f64, wi: f64, wj: f64) -> Self {
+        let a1 = 2.0 * zeta / (wi + wj);
+        Rayleigh { a0: a1 * wi * wj, a1 }
+    }
+
+    /// Damping ratio this gives at circular frequency ω: ζ(ω) = a₀/(2ω) + a₁ω/2.
+    pub fn ratio_at(&self, w: f64) -> f64 {
+        self.a0 / (2.0 * w) + self.a1 * w / 2.0
+    }
+}
+
+/// A point where the beam's motion is recorded.
+#[derive(Clone, Debug)]
+pub struct Sensor {
+    pub name: String,
+    /// Position along the beam (m).
+    pub x: f64,
+}
+
+/// What is simulated: the structure (a beam, or none for a rigid base) and the actuators.
+#[derive(Clone, Debug)]
+pub struct Model {
+    pub beam: Option<Beam>,
+    pub rayleigh: Rayleigh,
+    pub actuators: Vec<Actuator>,
+    pub sensors: Vec<Sensor>,
+}
+
+/// A link with its global DOFs resolved.
+#[derive(Clone, Debug)]
+pub struct LinkDofs {
+    pub actuator: usize,
+    pub name: String,
+    pub k: f64,
+    pub c: f64,
+    /// Stretch u = Σ coeff·q[dof] (top minus foot).
+    pub stretch: Vec<(usize, f64)>,
+    /// Beam node and w DOF of the foot (dof None if a support fixes w or the base is rigid).
+    pub foot_node: Option<usize>,
+    pub foot_dof: Option<usize>,
+    /// Foot position on the beam (m), if on the beam.
+    pub foot_x: Option<f64>,
+    pub foot_mass: f64,
+    pub active: bool,
+}
+
+/// The assembled system `M·q̈ + C·q̇ + K·q = Σ_a b_a·F_p,a(t) + f(t)`.
+#[derive(Clone, Debug)]
+pub struct System {
+    pub dofs: DofMap,
+    /// Whole-system matrices (kg, N·s/m, N/m in mixed units of each DOF).
+    pub m: Csr,
+    pub c: Csr,
+    pub k: Csr,
+    /// The structure's own matrices (beam elements, its point masses, supports' springs,
+    /// grounded spring–dampers), same dimension, zero on actuator DOFs: the beam's
+    /// energies and dissipation are computed from these.
+    pub m_beam: Csr,
+    pub c_beam: Csr,
+    pub k_beam: Csr,
+    pub links: Vec<LinkDofs>,
+    /// For each actuator, the load pattern b of its stack's F_p (top minus foot).
+    pub drives: Vec<Vec<(usize, f64)>>,
+    /// Skyline envelope covering the pattern of M, C and K.
+    pub envelope: Vec<usize>,
+}
+
+impl System {
+    pub fn n(&self) -> usize {
+        self.dofs.n
+    }
+
+    /// Assembles a model. Errors if an actuator foot is not on a mesh node.
+    pub fn assemble(model: &Model) -> Result<System> {
+        let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
+        let beam = model.beam.as_ref();
+        // Resolve feet to nodes and find each actuator's anchor node.
+        let mut anchors = Vec::new();
+        let mut feet_nodes: Vec<Vec<Option<usize>>> = Vec::new();
+        for (ai, comp) in comps.iter().enumerate() {
+            let mut nodes = Vec::new();
+            for link in &comp.links {
+                nodes.push(match (link.foot, beam) {
+                    (FootBase::Beam { x }, Some(b)) => Some(b.mesh.node_at(x).ok_or_else(|| {
+                        Error::input("<model>", format!("actuator[{ai}].{}", link.name), format!("foot at x = {x} m is not on a mesh node"))
+                    })?),
+                    (FootBase::Beam { x }, None) => {
+                        return Err(Error::input("<model>", format!("actuator[{ai}].{}", link.name), format!("foot at x = {x} m but the model has no beam")));
+                    }
+                    (FootBase::Ground, _) => None,
+                });
+            }
+            anchors.push(nodes.iter().flatten().max().copied());
+            feet_nodes.push(nodes);
+        }
+        let sizes: Vec<usize> = comps.iter().map(|c| c.dof_names.len()).collect();
+        let dofs = DofMap::number(beam, &anchors, &sizes);
+        let n = dofs.n;
+
+        let mut mb = Vec::new();
+        let mut kb = Vec::new();
+        let mut cb = Vec::new();
+        if let Some(beam) = beam {
+            for e in &beam.mesh.elements {
+                let ke = element_stiffness(e.ei, e.length);
+                let me = element_mass(e.rho_a, e.length, beam.mass_kind);
+                let d = dofs.element_dofs(e.nodes);
+                for a in 0..4 {
+                    for b in 0..4 {
+                        if let (Some(i), Some(j)) = (d[a], d[b]) {
+                            kb.push((i, j, ke[(a, b)]));
+                            mb.push((i, j, me[(a, b)]));
+                        }
+                    }
+                }
+            }
+            for pm in &beam.point_masses {
+                if let Some(i) = dofs.w[pm.node] {
+                    mb.push((i, i, pm.mass));
+                }
+                if let Some(i) = dofs.theta[pm.node] {
+                    mb.push((i, i, pm.rotary_inertia));
+                }
+            }
+            for s in &beam.supports {
+                if let SupportKind::Spring { k_w, k_theta } = s.kind {
+                    if let Some(i) = dofs.w[s.node] {
+                        kb.push((i, i, k_w));
+                    }
+                    if let Some(i) = dofs.theta[s.node] {
+                        kb.push((i, i, k_theta));
+                    }
+                }
+            }
+        }
+        let m_el = Csr::from_triplets(n, &mb);
+        let k_el = Csr::from_triplets(n, &kb);
+        // Rayleigh damping of the beam, plus grounded dashpots.
+        let mut ctrip: Vec<(usize, usize, f64)> = Vec::new();
+        ctrip.extend(m_el.triplets().map(|(i, j, v)| (i, j, model.rayleigh.a0 * v)));
+        ctrip.extend(k_el.triplets().map(|(i, j, v)| (i, j, model.rayleigh.a1 * v)));
+        if let Some(beam) = beam {
+            for s in &beam.springs {
+                if let Some(i) = dofs.w[s.node] {
+                    kb.push((i, i, s.stiffness));
+                    cb.push((i, i, s.damping));
+                }
+            }
+        }
+        ctrip.extend(cb);
+        let m_beam = m_el;
+        let k_beam = Csr::from_triplets(n, &kb);
+        let c_beam = Csr::from_triplets(n, &ctrip);
+
+        // Actuators.
+        let mut ma = Vec::new();
+        let mut ka = Vec::new();
+        let mut ca = Vec::new();
+        let mut links = Vec::new();
+        let mut drives = vec![Vec::new(); comps.len()];
+        for (ai, comp) in comps.iter().enumerate() {
+            let body = &dofs.bodies[ai];
+            for a in 0..body.len() {
+                for b in 0..body.len() {
+                    ma.push((body[a], body[b], comp.mass[(a, b)]));
+                }
+            }
+            for (li, link) in comp.links.iter().enumerate() {
+                let node = feet_nodes[ai][li];
+                let foot_dof = node.and_then(|nd| dofs.w[nd]);
+                let mut g: Vec<(usize, f64)> = link.top.iter().map(|&(d, c)| (body[d], c)).collect();
+                if let Some(fd) = foot_dof {
+                    g.push((fd, -1.0));
+                    ma.push((fd, fd, link.foot_mass));
+                }
+                for &(i, gi) in &g {
+                    for &(j, gj) in &g {
+                        ka.push((i, j, link.k * gi * gj));
+                        ca.push((i, j, link.c * gi * gj));
+                    }
+                }
+                if link.active {
+                    drives[ai] = g.clone();
+                }
+                links.push(LinkDofs {
+                    actuator: ai,
+                    name: link.name.clone(),
+                    k: link.k,
+                    c: link.c,
+                    stretch: g,
+                    foot_node: node,
+                    foot_dof,
+                    foot_x: node.map(|nd| beam.unwrap().mesh.x[nd]),
+                    foot_mass: link.foot_mass,
+                    active: link.active,
+                });
+            }
+        }
+        let m = Csr::combine(&[(1.0, &m_beam), (1.0, &Csr::from_triplets(n, &ma))]);
+        let k = Csr::combine(&[(1.0, &k_beam), (1.0, &Csr::from_triplets(n, &ka))]);
+        let c = Csr::combine(&[(1.0, &c_beam), (1.0, &Csr::from_triplets(n, &ca))]);
+        let envelope = Skyline::<f64>::envelope_of(n, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
+        Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, links, drives, envelope })
+    }
+
+    /// The w DOF of the beam node at x, if free. Errors if x is not on a node.
+    pub fn w_dof_at(&self, model: &Model, x: f64, field: &str) -> Result<Option<usize>> {
+        let beam = model.beam.as_ref().ok_or_else(|| Error::input("<model>", field, "the model has no beam"))?;
+        let node = beam.mesh.node_at(x).ok_or_else(|| Error::input("<model>", field, format!("x = {x} m is not on a mesh node")))?;
+        Ok(self.dofs.w[node])
+    }
+
+    /// Skyline matrix α·K + β·C + γ·M (real), e.g. the Newmark effective stiffness.
+    pub fn skyline_combination(&self, alpha: f64, beta: f64, gamma: f64) -> Skyline<f64> {
+        let mut s = Skyline::zeros(self.envelope.clone());
+        self.k.add_into_skyline(alpha, &mut s);
+        self.c.add_into_skyline(beta, &mut s);
+        self.m.add_into_skyline(gamma, &mut s);
+        s
+    }
+}
+
+impl System {
+    /// Static displacement K·q = f (m, rad). Errors if the structure is not supported.
+    pub fn static_solve(&self, f: &[f64]) -> Result<Vec<f64>> {
+        let k = self.skyline_combination(1.0, 0.0, 0.0);
+        let fac = k.factorize()?;
+        let mut q = f.to_vec();
+        fac.solve_in_place(&mut q);
+        Ok(q)
+    }
+
+    /// Kinetic plus strain energy of the beam part (J) at displacement q and velocity v.
+    pub fn beam_energy(&self, q: &[f64], v: &[f64]) -> f64 {
+        0.5 * self.m_beam.bilinear(v, v) + 0.5 * self.k_beam.bilinear(q, q)
+    }
+}

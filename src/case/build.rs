@@ -1,0 +1,173 @@
+//! From a validated case to the physical model.
+
+use super::schema::*;
+use super::LoadedCase;
+use crate::actuator::{Actuator, FootBase, Frame, Inertial, Leg, Stack};
+use crate::assembly::system::{Model, Rayleigh, Sensor, System};
+use crate::beam::mesh::RequiredPoint;
+use crate::beam::{Beam, GroundedSpring, MassKind, Material, Mesh, PointMass, Section, Support, SupportKind};
+use crate::error::{Error, Result};
+use crate::solve::eigen;
+
+/// The model with what was derived while building it.
+#[derive(Clone, Debug)]
+pub struct BuiltModel {
+    pub model: Model,
+    /// Modal damping ratios, if the case asked for modal damping.
+    pub modal_ratios: Option<Vec<f64>>,
+}
+
+/// Points that must be mesh nodes, named after the field that asks for them.
+pub fn required_points(case: &Case) -> Vec<RequiredPoint> {
+    let mut pts = Vec::new();
+    let b = &case.beam;
+    let mut add = |x: f64, name: String| pts.push(RequiredPoint { x, name });
+    for (i, s) in b.support.iter().enumerate() {
+        add(s.x, format!("beam.support[{i}].x"));
+    }
+    for (i, p) in b.point_mass.iter().enumerate() {
+        add(p.x, format!("beam.point_mass[{i}].x"));
+    }
+    for (i, s) in b.spring.iter().enumerate() {
+        add(s.x, format!("beam.spring[{i}].x"));
+    }
+    if case.base == BaseKind::Beam {
+        for (i, a) in case.actuator.iter().enumerate() {
+            add(a.x_e, format!("actuator[{i}].x_e"));
+            if a.kind == ActuatorType::Frame {
+                let xc = a.x_e - a.e();
+                add(xc - a.a(), format!("actuator[{i}] left leg (x_e − e − a)"));
+                add(xc + a.a(), format!("actuator[{i}] right leg (x_e − e + a)"));
+            }
+        }
+    }
+    for (i, s) in case.sensor.iter().enumerate() {
+        add(s.x, format!("sensor[{i}].x"));
+    }
+    for (i, an) in case.analysis.iter().enumerate() {
+        if let AnalysisSpec::Harmonic { force, .. } = an {
+            for (j, f) in force.iter().enumerate() {
+                add(f.x, format!("analysis[{i}].force[{j}].x"));
+            }
+        }
+    }
+    pts
+}
+
+/// Builds the beam alone (its mesh, supports and attachments).
+pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
+    let case = &lc.case;
+    let b = &case.beam;
+    let section = Section { width: b.width, thickness: b.thickness };
+    let material = Material { youngs_modulus: b.youngs_modulus, density: b.density };
+    let pts = required_points(case);
+    let mesh = match &b.mesh.file {
+        Some(f) => {
+            let path = lc.dir.join(f);
+            let mesh = Mesh::read(&path, section, material)?;
+            let mfile = path.display().to_string();
+            if (mesh.length() - b.length).abs() > 1e-9 * b.length {
+                return Err(Error::input(&mfile, "nodes", format!("the mesh ends at x = {} m but beam.length in {} is {} m", mesh.length(), lc.file, b.length)));
+            }
+            mesh.require_nodes(&pts, &mfile)?;
+            mesh
+        }
+        None => Mesh::uniform(b.length, b.mesh.elements, &pts, section, material),
+    };
+    let node = |x: f64, field: String| mesh.node_at(x).ok_or_else(|| Error::input(&lc.file, field, format!("x = {x} m is not on a mesh node")));
+    let mut supports = Vec::new();
+    if b.support.is_empty() {
+        supports.push(Support { node: 0, kind: SupportKind::Clamped });
+        supports.push(Support { node: mesh.n_nodes() - 1, kind: SupportKind::Clamped });
+    }
+    for (i, s) in b.support.iter().enumerate() {
+        let kind = match s.kind {
+            SupportKindSpec::Clamped => SupportKind::Clamped,
+            SupportKindSpec::Pinned => SupportKind::Pinned,
+            SupportKindSpec::Guided => SupportKind::Guided,
+            SupportKindSpec::Free => continue,
+            SupportKindSpec::Spring => SupportKind::Spring { k_w: s.k_w.unwrap_or(0.0), k_theta: s.k_theta.unwrap_or(0.0) },
+        };
+        supports.push(Support { node: node(s.x, format!("beam.support[{i}].x"))?, kind });
+    }
+    let mut beam = Beam::new(mesh.clone(), supports);
+    beam.mass_kind = match b.mass {
+        MassSpec::Consistent => MassKind::Consistent,
+        MassSpec::Lumped => MassKind::Lumped,
+    };
+    for (i, p) in b.point_mass.iter().enumerate() {
+        beam.point_masses.push(PointMass { node: node(p.x, format!("beam.point_mass[{i}].x"))?, mass: p.mass, rotary_inertia: p.rotary_inertia });
+    }
+    for (i, s) in b.spring.iter().enumerate() {
+        beam.springs.push(GroundedSpring { node: node(s.x, format!("beam.spring[{i}].x"))?, stiffness: s.stiffness, damping: s.damping });
+    }
+    Ok(beam)
+}
+
+/// The bare structure's modes (no actuators), used for Rayleigh damping and modal analysis.
+pub fn bare_modes(beam: &Beam, count: usize) -> Result<eigen::Modes> {
+    let model = Model { beam: Some(beam.clone()), rayleigh: Rayleigh::default(), actuators: Vec::new(), sensors: Vec::new() };
+    let sys = System::assemble(&model)?;
+    eigen::modes(&sys.k, &sys.m, &sys.dofs.beam_dofs(), count)
+}
+
+/// Builds the model a case describes.
+pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {
+    let case = &lc.case;
+    let beam = match case.base {
+        BaseKind::Beam => Some(build_beam(lc)?),
+        BaseKind::Rigid => None,
+    };
+    let d = &case.damping;
+    let mut modal_ratios = None;
+    let rayleigh = match (&beam, d.kind) {
+        (None, _) | (_, DampingKind::None) => Rayleigh::default(),
+        (Some(_), DampingKind::Rayleigh) => Rayleigh { a0: d.a0.unwrap_or(0.0), a1: d.a1.unwrap_or(0.0) },
+        (Some(beam), DampingKind::RayleighRatio) => {
+            let need = d.modes[0].max(d.modes[1]);
+            let m = bare_modes(beam, need)?;
+            if m.count() < need {
+                return Err(Error::input(&lc.file, "damping.modes", format!("the mesh has only {} modes", m.count())));
+            }
+            Rayleigh::from_ratio(d.zeta, m.omega[d.modes[0] - 1], m.omega[d.modes[1] - 1])
+        }
+        (Some(_), DampingKind::Modal) => {
+            modal_ratios = Some(d.ratios.clone());
+            Rayleigh::default()
+        }
+    };
+    let mut actuators = Vec::new();
+    for (i, a) in case.actuator.iter().enumerate() {
+        let mut voltage = a.voltage.clone();
+        voltage.load(&lc.dir, &lc.file, &format!("actuator[{i}].voltage"))?;
+        let s = &a.stack;
+        let stack = Stack { k_p: s.k_p, c_p: s.c_p, m_p: s.m_p, hysteresis: s.bouc_wen(), h0: s.h0, voltage, hysteresis_on: s.hysteresis };
+        let foot = match case.base {
+            BaseKind::Beam => FootBase::Beam { x: a.x_e },
+            BaseKind::Rigid => FootBase::Ground,
+        };
+        let name = a.name.clone().unwrap_or_else(|| format!("{}{}", match a.kind {
+            ActuatorType::Inertial => "inertial",
+            ActuatorType::Frame => "frame",
+        }, if case.actuator.len() > 1 { format!("_{i}") } else { String::new() }));
+        actuators.push(match a.kind {
+            ActuatorType::Inertial => Actuator::Inertial(Inertial { name, stack, m_t: a.m_t(), foot }),
+            ActuatorType::Frame => {
+                let ((kl, cl), (kr, cr)) = a.legs();
+                Actuator::Frame(Frame {
+                    name,
+                    stack,
+                    m_b: a.m_b(),
+                    j_b: a.j_b(),
+                    a: a.a(),
+                    e: a.e(),
+                    left: Leg { k_l: kl, c_l: cl },
+                    right: Leg { k_l: kr, c_l: cr },
+                    x_e: matches!(foot, FootBase::Beam { .. }).then_some(a.x_e),
+                })
+            }
+        });
+    }
+    let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), x: s.x }).collect();
+    Ok(BuiltModel { model: Model { beam, rayleigh, actuators, sensors }, modal_ratios })
+}

@@ -1,0 +1,50 @@
+//! Case files: what a user writes (TOML), checked and turned into a [`Model`] plus the
+//! analyses to run.
+//!
+//! Every table rejects unknown fields, every number is checked with a message naming the
+//! file, the dotted field and the reason; defaults are the paper's beam and actuators
+//! (`docs/case-format.md` lists them all).
+
+pub mod build;
+pub mod schema;
+
+pub use build::{build_model, BuiltModel};
+pub use schema::*;
+
+use crate::error::{Error, Result};
+use std::path::{Path, PathBuf};
+
+/// A parsed case and where it came from.
+#[derive(Clone, Debug)]
+pub struct LoadedCase {
+    pub case: Case,
+    /// The file as given (for messages).
+    pub file: String,
+    /// Directory relative paths in the case are resolved against.
+    pub dir: PathBuf,
+    /// The TOML text, embedded in results.
+    pub text: String,
+}
+
+impl LoadedCase {
+    /// Reads and validates a case file.
+    pub fn load(path: &Path) -> Result<LoadedCase> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        LoadedCase::from_str(&text, &path.display().to_string(), dir)
+    }
+
+    /// Parses and validates case text; `file` names it in messages.
+    pub fn from_str(text: &str, file: &str, dir: PathBuf) -> Result<LoadedCase> {
+        let case: Case = toml::from_str(text).map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string().trim_end().to_string() })?;
+        case.validate(file)?;
+        Ok(LoadedCase { case, file: file.to_string(), dir, text: text.to_string() })
+    }
+
+    /// A case built in code (sweeps): serialised back to TOML so results embed what ran.
+    pub fn from_case(case: Case, file: &str, dir: PathBuf) -> Result<LoadedCase> {
+        case.validate(file)?;
+        let text = toml::to_string(&case).map_err(|e| Error::input(file, "<case>", format!("cannot serialise: {e}")))?;
+        Ok(LoadedCase { case, file: file.to_string(), dir, text })
+    }
+}

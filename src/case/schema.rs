@@ -1,0 +1,768 @@
+//! The case-file schema. Field names follow the physics spec (k_p, c_p, d_p, m_t, …);
+//! units are SI throughout and given on each field.
+
+use crate::actuator::bouc_wen::BoucWen;
+use crate::error::{Error, Result};
+use crate::signal::voltage::VoltageInput;
+use serde::{Deserialize, Serialize};
+
+/// One simulation case.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    /// Free text shown in reports.
+    #[serde(default)]
+    pub title: String,
+    /// `beam` (default): actuator feet stand on the beam; `rigid`: on a rigid base.
+    #[serde(default)]
+    pub base: BaseKind,
+    /// The beam (defaults: the paper's clamped–clamped steel beam).
+    #[serde(default)]
+    pub beam: BeamSpec,
+    #[serde(default)]
+    pub damping: DampingSpec,
+    #[serde(default)]
+    pub actuator: Vec<ActuatorSpec>,
+    #[serde(default)]
+    pub sensor: Vec<SensorSpec>,
+    #[serde(default)]
+    pub analysis: Vec<AnalysisSpec>,
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum BaseKind {
+    #[default]
+    Beam,
+    Rigid,
+}
+
+/// The beam: geometry (m), material (Pa, kg/m³), mesh, supports and attachments.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeamSpec {
+    #[serde(default = "d_length")]
+    pub length: f64,
+    #[serde(default = "d_width")]
+    pub width: f64,
+    #[serde(default = "d_thickness")]
+    pub thickness: f64,
+    #[serde(default = "d_e")]
+    pub youngs_modulus: f64,
+    #[serde(default = "d_rho")]
+    pub density: f64,
+    /// `consistent` (default) or `lumped`.
+    #[serde(default)]
+    pub mass: MassSpec,
+    #[serde(default)]
+    pub mesh: MeshSpec,
+    /// Supports; default: clamped at x = 0 and x = L.
+    #[serde(default)]
+    pub support: Vec<SupportSpec>,
+    #[serde(default)]
+    pub point_mass: Vec<PointMassSpec>,
+    #[serde(default)]
+    pub spring: Vec<SpringSpec>,
+}
+
+fn d_length() -> f64 {
+    0.730
+}
+fn d_width() -> f64 {
+    0.050
+}
+fn d_thickness() -> f64 {
+    0.005
+}
+fn d_e() -> f64 {
+    210e9
+}
+fn d_rho() -> f64 {
+    7850.0
+}
+
+impl Default for BeamSpec {
+    fn default() -> Self {
+        toml::from_str("").expect("defaults")
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum MassSpec {
+    #[default]
+    Consistent,
+    Lumped,
+}
+
+/// Either a generated mesh of about `elements` elements, or a mesh file.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct MeshSpec {
+    #[serde(default = "d_elements")]
+    pub elements: usize,
+    /// Mesh file (relative to the case file); overrides `elements`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
+}
+
+fn d_elements() -> usize {
+    200
+}
+
+impl Default for MeshSpec {
+    fn default() -> Self {
+        MeshSpec { elements: d_elements(), file: None }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SupportKindSpec {
+    Clamped,
+    Pinned,
+    Guided,
+    Free,
+    Spring,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SupportSpec {
+    /// Position (m).
+    pub x: f64,
+    pub kind: SupportKindSpec,
+    /// Translational spring (N/m), for `spring`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_w: Option<f64>,
+    /// Rotational spring (N·m/rad), for `spring`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_theta: Option<f64>,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointMassSpec {
+    pub x: f64,
+    /// kg
+    pub mass: f64,
+    /// kg·m²
+    #[serde(default)]
+    pub rotary_inertia: f64,
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpringSpec {
+    pub x: f64,
+    /// N/m
+    pub stiffness: f64,
+    /// N·s/m
+    #[serde(default)]
+    pub damping: f64,
+}
+
+/// Beam damping.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct DampingSpec {
+    #[serde(default)]
+    pub kind: DampingKind,
+    /// Damping ratio for `rayleigh_ratio` (–).
+    #[serde(default = "d_zeta")]
+    pub zeta: f64,
+    /// The two bare-beam modes (1-based) where ζ is matched.
+    #[serde(default = "d_modes")]
+    pub modes: [usize; 2],
+    /// Explicit coefficients for `rayleigh`: a₀ (1/s), a₁ (s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub a0: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub a1: Option<f64>,
+    /// Modal damping ratios per bare-beam mode for `modal` (the last repeats).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub ratios: Vec<f64>,
+}
+
+fn d_zeta() -> f64 {
+    0.01
+}
+fn d_modes() -> [usize; 2] {
+    [1, 3]
+}
+
+impl Default for DampingSpec {
+    fn default() -> Self {
+        DampingSpec { kind: DampingKind::RayleighRatio, zeta: d_zeta(), modes: d_modes(), a0: None, a1: None, ratios: Vec::new() }
+    }
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum DampingKind {
+    /// Rayleigh with ζ matched at two bare-beam modes (default).
+    #[default]
+    RayleighRatio,
+    /// Rayleigh with explicit a₀, a₁.
+    Rayleigh,
+    /// Modal damping ratios (frequency-domain analyses).
+    Modal,
+    /// Undamped beam.
+    None,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum ActuatorType {
+    Inertial,
+    Frame,
+}
+
+/// An actuator. Fields that do not apply to its type are rejected.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ActuatorSpec {
+    #[serde(rename = "type")]
+    pub kind: ActuatorType,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<String>,
+    /// Stack foot position on the beam x_E (m); default 0.150.
+    #[serde(default = "d_x_e")]
+    pub x_e: f64,
+    /// Inertial: top mass m_t (kg), default 0.3.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub m_t: Option<f64>,
+    /// Frame: top beam mass m_b (kg), default 0.2.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub m_b: Option<f64>,
+    /// Frame: top beam moment of inertia J_b (kg·m²), default 1.6667e-4.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub j_b: Option<f64>,
+    /// Frame: half leg spacing a (m), default 0.040.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub a: Option<f64>,
+    /// Frame: stack offset from the centre e (m), default 0.001.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub e: Option<f64>,
+    /// Frame: leg stiffness k_l (N/m), default 1.5e9, and damping c_l (N·s/m), default 100.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_l: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub c_l: Option<f64>,
+    /// Frame: right-leg values where the legs differ (default: as the left).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub k_l_right: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub c_l_right: Option<f64>,
+    #[serde(default)]
+    pub stack: StackSpec,
+    pub voltage: VoltageInput,
+}
+
+fn d_x_e() -> f64 {
+    0.150
+}
+
+/// The piezo stack (defaults: the spec's 7×7×20 mm PZT stack).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct StackSpec {
+    /// N/m
+    #[serde(default = "d_kp")]
+    pub k_p: f64,
+    /// N·s/m
+    #[serde(default = "d_cp")]
+    pub c_p: f64,
+    /// kg
+    #[serde(default = "d_mp")]
+    pub m_p: f64,
+    /// m/V
+    #[serde(default = "d_dp")]
+    pub d_p: f64,
+    /// –
+    #[serde(default = "d_alpha")]
+    pub alpha: f64,
+    /// 1/V
+    #[serde(default = "d_beta")]
+    pub beta: f64,
+    /// 1/V
+    #[serde(default = "d_gamma")]
+    pub gamma: f64,
+    /// Initial hysteretic displacement h(0) (m).
+    #[serde(default)]
+    pub h0: f64,
+    /// false: linear stack, δ = d_p·V.
+    #[serde(default = "d_true")]
+    pub hysteresis: bool,
+}
+
+fn d_kp() -> f64 {
+    3.0e7
+}
+fn d_cp() -> f64 {
+    200.0
+}
+fn d_mp() -> f64 {
+    0.030
+}
+fn d_dp() -> f64 {
+    1.3e-7
+}
+fn d_alpha() -> f64 {
+    0.3
+}
+fn d_beta() -> f64 {
+    0.02
+}
+fn d_gamma() -> f64 {
+    0.005
+}
+fn d_true() -> bool {
+    true
+}
+
+impl Default for StackSpec {
+    fn default() -> Self {
+        toml::from_str("").expect("defaults")
+    }
+}
+
+impl StackSpec {
+    pub fn bouc_wen(&self) -> BoucWen {
+        BoucWen { d_p: self.d_p, alpha: self.alpha, beta: self.beta, gamma: self.gamma }
+    }
+}
+
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SensorSpec {
+    pub name: String,
+    /// Position on the beam (m).
+    pub x: f64,
+}
+
+/// A point force for harmonic analysis: amplitude (N) and phase (rad) at x (m).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ForceSpec {
+    pub x: f64,
+    #[serde(default = "d_one")]
+    pub amplitude: f64,
+    #[serde(default)]
+    pub phase: f64,
+}
+
+fn d_one() -> f64 {
+    1.0
+}
+
+/// A list of frequencies (Hz): explicit values, a range, or both.
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct FrequencySpec {
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub values: Vec<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub start: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub count: Option<usize>,
+    /// `linear` (default) or `log`.
+    #[serde(default)]
+    pub spacing: Spacing,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Spacing {
+    #[default]
+    Linear,
+    Log,
+}
+
+impl FrequencySpec {
+    /// The frequencies (Hz) in the order given (values, then the range).
+    pub fn list(&self) -> Vec<f64> {
+        let mut f = self.values.clone();
+        if let (Some(a), Some(b), Some(n)) = (self.start, self.stop, self.count) {
+            for i in 0..n {
+                let s = if n == 1 { 0.0 } else { i as f64 / (n - 1) as f64 };
+                f.push(match self.spacing {
+                    Spacing::Linear => a + (b - a) * s,
+                    Spacing::Log => a * (b / a).powf(s),
+                });
+            }
+        }
+        f
+    }
+
+    fn validate(&self, file: &str, field: &str) -> Result<()> {
+        for (i, &v) in self.values.iter().enumerate() {
+            if !(v > 0.0 && v.is_finite()) {
+                return Err(Error::input(file, format!("{field}.values[{i}]"), format!("frequencies must be positive and finite, got {v} Hz")));
+            }
+        }
+        let range = [self.start.is_some(), self.stop.is_some(), self.count.is_some()];
+        if range.iter().any(|&b| b) && !range.iter().all(|&b| b) {
+            return Err(Error::input(file, field, "a range needs all of `start`, `stop` and `count`"));
+        }
+        if let (Some(a), Some(b), Some(n)) = (self.start, self.stop, self.count) {
+            for (name, v) in [("start", a), ("stop", b)] {
+                if !(v > 0.0 && v.is_finite()) {
+                    return Err(Error::input(file, format!("{field}.{name}"), format!("frequencies must be positive and finite, got {v} Hz")));
+                }
+            }
+            if n == 0 {
+                return Err(Error::input(file, format!("{field}.count"), "must be at least 1"));
+            }
+        }
+        if self.list().is_empty() {
+            return Err(Error::input(file, field, "no frequencies given: set `values` or `start`, `stop`, `count`"));
+        }
+        Ok(())
+    }
+}
+
+/// Time-integration scheme.
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum SchemeKind {
+    /// Newmark γ = 1/2, β = 1/4 (default).
+    #[default]
+    AverageAcceleration,
+    /// Newmark γ = 1/2, β = 1/6 (conditionally stable).
+    LinearAcceleration,
+    /// HHT-α with `alpha` ∈ [0, 1/3].
+    Hht,
+    /// Generalised-α (Chung–Hulbert) with spectral radius `rho_inf` ∈ [0, 1].
+    GeneralizedAlpha,
+}
+
+/// An analysis to run.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum AnalysisSpec {
+    /// Natural modes of the bare beam.
+    Modes {
+        #[serde(default = "d_mode_count")]
+        count: usize,
+    },
+    /// Harmonic response of the beam to point forces.
+    Harmonic {
+        frequencies: FrequencySpec,
+        #[serde(default)]
+        force: Vec<ForceSpec>,
+    },
+    /// Time integration of the coupled system.
+    Transient {
+        /// Time step (s); default: the drive period / 200, and at most 1/20 of the period of
+        /// the highest harmonic analysed.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        dt: Option<f64>,
+        /// Run length in drive periods, or to steady state if `steady_state`.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        periods: Option<usize>,
+        /// Run length (s), for non-periodic inputs.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        duration: Option<f64>,
+        #[serde(default)]
+        scheme: SchemeKind,
+        /// HHT α.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        alpha: Option<f64>,
+        /// Generalised-α ρ∞.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        rho_inf: Option<f64>,
+        /// Run whole periods until the mean powers settle (default true for periodic drives).
+        #[serde(default = "d_true")]
+        steady_state: bool,
+        /// Relative per-period change of the mean powers that counts as settled.
+        #[serde(default = "d_tol")]
+        tolerance: f64,
+        #[serde(default = "d_max_periods")]
+        max_periods: usize,
+        /// Highest harmonic of the drive frequency analysed (spectra, Δt limit).
+        #[serde(default = "d_harmonics")]
+        harmonics: usize,
+    },
+    /// Periodic steady state solved in the frequency domain.
+    SteadyState {
+        #[serde(default = "d_harmonics")]
+        harmonics: usize,
+        #[serde(default = "d_samples")]
+        samples_per_period: usize,
+    },
+}
+
+fn d_mode_count() -> usize {
+    10
+}
+fn d_tol() -> f64 {
+    1e-4
+}
+fn d_max_periods() -> usize {
+    400
+}
+fn d_harmonics() -> usize {
+    9
+}
+fn d_samples() -> usize {
+    1024
+}
+
+/// What to write.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// One HDF5 file per run.
+    #[serde(default = "d_true")]
+    pub hdf5: bool,
+    /// PNG/SVG figures.
+    #[serde(default = "d_true")]
+    pub plots: bool,
+    /// K, M, C in Matrix Market format.
+    #[serde(default)]
+    pub matrices: bool,
+    /// Keep whole time histories in the HDF5 file (else the last periods only).
+    #[serde(default)]
+    pub full_history: bool,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        toml::from_str("").expect("defaults")
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Validation
+
+fn positive(file: &str, field: &str, v: f64) -> Result<()> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::input(file, field, format!("must be positive and finite, got {v}")))
+    }
+}
+
+fn non_negative(file: &str, field: &str, v: f64) -> Result<()> {
+    if v >= 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::input(file, field, format!("must be zero or positive and finite, got {v}")))
+    }
+}
+
+fn on_beam(file: &str, field: &str, x: f64, length: f64) -> Result<()> {
+    if x.is_finite() && (0.0..=length).contains(&x) {
+        Ok(())
+    } else {
+        Err(Error::input(file, field, format!("x = {x} m is outside the beam [0, {length}] m")))
+    }
+}
+
+impl Case {
+    /// Checks every field; the first problem is returned, naming file and field.
+    pub fn validate(&self, file: &str) -> Result<()> {
+        let b = &self.beam;
+        positive(file, "beam.length", b.length)?;
+        positive(file, "beam.width", b.width)?;
+        positive(file, "beam.thickness", b.thickness)?;
+        positive(file, "beam.youngs_modulus", b.youngs_modulus)?;
+        positive(file, "beam.density", b.density)?;
+        if b.mesh.file.is_none() && b.mesh.elements == 0 {
+            return Err(Error::input(file, "beam.mesh.elements", "must be at least 1"));
+        }
+        for (i, s) in b.support.iter().enumerate() {
+            on_beam(file, &format!("beam.support[{i}].x"), s.x, b.length)?;
+            match s.kind {
+                SupportKindSpec::Spring => {
+                    if s.k_w.is_none() && s.k_theta.is_none() {
+                        return Err(Error::input(file, format!("beam.support[{i}]"), "a spring support needs `k_w` and/or `k_theta`"));
+                    }
+                    non_negative(file, &format!("beam.support[{i}].k_w"), s.k_w.unwrap_or(0.0))?;
+                    non_negative(file, &format!("beam.support[{i}].k_theta"), s.k_theta.unwrap_or(0.0))?;
+                }
+                _ => {
+                    if s.k_w.is_some() || s.k_theta.is_some() {
+                        return Err(Error::input(file, format!("beam.support[{i}]"), "`k_w`/`k_theta` apply only to kind = \"spring\""));
+                    }
+                }
+            }
+        }
+        for (i, p) in b.point_mass.iter().enumerate() {
+            on_beam(file, &format!("beam.point_mass[{i}].x"), p.x, b.length)?;
+            positive(file, &format!("beam.point_mass[{i}].mass"), p.mass)?;
+            non_negative(file, &format!("beam.point_mass[{i}].rotary_inertia"), p.rotary_inertia)?;
+        }
+        for (i, s) in b.spring.iter().enumerate() {
+            on_beam(file, &format!("beam.spring[{i}].x"), s.x, b.length)?;
+            non_negative(file, &format!("beam.spring[{i}].stiffness"), s.stiffness)?;
+            non_negative(file, &format!("beam.spring[{i}].damping"), s.damping)?;
+        }
+        let d = &self.damping;
+        match d.kind {
+            DampingKind::RayleighRatio => {
+                non_negative(file, "damping.zeta", d.zeta)?;
+                if d.modes[0] == 0 || d.modes[1] == 0 || d.modes[0] == d.modes[1] {
+                    return Err(Error::input(file, "damping.modes", format!("two different 1-based mode numbers are needed, got {:?}", d.modes)));
+                }
+            }
+            DampingKind::Rayleigh => {
+                non_negative(file, "damping.a0", d.a0.ok_or_else(|| Error::input(file, "damping.a0", "required for kind = \"rayleigh\""))?)?;
+                non_negative(file, "damping.a1", d.a1.ok_or_else(|| Error::input(file, "damping.a1", "required for kind = \"rayleigh\""))?)?;
+            }
+            DampingKind::Modal => {
+                if d.ratios.is_empty() {
+                    return Err(Error::input(file, "damping.ratios", "modal damping needs at least one ratio"));
+                }
+                for (i, &z) in d.ratios.iter().enumerate() {
+                    non_negative(file, &format!("damping.ratios[{i}]"), z)?;
+                }
+            }
+            DampingKind::None => {}
+        }
+        for (i, a) in self.actuator.iter().enumerate() {
+            a.validate(file, &format!("actuator[{i}]"), self.base, b.length)?;
+        }
+        for (i, s) in self.sensor.iter().enumerate() {
+            on_beam(file, &format!("sensor[{i}].x"), s.x, b.length)?;
+        }
+        for (i, an) in self.analysis.iter().enumerate() {
+            let f = format!("analysis[{i}]");
+            match an {
+                AnalysisSpec::Modes { count } => {
+                    if *count == 0 {
+                        return Err(Error::input(file, format!("{f}.count"), "must be at least 1"));
+                    }
+                }
+                AnalysisSpec::Harmonic { frequencies, force } => {
+                    frequencies.validate(file, &format!("{f}.frequencies"))?;
+                    if force.is_empty() {
+                        return Err(Error::input(file, format!("{f}.force"), "a harmonic analysis needs at least one [[analysis.force]]"));
+                    }
+                    for (j, p) in force.iter().enumerate() {
+                        on_beam(file, &format!("{f}.force[{j}].x"), p.x, b.length)?;
+                        if !p.amplitude.is_finite() || !p.phase.is_finite() {
+                            return Err(Error::input(file, format!("{f}.force[{j}]"), "amplitude and phase must be finite"));
+                        }
+                    }
+                }
+                AnalysisSpec::Transient { dt, periods, duration, alpha, rho_inf, tolerance, max_periods, harmonics, scheme, .. } => {
+                    if let Some(dt) = dt {
+                        positive(file, &format!("{f}.dt"), *dt)?;
+                    }
+                    if let Some(d) = duration {
+                        positive(file, &format!("{f}.duration"), *d)?;
+                    }
+                    if periods == &Some(0) {
+                        return Err(Error::input(file, format!("{f}.periods"), "must be at least 1"));
+                    }
+                    positive(file, &format!("{f}.tolerance"), *tolerance)?;
+                    if *max_periods == 0 || *harmonics == 0 {
+                        return Err(Error::input(file, &f, "`max_periods` and `harmonics` must be at least 1"));
+                    }
+                    if let Some(a) = alpha {
+                        if !(0.0..=1.0 / 3.0).contains(a) {
+                            return Err(Error::input(file, format!("{f}.alpha"), format!("HHT α must lie in [0, 1/3], got {a}")));
+                        }
+                    } else if *scheme == SchemeKind::Hht {
+                        return Err(Error::input(file, format!("{f}.alpha"), "required for scheme = \"hht\" (0 ≤ α ≤ 1/3)"));
+                    }
+                    if let Some(r) = rho_inf {
+                        if !(0.0..=1.0).contains(r) {
+                            return Err(Error::input(file, format!("{f}.rho_inf"), format!("ρ∞ must lie in [0, 1], got {r}")));
+                        }
+                    } else if *scheme == SchemeKind::GeneralizedAlpha {
+                        return Err(Error::input(file, format!("{f}.rho_inf"), "required for scheme = \"generalized_alpha\" (0 ≤ ρ∞ ≤ 1)"));
+                    }
+                }
+                AnalysisSpec::SteadyState { harmonics, samples_per_period } => {
+                    if *harmonics == 0 {
+                        return Err(Error::input(file, format!("{f}.harmonics"), "must be at least 1"));
+                    }
+                    if *samples_per_period < 4 * harmonics + 2 {
+                        return Err(Error::input(file, format!("{f}.samples_per_period"), format!("must be at least 4·harmonics + 2 = {} to resolve the harmonics", 4 * harmonics + 2)));
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+impl ActuatorSpec {
+    fn validate(&self, file: &str, f: &str, base: BaseKind, length: f64) -> Result<()> {
+        let frame_only = [("m_b", self.m_b), ("j_b", self.j_b), ("a", self.a), ("e", self.e), ("k_l", self.k_l), ("c_l", self.c_l), ("k_l_right", self.k_l_right), ("c_l_right", self.c_l_right)];
+        match self.kind {
+            ActuatorType::Inertial => {
+                if let Some((n, _)) = frame_only.iter().find(|(_, v)| v.is_some()) {
+                    return Err(Error::input(file, format!("{f}.{n}"), "applies only to a frame actuator"));
+                }
+                positive(file, &format!("{f}.m_t"), self.m_t())?;
+            }
+            ActuatorType::Frame => {
+                if self.m_t.is_some() {
+                    return Err(Error::input(file, format!("{f}.m_t"), "applies only to an inertial actuator (a frame has m_b, j_b)"));
+                }
+                positive(file, &format!("{f}.m_b"), self.m_b())?;
+                positive(file, &format!("{f}.j_b"), self.j_b())?;
+                positive(file, &format!("{f}.a"), self.a())?;
+                if !self.e().is_finite() || self.e().abs() >= self.a() {
+                    return Err(Error::input(file, format!("{f}.e"), format!("the stack offset must lie between the legs, |e| < a = {} m, got {}", self.a(), self.e())));
+                }
+                let (l, r) = self.legs();
+                positive(file, &format!("{f}.k_l"), l.0)?;
+                non_negative(file, &format!("{f}.c_l"), l.1)?;
+                positive(file, &format!("{f}.k_l_right"), r.0)?;
+                non_negative(file, &format!("{f}.c_l_right"), r.1)?;
+            }
+        }
+        if base == BaseKind::Beam {
+            on_beam(file, &format!("{f}.x_e"), self.x_e, length)?;
+            if self.kind == ActuatorType::Frame {
+                let xc = self.x_e - self.e();
+                for (leg, x) in [("left leg", xc - self.a()), ("right leg", xc + self.a())] {
+                    if !(0.0..=length).contains(&x) {
+                        return Err(Error::input(file, format!("{f}.x_e"), format!("the {leg} would stand at x = {x} m, outside the beam [0, {length}] m")));
+                    }
+                }
+            }
+        }
+        let s = &self.stack;
+        positive(file, &format!("{f}.stack.k_p"), s.k_p)?;
+        non_negative(file, &format!("{f}.stack.c_p"), s.c_p)?;
+        positive(file, &format!("{f}.stack.m_p"), s.m_p)?;
+        if !s.h0.is_finite() {
+            return Err(Error::input(file, format!("{f}.stack.h0"), "must be finite"));
+        }
+        s.bouc_wen().validate(file, &format!("{f}.stack"))?;
+        self.voltage.validate(file, &format!("{f}.voltage"))?;
+        Ok(())
+    }
+
+    pub fn m_t(&self) -> f64 {
+        self.m_t.unwrap_or(0.3)
+    }
+    pub fn m_b(&self) -> f64 {
+        self.m_b.unwrap_or(0.2)
+    }
+    pub fn j_b(&self) -> f64 {
+        self.j_b.unwrap_or(1.6667e-4)
+    }
+    pub fn a(&self) -> f64 {
+        self.a.unwrap_or(0.040)
+    }
+    pub fn e(&self) -> f64 {
+        self.e.unwrap_or(0.001)
+    }
+    /// ((k_l, c_l) left, (k_l, c_l) right).
+    pub fn legs(&self) -> ((f64, f64), (f64, f64)) {
+        let k = self.k_l.unwrap_or(1.5e9);
+        let c = self.c_l.unwrap_or(100.0);
+        ((k, c), (self.k_l_right.unwrap_or(k), self.c_l_right.unwrap_or(c)))
+    }
+}

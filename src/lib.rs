@@ -1,0 +1,22 @@
+//! # beamflow
+//!
+//! How much vibrational power a piezoelectric force actuator pushes into a structure,
+//! where it enters, and through which modes.
+//!
+//! Data flows one way: [`case`] (what the user wrote) → [`beam`] and [`actuator`] (the
+//! physics) → [`assembly`] (the system of equations) → [`solve`] (eigen, harmonic,
+//! time integration) driven by [`analysis`] → [`post`] (power, spectra, modes) → I/O at
+//! the edge. There is no global state: two cases can run side by side in one process.
+
+pub mod actuator;
+pub mod analysis;
+pub mod assembly;
+pub mod beam;
+pub mod case;
+pub mod error;
+pub mod linalg;
+pub mod post;
+pub mod signal;
+pub mod solve;
+
+pub use error::{Error, Result};

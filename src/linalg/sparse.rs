@@ -1,0 +1,129 @@
+//! Compressed sparse rows for the assembled M, C and K.
+//!
+//! Assembly goes through `sprs` triplets (duplicates summed), and the matrices stay `sprs`
+//! matrices for interchange (Matrix Market). `Csr` wraps one with the allocation-free
+//! products the time-step loop needs.
+
+use super::scalar::Scalar;
+use super::skyline::Skyline;
+use sprs::{CsMat, TriMat};
+
+/// A square sparse matrix in CSR form.
+#[derive(Clone, Debug)]
+pub struct Csr {
+    mat: CsMat<f64>,
+}
+
+impl Csr {
+    /// Builds from (row, col, value) triplets; duplicates are summed.
+    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> Self {
+        let mut t = TriMat::with_capacity((n, n), triplets.len());
+        for &(i, j, v) in triplets {
+            t.add_triplet(i, j, v);
+        }
+        Csr { mat: t.to_csr() }
+    }
+
+    pub fn zeros(n: usize) -> Self {
+        Csr { mat: CsMat::zero((n, n)).to_csr() }
+    }
+
+    pub fn dim(&self) -> usize {
+        self.mat.rows()
+    }
+
+    pub fn nnz(&self) -> usize {
+        self.mat.nnz()
+    }
+
+    pub fn as_sprs(&self) -> &CsMat<f64> {
+        &self.mat
+    }
+
+    /// Entry (i, j), zero if not stored.
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        self.mat.get(i, j).copied().unwrap_or(0.0)
+    }
+
+    /// Iterates the stored entries as (row, col, value).
+    pub fn triplets(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        self.mat.outer_iterator().enumerate().flat_map(|(i, row)| row.iter().map(move |(j, &v)| (i, j, v)).collect::<Vec<_>>())
+    }
+
+    /// y = A·x (overwrites y). No allocation.
+    #[inline]
+    pub fn mul_vec<T: Scalar>(&self, x: &[T], y: &mut [T]) {
+        let ip = self.mat.indptr();
+        let ip = ip.raw_storage();
+        let idx = self.mat.indices();
+        let val = self.mat.data();
+        for i in 0..self.dim() {
+            let mut s = T::zero();
+            for k in ip[i]..ip[i + 1] {
+                s += T::from_real(val[k]) * x[idx[k]];
+            }
+            y[i] = s;
+        }
+    }
+
+    /// y += α·A·x. No allocation.
+    #[inline]
+    pub fn mul_vec_add(&self, alpha: f64, x: &[f64], y: &mut [f64]) {
+        let ip = self.mat.indptr();
+        let ip = ip.raw_storage();
+        let idx = self.mat.indices();
+        let val = self.mat.data();
+        for i in 0..self.dim() {
+            let mut s = 0.0;
+            for k in ip[i]..ip[i + 1] {
+                s += val[k] * x[idx[k]];
+            }
+            y[i] += alpha * s;
+        }
+    }
+
+    /// xᵀ·A·y.
+    pub fn bilinear(&self, x: &[f64], y: &[f64]) -> f64 {
+        let mut ay = vec![0.0; self.dim()];
+        self.mul_vec(y, &mut ay);
+        x.iter().zip(&ay).map(|(a, b)| a * b).sum()
+    }
+
+    /// Hermitian form x̄ᵀ·A·x of a complex vector (A real symmetric): real by symmetry.
+    pub fn hermitian_form(&self, x: &[num_complex::Complex64]) -> f64 {
+        let mut ax = vec![num_complex::Complex64::default(); self.dim()];
+        self.mul_vec(x, &mut ax);
+        x.iter().zip(&ax).map(|(a, b)| (a.conj() * b).re).sum()
+    }
+
+    /// Dense copy (row-major), for small problems and tests.
+    pub fn to_dense(&self) -> Vec<f64> {
+        let n = self.dim();
+        let mut d = vec![0.0; n * n];
+        for (i, j, v) in self.triplets() {
+            d[i * n + j] += v;
+        }
+        d
+    }
+
+    /// Adds `scale·A` into a skyline matrix whose envelope covers A's pattern.
+    pub fn add_into_skyline<T: Scalar>(&self, scale: T, s: &mut Skyline<T>) {
+        for (i, j, v) in self.triplets() {
+            if j <= i {
+                s.add(i, j, scale * T::from_real(v));
+            }
+        }
+    }
+
+    /// Linear combination Σ cᵢ·Aᵢ of matrices of one dimension.
+    pub fn combine(terms: &[(f64, &Csr)]) -> Csr {
+        let n = terms.first().map_or(0, |t| t.1.dim());
+        let mut trip = Vec::new();
+        for (c, a) in terms {
+            if *c != 0.0 {
+                trip.extend(a.triplets().map(|(i, j, v)| (i, j, c * v)));
+            }
+        }
+        Csr::from_triplets(n, &trip)
+    }
+}

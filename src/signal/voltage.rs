@@ -1,0 +1,1018 @@
+//! Voltage inputs `V(t)` for the stacks.
+//!
+//! A [`VoltageInput`] is read from a case file as a TOML table with a `kind` key; unknown keys
+//! are rejected. Units are volts, hertz, seconds and radians throughout.
+//!
+//! ```toml
+//! voltage = { kind = "sine", amplitude = 48.0, frequency = 30.0 }            # offset = 0, phase = 0
+//! voltage = { kind = "sines", offset = 10.0, components = [
+//!     { amplitude = 12.0, frequency = 60.0 }, { amplitude = 3.0, frequency = 180.0, phase = 0.5 } ] }
+//! voltage = { kind = "chirp", amplitude = 10.0, f_start = 5.0, f_end = 500.0, duration = 2.0, sweep = "log" }
+//! voltage = { kind = "step", time = 0.01, from = 0.0, to = 50.0, rise_time = 1e-3 }
+//! voltage = { kind = "series", file = "drive.csv", time_column = "t", voltage_column = "u" }
+//! ```
+//!
+//! Besides the value, every input gives its exact time derivative ([`VoltageInput::rate`])
+//! and the times where the voltage reverses direction ([`VoltageInput::turning_points`]):
+//! the hysteresis model integrates exactly in voltage space and needs monotone pieces.
+
+use std::f64::consts::{PI, TAU};
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::signal::csv::{check_time_axis, read_columns};
+
+/// Largest denominator tried when looking for a common period of several sines (see
+/// [`VoltageInput::period`]).
+pub const MAX_PERIOD_RATIO: u32 = 1000;
+
+/// Relative tolerance to which frequencies must be integer multiples of a common fundamental.
+pub const COMMENSURATE_TOL: f64 = 1e-9;
+
+/// Samples per period of the highest frequency when turning points are searched numerically.
+const SEARCH_PER_PERIOD: f64 = 32.0;
+
+/// Bisection stops when the bracket is this short (s).
+const BISECT_TOL: f64 = 1e-14;
+
+/// One component of a [`VoltageInput::Sines`] sum: `amplitude·sin(2π·frequency·t + phase)`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SineComponent {
+    /// V
+    pub amplitude: f64,
+    /// Hz, > 0
+    pub frequency: f64,
+    /// rad
+    #[serde(default)]
+    pub phase: f64,
+}
+
+/// Frequency law of a [`VoltageInput::Chirp`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Sweep {
+    /// f(t) = f_start + (f_end − f_start)·t/duration
+    #[default]
+    Linear,
+    /// f(t) = f_start·(f_end/f_start)^(t/duration)
+    Log,
+}
+
+/// Tabulated voltage of a [`VoltageInput::Series`], filled by [`VoltageInput::load`] or
+/// [`VoltageInput::from_samples`].
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Samples {
+    t: Vec<f64>,
+    v: Vec<f64>,
+}
+
+impl Samples {
+    /// Sample times (s), strictly increasing, at least two.
+    pub fn times(&self) -> &[f64] {
+        &self.t
+    }
+    /// Sample voltages (V).
+    pub fn values(&self) -> &[f64] {
+        &self.v
+    }
+    /// Index `i` of the segment `[t_i, t_{i+1})` holding `t`; `None` outside `[t_0, t_last)`.
+    fn segment(&self, t: f64) -> Option<usize> {
+        let n = self.t.len();
+        if !(t >= self.t[0] && t < self.t[n - 1]) {
+            return None;
+        }
+        Some(self.t.partition_point(|&x| x <= t) - 1)
+    }
+    fn slope(&self, i: usize) -> f64 {
+        (self.v[i + 1] - self.v[i]) / (self.t[i + 1] - self.t[i])
+    }
+}
+
+fn default_time_column() -> String {
+    "time".to_string()
+}
+fn default_voltage_column() -> String {
+    "voltage".to_string()
+}
+
+/// The voltage applied to a stack, as a function of time.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum VoltageInput {
+    /// `V = offset + amplitude·sin(2π·frequency·t + phase)`.
+    Sine {
+        amplitude: f64,
+        frequency: f64,
+        #[serde(default)]
+        offset: f64,
+        #[serde(default)]
+        phase: f64,
+    },
+    /// `V = offset + Σ amplitude_k·sin(2π·frequency_k·t + phase_k)`.
+    Sines {
+        #[serde(default)]
+        offset: f64,
+        components: Vec<SineComponent>,
+    },
+    /// `V = offset + amplitude·sin φ(t)`, with the instantaneous frequency `φ'/2π` sweeping
+    /// from `f_start` at t = 0 to `f_end` at t = `duration` (linearly or geometrically).
+    ///
+    /// The phase is continuous everywhere: before t = 0 the frequency is `f_start`, after
+    /// `duration` the signal **continues at `f_end`** (it does not stop or restart).
+    Chirp {
+        amplitude: f64,
+        f_start: f64,
+        f_end: f64,
+        duration: f64,
+        #[serde(default)]
+        sweep: Sweep,
+        #[serde(default)]
+        offset: f64,
+    },
+    /// `from` before `time`, `to` after; with `rise_time > 0` a linear ramp over
+    /// `[time, time + rise_time]`. With `rise_time = 0` the jump is at `time` and
+    /// `V(time) = to` (right-continuous).
+    Step {
+        time: f64,
+        from: f64,
+        to: f64,
+        #[serde(default)]
+        rise_time: f64,
+    },
+    /// Tabulated voltage from a CSV file with a header row, linearly interpolated, held at the
+    /// first/last value outside the table. `file` is relative to the case file's directory.
+    /// The samples are read by [`VoltageInput::load`] (or given by
+    /// [`VoltageInput::from_samples`]); evaluating a series before that panics.
+    Series {
+        file: PathBuf,
+        #[serde(default = "default_time_column")]
+        time_column: String,
+        #[serde(default = "default_voltage_column")]
+        voltage_column: String,
+        #[serde(skip)]
+        samples: Option<Samples>,
+    },
+}
+
+fn sgn(x: f64) -> i8 {
+    if x > 0.0 {
+        1
+    } else if x < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+fn check_finite(file: &str, field: String, x: f64) -> Result<()> {
+    if x.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::input(file, field, format!("must be a finite number, got {x}")))
+    }
+}
+
+fn check_positive(file: &str, field: String, x: f64, unit: &str) -> Result<()> {
+    if x.is_finite() && x > 0.0 {
+        Ok(())
+    } else {
+        Err(Error::input(file, field, format!("must be a finite number > 0 {unit}, got {x}")))
+    }
+}
+
+/// Bisection for a sign change of `f` in `[a, b]`, `fa = f(a)`, to [`BISECT_TOL`].
+fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, mut fa: f64) -> f64 {
+    loop {
+        if b - a <= BISECT_TOL {
+            break;
+        }
+        let m = 0.5 * (a + b);
+        if m <= a || m >= b {
+            break;
+        }
+        let fm = f(m);
+        if fm == 0.0 {
+            return m;
+        }
+        if (fm < 0.0) != (fa < 0.0) {
+            b = m;
+        } else {
+            a = m;
+            fa = fm;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// Times in (t0, t1) where `rate` changes sign, for a smooth signal whose highest frequency
+/// is `fmax`: dense sampling of the rate, bisection of every sign change, and — so that two
+/// close roots inside one sampling interval are not missed — a check of the rate at every
+/// extremum of the rate (a sign change of `accel`) inside an interval without a sign change.
+fn rate_sign_changes(
+    t0: f64,
+    t1: f64,
+    fmax: f64,
+    rate: impl Fn(f64) -> f64,
+    accel: impl Fn(f64) -> f64,
+) -> Vec<f64> {
+    let n = ((t1 - t0) * fmax * SEARCH_PER_PERIOD).ceil().max(1.0) as usize;
+    let node = |j: usize| if j == n { t1 } else { t0 + (t1 - t0) * (j as f64 / n as f64) };
+    let mut out = Vec::new();
+    let (mut a, mut ra, mut aa) = (t0, rate(t0), accel(t0));
+    for j in 1..=n {
+        let b = node(j);
+        let (rb, ab) = (rate(b), accel(b));
+        if ra == 0.0 && j > 1 {
+            out.push(a);
+        }
+        let (sa, sb) = (sgn(ra), sgn(rb));
+        if sa * sb < 0 {
+            out.push(bisect(&rate, a, b, ra));
+        } else if sa * sb > 0 && sgn(aa) * sgn(ab) < 0 {
+            let m = bisect(&accel, a, b, aa);
+            let rm = rate(m);
+            if sgn(rm) * sa < 0 {
+                out.push(bisect(&rate, a, m, ra));
+                out.push(bisect(&rate, m, b, rm));
+            }
+        }
+        a = b;
+        ra = rb;
+        aa = ab;
+    }
+    out.retain(|&t| t > t0 && t < t1);
+    out
+}
+
+fn sort_dedup(mut v: Vec<f64>) -> Vec<f64> {
+    v.sort_by(f64::total_cmp);
+    v.dedup();
+    v
+}
+
+impl VoltageInput {
+    /// A pure sine `amplitude·sin(2π·frequency·t)`.
+    pub fn sine(amplitude: f64, frequency: f64) -> Self {
+        VoltageInput::Sine { amplitude, frequency, offset: 0.0, phase: 0.0 }
+    }
+
+    /// A tabulated input built in code (e.g. a measured voltage). `label` names the source in
+    /// error messages. Checks equal lengths, finite values and a strictly increasing time
+    /// axis with at least two samples.
+    pub fn from_samples(label: &str, t: Vec<f64>, v: Vec<f64>) -> Result<Self> {
+        if t.len() != v.len() {
+            return Err(Error::input(
+                label,
+                "voltage",
+                format!("{} voltages for {} times; the columns must have equal length", v.len(), t.len()),
+            ));
+        }
+        check_time_axis(label, "time", &t, false)?;
+        if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+            return Err(Error::input(label, "voltage", format!("row {}: value {} is not finite", i + 1, v[i])));
+        }
+        Ok(VoltageInput::Series {
+            file: PathBuf::from(label),
+            time_column: default_time_column(),
+            voltage_column: default_voltage_column(),
+            samples: Some(Samples { t, v }),
+        })
+    }
+
+    /// The tabulated samples of a loaded series; `None` for other kinds or before `load`.
+    pub fn samples(&self) -> Option<&Samples> {
+        match self {
+            VoltageInput::Series { samples, .. } => samples.as_ref(),
+            _ => None,
+        }
+    }
+
+    fn series_data(samples: &Option<Samples>) -> &Samples {
+        samples
+            .as_ref()
+            .expect("series voltage used before VoltageInput::load read its CSV file")
+    }
+
+    /// Chirp phase φ(t) and its first two derivatives.
+    fn chirp_phase(f0: f64, f1: f64, duration: f64, sweep: Sweep, t: f64) -> (f64, f64, f64) {
+        if t <= 0.0 {
+            return (TAU * f0 * t, TAU * f0, 0.0);
+        }
+        let tt = t.min(duration);
+        let (phi, f, fdot) = match sweep {
+            Sweep::Linear => {
+                let k = (f1 - f0) / duration;
+                (TAU * (f0 * tt + 0.5 * k * tt * tt), f0 + k * tt, k)
+            }
+            Sweep::Log => {
+                let l = (f1 / f0).ln();
+                if l == 0.0 {
+                    (TAU * f0 * tt, f0, 0.0)
+                } else {
+                    let x = l * tt / duration;
+                    let f = f0 * x.exp();
+                    (TAU * f0 * duration * x.exp_m1() / l, f, f * l / duration)
+                }
+            }
+        };
+        if t <= duration {
+            (phi, TAU * f, TAU * fdot)
+        } else {
+            (phi + TAU * f1 * (t - duration), TAU * f1, 0.0)
+        }
+    }
+
+    /// The voltage V(t) (V).
+    ///
+    /// # Panics
+    /// For a `series` whose samples were not read yet ([`VoltageInput::load`]).
+    pub fn value(&self, t: f64) -> f64 {
+        match self {
+            VoltageInput::Sine { amplitude, frequency, offset, phase } => {
+                offset + amplitude * (TAU * frequency * t + phase).sin()
+            }
+            VoltageInput::Sines { offset, components } => {
+                offset
+                    + components
+                        .iter()
+                        .map(|c| c.amplitude * (TAU * c.frequency * t + c.phase).sin())
+                        .sum::<f64>()
+            }
+            VoltageInput::Chirp { amplitude, f_start, f_end, duration, sweep, offset } => {
+                let (phi, _, _) = Self::chirp_phase(*f_start, *f_end, *duration, *sweep, t);
+                offset + amplitude * phi.sin()
+            }
+            VoltageInput::Step { time, from, to, rise_time } => {
+                if t < *time {
+                    *from
+                } else if *rise_time > 0.0 && t < time + rise_time {
+                    from + (to - from) * ((t - time) / rise_time)
+                } else {
+                    *to
+                }
+            }
+            VoltageInput::Series { samples, .. } => {
+                let s = Self::series_data(samples);
+                match s.segment(t) {
+                    Some(i) => {
+                        let w = (t - s.t[i]) / (s.t[i + 1] - s.t[i]);
+                        s.v[i] + w * (s.v[i + 1] - s.v[i])
+                    }
+                    None if t < s.t[0] => s.v[0],
+                    None => s.v[s.v.len() - 1],
+                }
+            }
+        }
+    }
+
+    /// The left limit V(t⁻). Equal to [`value`](Self::value) except at the jump of a step
+    /// with `rise_time = 0`, where it is `from`.
+    pub fn value_left(&self, t: f64) -> f64 {
+        match self {
+            VoltageInput::Step { time, from, rise_time, .. } if *rise_time == 0.0 && t <= *time => *from,
+            _ => self.value(t),
+        }
+    }
+
+    /// The exact time derivative dV/dt (V/s). At a jump it is 0; at a kink (series knot,
+    /// ramp end) it is the slope to the right.
+    pub fn rate(&self, t: f64) -> f64 {
+        match self {
+            VoltageInput::Sine { amplitude, frequency, phase, .. } => {
+                amplitude * TAU * frequency * (TAU * frequency * t + phase).cos()
+            }
+            VoltageInput::Sines { components, .. } => components
+                .iter()
+                .map(|c| c.amplitude * TAU * c.frequency * (TAU * c.frequency * t + c.phase).cos())
+                .sum(),
+            VoltageInput::Chirp { amplitude, f_start, f_end, duration, sweep, .. } => {
+                let (phi, w, _) = Self::chirp_phase(*f_start, *f_end, *duration, *sweep, t);
+                amplitude * w * phi.cos()
+            }
+            VoltageInput::Step { time, from, to, rise_time } => {
+                if *rise_time > 0.0 && t >= *time && t < time + rise_time {
+                    (to - from) / rise_time
+                } else {
+                    0.0
+                }
+            }
+            VoltageInput::Series { samples, .. } => {
+                let s = Self::series_data(samples);
+                s.segment(t).map_or(0.0, |i| s.slope(i))
+            }
+        }
+    }
+
+    /// The left limit of dV/dt: equal to [`rate`](Self::rate) except at the kinks of a
+    /// piecewise-linear input (series knot, ramp end), where it is the slope to the left.
+    pub fn rate_left(&self, t: f64) -> f64 {
+        match self {
+            VoltageInput::Step { time, from, to, rise_time } => {
+                if *rise_time > 0.0 && t > *time && t <= time + rise_time {
+                    (to - from) / rise_time
+                } else {
+                    0.0
+                }
+            }
+            VoltageInput::Series { samples, .. } => {
+                let s = Self::series_data(samples);
+                let n = s.t.len();
+                if t > s.t[0] && t <= s.t[n - 1] {
+                    s.slope(s.t.partition_point(|&x| x < t) - 1)
+                } else {
+                    0.0
+                }
+            }
+            _ => self.rate(t),
+        }
+    }
+
+    /// d²V/dt² for the smooth kinds (used by the turning-point search).
+    fn accel(&self, t: f64) -> f64 {
+        match self {
+            VoltageInput::Sine { amplitude, frequency, phase, .. } => {
+                let w = TAU * frequency;
+                -amplitude * w * w * (w * t + phase).sin()
+            }
+            VoltageInput::Sines { components, .. } => components
+                .iter()
+                .map(|c| {
+                    let w = TAU * c.frequency;
+                    -c.amplitude * w * w * (w * t + c.phase).sin()
+                })
+                .sum(),
+            VoltageInput::Chirp { amplitude, f_start, f_end, duration, sweep, .. } => {
+                let (phi, w, wdot) = Self::chirp_phase(*f_start, *f_end, *duration, *sweep, t);
+                amplitude * (wdot * phi.cos() - w * w * phi.sin())
+            }
+            _ => 0.0,
+        }
+    }
+
+    /// The exact common period (s): `1/f` for a sine; for `sines`, the period of the common
+    /// fundamental when every frequency is an integer multiple of `f_min/q` to
+    /// [`COMMENSURATE_TOL`] relative, for the smallest `q ≤` [`MAX_PERIOD_RATIO`]. `None`
+    /// otherwise and for the other kinds.
+    pub fn period(&self) -> Option<f64> {
+        self.fundamental_frequency().map(|f| 1.0 / f)
+    }
+
+    /// The fundamental frequency (Hz) of a periodic input, see [`period`](Self::period).
+    pub fn fundamental_frequency(&self) -> Option<f64> {
+        match self {
+            VoltageInput::Sine { frequency, .. } => Some(*frequency),
+            VoltageInput::Sines { components, .. } => {
+                let freqs: Vec<f64> = components.iter().map(|c| c.frequency).collect();
+                let fmin = freqs.iter().copied().fold(f64::INFINITY, f64::min);
+                if freqs.is_empty() || !(fmin > 0.0 && fmin.is_finite()) {
+                    return None;
+                }
+                (1..=MAX_PERIOD_RATIO).map(|q| fmin / q as f64).find(|&f0| {
+                    freqs.iter().all(|&f| {
+                        let n = (f / f0).round();
+                        n >= 1.0 && (n * f0 - f).abs() <= COMMENSURATE_TOL * f
+                    })
+                })
+            }
+            _ => None,
+        }
+    }
+
+    /// The highest frequency (Hz) a time step must resolve: the frequency of a sine, the
+    /// largest component frequency, `max(f_start, f_end)` for a chirp, half the mean sampling
+    /// rate of a loaded series, `1/(2·rise_time)` for a ramped step (a half period spans the
+    /// ramp). `None` for a jump (no finite frequency: the jump is a turning point instead)
+    /// and for a series not loaded yet.
+    pub fn highest_frequency(&self) -> Option<f64> {
+        match self {
+            VoltageInput::Sine { frequency, .. } => Some(*frequency),
+            VoltageInput::Sines { components, .. } => {
+                components.iter().map(|c| c.frequency).reduce(f64::max)
+            }
+            VoltageInput::Chirp { f_start, f_end, .. } => Some(f_start.max(*f_end)),
+            VoltageInput::Step { rise_time, .. } => (*rise_time > 0.0).then(|| 0.5 / rise_time),
+            VoltageInput::Series { samples, .. } => samples.as_ref().map(|s| {
+                let n = s.t.len();
+                0.5 * (n - 1) as f64 / (s.t[n - 1] - s.t[0])
+            }),
+        }
+    }
+
+    /// Checks the parameters: finite numbers, positive frequencies and duration,
+    /// `rise_time ≥ 0`, at least one sine component, non-empty file and column names.
+    /// `field` is the dotted path of this table in the case file (e.g. `actuator[0].voltage`);
+    /// messages name `file`, `field.<parameter>` and the reason.
+    pub fn validate(&self, file: &str, field: &str) -> Result<()> {
+        let f = |name: &str| format!("{field}.{name}");
+        match self {
+            VoltageInput::Sine { amplitude, frequency, offset, phase } => {
+                check_finite(file, f("amplitude"), *amplitude)?;
+                check_positive(file, f("frequency"), *frequency, "Hz")?;
+                check_finite(file, f("offset"), *offset)?;
+                check_finite(file, f("phase"), *phase)?;
+            }
+            VoltageInput::Sines { offset, components } => {
+                check_finite(file, f("offset"), *offset)?;
+                if components.is_empty() {
+                    return Err(Error::input(
+                        file,
+                        f("components"),
+                        "needs at least one component { amplitude, frequency, phase }",
+                    ));
+                }
+                for (i, c) in components.iter().enumerate() {
+                    let g = |name: &str| format!("{field}.components[{i}].{name}");
+                    check_finite(file, g("amplitude"), c.amplitude)?;
+                    check_positive(file, g("frequency"), c.frequency, "Hz")?;
+                    check_finite(file, g("phase"), c.phase)?;
+                }
+            }
+            VoltageInput::Chirp { amplitude, f_start, f_end, duration, offset, .. } => {
+                check_finite(file, f("amplitude"), *amplitude)?;
+                check_positive(file, f("f_start"), *f_start, "Hz")?;
+                check_positive(file, f("f_end"), *f_end, "Hz")?;
+                check_positive(file, f("duration"), *duration, "s")?;
+                check_finite(file, f("offset"), *offset)?;
+            }
+            VoltageInput::Step { time, from, to, rise_time } => {
+                check_finite(file, f("time"), *time)?;
+                check_finite(file, f("from"), *from)?;
+                check_finite(file, f("to"), *to)?;
+                if !(rise_time.is_finite() && *rise_time >= 0.0) {
+                    return Err(Error::input(
+                        file,
+                        f("rise_time"),
+                        format!("must be a finite number ≥ 0 s (0 = jump), got {rise_time}"),
+                    ));
+                }
+            }
+            VoltageInput::Series { file: csv, time_column, voltage_column, .. } => {
+                if csv.as_os_str().is_empty() {
+                    return Err(Error::input(file, f("file"), "must name a CSV file"));
+                }
+                if time_column.trim().is_empty() {
+                    return Err(Error::input(file, f("time_column"), "must name a column"));
+                }
+                if voltage_column.trim().is_empty() {
+                    return Err(Error::input(file, f("voltage_column"), "must name a column"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads the CSV file of a `series` (path relative to `case_dir`, the case file's
+    /// directory); a no-op for the other kinds. `file`/`field` name the case file and this
+    /// table for a file that cannot be read; errors inside the CSV name the CSV file, the
+    /// column and the row. The time column must be strictly increasing (≥ 2 rows).
+    pub fn load(&mut self, case_dir: &Path, file: &str, field: &str) -> Result<()> {
+        if let VoltageInput::Series { file: csv, time_column, voltage_column, samples } = self {
+            if csv.as_os_str().is_empty() {
+                return Err(Error::input(file, format!("{field}.file"), "must name a CSV file"));
+            }
+            let path = case_dir.join(&*csv);
+            let mut cols = read_columns(&path, &[time_column.as_str(), voltage_column.as_str()])
+                .map_err(|e| match e {
+                    Error::Io { path, source } => Error::input(
+                        file,
+                        format!("{field}.file"),
+                        format!("cannot read the voltage series `{path}`: {source}"),
+                    ),
+                    other => other,
+                })?;
+            let v = cols.pop().unwrap_or_default();
+            let t = cols.pop().unwrap_or_default();
+            check_time_axis(&path.display().to_string(), time_column, &t, false)?;
+            *samples = Some(Samples { t, v });
+        }
+        Ok(())
+    }
+
+    /// Times in the open interval (t0, t1) where V̇ changes sign (the extrema of V), plus the
+    /// jump of a step with `rise_time = 0`; sorted. Between two consecutive returned times
+    /// (and t0, t1) the voltage is monotone.
+    ///
+    /// - sine: analytically, `2πf·t + phase = π/2 + kπ`;
+    /// - series: the sample knots where the slope sign changes (a flat segment counts as its
+    ///   own sign, so both of its ends may be returned);
+    /// - step: the jump time (a ramp is monotone and has none);
+    /// - sines and chirp: V̇ sampled 32 times per period of the highest frequency, each sign
+    ///   change bisected to 1e-14 s; inside a sampling interval without a sign change the
+    ///   extremum of V̇ is located too (bisection of V̈) and checked, so a close pair of
+    ///   extrema is not missed. An exact zero of V̇ at a sampling node is returned even if V̇
+    ///   only touches zero there (harmless for splitting: both sides stay monotone).
+    pub fn turning_points(&self, t0: f64, t1: f64) -> Vec<f64> {
+        // Written so that a NaN bound also gives no points.
+        if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
+            return Vec::new();
+        }
+        match self {
+            VoltageInput::Sine { amplitude, frequency, phase, .. } => {
+                if *amplitude == 0.0 {
+                    return Vec::new();
+                }
+                let w = TAU * frequency;
+                let mut k = ((w * t0 + phase) / PI - 0.5).floor();
+                let mut out = Vec::new();
+                loop {
+                    let t = ((k + 0.5) * PI - phase) / w;
+                    if t >= t1 {
+                        break;
+                    }
+                    if t > t0 {
+                        out.push(t);
+                    }
+                    k += 1.0;
+                }
+                out
+            }
+            VoltageInput::Sines { components, .. } => {
+                let fmax = components.iter().map(|c| c.frequency).fold(0.0, f64::max);
+                if fmax <= 0.0 {
+                    return Vec::new();
+                }
+                sort_dedup(rate_sign_changes(t0, t1, fmax, |t| self.rate(t), |t| self.accel(t)))
+            }
+            VoltageInput::Chirp { amplitude, f_start, f_end, .. } => {
+                if *amplitude == 0.0 {
+                    return Vec::new();
+                }
+                let fmax = f_start.max(*f_end);
+                sort_dedup(rate_sign_changes(t0, t1, fmax, |t| self.rate(t), |t| self.accel(t)))
+            }
+            VoltageInput::Step { time, from, to, rise_time } => {
+                if *rise_time == 0.0 && from != to && *time > t0 && *time < t1 {
+                    vec![*time]
+                } else {
+                    Vec::new()
+                }
+            }
+            VoltageInput::Series { samples, .. } => {
+                let s = Self::series_data(samples);
+                let n = s.t.len();
+                let slope_sign = |i: isize| -> i8 {
+                    if i < 0 || i as usize >= n - 1 {
+                        0
+                    } else {
+                        sgn(s.slope(i as usize))
+                    }
+                };
+                (0..n)
+                    .filter(|&k| s.t[k] > t0 && s.t[k] < t1)
+                    .filter(|&k| slope_sign(k as isize - 1) != slope_sign(k as isize))
+                    .map(|k| s.t[k])
+                    .collect()
+            }
+        }
+    }
+
+    /// [`turning_points`](Self::turning_points) plus every other time in (t0, t1) where V is
+    /// not smooth: the ends of a step's ramp, every sample knot of a series, t = 0 and
+    /// t = `duration` of a chirp. Between two consecutive points V is monotone and C^∞, so a
+    /// time integrator that steps exactly onto them keeps its full order.
+    pub fn breakpoints(&self, t0: f64, t1: f64) -> Vec<f64> {
+        if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
+            return Vec::new();
+        }
+        let mut out = self.turning_points(t0, t1);
+        match self {
+            VoltageInput::Chirp { duration, .. } => out.extend([0.0, *duration]),
+            VoltageInput::Step { time, rise_time, .. } => out.extend([*time, time + rise_time]),
+            VoltageInput::Series { samples, .. } => out.extend_from_slice(&Self::series_data(samples).t),
+            _ => {}
+        }
+        out.retain(|&t| t > t0 && t < t1);
+        sort_dedup(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    pub(crate) fn temp_dir(tag: &str) -> PathBuf {
+        let d = std::env::temp_dir().join(format!("beamflow-voltage-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn parse(s: &str) -> std::result::Result<VoltageInput, toml::de::Error> {
+        toml::from_str(s)
+    }
+
+    fn all_smooth_inputs() -> Vec<VoltageInput> {
+        vec![
+            VoltageInput::Sine { amplitude: 48.0, frequency: 30.0, offset: 5.0, phase: 0.3 },
+            VoltageInput::Sines {
+                offset: 1.0,
+                components: vec![
+                    SineComponent { amplitude: 10.0, frequency: 60.0, phase: 0.0 },
+                    SineComponent { amplitude: 4.0, frequency: 180.0, phase: 1.0 },
+                    SineComponent { amplitude: 2.0, frequency: 300.0, phase: -0.4 },
+                ],
+            },
+            VoltageInput::Chirp {
+                amplitude: 20.0,
+                f_start: 5.0,
+                f_end: 80.0,
+                duration: 0.5,
+                sweep: Sweep::Linear,
+                offset: 0.0,
+            },
+            VoltageInput::Chirp {
+                amplitude: 20.0,
+                f_start: 80.0,
+                f_end: 5.0,
+                duration: 0.5,
+                sweep: Sweep::Log,
+                offset: -3.0,
+            },
+        ]
+    }
+
+    #[test]
+    fn parses_all_kinds_from_toml() {
+        let v = parse("kind = \"sine\"\namplitude = 48\nfrequency = 30\n").unwrap();
+        assert_eq!(v, VoltageInput::Sine { amplitude: 48.0, frequency: 30.0, offset: 0.0, phase: 0.0 });
+        let v = parse(
+            "kind = \"sines\"\noffset = 2\ncomponents = [{ amplitude = 1, frequency = 60 }, { amplitude = 0.5, frequency = 180, phase = 1 }]\n",
+        )
+        .unwrap();
+        assert_eq!(v.period(), Some(1.0 / 60.0));
+        let v = parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"log\"\n").unwrap();
+        assert!(matches!(v, VoltageInput::Chirp { sweep: Sweep::Log, .. }));
+        let v = parse("kind = \"step\"\ntime = 0.1\nfrom = 0\nto = 10\n").unwrap();
+        assert!(matches!(v, VoltageInput::Step { rise_time, .. } if rise_time == 0.0));
+        let v = parse("kind = \"series\"\nfile = \"v.csv\"\n").unwrap();
+        match v {
+            VoltageInput::Series { time_column, voltage_column, samples, .. } => {
+                assert_eq!((time_column.as_str(), voltage_column.as_str()), ("time", "voltage"));
+                assert!(samples.is_none());
+            }
+            _ => panic!(),
+        }
+    }
+
+    #[test]
+    fn rejects_unknown_fields_and_kinds() {
+        let e = parse("kind = \"sine\"\namplitude = 48\nfrequency = 30\nfreq = 3\n").unwrap_err();
+        assert!(e.to_string().contains("unknown field `freq`"), "{e}");
+        let e = parse("kind = \"sines\"\ncomponents = [{ amplitude = 1, frequency = 60, offset = 1 }]\n").unwrap_err();
+        assert!(e.to_string().contains("unknown field `offset`"), "{e}");
+        let e = parse("kind = \"step\"\ntime = 0\nfrom = 0\nto = 1\nrise = 1\n").unwrap_err();
+        assert!(e.to_string().contains("unknown field `rise`"), "{e}");
+        let e = parse("kind = \"series\"\nfile = \"a.csv\"\nsamples = 3\n").unwrap_err();
+        assert!(e.to_string().contains("unknown field `samples`"), "{e}");
+        let e = parse("kind = \"square\"\namplitude = 1\n").unwrap_err();
+        assert!(e.to_string().contains("unknown variant"), "{e}");
+        let e = parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"cubic\"\n").unwrap_err();
+        assert!(e.to_string().contains("cubic"), "{e}");
+    }
+
+    #[test]
+    fn validation_names_the_field() {
+        let bad = [
+            (VoltageInput::Sine { amplitude: 1.0, frequency: 0.0, offset: 0.0, phase: 0.0 }, "v.frequency"),
+            (VoltageInput::Sine { amplitude: f64::NAN, frequency: 1.0, offset: 0.0, phase: 0.0 }, "v.amplitude"),
+            (VoltageInput::Sines { offset: 0.0, components: vec![] }, "v.components"),
+            (
+                VoltageInput::Sines {
+                    offset: 0.0,
+                    components: vec![
+                        SineComponent { amplitude: 1.0, frequency: 1.0, phase: 0.0 },
+                        SineComponent { amplitude: 1.0, frequency: -1.0, phase: 0.0 },
+                    ],
+                },
+                "v.components[1].frequency",
+            ),
+            (
+                VoltageInput::Chirp { amplitude: 1.0, f_start: 1.0, f_end: 2.0, duration: 0.0, sweep: Sweep::Linear, offset: 0.0 },
+                "v.duration",
+            ),
+            (
+                VoltageInput::Chirp { amplitude: 1.0, f_start: 1.0, f_end: f64::INFINITY, duration: 1.0, sweep: Sweep::Log, offset: 0.0 },
+                "v.f_end",
+            ),
+            (VoltageInput::Step { time: 0.0, from: 0.0, to: 1.0, rise_time: -1e-3 }, "v.rise_time"),
+            (
+                VoltageInput::Series { file: PathBuf::new(), time_column: "t".into(), voltage_column: "v".into(), samples: None },
+                "v.file",
+            ),
+        ];
+        for (input, field) in bad {
+            let e = input.validate("case.toml", "v").unwrap_err().to_string();
+            assert!(e.starts_with("case.toml: field `") && e.contains(&format!("`{field}`")), "{e}");
+        }
+        for input in all_smooth_inputs() {
+            input.validate("case.toml", "v").unwrap();
+        }
+    }
+
+    #[test]
+    fn rate_is_the_derivative_of_value() {
+        let mut inputs = all_smooth_inputs();
+        inputs.push(VoltageInput::Step { time: 0.1, from: 1.0, to: 5.0, rise_time: 0.05 });
+        inputs.push(VoltageInput::from_samples("mem", vec![0.0, 0.1, 0.3], vec![0.0, 2.0, -1.0]).unwrap());
+        for input in &inputs {
+            let grid: Vec<f64> = (1..200).map(|k| k as f64 * 0.00371 + 0.0001).collect();
+            let rate_scale = grid.iter().map(|&t| input.rate(t).abs()).fold(1.0, f64::max);
+            let accel_scale = grid.iter().map(|&t| input.accel(t).abs()).fold(1.0, f64::max);
+            let h = 1e-7;
+            for &t in &grid {
+                // Skip the few points within h of a kink of a piecewise-linear input.
+                let kink = input.breakpoints(t - h, t + h).iter().any(|&b| {
+                    !matches!(input, VoltageInput::Sine { .. } | VoltageInput::Sines { .. }) && (b - t).abs() < h
+                });
+                if kink {
+                    continue;
+                }
+                let fd = (input.value(t + h) - input.value(t - h)) / (2.0 * h);
+                let r = input.rate(t);
+                assert!((fd - r).abs() <= 1e-6 * rate_scale, "{input:?} t={t}: {fd} vs {r}");
+                assert_eq!(input.rate_left(t), r);
+                if !matches!(input, VoltageInput::Step { .. } | VoltageInput::Series { .. }) {
+                    let fa = (input.rate(t + h) - input.rate(t - h)) / (2.0 * h);
+                    let a = input.accel(t);
+                    assert!((fa - a).abs() <= 1e-6 * accel_scale, "{input:?} t={t}: {fa} vs {a}");
+                }
+            }
+        }
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-12 * y.abs();
+        let ser = &inputs[inputs.len() - 1];
+        assert!(close(ser.rate_left(0.1), 20.0) && close(ser.rate(0.1), -15.0));
+        let ramp = &inputs[inputs.len() - 2];
+        let end = 0.1 + 0.05;
+        assert!(close(ramp.rate_left(end), 80.0) && ramp.rate(end) == 0.0);
+        assert!(ramp.rate_left(0.1) == 0.0 && close(ramp.rate(0.1), 80.0));
+    }
+
+    #[test]
+    fn chirp_frequency_law_and_continuation() {
+        for sweep in [Sweep::Linear, Sweep::Log] {
+            let c = VoltageInput::Chirp { amplitude: 1.0, f_start: 10.0, f_end: 40.0, duration: 2.0, sweep, offset: 0.0 };
+            let (_, w0, _) = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 1e-12);
+            let (_, w1, _) = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 2.0);
+            let (_, w2, _) = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 7.0);
+            assert!((w0 / TAU - 10.0).abs() < 1e-9 && (w1 / TAU - 40.0).abs() < 1e-9 && (w2 / TAU - 40.0).abs() < 1e-12);
+            let mid = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 1.0).1 / TAU;
+            let expect = if sweep == Sweep::Linear { 25.0 } else { 20.0 };
+            assert!((mid - expect).abs() < 1e-9, "{mid}");
+            // phase continuity across t = duration and t = 0
+            for tk in [0.0, 2.0] {
+                let d = c.value(tk + 1e-9) - c.value(tk - 1e-9);
+                assert!(d.abs() < 1e-6, "{d}");
+            }
+        }
+    }
+
+    #[test]
+    fn periods_and_frequencies() {
+        let s = |fs: &[f64]| VoltageInput::Sines {
+            offset: 0.0,
+            components: fs.iter().map(|&f| SineComponent { amplitude: 1.0, frequency: f, phase: 0.0 }).collect(),
+        };
+        assert_eq!(VoltageInput::sine(1.0, 30.0).period(), Some(1.0 / 30.0));
+        assert_eq!(s(&[60.0, 180.0]).fundamental_frequency(), Some(60.0));
+        assert_eq!(s(&[180.0, 60.0, 300.0]).fundamental_frequency(), Some(60.0));
+        assert_eq!(s(&[30.0, 45.0]).fundamental_frequency(), Some(15.0));
+        assert_eq!(s(&[6.0, 10.0]).fundamental_frequency(), Some(2.0));
+        let f = s(&[0.1, 0.3, 0.7]).fundamental_frequency().unwrap();
+        assert!((f - 0.1).abs() < 1e-15);
+        assert_eq!(s(&[1.0, 2f64.sqrt()]).period(), None);
+        assert_eq!(s(&[1.0, 1.0 + 3e-9]).period(), None);
+        assert!(s(&[1.0, 1.0 + 1e-10]).period().is_some());
+        assert_eq!(s(&[60.0, 180.0]).highest_frequency(), Some(180.0));
+        let chirp = &all_smooth_inputs()[2];
+        assert_eq!(chirp.period(), None);
+        assert_eq!(chirp.highest_frequency(), Some(80.0));
+        assert_eq!(VoltageInput::Step { time: 0.0, from: 0.0, to: 1.0, rise_time: 0.0 }.highest_frequency(), None);
+        assert_eq!(VoltageInput::Step { time: 0.0, from: 0.0, to: 1.0, rise_time: 0.01 }.highest_frequency(), Some(50.0));
+        let series = VoltageInput::from_samples("mem", vec![0.0, 0.001, 0.002, 0.003], vec![0.0; 4]).unwrap();
+        assert!((series.highest_frequency().unwrap() - 500.0).abs() < 1e-9);
+        // a sum of sines is periodic with the period found
+        let x = s(&[30.0, 45.0, 75.0]);
+        let p = x.period().unwrap();
+        for k in 0..50 {
+            let t = 0.0123 * k as f64;
+            assert!((x.value(t + p) - x.value(t)).abs() < 1e-9);
+        }
+    }
+
+    /// Checks that `tps` are exactly the direction changes: V̇ ≈ 0 there, and V is monotone
+    /// between consecutive points (dense check).
+    fn assert_monotone_pieces(input: &VoltageInput, t0: f64, t1: f64, tps: &[f64]) {
+        let mut edges = vec![t0];
+        edges.extend_from_slice(tps);
+        edges.push(t1);
+        for w in edges.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let n = 400;
+            let mut dir = 0i8;
+            let mut prev = input.value(a);
+            for k in 1..=n {
+                let v = input.value(a + (b - a) * k as f64 / n as f64);
+                let s = sgn(v - prev);
+                // tolerate rounding-level wiggles
+                if (v - prev).abs() > 1e-9 {
+                    assert!(dir == 0 || s == dir, "{input:?}: not monotone in [{a}, {b}]");
+                    dir = s;
+                }
+                prev = v;
+            }
+        }
+        for &t in tps {
+            let scale = (0..1000).map(|k| input.rate(t0 + (t1 - t0) * k as f64 / 1000.0).abs()).fold(1.0, f64::max);
+            assert!(input.rate(t).abs() <= 1e-10 * scale, "{input:?} at {t}: rate {}", input.rate(t));
+        }
+    }
+
+    #[test]
+    fn turning_points_split_into_monotone_pieces() {
+        // sine: analytic, count per period = 2
+        let s = VoltageInput::Sine { amplitude: 3.0, frequency: 7.0, offset: 0.0, phase: 0.4 };
+        let tps = s.turning_points(0.0, 1.0);
+        assert_eq!(tps.len(), 14);
+        assert_monotone_pieces(&s, 0.0, 1.0, &tps);
+        for &t in &tps {
+            assert!((s.value(t).abs() - 3.0).abs() < 1e-13);
+        }
+        // open interval: an endpoint on a turning point is not returned
+        let t_first = tps[0];
+        assert_eq!(s.turning_points(t_first, tps[1] + 1e-9).len(), 1);
+        for input in all_smooth_inputs().iter().skip(1) {
+            let tps = input.turning_points(0.0, 0.8);
+            assert!(tps.windows(2).all(|w| w[0] < w[1]));
+            assert_monotone_pieces(input, 0.0, 0.8, &tps);
+        }
+        // two close extrema inside one sampling interval: V̇ = cos(ωt) + c near its minimum.
+        // With c slightly below 1, V̇ dips below zero only briefly around t = 1/(2f).
+        let f = 1.0;
+        let c = 1.0 - 1e-4;
+        let slow = 1e-3;
+        let comps = vec![
+            SineComponent { amplitude: 1.0 / (TAU * f), frequency: f, phase: 0.0 },
+            // rate of this one ≈ c around t = 0.5
+            SineComponent { amplitude: c / (TAU * slow), frequency: slow, phase: -TAU * slow * 0.5 },
+        ];
+        let pair = VoltageInput::Sines { offset: 0.0, components: comps };
+        let tps = pair.turning_points(0.4, 0.6);
+        assert_eq!(tps.len(), 2, "{tps:?}");
+        assert!(tps[1] - tps[0] < 1.0 / 32.0, "the pair lies inside one sampling interval");
+        assert_monotone_pieces(&pair, 0.4, 0.6, &tps);
+        // step jump and series knots
+        let st = VoltageInput::Step { time: 0.5, from: 0.0, to: 2.0, rise_time: 0.0 };
+        assert_eq!(st.turning_points(0.0, 1.0), vec![0.5]);
+        assert!(st.turning_points(0.5, 1.0).is_empty());
+        assert_eq!(st.value(0.5), 2.0);
+        assert_eq!(st.value_left(0.5), 0.0);
+        let ramp = VoltageInput::Step { time: 0.5, from: 0.0, to: 2.0, rise_time: 0.1 };
+        assert!(ramp.turning_points(0.0, 1.0).is_empty());
+        assert_eq!(ramp.breakpoints(0.0, 1.0), vec![0.5, 0.6]);
+        let ser = VoltageInput::from_samples("mem", vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], vec![0.0, 1.0, 3.0, 3.0, -1.0, 0.0]).unwrap();
+        assert_eq!(ser.turning_points(-1.0, 10.0), vec![0.0, 2.0, 3.0, 4.0, 5.0]);
+        assert_eq!(ser.breakpoints(0.5, 4.5), vec![1.0, 2.0, 3.0, 4.0]);
+        assert_eq!(ser.value(2.5), 3.0);
+        assert_eq!(ser.value(3.5), 1.0);
+        assert_eq!(ser.value(-1.0), 0.0);
+        assert_eq!(ser.value(9.0), 0.0);
+        assert_eq!(ser.rate(4.2), 1.0);
+    }
+
+    #[test]
+    fn series_load_and_errors() {
+        let dir = temp_dir("series");
+        let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
+        write("ok.csv", "time,u,voltage\n0,9,0\n0.5,9,2\n1.0,9,-2\n");
+        write("dup.csv", "time,voltage\n0,0\n0.5,1\n0.5,2\n");
+        write("nan.csv", "time,voltage\n0,0\n0.5,nan\n");
+        write("cols.csv", "t,voltage\n0,0\n0.5,1\n");
+        let series = |f: &str, tc: &str| VoltageInput::Series {
+            file: f.into(),
+            time_column: tc.into(),
+            voltage_column: "voltage".into(),
+            samples: None,
+        };
+        let mut ok = series("ok.csv", "time");
+        ok.load(&dir, "case.toml", "actuator[0].voltage").unwrap();
+        assert_eq!(ok.value(0.25), 1.0);
+        assert_eq!(ok.value(0.75), 0.0);
+        assert_eq!(ok.turning_points(0.0, 1.0), vec![0.5]);
+
+        let err = |f: &str, tc: &str| {
+            let mut s = series(f, tc);
+            s.load(&dir, "case.toml", "actuator[0].voltage").unwrap_err().to_string()
+        };
+        let e = err("dup.csv", "time");
+        assert!(e.contains("dup.csv") && e.contains("`time`") && e.contains("row 3") && e.contains("strictly increasing"), "{e}");
+        let e = err("nan.csv", "time");
+        assert!(e.contains("nan.csv") && e.contains("`voltage`") && e.contains("row 2") && e.contains("not finite"), "{e}");
+        let e = err("cols.csv", "time");
+        assert!(e.contains("cols.csv") && e.contains("`time`") && e.contains("not found"), "{e}");
+        let e = err("missing.csv", "time");
+        assert!(e.contains("case.toml") && e.contains("actuator[0].voltage.file") && e.contains("missing.csv"), "{e}");
+        std::fs::remove_dir_all(&dir).ok();
+    }
+}

@@ -1,0 +1,6 @@
+//! Solvers: they consume an assembled [`System`](crate::assembly::System) and know nothing
+//! of beams or actuators.
+
+pub mod eigen;
+pub mod harmonic;
+pub mod newmark;

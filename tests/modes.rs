@@ -1,0 +1,101 @@
+//! Natural modes against closed-form beam theory.
+
+mod common;
+use beamflow::analysis::modes;
+use beamflow::assembly::{Model, System};
+use beamflow::beam::analytic::{natural_frequencies_hz, End};
+use beamflow::case::build::build_beam;
+use common::*;
+
+fn beam_case(elements: usize, supports: &str) -> beamflow::beam::Beam {
+    let lc = case(&format!("[beam.mesh]\nelements = {elements}\n{supports}"));
+    build_beam(&lc).unwrap()
+}
+
+const EI: f64 = 210e9 * 0.05 * 0.005 * 0.005 * 0.005 / 12.0;
+const RHO_A: f64 = 7850.0 * 0.05 * 0.005;
+
+#[test]
+fn clamped_clamped_frequencies_match_beta_l_roots_at_200_elements() {
+    let r = modes::run(&beam_case(200, ""), 6).unwrap();
+    let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 6).unwrap();
+    for (k, (f, a)) in r.frequencies_hz.iter().zip(&exact).enumerate() {
+        assert!(rel(*f, *a) < 1e-6, "mode {}: {f} Hz vs {a} Hz", k + 1);
+    }
+    assert!((r.frequencies_hz[0] - 49.88).abs() < 0.01, "f1 = {}", r.frequencies_hz[0]);
+    assert_eq!(r.analytic_hz.len(), 6, "the run itself reports the closed-form reference");
+}
+
+#[test]
+fn frequency_error_converges_at_fourth_order_under_mesh_halving() {
+    let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 3).unwrap();
+    let meshes = [8, 16, 32];
+    let errs: Vec<Vec<f64>> = meshes.iter().map(|&n| {
+        let r = modes::run(&beam_case(n, ""), 3).unwrap();
+        r.frequencies_hz.iter().zip(&exact).map(|(f, a)| rel(*f, *a)).collect()
+    }).collect();
+    for mode in 0..3 {
+        for w in errs.windows(2) {
+            let order = (w[0][mode] / w[1][mode]).log2();
+            assert!((3.7..4.3).contains(&order), "mode {}: observed order {order:.3} (errors {:?})", mode + 1, errs.iter().map(|e| e[mode]).collect::<Vec<_>>());
+        }
+    }
+}
+
+#[test]
+fn modes_are_mass_normalised_and_diagonalise_stiffness() {
+    let beam = beam_case(60, "");
+    let model = Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let sys = System::assemble(&model).unwrap();
+    let r = modes::run(&beam, 12).unwrap();
+    let n = sys.n();
+    let phis: Vec<Vec<f64>> = (0..12).map(|k| r.modes.shape_global(k, n)).collect();
+    for i in 0..12 {
+        for j in 0..12 {
+            let m = sys.m.bilinear(&phis[i], &phis[j]);
+            let k = sys.k.bilinear(&phis[i], &phis[j]);
+            let w2 = r.modes.omega[i].powi(2);
+            let (em, ek) = if i == j { (1.0, w2) } else { (0.0, 0.0) };
+            assert!((m - em).abs() < 1e-9, "phi{i}ᵀMphi{j} = {m}");
+            assert!((k - ek).abs() < 1e-9 * r.modes.omega[11].powi(2), "phi{i}ᵀKphi{j} = {k}");
+        }
+    }
+}
+
+#[test]
+fn pinned_pinned_and_cantilever_frequencies() {
+    let pp = modes::run(&beam_case(100, "[[beam.support]]\nx = 0.0\nkind = \"pinned\"\n[[beam.support]]\nx = 0.73\nkind = \"pinned\""), 4).unwrap();
+    let cf = modes::run(&beam_case(100, "[[beam.support]]\nx = 0.0\nkind = \"clamped\""), 4).unwrap();
+    for (r, ends) in [(&pp, (End::Pinned, End::Pinned)), (&cf, (End::Clamped, End::Free))] {
+        let exact = natural_frequencies_hz(ends.0, ends.1, 0.73, EI, RHO_A, 4).unwrap();
+        for (f, a) in r.frequencies_hz.iter().zip(&exact) {
+            assert!(rel(*f, *a) < 1e-6, "{ends:?}: {f} vs {a}");
+        }
+    }
+    // Pinned–pinned has the closed form f_r = (rπ)²/(2πL²)·√(EI/ρA) exactly.
+    let f1 = std::f64::consts::PI / (2.0 * 0.73 * 0.73) * (EI / RHO_A).sqrt();
+    assert!(rel(pp.frequencies_hz[0], f1) < 1e-7);
+}
+
+#[test]
+fn cantilever_static_tip_deflection_is_exact() {
+    let beam = beam_case(7, "[[beam.support]]\nx = 0.0\nkind = \"clamped\"");
+    let model = Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let sys = System::assemble(&model).unwrap();
+    let tip = sys.dofs.w[beam.mesh.n_nodes() - 1].unwrap();
+    let mut f = vec![0.0; sys.n()];
+    f[tip] = 10.0;
+    let q = sys.static_solve(&f).unwrap();
+    let exact = 10.0 * 0.73f64.powi(3) / (3.0 * EI);
+    assert!(rel(q[tip], exact) < 1e-12, "{} vs {exact}", q[tip]);
+}
+
+#[test]
+fn unsupported_beam_is_reported_not_solved() {
+    let beam = beam_case(10, "[[beam.support]]\nx = 0.0\nkind = \"free\"");
+    let model = Model { beam: Some(beam), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let sys = System::assemble(&model).unwrap();
+    let err = sys.static_solve(&vec![1.0; sys.n()]).unwrap_err().to_string();
+    assert!(err.contains("singular"), "{err}");
+}
+
