@@ -14,8 +14,11 @@ pub mod assembly;
 pub mod beam;
 pub mod case;
 pub mod error;
+pub mod identify;
+pub mod io;
 pub mod linalg;
 pub mod post;
+pub mod runner;
 pub mod signal;
 pub mod solve;
 

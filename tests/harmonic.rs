@@ -2,9 +2,9 @@
 
 mod common;
 use beamflow::analysis::harmonic::{self, PointForce};
+use beamflow::assembly::System;
 use beamflow::beam::analytic::{beta_l_roots, End};
 use beamflow::case::build_model;
-use beamflow::assembly::System;
 use common::*;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -47,10 +47,20 @@ fn mode_functions_are_mass_normalised() {
     for &bl in [roots[0], roots[149]].iter() {
         let n = 20000;
         let hstep = L / n as f64;
-        let s: f64 = (0..=n).map(|i| {
-            let w = if i == 0 || i == n { 1.0 } else if i % 2 == 1 { 4.0 } else { 2.0 };
-            w * cc_mode(bl, i as f64 * hstep).powi(2)
-        }).sum::<f64>() * hstep / 3.0;
+        let s: f64 = (0..=n)
+            .map(|i| {
+                let w = if i == 0 || i == n {
+                    1.0
+                } else if i % 2 == 1 {
+                    4.0
+                } else {
+                    2.0
+                };
+                w * cc_mode(bl, i as f64 * hstep).powi(2)
+            })
+            .sum::<f64>()
+            * hstep
+            / 3.0;
         assert!((RHO_A * s - 1.0).abs() < 1e-8, "βL = {bl}: {}", RHO_A * s);
         assert!(cc_mode(bl, L).abs() < 1e-8 * cc_mode(bl, 0.37 * L).abs().max(1e-3));
     }
@@ -59,11 +69,14 @@ fn mode_functions_are_mass_normalised() {
 #[test]
 fn driving_point_power_matches_the_continuous_beam() {
     let (a0, a1) = (3.0, 2.0e-6);
-    let lc = case(&format!("[damping]\nkind = \"rayleigh\"\na0 = {a0}\na1 = {a1}\n[[sensor]]\nname = \"drive\"\nx = 0.150\n"));
+    let lc = case(&format!(
+        "[damping]\nkind = \"rayleigh\"\na0 = {a0}\na1 = {a1}\n[[sensor]]\nname = \"drive\"\nx = 0.150\n"
+    ));
     let model = build_model(&lc).unwrap().model;
     let sys = System::assemble(&model).unwrap();
     let freqs = [30.0, 60.0, 100.0, 180.0, 400.0];
-    let res = harmonic::run(&model, &sys, &freqs, &[PointForce { x: 0.150, amplitude: 1.0, phase: 0.0 }], None).unwrap();
+    let res =
+        harmonic::run(&model, &sys, &freqs, &[PointForce { x: 0.150, amplitude: 1.0, phase: 0.0 }], None).unwrap();
     for (k, &f) in freqs.iter().enumerate() {
         let y = continuous_mobility(0.150, f, a0, a1, 400);
         let p_exact = 0.5 * y.re;
@@ -90,7 +103,12 @@ fn modal_damping_path_balances_and_agrees_with_rayleigh_equivalent() {
     let direct = direct.unwrap();
     let modal = harmonic::run(&model, &sys, &[55.0, 170.0], &forces, Some((&modes, &ratios))).unwrap();
     for k in 0..2 {
-        assert!(rel(modal.total_power[k], direct.total_power[k]) < 1e-9, "{} vs {}", modal.total_power[k], direct.total_power[k]);
+        assert!(
+            rel(modal.total_power[k], direct.total_power[k]) < 1e-9,
+            "{} vs {}",
+            modal.total_power[k],
+            direct.total_power[k]
+        );
         assert!(modal.balance_error[k] < 1e-9);
     }
 }

@@ -30,14 +30,22 @@ fn clamped_clamped_frequencies_match_beta_l_roots_at_200_elements() {
 fn frequency_error_converges_at_fourth_order_under_mesh_halving() {
     let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 3).unwrap();
     let meshes = [8, 16, 32];
-    let errs: Vec<Vec<f64>> = meshes.iter().map(|&n| {
-        let r = modes::run(&beam_case(n, ""), 3).unwrap();
-        r.frequencies_hz.iter().zip(&exact).map(|(f, a)| rel(*f, *a)).collect()
-    }).collect();
+    let errs: Vec<Vec<f64>> = meshes
+        .iter()
+        .map(|&n| {
+            let r = modes::run(&beam_case(n, ""), 3).unwrap();
+            r.frequencies_hz.iter().zip(&exact).map(|(f, a)| rel(*f, *a)).collect()
+        })
+        .collect();
     for mode in 0..3 {
         for w in errs.windows(2) {
             let order = (w[0][mode] / w[1][mode]).log2();
-            assert!((3.7..4.3).contains(&order), "mode {}: observed order {order:.3} (errors {:?})", mode + 1, errs.iter().map(|e| e[mode]).collect::<Vec<_>>());
+            assert!(
+                (3.7..4.3).contains(&order),
+                "mode {}: observed order {order:.3} (errors {:?})",
+                mode + 1,
+                errs.iter().map(|e| e[mode]).collect::<Vec<_>>()
+            );
         }
     }
 }
@@ -64,7 +72,11 @@ fn modes_are_mass_normalised_and_diagonalise_stiffness() {
 
 #[test]
 fn pinned_pinned_and_cantilever_frequencies() {
-    let pp = modes::run(&beam_case(100, "[[beam.support]]\nx = 0.0\nkind = \"pinned\"\n[[beam.support]]\nx = 0.73\nkind = \"pinned\""), 4).unwrap();
+    let pp = modes::run(
+        &beam_case(100, "[[beam.support]]\nx = 0.0\nkind = \"pinned\"\n[[beam.support]]\nx = 0.73\nkind = \"pinned\""),
+        4,
+    )
+    .unwrap();
     let cf = modes::run(&beam_case(100, "[[beam.support]]\nx = 0.0\nkind = \"clamped\""), 4).unwrap();
     for (r, ends) in [(&pp, (End::Pinned, End::Pinned)), (&cf, (End::Clamped, End::Free))] {
         let exact = natural_frequencies_hz(ends.0, ends.1, 0.73, EI, RHO_A, 4).unwrap();
@@ -98,4 +110,3 @@ fn unsupported_beam_is_reported_not_solved() {
     let err = sys.static_solve(&vec![1.0; sys.n()]).unwrap_err().to_string();
     assert!(err.contains("singular"), "{err}");
 }
-

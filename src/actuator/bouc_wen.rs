@@ -297,10 +297,7 @@ impl BoucWen {
         let Some((&first, rest)) = times.split_first() else {
             return Vec::new();
         };
-        assert!(
-            times.windows(2).all(|w| w[0] <= w[1]),
-            "BoucWen::history: times must be nondecreasing"
-        );
+        assert!(times.windows(2).all(|w| w[0] <= w[1]), "BoucWen::history: times must be nondecreasing");
         let last = *times.last().unwrap_or(&first);
         let tps = input.turning_points(first, last);
         let mut out = Vec::with_capacity(times.len());
@@ -364,16 +361,7 @@ impl BoucWen {
             if change <= tol || j + 1 == max_periods {
                 let v: Vec<f64> = t.iter().map(|&ti| input.value(ti)).collect();
                 let stroke = v.iter().zip(&h).map(|(&vi, &hi)| self.stroke(vi, hi)).collect();
-                return Ok(PeriodicCycle {
-                    period,
-                    t,
-                    v,
-                    h,
-                    stroke,
-                    periods: j + 1,
-                    change,
-                    converged: change <= tol,
-                });
+                return Ok(PeriodicCycle { period, t, v, h, stroke, periods: j + 1, change, converged: change <= tol });
             }
             h_start = h[n];
         }
@@ -733,7 +721,8 @@ mod tests {
     fn parses_with_unknown_fields_rejected() {
         let bw: BoucWen = toml::from_str("d_p = 1.3e-7\nalpha = 0.3\nbeta = 0.02\ngamma = 0.005\n").unwrap();
         assert_eq!(bw, BoucWen::default());
-        let e = toml::from_str::<BoucWen>("d_p = 1.3e-7\nalpha = 0.3\nbeta = 0.02\ngamma = 0.005\nn = 1\n").unwrap_err();
+        let e =
+            toml::from_str::<BoucWen>("d_p = 1.3e-7\nalpha = 0.3\nbeta = 0.02\ngamma = 0.005\nn = 1\n").unwrap_err();
         assert!(e.to_string().contains("unknown field `n`"), "{e}");
     }
 

@@ -49,9 +49,33 @@ impl Frame {
             dof_names: vec!["y", "phi"],
             mass,
             links: vec![
-                Link { name: "stack".into(), k: s.k_p, c: s.c_p, top: vec![(0, 1.0), (1, e)], foot: foot(e), foot_mass: half, active: true },
-                Link { name: "left_leg".into(), k: self.left.k_l, c: self.left.c_l, top: vec![(0, 1.0), (1, -self.a)], foot: foot(-self.a), foot_mass: 0.0, active: false },
-                Link { name: "right_leg".into(), k: self.right.k_l, c: self.right.c_l, top: vec![(0, 1.0), (1, self.a)], foot: foot(self.a), foot_mass: 0.0, active: false },
+                Link {
+                    name: "stack".into(),
+                    k: s.k_p,
+                    c: s.c_p,
+                    top: vec![(0, 1.0), (1, e)],
+                    foot: foot(e),
+                    foot_mass: half,
+                    active: true,
+                },
+                Link {
+                    name: "left_leg".into(),
+                    k: self.left.k_l,
+                    c: self.left.c_l,
+                    top: vec![(0, 1.0), (1, -self.a)],
+                    foot: foot(-self.a),
+                    foot_mass: 0.0,
+                    active: false,
+                },
+                Link {
+                    name: "right_leg".into(),
+                    k: self.right.k_l,
+                    c: self.right.c_l,
+                    top: vec![(0, 1.0), (1, self.a)],
+                    foot: foot(self.a),
+                    foot_mass: 0.0,
+                    active: false,
+                },
             ],
         }
     }

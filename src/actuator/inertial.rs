@@ -20,7 +20,15 @@ impl Inertial {
         Component {
             dof_names: vec!["z_t"],
             mass: DMatrix::from_element(1, 1, self.m_t + 0.5 * s.m_p),
-            links: vec![Link { name: "stack".into(), k: s.k_p, c: s.c_p, top: vec![(0, 1.0)], foot: self.foot, foot_mass: 0.5 * s.m_p, active: true }],
+            links: vec![Link {
+                name: "stack".into(),
+                k: s.k_p,
+                c: s.c_p,
+                top: vec![(0, 1.0)],
+                foot: self.foot,
+                foot_mass: 0.5 * s.m_p,
+                active: true,
+            }],
         }
     }
 }

@@ -32,7 +32,11 @@ impl Stack {
     /// F_p at the given times, with h integrated exactly from the voltage history.
     pub fn active_force_history(&self, times: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         let v: Vec<f64> = times.iter().map(|&t| self.voltage.value(t)).collect();
-        let h = if self.hysteresis_on { self.hysteresis.history(&self.voltage, times, self.h0) } else { vec![0.0; times.len()] };
+        let h = if self.hysteresis_on {
+            self.hysteresis.history(&self.voltage, times, self.h0)
+        } else {
+            vec![0.0; times.len()]
+        };
         let f = v.iter().zip(&h).map(|(&v, &h)| self.active_force(v, h)).collect();
         (v, h, f)
     }

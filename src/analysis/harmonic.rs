@@ -42,7 +42,13 @@ pub struct HarmonicResult {
 /// Runs the analysis on the bare beam `sys` (no actuators). With `modal` (modes and their
 /// damping ratios) the response is the modal sum over those modes instead of the direct
 /// solve with the Rayleigh matrix.
-pub fn run(model: &Model, sys: &System, frequencies: &[f64], forces: &[PointForce], modal: Option<(&Modes, &[f64])>) -> Result<HarmonicResult> {
+pub fn run(
+    model: &Model,
+    sys: &System,
+    frequencies: &[f64],
+    forces: &[PointForce],
+    modal: Option<(&Modes, &[f64])>,
+) -> Result<HarmonicResult> {
     let n = sys.n();
     let mut points: Vec<(f64, String, Option<usize>)> = Vec::new();
     for (j, f) in forces.iter().enumerate() {
@@ -53,7 +59,12 @@ pub fn run(model: &Model, sys: &System, frequencies: &[f64], forces: &[PointForc
     }
     let fdofs: Vec<Option<usize>> = points[..forces.len()].iter().map(|p| p.2).collect();
     let amps: Vec<Complex64> = forces.iter().map(|f| Complex64::from_polar(f.amplitude, f.phase)).collect();
-    let mut res = HarmonicResult { frequency_hz: frequencies.to_vec(), point_x: points.iter().map(|p| p.0).collect(), point_names: points.iter().map(|p| p.1.clone()).collect(), ..Default::default() };
+    let mut res = HarmonicResult {
+        frequency_hz: frequencies.to_vec(),
+        point_x: points.iter().map(|p| p.0).collect(),
+        point_names: points.iter().map(|p| p.1.clone()).collect(),
+        ..Default::default()
+    };
     let mut dynk = match modal {
         None => Some(DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope)),
         Some(_) => None,
@@ -61,7 +72,11 @@ pub fn run(model: &Model, sys: &System, frequencies: &[f64], forces: &[PointForc
     let mut cols: Vec<Vec<Complex64>> = vec![vec![Complex64::default(); n]; forces.len()];
     for &fhz in frequencies {
         if !(fhz > 0.0) {
-            return Err(Error::input("<case>", "analysis.frequencies", format!("frequencies must be positive, got {fhz} Hz")));
+            return Err(Error::input(
+                "<case>",
+                "analysis.frequencies",
+                format!("frequencies must be positive, got {fhz} Hz"),
+            ));
         }
         let w = 2.0 * PI * fhz;
         for (j, col) in cols.iter_mut().enumerate() {

@@ -3,4 +3,5 @@
 
 pub mod harmonic;
 pub mod modes;
+pub mod steady_state;
 pub mod transient;

@@ -30,7 +30,10 @@ pub struct ModesResult {
 pub fn plain_ends(beam: &Beam) -> Option<(End, End)> {
     let mesh = &beam.mesh;
     let e0 = mesh.elements.first()?;
-    let uniform = mesh.elements.iter().all(|e| (e.ei - e0.ei).abs() <= 1e-12 * e0.ei && (e.rho_a - e0.rho_a).abs() <= 1e-12 * e0.rho_a);
+    let uniform = mesh
+        .elements
+        .iter()
+        .all(|e| (e.ei - e0.ei).abs() <= 1e-12 * e0.ei && (e.rho_a - e0.rho_a).abs() <= 1e-12 * e0.rho_a);
     if !uniform || !beam.point_masses.is_empty() || !beam.springs.is_empty() {
         return None;
     }
@@ -72,7 +75,12 @@ pub fn run(beam: &Beam, count: usize) -> Result<ModesResult> {
     }
     let relative_error = analytic.iter().zip(&f).map(|(a, x)| (x - a) / a).collect();
     // w of each mode at each node, from the bare system's numbering.
-    let model = crate::assembly::Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let model = crate::assembly::Model {
+        beam: Some(beam.clone()),
+        rayleigh: Default::default(),
+        actuators: vec![],
+        sensors: vec![],
+    };
     let sys = crate::assembly::System::assemble(&model)?;
     let shapes_w = (0..modes.count())
         .map(|r| {
@@ -80,5 +88,13 @@ pub fn run(beam: &Beam, count: usize) -> Result<ModesResult> {
             sys.dofs.w.iter().map(|d| d.map_or(0.0, |d| g[d])).collect()
         })
         .collect();
-    Ok(ModesResult { frequencies_hz: f, analytic_hz: analytic, relative_error, reference, node_x: beam.mesh.x.clone(), shapes_w, modes })
+    Ok(ModesResult {
+        frequencies_hz: f,
+        analytic_hz: analytic,
+        relative_error,
+        reference,
+        node_x: beam.mesh.x.clone(),
+        shapes_w,
+        modes,
+    })
 }

@@ -33,7 +33,17 @@ pub struct TransientSettings {
 
 impl Default for TransientSettings {
     fn default() -> Self {
-        TransientSettings { dt: None, periods: None, duration: None, scheme: Scheme::average_acceleration(), steady_state: true, tolerance: 1e-4, max_periods: 400, harmonics: 9, record_periods: 3 }
+        TransientSettings {
+            dt: None,
+            periods: None,
+            duration: None,
+            scheme: Scheme::average_acceleration(),
+            steady_state: true,
+            tolerance: 1e-4,
+            max_periods: 400,
+            harmonics: 9,
+            record_periods: 3,
+        }
     }
 }
 
@@ -177,12 +187,41 @@ struct PeriodRecord {
 impl PeriodRecord {
     fn new(nl: usize, nb: usize, na: usize, ns: usize, cap: usize) -> Self {
         let mk = |k: usize| vec![Vec::with_capacity(cap); k];
-        PeriodRecord { t: Vec::with_capacity(cap), u: mk(nl), ud: mk(nl), fv: mk(nl), fa: mk(nl), q: mk(nb), qd: mk(nb), qdd: mk(nb), v: mk(na), h: mk(na), fp: mk(na), sw: mk(ns), sv: mk(ns), sa: mk(ns) }
+        PeriodRecord {
+            t: Vec::with_capacity(cap),
+            u: mk(nl),
+            ud: mk(nl),
+            fv: mk(nl),
+            fa: mk(nl),
+            q: mk(nb),
+            qd: mk(nb),
+            qdd: mk(nb),
+            v: mk(na),
+            h: mk(na),
+            fp: mk(na),
+            sw: mk(ns),
+            sv: mk(ns),
+            sa: mk(ns),
+        }
     }
 
     fn append(&mut self, o: &PeriodRecord) {
         self.t.extend(&o.t);
-        for (a, b) in [(&mut self.u, &o.u), (&mut self.ud, &o.ud), (&mut self.fv, &o.fv), (&mut self.fa, &o.fa), (&mut self.q, &o.q), (&mut self.qd, &o.qd), (&mut self.qdd, &o.qdd), (&mut self.v, &o.v), (&mut self.h, &o.h), (&mut self.fp, &o.fp), (&mut self.sw, &o.sw), (&mut self.sv, &o.sv), (&mut self.sa, &o.sa)] {
+        for (a, b) in [
+            (&mut self.u, &o.u),
+            (&mut self.ud, &o.ud),
+            (&mut self.fv, &o.fv),
+            (&mut self.fa, &o.fa),
+            (&mut self.q, &o.q),
+            (&mut self.qd, &o.qd),
+            (&mut self.qdd, &o.qdd),
+            (&mut self.v, &o.v),
+            (&mut self.h, &o.h),
+            (&mut self.fp, &o.fp),
+            (&mut self.sw, &o.sw),
+            (&mut self.sv, &o.sv),
+            (&mut self.sa, &o.sa),
+        ] {
             for (x, y) in a.iter_mut().zip(b) {
                 x.extend(y);
             }
@@ -192,14 +231,20 @@ impl PeriodRecord {
 
 /// The time grid of a run: step, samples per period and the period (s).
 pub fn time_grid(model: &Model, s: &TransientSettings) -> Result<(f64, usize, f64, bool)> {
-    let first = model.actuators.first().ok_or_else(|| Error::input("<case>", "actuator", "a transient analysis needs at least one actuator to drive the system"))?;
+    let first = model.actuators.first().ok_or_else(|| {
+        Error::input("<case>", "actuator", "a transient analysis needs at least one actuator to drive the system")
+    })?;
     let period = first.stack().voltage.period();
     for (i, a) in model.actuators.iter().enumerate().skip(1) {
         let p = a.stack().voltage.period();
         if let (Some(p0), Some(pi)) = (period, p) {
             let ratio = p0.max(pi) / p0.min(pi);
             if (ratio - ratio.round()).abs() > 1e-9 {
-                return Err(Error::input("<case>", format!("actuator[{i}].voltage"), "all actuators must share a common drive period for a periodic transient"));
+                return Err(Error::input(
+                    "<case>",
+                    format!("actuator[{i}].voltage"),
+                    "all actuators must share a common drive period for a periodic transient",
+                ));
             }
         }
     }
@@ -207,7 +252,8 @@ pub fn time_grid(model: &Model, s: &TransientSettings) -> Result<(f64, usize, f6
         Some(p) if s.duration.is_none() => {
             let p = model.actuators.iter().filter_map(|a| a.stack().voltage.period()).fold(p, f64::max);
             let f0 = 1.0 / p;
-            let dt_max = 1.0 / (20.0 * s.harmonics as f64 * first.stack().voltage.fundamental_frequency().unwrap_or(f0));
+            let dt_max =
+                1.0 / (20.0 * s.harmonics as f64 * first.stack().voltage.fundamental_frequency().unwrap_or(f0));
             let n = match s.dt {
                 Some(dt) => {
                     if dt > dt_max * (1.0 + 1e-12) {
@@ -220,12 +266,20 @@ pub fn time_grid(model: &Model, s: &TransientSettings) -> Result<(f64, usize, f6
             Ok((p / n as f64, n, p, true))
         }
         _ => {
-            let d = s.duration.ok_or_else(|| Error::input("<case>", "analysis.duration", "a non-periodic drive needs `duration`"))?;
+            let d = s
+                .duration
+                .ok_or_else(|| Error::input("<case>", "analysis.duration", "a non-periodic drive needs `duration`"))?;
             let hf = model.actuators.iter().filter_map(|a| a.stack().voltage.highest_frequency()).fold(0.0, f64::max);
             let dt = match (s.dt, hf > 0.0) {
                 (Some(dt), _) => dt,
                 (None, true) => 1.0 / (20.0 * hf),
-                (None, false) => return Err(Error::input("<case>", "analysis.dt", "the drive has no frequency to derive a time step from: give `dt`")),
+                (None, false) => {
+                    return Err(Error::input(
+                        "<case>",
+                        "analysis.dt",
+                        "the drive has no frequency to derive a time step from: give `dt`",
+                    ))
+                }
             };
             let n = (d / dt - 1e-9).ceil() as usize;
             Ok((d / n as f64, n, d, false))
@@ -239,11 +293,18 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let n = sys.n();
     let na = model.actuators.len();
     let nl = sys.links.len();
-    let body_dofs: Vec<(usize, String, usize)> = sys.dofs.bodies.iter().enumerate().flat_map(|(a, ds)| {
-        let names = model.actuators[a].component().dof_names;
-        ds.iter().enumerate().map(move |(k, &d)| (a, names[k].to_string(), d)).collect::<Vec<_>>()
-    }).collect();
-    let sensor_dofs: Vec<Option<usize>> = model.sensors.iter().map(|se| sys.w_dof_at(model, se.x, "sensor")).collect::<Result<_>>()?;
+    let body_dofs: Vec<(usize, String, usize)> = sys
+        .dofs
+        .bodies
+        .iter()
+        .enumerate()
+        .flat_map(|(a, ds)| {
+            let names = model.actuators[a].component().dof_names;
+            ds.iter().enumerate().map(move |(k, &d)| (a, names[k].to_string(), d)).collect::<Vec<_>>()
+        })
+        .collect();
+    let sensor_dofs: Vec<Option<usize>> =
+        model.sensors.iter().map(|se| sys.w_dof_at(model, se.x, "sensor")).collect::<Result<_>>()?;
 
     let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, s.scheme, dt)?;
     let stacks: Vec<_> = model.actuators.iter().map(|a| a.stack().clone()).collect();
@@ -257,12 +318,30 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             }
         }
     };
-    let fp0: Vec<f64> = stacks.iter().enumerate().map(|(a, st)| if st.hysteresis_on { st.active_force(st.voltage.value(0.0), h_now[a]) } else { st.active_force(st.voltage.value(0.0), 0.0) }).collect();
+    let fp0: Vec<f64> = stacks
+        .iter()
+        .enumerate()
+        .map(|(a, st)| {
+            if st.hysteresis_on {
+                st.active_force(st.voltage.value(0.0), h_now[a])
+            } else {
+                st.active_force(st.voltage.value(0.0), 0.0)
+            }
+        })
+        .collect();
     load(&mut f, &fp0);
     let zeros = vec![0.0; n];
     nm.initialize(&zeros, &zeros, &f, &mut [])?;
 
-    let total_periods = if !periodic { 1 } else if let Some(p) = s.periods { p } else if s.steady_state { s.max_periods } else { 1 };
+    let total_periods = if !periodic {
+        1
+    } else if let Some(p) = s.periods {
+        p
+    } else if s.steady_state {
+        s.max_periods
+    } else {
+        1
+    };
     let keep = if periodic { s.record_periods.max(1) } else { 1 };
     let mut window: VecDeque<PeriodRecord> = VecDeque::new();
     let mut prev_metrics: Option<Vec<f64>> = None;
@@ -308,7 +387,11 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         }
         for (a, st) in stacks.iter().enumerate() {
             hist_v[a] = times.iter().map(|&t| st.voltage.value(t)).collect();
-            hist_h[a] = if st.hysteresis_on { st.hysteresis.history(&st.voltage, &times, h_now[a]) } else { vec![0.0; times.len()] };
+            hist_h[a] = if st.hysteresis_on {
+                st.hysteresis.history(&st.voltage, &times, h_now[a])
+            } else {
+                vec![0.0; times.len()]
+            };
             h_now[a] = hist_h[a][n_per];
         }
         let mut rec = PeriodRecord::new(nl, body_dofs.len(), na, model.sensors.len(), n_per);
@@ -387,7 +470,11 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         let mut metrics = Vec::with_capacity(2 * nl);
         for l in 0..nl {
             let lk = &sys.links[l];
-            let ft: Vec<f64> = (0..n_per).map(|j| lk.k * rec.u[l][j] + lk.c * rec.ud[l][j] - if lk.active { rec.fp[lk.actuator][j] } else { 0.0 }).collect();
+            let ft: Vec<f64> = (0..n_per)
+                .map(|j| {
+                    lk.k * rec.u[l][j] + lk.c * rec.ud[l][j] - if lk.active { rec.fp[lk.actuator][j] } else { 0.0 }
+                })
+                .collect();
             let fi: Vec<f64> = ft.iter().zip(&rec.fa[l]).map(|(x, a)| x - lk.foot_mass * a).collect();
             metrics.push(mean_product(&fi, &rec.fv[l]));
             metrics.push((mean_product(&ft, &ft)).sqrt());
@@ -426,12 +513,25 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         all.append(r);
     }
     let last = window.back().expect("at least one period");
-    let mut result = TransientResult { dt, period, steps_per_period: n_per, periods_run, steps_run: periods_run * n_per, converged, final_change, t: all.t.clone(), energy_run: run_bal, energy_last_period: per_bal, ..Default::default() };
+    let mut result = TransientResult {
+        dt,
+        period,
+        steps_per_period: n_per,
+        periods_run,
+        steps_run: periods_run * n_per,
+        converged,
+        final_change,
+        t: all.t.clone(),
+        energy_run: run_bal,
+        energy_last_period: per_bal,
+        ..Default::default()
+    };
     result.beam_dissipation = per_bal.beam.dissipated / period;
     let omega0 = 2.0 * std::f64::consts::PI / period;
     for (l, lk) in sys.links.iter().enumerate() {
         let series = |r: &PeriodRecord| {
-            let mut ls = LinkSeries { actuator: lk.actuator, name: lk.name.clone(), foot_x: lk.foot_x, ..Default::default() };
+            let mut ls =
+                LinkSeries { actuator: lk.actuator, name: lk.name.clone(), foot_x: lk.foot_x, ..Default::default() };
             for j in 0..r.t.len() {
                 let (u, ud) = (r.u[l][j], r.ud[l][j]);
                 let fpz = if lk.active { -r.fp[lk.actuator][j] } else { 0.0 };
@@ -471,16 +571,36 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         });
         result.links.push(series(&all));
     }
-    result.net_power = (0..na).map(|a| sys.links.iter().zip(&result.mean_power).filter(|(lk, _)| lk.actuator == a).map(|(_, p)| p).sum()).collect();
+    result.net_power = (0..na)
+        .map(|a| sys.links.iter().zip(&result.mean_power).filter(|(lk, _)| lk.actuator == a).map(|(_, p)| p).sum())
+        .collect();
     for (b, (a, name, _)) in body_dofs.iter().enumerate() {
-        result.bodies.push(BodySeries { actuator: *a, dof: name.clone(), q: all.q[b].clone(), q_dot: all.qd[b].clone(), q_ddot: all.qdd[b].clone() });
+        result.bodies.push(BodySeries {
+            actuator: *a,
+            dof: name.clone(),
+            q: all.q[b].clone(),
+            q_dot: all.qd[b].clone(),
+            q_ddot: all.qdd[b].clone(),
+        });
     }
     for a in 0..na {
         let d_p = stacks[a].hysteresis.d_p;
-        result.drives.push(DriveSeries { actuator: a, voltage: all.v[a].clone(), h: all.h[a].clone(), stroke: all.v[a].iter().zip(&all.h[a]).map(|(v, h)| d_p * v - h).collect(), f_p: all.fp[a].clone() });
+        result.drives.push(DriveSeries {
+            actuator: a,
+            voltage: all.v[a].clone(),
+            h: all.h[a].clone(),
+            stroke: all.v[a].iter().zip(&all.h[a]).map(|(v, h)| d_p * v - h).collect(),
+            f_p: all.fp[a].clone(),
+        });
     }
     for (si, se) in model.sensors.iter().enumerate() {
-        result.sensors.push(SensorSeries { name: se.name.clone(), x: se.x, w: all.sw[si].clone(), v: all.sv[si].clone(), a: all.sa[si].clone() });
+        result.sensors.push(SensorSeries {
+            name: se.name.clone(),
+            x: se.x,
+            w: all.sw[si].clone(),
+            v: all.sv[si].clone(),
+            a: all.sa[si].clone(),
+        });
     }
     Ok(result)
 }

@@ -101,10 +101,18 @@ impl System {
             for link in &comp.links {
                 nodes.push(match (link.foot, beam) {
                     (FootBase::Beam { x }, Some(b)) => Some(b.mesh.node_at(x).ok_or_else(|| {
-                        Error::input("<model>", format!("actuator[{ai}].{}", link.name), format!("foot at x = {x} m is not on a mesh node"))
+                        Error::input(
+                            "<model>",
+                            format!("actuator[{ai}].{}", link.name),
+                            format!("foot at x = {x} m is not on a mesh node"),
+                        )
                     })?),
                     (FootBase::Beam { x }, None) => {
-                        return Err(Error::input("<model>", format!("actuator[{ai}].{}", link.name), format!("foot at x = {x} m but the model has no beam")));
+                        return Err(Error::input(
+                            "<model>",
+                            format!("actuator[{ai}].{}", link.name),
+                            format!("foot at x = {x} m but the model has no beam"),
+                        ));
                     }
                     (FootBase::Ground, _) => None,
                 });
@@ -218,14 +226,20 @@ impl System {
         let m = Csr::combine(&[(1.0, &m_beam), (1.0, &Csr::from_triplets(n, &ma))]);
         let k = Csr::combine(&[(1.0, &k_beam), (1.0, &Csr::from_triplets(n, &ka))]);
         let c = Csr::combine(&[(1.0, &c_beam), (1.0, &Csr::from_triplets(n, &ca))]);
-        let envelope = Skyline::<f64>::envelope_of(n, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
+        let envelope = Skyline::<f64>::envelope_of(
+            n,
+            m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
+        );
         Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, links, drives, envelope })
     }
 
     /// The w DOF of the beam node at x, if free. Errors if x is not on a node.
     pub fn w_dof_at(&self, model: &Model, x: f64, field: &str) -> Result<Option<usize>> {
         let beam = model.beam.as_ref().ok_or_else(|| Error::input("<model>", field, "the model has no beam"))?;
-        let node = beam.mesh.node_at(x).ok_or_else(|| Error::input("<model>", field, format!("x = {x} m is not on a mesh node")))?;
+        let node = beam
+            .mesh
+            .node_at(x)
+            .ok_or_else(|| Error::input("<model>", field, format!("x = {x} m is not on a mesh node")))?;
         Ok(self.dofs.w[node])
     }
 

@@ -60,7 +60,14 @@ fn bisect(f: fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
 }
 
 /// Natural frequencies (Hz) of a uniform beam: length L (m), EI (N·m²), ρA (kg/m).
-pub fn natural_frequencies_hz(left: End, right: End, length: f64, ei: f64, rho_a: f64, count: usize) -> Option<Vec<f64>> {
+pub fn natural_frequencies_hz(
+    left: End,
+    right: End,
+    length: f64,
+    ei: f64,
+    rho_a: f64,
+    count: usize,
+) -> Option<Vec<f64>> {
     let c = (ei / rho_a).sqrt() / (2.0 * PI * length * length);
     beta_l_roots(left, right, count).map(|r| r.iter().map(|bl| bl * bl * c).collect())
 }

@@ -82,7 +82,13 @@ impl Mesh {
     /// point. The points split the beam into segments; each segment gets a share of the
     /// elements proportional to its length (at least one) and is divided uniformly, so
     /// element sizes stay within a factor of about two of L/n.
-    pub fn uniform(length: f64, n_elements: usize, points: &[RequiredPoint], section: Section, material: Material) -> Mesh {
+    pub fn uniform(
+        length: f64,
+        n_elements: usize,
+        points: &[RequiredPoint],
+        section: Section,
+        material: Material,
+    ) -> Mesh {
         let mut cuts: Vec<f64> = vec![0.0, length];
         cuts.extend(points.iter().map(|p| p.x));
         cuts.sort_by(|a, b| a.partial_cmp(b).unwrap());
@@ -119,7 +125,12 @@ impl Mesh {
     pub fn require_nodes(&self, points: &[RequiredPoint], file: &str) -> Result<()> {
         for p in points {
             if self.node_at(p.x).is_none() {
-                let nearest = self.x.iter().min_by(|a, b| (*a - p.x).abs().partial_cmp(&(*b - p.x).abs()).unwrap()).copied().unwrap_or(f64::NAN);
+                let nearest = self
+                    .x
+                    .iter()
+                    .min_by(|a, b| (*a - p.x).abs().partial_cmp(&(*b - p.x).abs()).unwrap())
+                    .copied()
+                    .unwrap_or(f64::NAN);
                 return Err(Error::input(
                     file,
                     "nodes",
@@ -134,7 +145,8 @@ impl Mesh {
     pub fn read(path: &Path, section: Section, material: Material) -> Result<Mesh> {
         let file = path.display().to_string();
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-        let raw: MeshFile = toml::from_str(&text).map_err(|e| Error::Parse { file: file.clone(), message: e.to_string() })?;
+        let raw: MeshFile =
+            toml::from_str(&text).map_err(|e| Error::Parse { file: file.clone(), message: e.to_string() })?;
         raw.into_mesh(&file, section, material)
     }
 }
@@ -180,17 +192,29 @@ struct Region {
 impl MeshFile {
     fn into_mesh(self, file: &str, section: Section, material: Material) -> Result<Mesh> {
         if self.format != "beamflow-mesh-1" {
-            return Err(Error::input(file, "format", format!("unknown mesh format `{}`; expected `beamflow-mesh-1`", self.format)));
+            return Err(Error::input(
+                file,
+                "format",
+                format!("unknown mesh format `{}`; expected `beamflow-mesh-1`", self.format),
+            ));
         }
         if self.nodes.len() < 2 {
             return Err(Error::input(file, "nodes", "a mesh needs at least two nodes"));
         }
         if self.nodes[0] != 0.0 {
-            return Err(Error::input(file, "nodes", format!("the first node must be at x = 0, found {}", self.nodes[0])));
+            return Err(Error::input(
+                file,
+                "nodes",
+                format!("the first node must be at x = 0, found {}", self.nodes[0]),
+            ));
         }
         for (i, w) in self.nodes.windows(2).enumerate() {
             if !(w[1] > w[0]) || !w[1].is_finite() {
-                return Err(Error::input(file, format!("nodes[{}]", i + 1), format!("node coordinates must be finite and strictly increasing ({} after {})", w[1], w[0])));
+                return Err(Error::input(
+                    file,
+                    format!("nodes[{}]", i + 1),
+                    format!("node coordinates must be finite and strictly increasing ({} after {})", w[1], w[0]),
+                ));
             }
         }
         for (i, m) in self.material.iter().enumerate() {
@@ -205,11 +229,25 @@ impl MeshFile {
         for (i, r) in self.region.iter().enumerate() {
             let mat = match &r.material {
                 None => material,
-                Some(n) => self.material.iter().find(|m| &m.name == n).map(|m| Material { youngs_modulus: m.youngs_modulus, density: m.density }).ok_or_else(|| Error::input(file, format!("region[{i}].material"), format!("no material named `{n}`")))?,
+                Some(n) => self
+                    .material
+                    .iter()
+                    .find(|m| &m.name == n)
+                    .map(|m| Material { youngs_modulus: m.youngs_modulus, density: m.density })
+                    .ok_or_else(|| {
+                        Error::input(file, format!("region[{i}].material"), format!("no material named `{n}`"))
+                    })?,
             };
             let sec = match &r.section {
                 None => section,
-                Some(n) => self.section.iter().find(|s| &s.name == n).map(|s| Section { width: s.width, thickness: s.thickness }).ok_or_else(|| Error::input(file, format!("region[{i}].section"), format!("no section named `{n}`")))?,
+                Some(n) => self
+                    .section
+                    .iter()
+                    .find(|s| &s.name == n)
+                    .map(|s| Section { width: s.width, thickness: s.thickness })
+                    .ok_or_else(|| {
+                        Error::input(file, format!("region[{i}].section"), format!("no section named `{n}`"))
+                    })?,
             };
             if !(r.to > r.from) {
                 return Err(Error::input(file, format!("region[{i}]"), "`to` must exceed `from`"));
@@ -217,10 +255,13 @@ impl MeshFile {
             regions.push((r.from, r.to, sec.properties(&mat)));
         }
         let default = match (self.section.as_slice(), self.material.as_slice()) {
-            ([s], [m]) if regions.is_empty() => Section { width: s.width, thickness: s.thickness }.properties(&Material { youngs_modulus: m.youngs_modulus, density: m.density }),
+            ([s], [m]) if regions.is_empty() => Section { width: s.width, thickness: s.thickness }
+                .properties(&Material { youngs_modulus: m.youngs_modulus, density: m.density }),
             _ => section.properties(&material),
         };
-        Ok(Mesh::from_nodes(self.nodes, |xm| regions.iter().rev().find(|(a, b, _)| xm >= *a && xm <= *b).map_or(default, |r| r.2)))
+        Ok(Mesh::from_nodes(self.nodes, |xm| {
+            regions.iter().rev().find(|(a, b, _)| xm >= *a && xm <= *b).map_or(default, |r| r.2)
+        }))
     }
 }
 
@@ -257,7 +298,10 @@ mod tests {
     fn missing_node_is_an_error_naming_the_point() {
         let (s, m) = steel();
         let mesh = Mesh::uniform(0.73, 10, &[], s, m);
-        let err = mesh.require_nodes(&[RequiredPoint { x: 0.15, name: "actuator[0].x_e".into() }], "m.toml").unwrap_err().to_string();
+        let err = mesh
+            .require_nodes(&[RequiredPoint { x: 0.15, name: "actuator[0].x_e".into() }], "m.toml")
+            .unwrap_err()
+            .to_string();
         assert!(err.contains("m.toml") && err.contains("actuator[0].x_e") && err.contains("0.15"), "{err}");
     }
 }

@@ -67,14 +67,25 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
             let mesh = Mesh::read(&path, section, material)?;
             let mfile = path.display().to_string();
             if (mesh.length() - b.length).abs() > 1e-9 * b.length {
-                return Err(Error::input(&mfile, "nodes", format!("the mesh ends at x = {} m but beam.length in {} is {} m", mesh.length(), lc.file, b.length)));
+                return Err(Error::input(
+                    &mfile,
+                    "nodes",
+                    format!(
+                        "the mesh ends at x = {} m but beam.length in {} is {} m",
+                        mesh.length(),
+                        lc.file,
+                        b.length
+                    ),
+                ));
             }
             mesh.require_nodes(&pts, &mfile)?;
             mesh
         }
         None => Mesh::uniform(b.length, b.mesh.elements, &pts, section, material),
     };
-    let node = |x: f64, field: String| mesh.node_at(x).ok_or_else(|| Error::input(&lc.file, field, format!("x = {x} m is not on a mesh node")));
+    let node = |x: f64, field: String| {
+        mesh.node_at(x).ok_or_else(|| Error::input(&lc.file, field, format!("x = {x} m is not on a mesh node")))
+    };
     let mut supports = Vec::new();
     if b.support.is_empty() {
         supports.push(Support { node: 0, kind: SupportKind::Clamped });
@@ -86,7 +97,9 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
             SupportKindSpec::Pinned => SupportKind::Pinned,
             SupportKindSpec::Guided => SupportKind::Guided,
             SupportKindSpec::Free => continue,
-            SupportKindSpec::Spring => SupportKind::Spring { k_w: s.k_w.unwrap_or(0.0), k_theta: s.k_theta.unwrap_or(0.0) },
+            SupportKindSpec::Spring => {
+                SupportKind::Spring { k_w: s.k_w.unwrap_or(0.0), k_theta: s.k_theta.unwrap_or(0.0) }
+            }
         };
         supports.push(Support { node: node(s.x, format!("beam.support[{i}].x"))?, kind });
     }
@@ -96,17 +109,26 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
         MassSpec::Lumped => MassKind::Lumped,
     };
     for (i, p) in b.point_mass.iter().enumerate() {
-        beam.point_masses.push(PointMass { node: node(p.x, format!("beam.point_mass[{i}].x"))?, mass: p.mass, rotary_inertia: p.rotary_inertia });
+        beam.point_masses.push(PointMass {
+            node: node(p.x, format!("beam.point_mass[{i}].x"))?,
+            mass: p.mass,
+            rotary_inertia: p.rotary_inertia,
+        });
     }
     for (i, s) in b.spring.iter().enumerate() {
-        beam.springs.push(GroundedSpring { node: node(s.x, format!("beam.spring[{i}].x"))?, stiffness: s.stiffness, damping: s.damping });
+        beam.springs.push(GroundedSpring {
+            node: node(s.x, format!("beam.spring[{i}].x"))?,
+            stiffness: s.stiffness,
+            damping: s.damping,
+        });
     }
     Ok(beam)
 }
 
 /// The bare structure's modes (no actuators), used for Rayleigh damping and modal analysis.
 pub fn bare_modes(beam: &Beam, count: usize) -> Result<eigen::Modes> {
-    let model = Model { beam: Some(beam.clone()), rayleigh: Rayleigh::default(), actuators: Vec::new(), sensors: Vec::new() };
+    let model =
+        Model { beam: Some(beam.clone()), rayleigh: Rayleigh::default(), actuators: Vec::new(), sensors: Vec::new() };
     let sys = System::assemble(&model)?;
     eigen::modes(&sys.k, &sys.m, &sys.dofs.beam_dofs(), count)
 }
@@ -141,15 +163,29 @@ pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {
         let mut voltage = a.voltage.clone();
         voltage.load(&lc.dir, &lc.file, &format!("actuator[{i}].voltage"))?;
         let s = &a.stack;
-        let stack = Stack { k_p: s.k_p, c_p: s.c_p, m_p: s.m_p, hysteresis: s.bouc_wen(), h0: s.h0, voltage, hysteresis_on: s.hysteresis };
+        let stack = Stack {
+            k_p: s.k_p,
+            c_p: s.c_p,
+            m_p: s.m_p,
+            hysteresis: s.bouc_wen(),
+            h0: s.h0,
+            voltage,
+            hysteresis_on: s.hysteresis,
+        };
         let foot = match case.base {
             BaseKind::Beam => FootBase::Beam { x: a.x_e },
             BaseKind::Rigid => FootBase::Ground,
         };
-        let name = a.name.clone().unwrap_or_else(|| format!("{}{}", match a.kind {
-            ActuatorType::Inertial => "inertial",
-            ActuatorType::Frame => "frame",
-        }, if case.actuator.len() > 1 { format!("_{i}") } else { String::new() }));
+        let name = a.name.clone().unwrap_or_else(|| {
+            format!(
+                "{}{}",
+                match a.kind {
+                    ActuatorType::Inertial => "inertial",
+                    ActuatorType::Frame => "frame",
+                },
+                if case.actuator.len() > 1 { format!("_{i}") } else { String::new() }
+            )
+        });
         actuators.push(match a.kind {
             ActuatorType::Inertial => Actuator::Inertial(Inertial { name, stack, m_t: a.m_t(), foot }),
             ActuatorType::Frame => {

@@ -36,7 +36,8 @@ impl LoadedCase {
 
     /// Parses and validates case text; `file` names it in messages.
     pub fn from_str(text: &str, file: &str, dir: PathBuf) -> Result<LoadedCase> {
-        let case: Case = toml::from_str(text).map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string().trim_end().to_string() })?;
+        let case: Case = toml::from_str(text)
+            .map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string().trim_end().to_string() })?;
         case.validate(file)?;
         Ok(LoadedCase { case, file: file.to_string(), dir, text: text.to_string() })
     }
@@ -44,7 +45,8 @@ impl LoadedCase {
     /// A case built in code (sweeps): serialised back to TOML so results embed what ran.
     pub fn from_case(case: Case, file: &str, dir: PathBuf) -> Result<LoadedCase> {
         case.validate(file)?;
-        let text = toml::to_string(&case).map_err(|e| Error::input(file, "<case>", format!("cannot serialise: {e}")))?;
+        let text =
+            toml::to_string(&case).map_err(|e| Error::input(file, "<case>", format!("cannot serialise: {e}")))?;
         Ok(LoadedCase { case, file: file.to_string(), dir, text })
     }
 }

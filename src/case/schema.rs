@@ -195,7 +195,14 @@ fn d_modes() -> [usize; 2] {
 
 impl Default for DampingSpec {
     fn default() -> Self {
-        DampingSpec { kind: DampingKind::RayleighRatio, zeta: d_zeta(), modes: d_modes(), a0: None, a1: None, ratios: Vec::new() }
+        DampingSpec {
+            kind: DampingKind::RayleighRatio,
+            zeta: d_zeta(),
+            modes: d_modes(),
+            a0: None,
+            a1: None,
+            ratios: Vec::new(),
+        }
     }
 }
 
@@ -402,7 +409,11 @@ impl FrequencySpec {
     fn validate(&self, file: &str, field: &str) -> Result<()> {
         for (i, &v) in self.values.iter().enumerate() {
             if !(v > 0.0 && v.is_finite()) {
-                return Err(Error::input(file, format!("{field}.values[{i}]"), format!("frequencies must be positive and finite, got {v} Hz")));
+                return Err(Error::input(
+                    file,
+                    format!("{field}.values[{i}]"),
+                    format!("frequencies must be positive and finite, got {v} Hz"),
+                ));
             }
         }
         let range = [self.start.is_some(), self.stop.is_some(), self.count.is_some()];
@@ -412,7 +423,11 @@ impl FrequencySpec {
         if let (Some(a), Some(b), Some(n)) = (self.start, self.stop, self.count) {
             for (name, v) in [("start", a), ("stop", b)] {
                 if !(v > 0.0 && v.is_finite()) {
-                    return Err(Error::input(file, format!("{field}.{name}"), format!("frequencies must be positive and finite, got {v} Hz")));
+                    return Err(Error::input(
+                        file,
+                        format!("{field}.{name}"),
+                        format!("frequencies must be positive and finite, got {v} Hz"),
+                    ));
                 }
             }
             if n == 0 {
@@ -581,14 +596,22 @@ impl Case {
             match s.kind {
                 SupportKindSpec::Spring => {
                     if s.k_w.is_none() && s.k_theta.is_none() {
-                        return Err(Error::input(file, format!("beam.support[{i}]"), "a spring support needs `k_w` and/or `k_theta`"));
+                        return Err(Error::input(
+                            file,
+                            format!("beam.support[{i}]"),
+                            "a spring support needs `k_w` and/or `k_theta`",
+                        ));
                     }
                     non_negative(file, &format!("beam.support[{i}].k_w"), s.k_w.unwrap_or(0.0))?;
                     non_negative(file, &format!("beam.support[{i}].k_theta"), s.k_theta.unwrap_or(0.0))?;
                 }
                 _ => {
                     if s.k_w.is_some() || s.k_theta.is_some() {
-                        return Err(Error::input(file, format!("beam.support[{i}]"), "`k_w`/`k_theta` apply only to kind = \"spring\""));
+                        return Err(Error::input(
+                            file,
+                            format!("beam.support[{i}]"),
+                            "`k_w`/`k_theta` apply only to kind = \"spring\"",
+                        ));
                     }
                 }
             }
@@ -608,12 +631,24 @@ impl Case {
             DampingKind::RayleighRatio => {
                 non_negative(file, "damping.zeta", d.zeta)?;
                 if d.modes[0] == 0 || d.modes[1] == 0 || d.modes[0] == d.modes[1] {
-                    return Err(Error::input(file, "damping.modes", format!("two different 1-based mode numbers are needed, got {:?}", d.modes)));
+                    return Err(Error::input(
+                        file,
+                        "damping.modes",
+                        format!("two different 1-based mode numbers are needed, got {:?}", d.modes),
+                    ));
                 }
             }
             DampingKind::Rayleigh => {
-                non_negative(file, "damping.a0", d.a0.ok_or_else(|| Error::input(file, "damping.a0", "required for kind = \"rayleigh\""))?)?;
-                non_negative(file, "damping.a1", d.a1.ok_or_else(|| Error::input(file, "damping.a1", "required for kind = \"rayleigh\""))?)?;
+                non_negative(
+                    file,
+                    "damping.a0",
+                    d.a0.ok_or_else(|| Error::input(file, "damping.a0", "required for kind = \"rayleigh\""))?,
+                )?;
+                non_negative(
+                    file,
+                    "damping.a1",
+                    d.a1.ok_or_else(|| Error::input(file, "damping.a1", "required for kind = \"rayleigh\""))?,
+                )?;
             }
             DampingKind::Modal => {
                 if d.ratios.is_empty() {
@@ -642,16 +677,35 @@ impl Case {
                 AnalysisSpec::Harmonic { frequencies, force } => {
                     frequencies.validate(file, &format!("{f}.frequencies"))?;
                     if force.is_empty() {
-                        return Err(Error::input(file, format!("{f}.force"), "a harmonic analysis needs at least one [[analysis.force]]"));
+                        return Err(Error::input(
+                            file,
+                            format!("{f}.force"),
+                            "a harmonic analysis needs at least one [[analysis.force]]",
+                        ));
                     }
                     for (j, p) in force.iter().enumerate() {
                         on_beam(file, &format!("{f}.force[{j}].x"), p.x, b.length)?;
                         if !p.amplitude.is_finite() || !p.phase.is_finite() {
-                            return Err(Error::input(file, format!("{f}.force[{j}]"), "amplitude and phase must be finite"));
+                            return Err(Error::input(
+                                file,
+                                format!("{f}.force[{j}]"),
+                                "amplitude and phase must be finite",
+                            ));
                         }
                     }
                 }
-                AnalysisSpec::Transient { dt, periods, duration, alpha, rho_inf, tolerance, max_periods, harmonics, scheme, .. } => {
+                AnalysisSpec::Transient {
+                    dt,
+                    periods,
+                    duration,
+                    alpha,
+                    rho_inf,
+                    tolerance,
+                    max_periods,
+                    harmonics,
+                    scheme,
+                    ..
+                } => {
                     if let Some(dt) = dt {
                         positive(file, &format!("{f}.dt"), *dt)?;
                     }
@@ -667,17 +721,33 @@ impl Case {
                     }
                     if let Some(a) = alpha {
                         if !(0.0..=1.0 / 3.0).contains(a) {
-                            return Err(Error::input(file, format!("{f}.alpha"), format!("HHT α must lie in [0, 1/3], got {a}")));
+                            return Err(Error::input(
+                                file,
+                                format!("{f}.alpha"),
+                                format!("HHT α must lie in [0, 1/3], got {a}"),
+                            ));
                         }
                     } else if *scheme == SchemeKind::Hht {
-                        return Err(Error::input(file, format!("{f}.alpha"), "required for scheme = \"hht\" (0 ≤ α ≤ 1/3)"));
+                        return Err(Error::input(
+                            file,
+                            format!("{f}.alpha"),
+                            "required for scheme = \"hht\" (0 ≤ α ≤ 1/3)",
+                        ));
                     }
                     if let Some(r) = rho_inf {
                         if !(0.0..=1.0).contains(r) {
-                            return Err(Error::input(file, format!("{f}.rho_inf"), format!("ρ∞ must lie in [0, 1], got {r}")));
+                            return Err(Error::input(
+                                file,
+                                format!("{f}.rho_inf"),
+                                format!("ρ∞ must lie in [0, 1], got {r}"),
+                            ));
                         }
                     } else if *scheme == SchemeKind::GeneralizedAlpha {
-                        return Err(Error::input(file, format!("{f}.rho_inf"), "required for scheme = \"generalized_alpha\" (0 ≤ ρ∞ ≤ 1)"));
+                        return Err(Error::input(
+                            file,
+                            format!("{f}.rho_inf"),
+                            "required for scheme = \"generalized_alpha\" (0 ≤ ρ∞ ≤ 1)",
+                        ));
                     }
                 }
                 AnalysisSpec::SteadyState { harmonics, samples_per_period } => {
@@ -685,7 +755,14 @@ impl Case {
                         return Err(Error::input(file, format!("{f}.harmonics"), "must be at least 1"));
                     }
                     if *samples_per_period < 4 * harmonics + 2 {
-                        return Err(Error::input(file, format!("{f}.samples_per_period"), format!("must be at least 4·harmonics + 2 = {} to resolve the harmonics", 4 * harmonics + 2)));
+                        return Err(Error::input(
+                            file,
+                            format!("{f}.samples_per_period"),
+                            format!(
+                                "must be at least 4·harmonics + 2 = {} to resolve the harmonics",
+                                4 * harmonics + 2
+                            ),
+                        ));
                     }
                 }
             }
@@ -696,7 +773,16 @@ impl Case {
 
 impl ActuatorSpec {
     fn validate(&self, file: &str, f: &str, base: BaseKind, length: f64) -> Result<()> {
-        let frame_only = [("m_b", self.m_b), ("j_b", self.j_b), ("a", self.a), ("e", self.e), ("k_l", self.k_l), ("c_l", self.c_l), ("k_l_right", self.k_l_right), ("c_l_right", self.c_l_right)];
+        let frame_only = [
+            ("m_b", self.m_b),
+            ("j_b", self.j_b),
+            ("a", self.a),
+            ("e", self.e),
+            ("k_l", self.k_l),
+            ("c_l", self.c_l),
+            ("k_l_right", self.k_l_right),
+            ("c_l_right", self.c_l_right),
+        ];
         match self.kind {
             ActuatorType::Inertial => {
                 if let Some((n, _)) = frame_only.iter().find(|(_, v)| v.is_some()) {
@@ -706,13 +792,25 @@ impl ActuatorSpec {
             }
             ActuatorType::Frame => {
                 if self.m_t.is_some() {
-                    return Err(Error::input(file, format!("{f}.m_t"), "applies only to an inertial actuator (a frame has m_b, j_b)"));
+                    return Err(Error::input(
+                        file,
+                        format!("{f}.m_t"),
+                        "applies only to an inertial actuator (a frame has m_b, j_b)",
+                    ));
                 }
                 positive(file, &format!("{f}.m_b"), self.m_b())?;
                 positive(file, &format!("{f}.j_b"), self.j_b())?;
                 positive(file, &format!("{f}.a"), self.a())?;
                 if !self.e().is_finite() || self.e().abs() >= self.a() {
-                    return Err(Error::input(file, format!("{f}.e"), format!("the stack offset must lie between the legs, |e| < a = {} m, got {}", self.a(), self.e())));
+                    return Err(Error::input(
+                        file,
+                        format!("{f}.e"),
+                        format!(
+                            "the stack offset must lie between the legs, |e| < a = {} m, got {}",
+                            self.a(),
+                            self.e()
+                        ),
+                    ));
                 }
                 let (l, r) = self.legs();
                 positive(file, &format!("{f}.k_l"), l.0)?;
@@ -727,7 +825,11 @@ impl ActuatorSpec {
                 let xc = self.x_e - self.e();
                 for (leg, x) in [("left leg", xc - self.a()), ("right leg", xc + self.a())] {
                     if !(0.0..=length).contains(&x) {
-                        return Err(Error::input(file, format!("{f}.x_e"), format!("the {leg} would stand at x = {x} m, outside the beam [0, {length}] m")));
+                        return Err(Error::input(
+                            file,
+                            format!("{f}.x_e"),
+                            format!("the {leg} would stand at x = {x} m, outside the beam [0, {length}] m"),
+                        ));
                     }
                 }
             }

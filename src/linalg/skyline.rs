@@ -128,7 +128,12 @@ impl<T: Scalar> Skyline<T> {
     /// Factorises A = L·D·Lᵀ in a copy of the storage. Fails on a zero, tiny or non-finite
     /// pivot, naming the row: that means a singular (e.g. unsupported) or ill-posed system.
     pub fn factorize(&self) -> Result<SkylineLdlt<T>> {
-        let mut f = SkylineLdlt { first: self.first.clone(), start: self.start.clone(), values: self.values.clone(), diag: Vec::new() };
+        let mut f = SkylineLdlt {
+            first: self.first.clone(),
+            start: self.start.clone(),
+            values: self.values.clone(),
+            diag: Vec::new(),
+        };
         f.refactor_in_place()?;
         Ok(f)
     }
@@ -276,10 +281,11 @@ mod tests {
 
     #[test]
     fn complex_symmetric_solve_matches_dense_elimination() {
-        let n = 30;
+        let n: usize = 30;
         let mut seed = 7;
         // A ragged envelope with a few long rows, like actuator rows.
-        let first: Vec<usize> = (0..n).map(|i| if i % 7 == 6 { i.saturating_sub(12) } else { i.saturating_sub(3) }).collect();
+        let first: Vec<usize> =
+            (0..n).map(|i| if i % 7 == 6 { i.saturating_sub(12) } else { i.saturating_sub(3) }).collect();
         let mut a = Skyline::<Complex64>::zeros(first.clone());
         let mut dense = vec![vec![Complex64::default(); n]; n];
         for i in 0..n {

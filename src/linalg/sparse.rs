@@ -47,7 +47,10 @@ impl Csr {
 
     /// Iterates the stored entries as (row, col, value).
     pub fn triplets(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
-        self.mat.outer_iterator().enumerate().flat_map(|(i, row)| row.iter().map(move |(j, &v)| (i, j, v)).collect::<Vec<_>>())
+        self.mat
+            .outer_iterator()
+            .enumerate()
+            .flat_map(|(i, row)| row.iter().map(move |(j, &v)| (i, j, v)).collect::<Vec<_>>())
     }
 
     /// y = A·x (overwrites y). No allocation.

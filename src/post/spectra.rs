@@ -70,10 +70,12 @@ mod tests {
     #[test]
     fn harmonics_recover_amplitudes_and_phases() {
         let n = 64;
-        let x: Vec<f64> = (0..n).map(|i| {
-            let t = i as f64 / n as f64;
-            0.5 + 2.0 * (2.0 * PI * t + 0.3).cos() + 0.7 * (2.0 * PI * 3.0 * t - 1.1).cos()
-        }).collect();
+        let x: Vec<f64> = (0..n)
+            .map(|i| {
+                let t = i as f64 / n as f64;
+                0.5 + 2.0 * (2.0 * PI * t + 0.3).cos() + 0.7 * (2.0 * PI * 3.0 * t - 1.1).cos()
+            })
+            .collect();
         let h = harmonics(&x);
         assert!((h[0].re - 0.5).abs() < 1e-14);
         assert!((h[1] - Complex64::from_polar(2.0, 0.3)).norm() < 1e-13);

@@ -89,8 +89,7 @@ pub fn parse_columns(text: &str, file: &str, names: &[&str]) -> Result<Vec<Vec<f
 
     let mut index = Vec::with_capacity(names.len());
     for &name in names {
-        let hits: Vec<usize> =
-            head.iter().enumerate().filter(|(_, h)| **h == name).map(|(i, _)| i).collect();
+        let hits: Vec<usize> = head.iter().enumerate().filter(|(_, h)| **h == name).map(|(i, _)| i).collect();
         match hits.as_slice() {
             [i] => index.push(*i),
             [] => {
@@ -137,17 +136,15 @@ pub fn parse_columns(text: &str, file: &str, names: &[&str]) -> Result<Vec<Vec<f
                 ));
             }
             let x: f64 = cell.parse().map_err(|_| {
-                Error::input(
-                    file,
-                    name,
-                    format!("row {row} (line {line_no}): cannot read `{cell}` as a number"),
-                )
+                Error::input(file, name, format!("row {row} (line {line_no}): cannot read `{cell}` as a number"))
             })?;
             if !x.is_finite() {
                 return Err(Error::input(
                     file,
                     name,
-                    format!("row {row} (line {line_no}): value `{cell}` is not finite; NaN and infinity are not accepted"),
+                    format!(
+                        "row {row} (line {line_no}): value `{cell}` is not finite; NaN and infinity are not accepted"
+                    ),
                 ));
             }
             cols[k].push(x);
@@ -166,11 +163,7 @@ pub fn parse_columns(text: &str, file: &str, names: &[&str]) -> Result<Vec<Vec<f
 /// (numbered from 1 for the first data row, as in [`read_columns`]).
 pub fn check_time_axis(file: &str, column: &str, t: &[f64], require_uniform: bool) -> Result<()> {
     if t.len() < 2 {
-        return Err(Error::input(
-            file,
-            column,
-            format!("a time axis needs at least 2 samples, found {}", t.len()),
-        ));
+        return Err(Error::input(file, column, format!("a time axis needs at least 2 samples, found {}", t.len())));
     }
     if let Some(i) = t.iter().position(|x| !x.is_finite()) {
         return Err(Error::input(file, column, format!("row {}: time {} is not finite", i + 1, t[i])));
@@ -240,7 +233,10 @@ mod tests {
         let e = msg(parse_columns("time,voltage\n0,1\n1,x1\n", "p.csv", &["voltage"]).unwrap_err());
         assert!(e.contains("p.csv") && e.contains("`voltage`") && e.contains("row 2") && e.contains("x1"), "{e}");
         let e = msg(parse_columns("time,voltage\n0,1\n1,NaN\n", "n.csv", &["voltage"]).unwrap_err());
-        assert!(e.contains("n.csv") && e.contains("`voltage`") && e.contains("row 2") && e.contains("not finite"), "{e}");
+        assert!(
+            e.contains("n.csv") && e.contains("`voltage`") && e.contains("row 2") && e.contains("not finite"),
+            "{e}"
+        );
         let e = msg(parse_columns("time,voltage\n0,inf\n", "n.csv", &["voltage"]).unwrap_err());
         assert!(e.contains("row 1") && e.contains("not finite"), "{e}");
         let e = msg(parse_columns("time,voltage\n0,1\n1\n", "u.csv", &["time"]).unwrap_err());
@@ -259,7 +255,10 @@ mod tests {
         let e = msg(check_time_axis("f.csv", "time", &[0.0, 0.1, 0.2, 0.3, 0.4 + 1e-6], true).unwrap_err());
         assert!(e.contains("f.csv") && e.contains("`time`") && e.contains("row 2") && e.contains("uniform"), "{e}");
         let e = msg(check_time_axis("f.csv", "time", &[0.0, 0.1, 0.1, 0.2], false).unwrap_err());
-        assert!(e.contains("f.csv") && e.contains("`time`") && e.contains("row 3") && e.contains("strictly increasing"), "{e}");
+        assert!(
+            e.contains("f.csv") && e.contains("`time`") && e.contains("row 3") && e.contains("strictly increasing"),
+            "{e}"
+        );
         let e = msg(check_time_axis("f.csv", "t", &[0.0, 0.2, 0.1], false).unwrap_err());
         assert!(e.contains("row 3"), "{e}");
         assert!(check_time_axis("f.csv", "t", &[0.0], false).is_err());

@@ -211,13 +211,7 @@ fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, mut fa: f64) -> f64 {
 /// is `fmax`: dense sampling of the rate, bisection of every sign change, and — so that two
 /// close roots inside one sampling interval are not missed — a check of the rate at every
 /// extremum of the rate (a sign change of `accel`) inside an interval without a sign change.
-fn rate_sign_changes(
-    t0: f64,
-    t1: f64,
-    fmax: f64,
-    rate: impl Fn(f64) -> f64,
-    accel: impl Fn(f64) -> f64,
-) -> Vec<f64> {
+fn rate_sign_changes(t0: f64, t1: f64, fmax: f64, rate: impl Fn(f64) -> f64, accel: impl Fn(f64) -> f64) -> Vec<f64> {
     let n = ((t1 - t0) * fmax * SEARCH_PER_PERIOD).ceil().max(1.0) as usize;
     let node = |j: usize| if j == n { t1 } else { t0 + (t1 - t0) * (j as f64 / n as f64) };
     let mut out = Vec::new();
@@ -291,9 +285,7 @@ impl VoltageInput {
     }
 
     fn series_data(samples: &Option<Samples>) -> &Samples {
-        samples
-            .as_ref()
-            .expect("series voltage used before VoltageInput::load read its CSV file")
+        samples.as_ref().expect("series voltage used before VoltageInput::load read its CSV file")
     }
 
     /// Chirp phase φ(t) and its first two derivatives.
@@ -335,11 +327,7 @@ impl VoltageInput {
                 offset + amplitude * (TAU * frequency * t + phase).sin()
             }
             VoltageInput::Sines { offset, components } => {
-                offset
-                    + components
-                        .iter()
-                        .map(|c| c.amplitude * (TAU * c.frequency * t + c.phase).sin())
-                        .sum::<f64>()
+                offset + components.iter().map(|c| c.amplitude * (TAU * c.frequency * t + c.phase).sin()).sum::<f64>()
             }
             VoltageInput::Chirp { amplitude, f_start, f_end, duration, sweep, offset } => {
                 let (phi, _, _) = Self::chirp_phase(*f_start, *f_end, *duration, *sweep, t);
@@ -489,9 +477,7 @@ impl VoltageInput {
     pub fn highest_frequency(&self) -> Option<f64> {
         match self {
             VoltageInput::Sine { frequency, .. } => Some(*frequency),
-            VoltageInput::Sines { components, .. } => {
-                components.iter().map(|c| c.frequency).reduce(f64::max)
-            }
+            VoltageInput::Sines { components, .. } => components.iter().map(|c| c.frequency).reduce(f64::max),
             VoltageInput::Chirp { f_start, f_end, .. } => Some(f_start.max(*f_end)),
             VoltageInput::Step { rise_time, .. } => (*rise_time > 0.0).then(|| 0.5 / rise_time),
             VoltageInput::Series { samples, .. } => samples.as_ref().map(|s| {
@@ -574,8 +560,8 @@ impl VoltageInput {
                 return Err(Error::input(file, format!("{field}.file"), "must name a CSV file"));
             }
             let path = case_dir.join(&*csv);
-            let mut cols = read_columns(&path, &[time_column.as_str(), voltage_column.as_str()])
-                .map_err(|e| match e {
+            let mut cols =
+                read_columns(&path, &[time_column.as_str(), voltage_column.as_str()]).map_err(|e| match e {
                     Error::Io { path, source } => Error::input(
                         file,
                         format!("{field}.file"),
@@ -742,7 +728,8 @@ mod tests {
         )
         .unwrap();
         assert_eq!(v.period(), Some(1.0 / 60.0));
-        let v = parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"log\"\n").unwrap();
+        let v =
+            parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"log\"\n").unwrap();
         assert!(matches!(v, VoltageInput::Chirp { sweep: Sweep::Log, .. }));
         let v = parse("kind = \"step\"\ntime = 0.1\nfrom = 0\nto = 10\n").unwrap();
         assert!(matches!(v, VoltageInput::Step { rise_time, .. } if rise_time == 0.0));
@@ -768,7 +755,8 @@ mod tests {
         assert!(e.to_string().contains("unknown field `samples`"), "{e}");
         let e = parse("kind = \"square\"\namplitude = 1\n").unwrap_err();
         assert!(e.to_string().contains("unknown variant"), "{e}");
-        let e = parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"cubic\"\n").unwrap_err();
+        let e = parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"cubic\"\n")
+            .unwrap_err();
         assert!(e.to_string().contains("cubic"), "{e}");
     }
 
@@ -789,16 +777,35 @@ mod tests {
                 "v.components[1].frequency",
             ),
             (
-                VoltageInput::Chirp { amplitude: 1.0, f_start: 1.0, f_end: 2.0, duration: 0.0, sweep: Sweep::Linear, offset: 0.0 },
+                VoltageInput::Chirp {
+                    amplitude: 1.0,
+                    f_start: 1.0,
+                    f_end: 2.0,
+                    duration: 0.0,
+                    sweep: Sweep::Linear,
+                    offset: 0.0,
+                },
                 "v.duration",
             ),
             (
-                VoltageInput::Chirp { amplitude: 1.0, f_start: 1.0, f_end: f64::INFINITY, duration: 1.0, sweep: Sweep::Log, offset: 0.0 },
+                VoltageInput::Chirp {
+                    amplitude: 1.0,
+                    f_start: 1.0,
+                    f_end: f64::INFINITY,
+                    duration: 1.0,
+                    sweep: Sweep::Log,
+                    offset: 0.0,
+                },
                 "v.f_end",
             ),
             (VoltageInput::Step { time: 0.0, from: 0.0, to: 1.0, rise_time: -1e-3 }, "v.rise_time"),
             (
-                VoltageInput::Series { file: PathBuf::new(), time_column: "t".into(), voltage_column: "v".into(), samples: None },
+                VoltageInput::Series {
+                    file: PathBuf::new(),
+                    time_column: "t".into(),
+                    voltage_column: "v".into(),
+                    samples: None,
+                },
                 "v.file",
             ),
         ];
@@ -852,11 +859,14 @@ mod tests {
     #[test]
     fn chirp_frequency_law_and_continuation() {
         for sweep in [Sweep::Linear, Sweep::Log] {
-            let c = VoltageInput::Chirp { amplitude: 1.0, f_start: 10.0, f_end: 40.0, duration: 2.0, sweep, offset: 0.0 };
+            let c =
+                VoltageInput::Chirp { amplitude: 1.0, f_start: 10.0, f_end: 40.0, duration: 2.0, sweep, offset: 0.0 };
             let (_, w0, _) = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 1e-12);
             let (_, w1, _) = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 2.0);
             let (_, w2, _) = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 7.0);
-            assert!((w0 / TAU - 10.0).abs() < 1e-9 && (w1 / TAU - 40.0).abs() < 1e-9 && (w2 / TAU - 40.0).abs() < 1e-12);
+            assert!(
+                (w0 / TAU - 10.0).abs() < 1e-9 && (w1 / TAU - 40.0).abs() < 1e-9 && (w2 / TAU - 40.0).abs() < 1e-12
+            );
             let mid = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 1.0).1 / TAU;
             let expect = if sweep == Sweep::Linear { 25.0 } else { 20.0 };
             assert!((mid - expect).abs() < 1e-9, "{mid}");
@@ -889,7 +899,10 @@ mod tests {
         assert_eq!(chirp.period(), None);
         assert_eq!(chirp.highest_frequency(), Some(80.0));
         assert_eq!(VoltageInput::Step { time: 0.0, from: 0.0, to: 1.0, rise_time: 0.0 }.highest_frequency(), None);
-        assert_eq!(VoltageInput::Step { time: 0.0, from: 0.0, to: 1.0, rise_time: 0.01 }.highest_frequency(), Some(50.0));
+        assert_eq!(
+            VoltageInput::Step { time: 0.0, from: 0.0, to: 1.0, rise_time: 0.01 }.highest_frequency(),
+            Some(50.0)
+        );
         let series = VoltageInput::from_samples("mem", vec![0.0, 0.001, 0.002, 0.003], vec![0.0; 4]).unwrap();
         assert!((series.highest_frequency().unwrap() - 500.0).abs() < 1e-9);
         // a sum of sines is periodic with the period found
@@ -971,7 +984,9 @@ mod tests {
         let ramp = VoltageInput::Step { time: 0.5, from: 0.0, to: 2.0, rise_time: 0.1 };
         assert!(ramp.turning_points(0.0, 1.0).is_empty());
         assert_eq!(ramp.breakpoints(0.0, 1.0), vec![0.5, 0.6]);
-        let ser = VoltageInput::from_samples("mem", vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], vec![0.0, 1.0, 3.0, 3.0, -1.0, 0.0]).unwrap();
+        let ser =
+            VoltageInput::from_samples("mem", vec![0.0, 1.0, 2.0, 3.0, 4.0, 5.0], vec![0.0, 1.0, 3.0, 3.0, -1.0, 0.0])
+                .unwrap();
         assert_eq!(ser.turning_points(-1.0, 10.0), vec![0.0, 2.0, 3.0, 4.0, 5.0]);
         assert_eq!(ser.breakpoints(0.5, 4.5), vec![1.0, 2.0, 3.0, 4.0]);
         assert_eq!(ser.value(2.5), 3.0);
@@ -1006,9 +1021,15 @@ mod tests {
             s.load(&dir, "case.toml", "actuator[0].voltage").unwrap_err().to_string()
         };
         let e = err("dup.csv", "time");
-        assert!(e.contains("dup.csv") && e.contains("`time`") && e.contains("row 3") && e.contains("strictly increasing"), "{e}");
+        assert!(
+            e.contains("dup.csv") && e.contains("`time`") && e.contains("row 3") && e.contains("strictly increasing"),
+            "{e}"
+        );
         let e = err("nan.csv", "time");
-        assert!(e.contains("nan.csv") && e.contains("`voltage`") && e.contains("row 2") && e.contains("not finite"), "{e}");
+        assert!(
+            e.contains("nan.csv") && e.contains("`voltage`") && e.contains("row 2") && e.contains("not finite"),
+            "{e}"
+        );
         let e = err("cols.csv", "time");
         assert!(e.contains("cols.csv") && e.contains("`time`") && e.contains("not found"), "{e}");
         let e = err("missing.csv", "time");

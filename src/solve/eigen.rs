@@ -75,7 +75,9 @@ pub fn modes(k: &Csr, m: &Csr, dofs: &[usize], count: usize) -> Result<Modes> {
             let tm: f64 = (0..n).map(|i| md[(i, i)]).sum();
             shift = 1e-6 * tk / tm;
             let shifted = Mat::from_fn(n, n, |i, j| kd[(i, j)] + shift * md[(i, j)]);
-            shifted.llt(Side::Lower).map_err(|_| Error::Numerical("the stiffness matrix is not positive semi-definite".into()))?
+            shifted
+                .llt(Side::Lower)
+                .map_err(|_| Error::Numerical("the stiffness matrix is not positive semi-definite".into()))?
         }
     };
     let l = llt.L();

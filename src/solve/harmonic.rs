@@ -21,7 +21,14 @@ impl DynamicStiffness {
             a.add_into_skyline(1.0, &mut s);
             s
         };
-        DynamicStiffness { k: to_sky(k), m: to_sky(m), c: to_sky(c), work: Skyline::zeros(envelope.to_vec()), factor: None, omega: f64::NAN }
+        DynamicStiffness {
+            k: to_sky(k),
+            m: to_sky(m),
+            c: to_sky(c),
+            work: Skyline::zeros(envelope.to_vec()),
+            factor: None,
+            omega: f64::NAN,
+        }
     }
 
     pub fn dim(&self) -> usize {

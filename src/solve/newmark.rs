@@ -137,7 +137,23 @@ impl<'a> Newmark<'a> {
         c.add_into_skyline((1.0 - s.alpha_f) * s.gamma / (s.beta * dt), &mut k_eff);
         m.add_into_skyline((1.0 - s.alpha_m) / (s.beta * dt * dt), &mut k_eff);
         let factor = k_eff.factorize()?;
-        Ok(Newmark { m, c, k, scheme, dt, k_eff, factor, u: vec![0.0; n], v: vec![0.0; n], a: vec![0.0; n], f_prev: vec![0.0; n], rhs: vec![0.0; n], w1: vec![0.0; n], w2: vec![0.0; n], newton: NewtonStats::default() })
+        Ok(Newmark {
+            m,
+            c,
+            k,
+            scheme,
+            dt,
+            k_eff,
+            factor,
+            u: vec![0.0; n],
+            v: vec![0.0; n],
+            a: vec![0.0; n],
+            f_prev: vec![0.0; n],
+            rhs: vec![0.0; n],
+            w1: vec![0.0; n],
+            w2: vec![0.0; n],
+            newton: NewtonStats::default(),
+        })
     }
 
     pub fn dt(&self) -> f64 {
@@ -150,7 +166,13 @@ impl<'a> Newmark<'a> {
 
     /// Sets the initial state and the consistent initial acceleration
     /// a₀ = M⁻¹·(F₀ − C·v₀ − K·u₀ − f_nl(u₀, v₀)).
-    pub fn initialize(&mut self, u0: &[f64], v0: &[f64], f0: &[f64], elements: &mut [&mut dyn NonlinearElement]) -> Result<()> {
+    pub fn initialize(
+        &mut self,
+        u0: &[f64],
+        v0: &[f64],
+        f0: &[f64],
+        elements: &mut [&mut dyn NonlinearElement],
+    ) -> Result<()> {
         self.u.copy_from_slice(u0);
         self.v.copy_from_slice(v0);
         self.f_prev.copy_from_slice(f0);
@@ -193,7 +215,9 @@ impl<'a> Newmark<'a> {
             // M-part: (1−α_m)·[(u_n + Δt·v_n)/(βΔt²) + (1/(2β) − 1)·a_n] − α_m·a_n
             self.w1[i] = c0 * (self.u[i] + dt * self.v[i]) + ca * self.a[i];
             // C-part: (1−α_f)·[γ/(βΔt)·u_n − (1 − γ/β)·v_n − Δt(1 − γ/(2β))·a_n] − α_f·v_n
-            self.w2[i] = (1.0 - af) * (g / (b * dt) * self.u[i] - (1.0 - g / b) * self.v[i] - dt * (1.0 - 0.5 * g / b) * self.a[i]) - af * self.v[i];
+            self.w2[i] = (1.0 - af)
+                * (g / (b * dt) * self.u[i] - (1.0 - g / b) * self.v[i] - dt * (1.0 - 0.5 * g / b) * self.a[i])
+                - af * self.v[i];
         }
         self.m.mul_vec_add(1.0, &self.w1, &mut self.rhs);
         self.c.mul_vec_add(1.0, &self.w2, &mut self.rhs);
@@ -226,7 +250,12 @@ impl<'a> Newmark<'a> {
 
     /// Advances one step with nonlinear elements, by Newton iterations on u_{n+1} with the
     /// consistent tangent K_eff + (1−α_f)·(K_t + γ/(βΔt)·C_t).
-    pub fn step_nonlinear(&mut self, f_next: &[f64], elements: &mut [&mut dyn NonlinearElement], settings: NewtonSettings) -> Result<()> {
+    pub fn step_nonlinear(
+        &mut self,
+        f_next: &[f64],
+        elements: &mut [&mut dyn NonlinearElement],
+        settings: NewtonSettings,
+    ) -> Result<()> {
         let s = self.scheme;
         let dt = self.dt;
         let n = self.u.len();
@@ -251,7 +280,8 @@ impl<'a> Newmark<'a> {
             // v_{n+1}(u_{n+1}) from the Newmark relations.
             let v_new: Vec<f64> = (0..n)
                 .map(|i| {
-                    let a_new = (u_new[i] - self.u[i] - dt * self.v[i]) / (s.beta * dt * dt) - (0.5 / s.beta - 1.0) * self.a[i];
+                    let a_new =
+                        (u_new[i] - self.u[i] - dt * self.v[i]) / (s.beta * dt * dt) - (0.5 / s.beta - 1.0) * self.a[i];
                     self.v[i] + dt * ((1.0 - s.gamma) * self.a[i] + s.gamma * a_new)
                 })
                 .collect();
@@ -281,7 +311,13 @@ impl<'a> Newmark<'a> {
                 break;
             }
             if iters >= settings.max_iter {
-                return Err(Error::Numerical(format!("Newton did not converge in {} iterations at t step {} (residual {:.3e} of load {:.3e})", settings.max_iter, self.newton.steps + 1, rnorm, scale)));
+                return Err(Error::Numerical(format!(
+                    "Newton did not converge in {} iterations at t step {} (residual {:.3e} of load {:.3e})",
+                    settings.max_iter,
+                    self.newton.steps + 1,
+                    rnorm,
+                    scale
+                )));
             }
             let jf = jac.factorize()?;
             jf.solve_in_place(&mut res);

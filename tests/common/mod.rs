@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 /// Parses case text as if it were a file named `name` in the repository's `cases/`.
 pub fn case(text: &str) -> LoadedCase {
-    LoadedCase::from_str(text, "test.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases")).expect("test case must be valid")
+    LoadedCase::from_str(text, "test.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases"))
+        .expect("test case must be valid")
 }
 
 /// The error message a bad case text produces.

@@ -1,0 +1,224 @@
+//! The exact periodic steady state, solved in the frequency domain.
+//!
+//! The structure is linear and F_p depends on the voltage alone, so: integrate h over
+//! whole periods until its cycle repeats, take the Fourier coefficients of each stack's
+//! F_p over one period, and solve (K − ω_k²M + iω_kC)·Q_k = Σ_a b_a·F̂_p,a,k for each
+//! harmonic ω_k = k·ω₀ (a static solve for the mean). The profile factorisation is refilled
+//! in place for each harmonic. Results take the same form as the transient path's.
+
+use super::transient::{time_grid, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries, TransientSettings};
+use crate::assembly::{Model, System};
+use crate::error::{Error, Result};
+use crate::post::spectra::harmonics;
+use crate::solve::harmonic::{dissipated_power, DynamicStiffness};
+use num_complex::Complex64;
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// Periodic steady state.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SteadyStateResult {
+    /// Drive period (s) and the number of harmonics solved (besides the mean).
+    pub period: f64,
+    pub harmonics: usize,
+    /// Periods it took h to settle into its cycle.
+    pub hysteresis_periods: usize,
+    /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
+    pub frequency: Vec<f64>,
+    /// Complex DOF amplitudes Q_k, k = 0..=harmonics (q(t) = Re Σ Q_k e^{ikω₀t}).
+    #[serde(skip)]
+    pub q: Vec<Vec<Complex64>>,
+    /// Stack force harmonics F̂_p,k per actuator (N).
+    #[serde(skip)]
+    pub f_p: Vec<Vec<Complex64>>,
+    pub spectra: Vec<LinkSpectrum>,
+    pub mean_power: Vec<f64>,
+    pub net_power: Vec<f64>,
+    /// Beam dissipation per harmonic and in total (W).
+    pub beam_dissipation_per_harmonic: Vec<f64>,
+    pub beam_dissipation: f64,
+    /// |Σ interface power − beam dissipation| / beam dissipation (0 on a rigid base).
+    pub balance_error: f64,
+    /// One period reconstructed from the harmonics, for plots and comparison.
+    pub t: Vec<f64>,
+    pub links: Vec<LinkSeries>,
+    pub bodies: Vec<BodySeries>,
+    pub drives: Vec<DriveSeries>,
+    pub sensors: Vec<SensorSeries>,
+}
+
+/// Stack forces over one period of the hysteresis's periodic cycle: (V, h, F_p) samples at
+/// t_j = j·T/N, j < N, for each actuator, and the number of periods it took.
+pub fn periodic_stack_forces(model: &Model, period: f64, n: usize) -> Result<(Vec<[Vec<f64>; 3]>, usize)> {
+    let mut out = Vec::new();
+    let mut most = 0;
+    for st in model.actuators.iter().map(|a| a.stack()) {
+        let bw = &st.hysteresis;
+        let bound = bw.bound(st.h0).max(f64::MIN_POSITIVE);
+        let mut h0 = st.h0;
+        let mut p = 0;
+        let (v, h) = loop {
+            let t: Vec<f64> = (0..=n).map(|j| (p as f64 + j as f64 / n as f64) * period).collect();
+            let h = if st.hysteresis_on { bw.history(&st.voltage, &t, h0) } else { vec![0.0; n + 1] };
+            let change = (h[n] - h0).abs() / bound;
+            p += 1;
+            if change < 1e-13 || !st.hysteresis_on {
+                break (t[..n].iter().map(|&t| st.voltage.value(t)).collect::<Vec<_>>(), h[..n].to_vec());
+            }
+            if p > 10_000 {
+                return Err(Error::Numerical("the hysteresis cycle did not repeat within 10 000 periods".into()));
+            }
+            h0 = h[n];
+        };
+        most = most.max(p);
+        let f = v.iter().zip(&h).map(|(&v, &h)| st.active_force(v, h)).collect();
+        out.push([v, h, f]);
+    }
+    Ok((out, most))
+}
+
+/// Solves the periodic steady state with `n_harm` harmonics from `samples` per period.
+pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result<SteadyStateResult> {
+    let grid = TransientSettings { harmonics: n_harm, ..Default::default() };
+    let (_, _, period, periodic) = time_grid(model, &grid)?;
+    if !periodic {
+        return Err(Error::input("<case>", "analysis.type", "a frequency-domain steady state needs a periodic drive"));
+    }
+    if samples < 2 * n_harm + 2 {
+        return Err(Error::input(
+            "<case>",
+            "analysis.samples_per_period",
+            format!("at least {} samples are needed for {n_harm} harmonics", 2 * n_harm + 2),
+        ));
+    }
+    let (forces, hyst_periods) = periodic_stack_forces(model, period, samples)?;
+    let fp_h: Vec<Vec<Complex64>> = forces.iter().map(|f| harmonics(&f[2])[..=n_harm].to_vec()).collect();
+    let n = sys.n();
+    let w0 = 2.0 * PI / period;
+    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
+    let mut q_all = Vec::with_capacity(n_harm + 1);
+    let mut diss = Vec::with_capacity(n_harm + 1);
+    for k in 0..=n_harm {
+        let w = k as f64 * w0;
+        let mut rhs = vec![Complex64::default(); n];
+        for (a, b) in sys.drives.iter().enumerate() {
+            for &(d, c) in b {
+                rhs[d] += fp_h[a][k] * c;
+            }
+        }
+        dk.factorize(w)?;
+        dk.solve_in_place(&mut rhs);
+        diss.push(dissipated_power(&sys.c_beam, &rhs, w));
+        q_all.push(rhs);
+    }
+    let mut res = SteadyStateResult {
+        period,
+        harmonics: n_harm,
+        hysteresis_periods: hyst_periods,
+        frequency: (0..=n_harm).map(|k| k as f64 / period).collect(),
+        f_p: fp_h.clone(),
+        ..Default::default()
+    };
+    // Link quantities per harmonic.
+    for lk in &sys.links {
+        let mut sp = LinkSpectrum { frequency: res.frequency.clone(), ..Default::default() };
+        for (k, q) in q_all.iter().enumerate() {
+            let iw = Complex64::new(0.0, k as f64 * w0);
+            let u: Complex64 = lk.stretch.iter().map(|&(d, c)| q[d] * c).sum();
+            let foot = lk.foot_dof.map_or(Complex64::default(), |d| q[d]);
+            let (v, a) = (iw * foot, iw * iw * foot);
+            let ft = u * (lk.k + iw * lk.c) - if lk.active { fp_h[lk.actuator][k] } else { Complex64::default() };
+            let fi = ft - a * lk.foot_mass;
+            let p = if k == 0 { (fi * v.conj()).re } else { 0.5 * (fi * v.conj()).re };
+            sp.transmitted.push(ft);
+            sp.interface.push(fi);
+            sp.velocity.push(v);
+            sp.acceleration.push(a);
+            sp.power.push(p);
+            sp.power_from_acceleration.push(if k == 0 { 0.0 } else { -0.5 * (fi * a.conj()).im / (k as f64 * w0) });
+        }
+        sp.power_total = sp.power.iter().sum();
+        res.mean_power.push(sp.power_total);
+        res.spectra.push(sp);
+    }
+    res.net_power = (0..model.actuators.len())
+        .map(|a| sys.links.iter().zip(&res.mean_power).filter(|(l, _)| l.actuator == a).map(|(_, p)| p).sum())
+        .collect();
+    res.beam_dissipation = diss.iter().sum();
+    res.beam_dissipation_per_harmonic = diss;
+    let input: f64 = res.mean_power.iter().sum();
+    res.balance_error = if res.beam_dissipation != 0.0 {
+        (input - res.beam_dissipation).abs() / res.beam_dissipation.abs()
+    } else {
+        input.abs()
+    };
+    // One period in time, for plots.
+    let nt = samples;
+    res.t = (0..nt).map(|j| j as f64 * period / nt as f64).collect();
+    let synth = |c: &[Complex64]| -> Vec<f64> {
+        res.t
+            .iter()
+            .map(|&t| c.iter().enumerate().map(|(k, x)| (x * Complex64::from_polar(1.0, k as f64 * w0 * t)).re).sum())
+            .collect()
+    };
+    for (l, lk) in sys.links.iter().enumerate() {
+        let sp = &res.spectra[l];
+        let u: Vec<Complex64> = q_all.iter().map(|q| lk.stretch.iter().map(|&(d, c)| q[d] * c).sum()).collect();
+        let ud: Vec<Complex64> = u.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
+        let fpz: Vec<Complex64> =
+            (0..=n_harm).map(|k| if lk.active { -fp_h[lk.actuator][k] } else { Complex64::default() }).collect();
+        let mut s = LinkSeries {
+            actuator: lk.actuator,
+            name: lk.name.clone(),
+            foot_x: lk.foot_x,
+            stretch: synth(&u),
+            stretch_rate: synth(&ud),
+            f_pzt: synth(&fpz),
+            transmitted: synth(&sp.transmitted),
+            interface: synth(&sp.interface),
+            base_velocity: synth(&sp.velocity),
+            base_acceleration: synth(&sp.acceleration),
+            ..Default::default()
+        };
+        s.f_stiffness = s.stretch.iter().map(|x| lk.k * x).collect();
+        s.f_damping = s.stretch_rate.iter().map(|x| lk.c * x).collect();
+        s.power = s.interface.iter().zip(&s.base_velocity).map(|(f, v)| f * v).collect();
+        res.links.push(s);
+    }
+    for (a, ds) in sys.dofs.bodies.iter().enumerate() {
+        let names = model.actuators[a].component().dof_names;
+        for (k, &d) in ds.iter().enumerate() {
+            let q: Vec<Complex64> = q_all.iter().map(|q| q[d]).collect();
+            let qd: Vec<Complex64> =
+                q.iter().enumerate().map(|(h, x)| x * Complex64::new(0.0, h as f64 * w0)).collect();
+            let qdd: Vec<Complex64> =
+                qd.iter().enumerate().map(|(h, x)| x * Complex64::new(0.0, h as f64 * w0)).collect();
+            res.bodies.push(BodySeries {
+                actuator: a,
+                dof: names[k].to_string(),
+                q: synth(&q),
+                q_dot: synth(&qd),
+                q_ddot: synth(&qdd),
+            });
+        }
+    }
+    for (a, f) in forces.iter().enumerate() {
+        let d_p = model.actuators[a].stack().hysteresis.d_p;
+        res.drives.push(DriveSeries {
+            actuator: a,
+            voltage: f[0].clone(),
+            h: f[1].clone(),
+            stroke: f[0].iter().zip(&f[1]).map(|(v, h)| d_p * v - h).collect(),
+            f_p: f[2].clone(),
+        });
+    }
+    for se in &model.sensors {
+        let d = sys.w_dof_at(model, se.x, "sensor.x")?;
+        let w: Vec<Complex64> = q_all.iter().map(|q| d.map_or(Complex64::default(), |d| q[d])).collect();
+        let v: Vec<Complex64> = w.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
+        let a: Vec<Complex64> = v.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
+        res.sensors.push(SensorSeries { name: se.name.clone(), x: se.x, w: synth(&w), v: synth(&v), a: synth(&a) });
+    }
+    res.q = q_all;
+    Ok(res)
+}

@@ -1,0 +1,19 @@
+//! The I/O edge of beamflow: everything that touches files on the way *out*.
+//!
+//! Simulation code builds plain values (slices, `Vec`s, sparse matrices); the modules here
+//! turn them into files that other tools can read without beamflow:
+//!
+//! * [`atomic`]: write-to-temp-then-rename, so a crash or a failed run never leaves a
+//!   half-written result where a finished one is expected (sweeps skip existing outputs).
+//! * [`hdf5`]: the self-describing results file (units and descriptions as attributes),
+//!   plus a small reader used by tests and for merging sweep shards.
+//! * [`plot`]: report figures (PNG and SVG from one description).
+//! * [`mtx`]: Matrix Market export of sparse system matrices, for checking them in
+//!   other tools (SciPy, MATLAB, Julia).
+//!
+//! Every function returns [`crate::error::Result`], and every error names the file.
+
+pub mod atomic;
+pub mod hdf5;
+pub mod mtx;
+pub mod plot;

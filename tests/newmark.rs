@@ -1,0 +1,178 @@
+//! The time integrator against exact single-DOF solutions, energy conservation and
+//! measured convergence order.
+
+use beamflow::linalg::Csr;
+use beamflow::solve::newmark::{Newmark, NewtonSettings, NonlinearElement, Scheme};
+
+fn scalar(v: f64) -> Csr {
+    Csr::from_triplets(1, &[(0, 0, v)])
+}
+
+/// Exact response of m·ẍ + c·ẋ + k·x = F₀·sin(Ωt) from rest.
+fn sdof_exact(m: f64, c: f64, k: f64, f0: f64, om: f64, t: f64) -> f64 {
+    let wn = (k / m).sqrt();
+    let zeta = c / (2.0 * m * wn);
+    let wd = wn * (1.0 - zeta * zeta).sqrt();
+    let x = f0 / ((k - m * om * om).powi(2) + (c * om).powi(2)).sqrt();
+    let phi = (c * om).atan2(k - m * om * om);
+    let a = x * phi.sin();
+    let b = (zeta * wn * a - x * om * phi.cos()) / wd;
+    x * (om * t - phi).sin() + (-zeta * wn * t).exp() * (a * (wd * t).cos() + b * (wd * t).sin())
+}
+
+/// Max error over [0, t_end] of a scheme at step dt.
+fn sdof_error(scheme: Scheme, dt: f64) -> f64 {
+    let (m, c, k, f0, om) = (0.315, 200.0 * 0.05, 3.0e5, 2.0, 2.0 * std::f64::consts::PI * 60.0);
+    let (mm, cm, km) = (scalar(m), scalar(c), scalar(k));
+    let mut nm = Newmark::new(&mm, &cm, &km, &[0], scheme, dt).unwrap();
+    nm.initialize(&[0.0], &[0.0], &[0.0], &mut []).unwrap();
+    let steps = (0.1 / dt).round() as usize;
+    let mut err = 0.0f64;
+    let mut amp = 0.0f64;
+    for s in 1..=steps {
+        let t = s as f64 * dt;
+        nm.step(&[f0 * (om * t).sin()]);
+        let x = sdof_exact(m, c, k, f0, om, t);
+        err = err.max((nm.u[0] - x).abs());
+        amp = amp.max(x.abs());
+    }
+    err / amp
+}
+
+#[test]
+fn forced_damped_oscillator_matches_exact_solution_at_second_order() {
+    for scheme in [
+        Scheme::average_acceleration(),
+        Scheme::linear_acceleration(),
+        Scheme::hht(0.1),
+        Scheme::generalized_alpha(0.8),
+    ] {
+        let errs: Vec<f64> = [2e-4, 1e-4, 5e-5, 2.5e-5].iter().map(|&dt| sdof_error(scheme, dt)).collect();
+        assert!(errs[3] < 2e-3, "{scheme:?}: error {:e} at the finest step", errs[3]);
+        for w in errs.windows(2) {
+            let order = (w[0] / w[1]).log2();
+            assert!((1.85..2.2).contains(&order), "{scheme:?}: observed order {order:.3}, errors {errs:?}");
+        }
+    }
+}
+
+#[test]
+fn steady_amplitude_and_phase_match_the_exact_response() {
+    // Late in the run the homogeneous part has died out; compare amplitude and phase of the
+    // last period by projection on sin and cos.
+    let (m, c, k, f0, om) = (1.0, 4.0, 1.0e4, 1.0, 70.0);
+    let (mm, cm, km) = (scalar(m), scalar(c), scalar(k));
+    let period = 2.0 * std::f64::consts::PI / om;
+    let n = 2000;
+    let dt = period / n as f64;
+    let mut nm = Newmark::new(&mm, &cm, &km, &[0], Scheme::average_acceleration(), dt).unwrap();
+    nm.initialize(&[0.0], &[0.0], &[0.0], &mut []).unwrap();
+    let periods = 150;
+    let (mut s, mut co) = (0.0, 0.0);
+    for step in 1..=periods * n {
+        let t = step as f64 * dt;
+        nm.step(&[f0 * (om * t).sin()]);
+        if step > (periods - 1) * n {
+            s += nm.u[0] * (om * t).sin() * 2.0 / n as f64;
+            co += nm.u[0] * (om * t).cos() * 2.0 / n as f64;
+        }
+    }
+    let amp = (s * s + co * co).sqrt();
+    let phase = (-co).atan2(s);
+    let x = f0 / ((k - m * om * om).powi(2) + (c * om).powi(2)).sqrt();
+    let phi = (c * om).atan2(k - m * om * om);
+    assert!((amp - x).abs() < 1e-5 * x, "amplitude {amp} vs {x}");
+    assert!((phase - phi).abs() < 1e-5, "phase {phase} vs {phi}");
+}
+
+#[test]
+fn average_acceleration_conserves_energy_of_free_vibration_to_round_off() {
+    // A 3-DOF undamped chain released from a displaced state.
+    let k = Csr::from_triplets(
+        3,
+        &[(0, 0, 2e4), (0, 1, -1e4), (1, 0, -1e4), (1, 1, 2e4), (1, 2, -1e4), (2, 1, -1e4), (2, 2, 1e4)],
+    );
+    let m = Csr::from_triplets(3, &[(0, 0, 1.0), (1, 1, 2.0), (2, 2, 0.5)]);
+    let c = Csr::zeros(3);
+    let env = [0, 0, 1];
+    let mut nm = Newmark::new(&m, &c, &k, &env, Scheme::average_acceleration(), 1e-3).unwrap();
+    nm.initialize(&[0.01, -0.02, 0.03], &[0.0, 0.5, 0.0], &[0.0; 3], &mut []).unwrap();
+    let energy = |nm: &Newmark| 0.5 * m.bilinear(&nm.v, &nm.v) + 0.5 * k.bilinear(&nm.u, &nm.u);
+    let e0 = energy(&nm);
+    let mut worst = 0.0f64;
+    for _ in 0..20000 {
+        nm.step(&[0.0; 3]);
+        worst = worst.max((energy(&nm) - e0).abs() / e0);
+    }
+    assert!(worst < 1e-12, "energy drift {worst:e}");
+    // HHT damps it, as it should.
+    let mut hht = Newmark::new(&m, &c, &k, &env, Scheme::hht(0.3), 1e-3).unwrap();
+    hht.initialize(&[0.01, -0.02, 0.03], &[0.0, 0.5, 0.0], &[0.0; 3], &mut []).unwrap();
+    for _ in 0..20000 {
+        hht.step(&[0.0; 3]);
+    }
+    assert!(energy(&hht) < 0.9 * e0);
+}
+
+/// A hardening spring f = k₁u + k₃u³ from DOF 0 to the ground.
+struct CubicSpring {
+    dofs: [usize; 1],
+    k1: f64,
+    k3: f64,
+    commits: usize,
+}
+
+impl NonlinearElement for CubicSpring {
+    fn dofs(&self) -> &[usize] {
+        &self.dofs
+    }
+    fn trial(&mut self, u: &[f64], _v: &[f64], force: &mut [f64], k_t: &mut [f64], _c_t: &mut [f64]) {
+        force[0] = self.k1 * u[0] + self.k3 * u[0].powi(3);
+        k_t[0] = self.k1 + 3.0 * self.k3 * u[0] * u[0];
+    }
+    fn commit(&mut self) {
+        self.commits += 1;
+    }
+}
+
+fn cubic_run(dt: f64) -> (f64, usize, usize) {
+    let m = scalar(0.5);
+    let c = Csr::zeros(1);
+    let k = Csr::zeros(1);
+    let mut spring = CubicSpring { dofs: [0], k1: 1.0e3, k3: 4.0e7, commits: 0 };
+    let mut nm = Newmark::new(&m, &c, &k, &[0], Scheme::average_acceleration(), dt).unwrap();
+    let u0 = 0.01;
+    nm.initialize(&[u0], &[0.0], &[0.0], &mut [&mut spring]).unwrap();
+    let energy = |u: f64, v: f64| 0.25 * v * v + 0.5 * 1.0e3 * u * u + 0.25 * 4.0e7 * u.powi(4);
+    let e0 = energy(u0, 0.0);
+    let mut worst = 0.0f64;
+    let steps = (0.5 / dt).round() as usize;
+    for _ in 0..steps {
+        nm.step_nonlinear(&[0.0], &mut [&mut spring], NewtonSettings::default()).unwrap();
+        worst = worst.max((energy(nm.u[0], nm.v[0]) - e0).abs() / e0);
+    }
+    (worst, nm.newton.max_iterations_in_a_step, spring.commits)
+}
+
+#[test]
+fn newton_converges_and_cubic_spring_energy_is_conserved() {
+    let (e1, it1, commits) = cubic_run(2e-4);
+    let (e2, _, _) = cubic_run(1e-4);
+    assert!(it1 >= 1 && it1 <= 8, "Newton took {it1} iterations in a step");
+    assert_eq!(commits, (0.5f64 / 2e-4).round() as usize + 1, "one commit per converged step (+ the initial state)");
+    assert!(e1 < 1e-3, "energy error {e1:e}");
+    // The trapezoidal rule's energy error for a nonlinear spring is O(Δt²) and does not drift.
+    let order = (e1 / e2).log2();
+    assert!(order > 1.7, "energy error order {order:.2} ({e1:e} → {e2:e})");
+}
+
+#[test]
+fn newton_reports_failure_instead_of_returning_garbage() {
+    let m = scalar(1.0);
+    let z = Csr::zeros(1);
+    let mut spring = CubicSpring { dofs: [0], k1: 1.0, k3: 1.0e9, commits: 0 };
+    let mut nm = Newmark::new(&m, &z, &z, &[0], Scheme::average_acceleration(), 1e-2).unwrap();
+    nm.initialize(&[0.0], &[0.0], &[0.0], &mut [&mut spring]).unwrap();
+    let r = nm.step_nonlinear(&[1.0e6], &mut [&mut spring], NewtonSettings { tol: 1e-14, max_iter: 2 });
+    assert!(r.unwrap_err().to_string().contains("Newton"));
+}
