@@ -14,6 +14,9 @@
 //! Every function returns [`crate::error::Result`], and every error names the file.
 
 pub mod atomic;
+pub mod figures;
 pub mod hdf5;
 pub mod mtx;
 pub mod plot;
+pub mod results;
+pub mod summary;

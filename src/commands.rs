@@ -1,0 +1,109 @@
+//! What the CLI commands do, as library functions (the CLI only parses arguments).
+
+use crate::analysis::modes;
+use crate::case::build::build_beam;
+use crate::case::{AnalysisSpec, LoadedCase};
+use crate::error::{Error, Result};
+use crate::io::atomic::write_atomic_string;
+use crate::runner::{run_case, AnalysisResult};
+use std::path::{Path, PathBuf};
+
+/// `beamflow modes`: prints the table and optionally writes JSON.
+pub fn modes(case: &Path, count: Option<usize>, json: Option<&Path>) -> Result<()> {
+    let lc = LoadedCase::load(case)?;
+    let count = count
+        .or_else(|| {
+            lc.case
+                .analysis
+                .iter()
+                .find_map(|a| if let AnalysisSpec::Modes { count } = a { Some(*count) } else { None })
+        })
+        .unwrap_or(10);
+    if count == 0 {
+        return Err(Error::input("<cli>", "--count", "must be at least 1"));
+    }
+    let beam = build_beam(&lc)?;
+    let r = modes::run(&beam, count)?;
+    println!("{}", modes_table(&r));
+    if let Some(path) = json {
+        let text = serde_json::to_string_pretty(&r).expect("plain data serialises");
+        write_atomic_string(path, &text)?;
+    }
+    Ok(())
+}
+
+/// The modes as an aligned text table.
+pub fn modes_table(r: &modes::ModesResult) -> String {
+    let mut s = format!(
+        "reference: {}\n{:>4}  {:>14}  {:>14}  {:>11}\n",
+        r.reference, "mode", "f (Hz)", "analytic (Hz)", "rel. error"
+    );
+    for (i, f) in r.frequencies_hz.iter().enumerate() {
+        match (r.analytic_hz.get(i), r.relative_error.get(i)) {
+            (Some(a), Some(e)) => s += &format!("{:>4}  {:>14.6}  {:>14.6}  {:>11.3e}\n", i + 1, f, a, e),
+            _ => s += &format!("{:>4}  {:>14.6}  {:>14}  {:>11}\n", i + 1, f, "–", "–"),
+        }
+    }
+    s.trim_end().to_string()
+}
+
+/// `beamflow check`: loads and builds the model, prints what it contains.
+pub fn check(case: &Path) -> Result<()> {
+    let lc = LoadedCase::load(case)?;
+    let built = crate::case::build_model(&lc)?;
+    let sys = crate::assembly::System::assemble(&built.model)?;
+    let elements = built.model.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
+    println!(
+        "{}: ok — {} elements, {} DOFs, {} actuator(s), {} analysis(es)",
+        lc.file,
+        elements,
+        sys.n(),
+        built.model.actuators.len(),
+        lc.case.analysis.len()
+    );
+    Ok(())
+}
+
+/// Default output directory for a case: out/<file stem>.
+pub fn default_out(case: &Path) -> PathBuf {
+    PathBuf::from("out").join(case.file_stem().unwrap_or_default())
+}
+
+/// `beamflow run`.
+pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) -> Result<()> {
+    let lc = LoadedCase::load(case)?;
+    let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
+    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    let run = run_case(&lc)?;
+    let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
+    let h5 = dir.join(format!("{stem}.h5"));
+    if lc.case.output.hdf5 {
+        crate::io::results::write(&h5, &lc, &run)?;
+        println!("wrote {}", h5.display());
+    }
+    if lc.case.output.matrices {
+        for (name, m) in [("K", &run.system.k), ("M", &run.system.m), ("C", &run.system.c)] {
+            let p = dir.join(format!("{stem}_{name}.mtx"));
+            crate::io::mtx::write_matrix_market(&p, m.as_sprs())?;
+            println!("wrote {}", p.display());
+        }
+    }
+    if plots && lc.case.output.plots {
+        for p in crate::io::figures::plot_run(&dir, stem, &lc, &run)? {
+            println!("wrote {}", p.display());
+        }
+    }
+    let summary = crate::io::summary::summary(&lc, &run);
+    for r in &run.results {
+        if let AnalysisResult::Modes(m) = r {
+            println!("{}", modes_table(m));
+        }
+    }
+    println!("{}", crate::io::summary::headline_text(&summary));
+    let text = serde_json::to_string_pretty(&summary).expect("plain data serialises");
+    write_atomic_string(&dir.join(format!("{stem}.json")), &text)?;
+    if let Some(j) = json {
+        write_atomic_string(j, &text)?;
+    }
+    Ok(())
+}

@@ -1,0 +1,242 @@
+//! The layout of a run's HDF5 file (documented in docs/results-format.md).
+
+use super::hdf5::{utc_timestamp, GroupWriter, ResultsFile};
+use crate::analysis::harmonic::HarmonicResult;
+use crate::analysis::modes::ModesResult;
+use crate::analysis::steady_state::SteadyStateResult;
+use crate::analysis::transient::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries, TransientResult};
+use crate::case::LoadedCase;
+use crate::error::Result;
+use crate::post::power::EnergyBalance;
+use crate::runner::{AnalysisResult, CaseRun};
+use std::path::Path;
+
+/// Writes one self-describing file for a case run (atomically).
+pub fn write(path: &Path, lc: &LoadedCase, run: &CaseRun) -> Result<()> {
+    let f = ResultsFile::create(path)?;
+    f.set_attr_str("program", "beamflow")?;
+    f.set_attr_str("version", env!("CARGO_PKG_VERSION"))?;
+    f.set_attr_str("case_file", &lc.file)?;
+    f.set_attr_str("title", &lc.case.title)?;
+    f.set_attr_str("created", &utc_timestamp())?;
+    f.set_attr_str("sign_convention", "forces and displacements positive up (+w); power positive into the base; complex amplitudes q(t) = Re(Q·exp(+iωt))")?;
+    f.group("case")?.write_str("toml", &lc.text)?;
+    let m = f.group("model")?;
+    m.attr_i64("n_dofs", run.system.n() as i64)?;
+    m.attr_f64("rayleigh_a0", run.model.rayleigh.a0)?;
+    m.attr_f64("rayleigh_a1", run.model.rayleigh.a1)?;
+    if let Some(b) = &run.model.beam {
+        m.write_f64("node_x", &b.mesh.x, &[b.mesh.x.len()], "m", "beam node coordinates")?;
+    }
+    m.write_str_list(
+        "actuators",
+        &run.model.actuators.iter().map(|a| format!("{} ({})", a.name(), a.kind())).collect::<Vec<_>>(),
+    )?;
+    for (i, r) in run.results.iter().enumerate() {
+        match r {
+            AnalysisResult::Modes(x) => write_modes(&f.group(&format!("analysis_{i}_modes"))?, x)?,
+            AnalysisResult::Harmonic(x) => write_harmonic(&f.group(&format!("analysis_{i}_harmonic"))?, x)?,
+            AnalysisResult::Transient(x) => write_transient(&f.group(&format!("analysis_{i}_transient"))?, x, run)?,
+            AnalysisResult::SteadyState(x) => write_steady(&f.group(&format!("analysis_{i}_steady_state"))?, x, run)?,
+        }
+    }
+    f.finish()
+}
+
+fn write_modes(g: &GroupWriter, r: &ModesResult) -> Result<()> {
+    let n = r.frequencies_hz.len();
+    g.attr_str("reference", &r.reference)?;
+    g.write_f64("frequencies_hz", &r.frequencies_hz, &[n], "Hz", "natural frequencies of the bare beam")?;
+    if !r.analytic_hz.is_empty() {
+        g.write_f64("analytic_hz", &r.analytic_hz, &[r.analytic_hz.len()], "Hz", "closed-form natural frequencies")?;
+        g.write_f64(
+            "relative_error",
+            &r.relative_error,
+            &[r.relative_error.len()],
+            "1",
+            "(f - f_analytic)/f_analytic",
+        )?;
+    }
+    let nx = r.node_x.len();
+    g.write_f64("node_x", &r.node_x, &[nx], "m", "node coordinates")?;
+    let flat: Vec<f64> = r.shapes_w.iter().flatten().copied().collect();
+    g.write_f64(
+        "shapes_w",
+        &flat,
+        &[n, nx],
+        "m/sqrt(kg)",
+        "mass-normalised mode shapes: w at each node, one row per mode",
+    )
+}
+
+fn write_harmonic(g: &GroupWriter, r: &HarmonicResult) -> Result<()> {
+    let nf = r.frequency_hz.len();
+    let np = r.point_x.len();
+    let nforce = r.input_power.first().map_or(0, Vec::len);
+    g.write_f64("frequency_hz", &r.frequency_hz, &[nf], "Hz", "analysis frequencies")?;
+    g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, then sensors")?;
+    g.write_str_list("point_names", &r.point_names)?;
+    let mob: Vec<_> = r.mobility.iter().flat_map(|m| m.iter().flatten().copied()).collect();
+    g.write_c64(
+        "mobility",
+        &mob,
+        &[nf, np * nforce],
+        "m/(N*s)",
+        "mobility V_i/F_j; row per frequency, column i*n_forces + j",
+    )?;
+    let vel: Vec<_> = r.velocity.iter().flatten().copied().collect();
+    g.write_c64("velocity", &vel, &[nf, np], "m/s", "velocity at each response point under all forces")?;
+    let pin: Vec<f64> = r.input_power.iter().flatten().copied().collect();
+    g.write_f64("input_power", &pin, &[nf, nforce], "W", "time-averaged input power per force point")?;
+    g.write_f64("total_power", &r.total_power, &[nf], "W", "sum over force points")?;
+    g.write_f64("dissipated_power", &r.dissipated_power, &[nf], "W", "beam dissipation 0.5*w^2*Q^H*C*Q")?;
+    g.write_f64("balance_error", &r.balance_error, &[nf], "1", "|total - dissipated|/dissipated")
+}
+
+fn write_energy(g: &GroupWriter, name: &str, e: &EnergyBalance) -> Result<()> {
+    let s = g.group(name)?;
+    s.attr_f64("input_J", e.input)?;
+    s.attr_f64("dissipated_J", e.dissipated)?;
+    s.attr_f64("stored_change_J", e.stored_change)?;
+    s.attr_f64("relative_error", e.relative_error())
+}
+
+fn link_group_name(run: &CaseRun, l: &LinkSeries) -> String {
+    format!("{}_{}", run.model.actuators[l.actuator].name(), l.name)
+}
+
+fn write_series(
+    g: &GroupWriter,
+    t: &[f64],
+    links: &[LinkSeries],
+    bodies: &[BodySeries],
+    drives: &[DriveSeries],
+    sensors: &[SensorSeries],
+    run: &CaseRun,
+) -> Result<()> {
+    let n = t.len();
+    g.write_f64("t", t, &[n], "s", "sample times of the recorded window")?;
+    for l in links {
+        let lg = g.group(&format!("links/{}", link_group_name(run, l)))?;
+        if let Some(x) = l.foot_x {
+            lg.attr_f64("foot_x_m", x)?;
+        }
+        for (name, data, unit, desc) in [
+            ("stretch", &l.stretch, "m", "u = z_top - z_foot"),
+            ("stretch_rate", &l.stretch_rate, "m/s", "du/dt"),
+            ("f_stiffness", &l.f_stiffness, "N", "stiffness component k*u of the transmitted force"),
+            ("f_damping", &l.f_damping, "N", "damping component c*du/dt"),
+            ("f_pzt", &l.f_pzt, "N", "PZT component -F_p (stack only)"),
+            ("transmitted", &l.transmitted, "N", "force on the base at the foot, positive up"),
+            ("interface", &l.interface, "N", "interface force: transmitted minus foot-mass inertia"),
+            ("base_velocity", &l.base_velocity, "m/s", "base velocity at the foot"),
+            ("base_acceleration", &l.base_acceleration, "m/s^2", "base acceleration at the foot"),
+            ("power", &l.power, "W", "instantaneous power into the base at the foot"),
+        ] {
+            lg.write_f64(name, data, &[data.len()], unit, desc)?;
+        }
+    }
+    for b in bodies {
+        let bg = g.group(&format!("bodies/{}_{}", run.model.actuators[b.actuator].name(), b.dof))?;
+        let unit = if b.dof == "phi" { "rad" } else { "m" };
+        bg.write_f64("q", &b.q, &[b.q.len()], unit, "body DOF")?;
+        bg.write_f64("q_dot", &b.q_dot, &[b.q.len()], &format!("{unit}/s"), "rate")?;
+        bg.write_f64("q_ddot", &b.q_ddot, &[b.q.len()], &format!("{unit}/s^2"), "acceleration")?;
+    }
+    for d in drives {
+        let dg = g.group(&format!("drives/{}", run.model.actuators[d.actuator].name()))?;
+        dg.write_f64("voltage", &d.voltage, &[d.voltage.len()], "V", "stack voltage")?;
+        dg.write_f64("h", &d.h, &[d.h.len()], "m", "Bouc-Wen hysteretic displacement")?;
+        dg.write_f64("stroke", &d.stroke, &[d.stroke.len()], "m", "free stroke d_p*V - h")?;
+        dg.write_f64("f_p", &d.f_p, &[d.f_p.len()], "N", "active (PZT) force k_p*stroke")?;
+    }
+    for s in sensors {
+        let sg = g.group(&format!("sensors/{}", s.name))?;
+        sg.attr_f64("x_m", s.x)?;
+        sg.write_f64("w", &s.w, &[s.w.len()], "m", "beam displacement")?;
+        sg.write_f64("v", &s.v, &[s.v.len()], "m/s", "beam velocity")?;
+        sg.write_f64("a", &s.a, &[s.a.len()], "m/s^2", "beam acceleration")?;
+    }
+    Ok(())
+}
+
+fn write_spectra(g: &GroupWriter, links: &[LinkSeries], spectra: &[LinkSpectrum], run: &CaseRun) -> Result<()> {
+    for (l, s) in links.iter().zip(spectra) {
+        let sg = g.group(&format!("spectra/{}", link_group_name(run, l)))?;
+        let n = s.frequency.len();
+        sg.attr_f64("power_total_W", s.power_total)?;
+        sg.write_f64("frequency", &s.frequency, &[n], "Hz", "harmonic frequencies k*f0")?;
+        sg.write_c64(
+            "transmitted",
+            &s.transmitted,
+            &[n],
+            "N",
+            "single-sided complex amplitude of the transmitted force",
+        )?;
+        sg.write_c64("interface", &s.interface, &[n], "N", "single-sided complex amplitude of the interface force")?;
+        sg.write_c64("velocity", &s.velocity, &[n], "m/s", "base velocity amplitude")?;
+        sg.write_c64("acceleration", &s.acceleration, &[n], "m/s^2", "base acceleration amplitude")?;
+        sg.write_f64("power", &s.power, &[n], "W", "power per harmonic 0.5*Re(F*conj(V))")?;
+        sg.write_f64(
+            "power_from_acceleration",
+            &s.power_from_acceleration,
+            &[n],
+            "W",
+            "power per harmonic -0.5*Im(F*conj(A))/w",
+        )?;
+    }
+    Ok(())
+}
+
+fn write_powers(g: &GroupWriter, mean: &[f64], net: &[f64], run: &CaseRun) -> Result<()> {
+    g.write_f64(
+        "mean_power",
+        mean,
+        &[mean.len()],
+        "W",
+        "time-averaged power into the base per link (order of links/)",
+    )?;
+    g.write_str_list(
+        "link_names",
+        &run.system
+            .links
+            .iter()
+            .map(|l| format!("{}_{}", run.model.actuators[l.actuator].name(), l.name))
+            .collect::<Vec<_>>(),
+    )?;
+    g.write_f64("net_power", net, &[net.len()], "W", "net power into the base per actuator")
+}
+
+fn write_transient(g: &GroupWriter, r: &TransientResult, run: &CaseRun) -> Result<()> {
+    g.attr_f64("dt_s", r.dt)?;
+    g.attr_f64("period_s", r.period)?;
+    g.attr_i64("steps_per_period", r.steps_per_period as i64)?;
+    g.attr_i64("periods_run", r.periods_run as i64)?;
+    g.attr_i64("converged", r.converged as i64)?;
+    g.attr_f64("final_change", r.final_change)?;
+    g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
+    write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
+    write_spectra(g, &r.links, &r.spectra, run)?;
+    write_powers(g, &r.mean_power, &r.net_power, run)?;
+    write_energy(g, "energy_run/beam", &r.energy_run.beam)?;
+    write_energy(g, "energy_run/system", &r.energy_run.system)?;
+    write_energy(g, "energy_last_period/beam", &r.energy_last_period.beam)?;
+    write_energy(g, "energy_last_period/system", &r.energy_last_period.system)
+}
+
+fn write_steady(g: &GroupWriter, r: &SteadyStateResult, run: &CaseRun) -> Result<()> {
+    g.attr_f64("period_s", r.period)?;
+    g.attr_i64("harmonics", r.harmonics as i64)?;
+    g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
+    g.attr_f64("balance_error", r.balance_error)?;
+    g.write_f64(
+        "beam_dissipation_per_harmonic",
+        &r.beam_dissipation_per_harmonic,
+        &[r.harmonics + 1],
+        "W",
+        "beam dissipation per harmonic",
+    )?;
+    write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
+    write_spectra(g, &r.links, &r.spectra, run)?;
+    write_powers(g, &r.mean_power, &r.net_power, run)
+}

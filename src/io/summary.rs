@@ -1,0 +1,78 @@
+//! The headline numbers of a run, for people (text) and scripts (JSON).
+
+use crate::case::LoadedCase;
+use crate::runner::{AnalysisResult, CaseRun};
+use serde_json::{json, Map, Value};
+
+/// A JSON object with one entry per analysis.
+pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
+    let mut analyses = Vec::new();
+    let link_name = |l: usize| {
+        let lk = &run.system.links[l];
+        format!("{}_{}", run.model.actuators[lk.actuator].name(), lk.name)
+    };
+    for r in &run.results {
+        analyses.push(match r {
+            AnalysisResult::Modes(m) => json!({"type": "modes", "frequencies_hz": m.frequencies_hz, "analytic_hz": m.analytic_hz, "relative_error": m.relative_error}),
+            AnalysisResult::Harmonic(h) => json!({"type": "harmonic", "frequency_hz": h.frequency_hz, "total_power_w": h.total_power, "dissipated_power_w": h.dissipated_power, "max_balance_error": h.balance_error.iter().fold(0.0f64, |a, b| a.max(*b))}),
+            AnalysisResult::Transient(t) => {
+                let mut points = Map::new();
+                for (l, p) in t.mean_power.iter().enumerate() {
+                    points.insert(link_name(l), json!(p));
+                }
+                let amp: Map<String, Value> = t.spectra.iter().enumerate().map(|(l, s)| (link_name(l), json!(s.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
+                json!({"type": "transient", "dt_s": t.dt, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
+                       "mean_power_w": points, "net_power_w": t.net_power, "transmitted_force_amplitude_at_drive_n": amp,
+                       "beam_dissipation_w": t.beam_dissipation,
+                       "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}})
+            }
+            AnalysisResult::SteadyState(s) => {
+                let mut points = Map::new();
+                for (l, p) in s.mean_power.iter().enumerate() {
+                    points.insert(link_name(l), json!(p));
+                }
+                let amp: Map<String, Value> = s.spectra.iter().enumerate().map(|(l, sp)| (link_name(l), json!(sp.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
+                json!({"type": "steady_state", "harmonics": s.harmonics, "mean_power_w": points, "net_power_w": s.net_power,
+                       "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error})
+            }
+        });
+    }
+    json!({"case": lc.file, "title": lc.case.title, "actuators": run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>(), "analyses": analyses})
+}
+
+/// A few lines for the terminal.
+pub fn headline_text(v: &Value) -> String {
+    let mut s = String::new();
+    let names = v["actuators"].as_array().cloned().unwrap_or_default();
+    for a in v["analyses"].as_array().into_iter().flatten() {
+        match a["type"].as_str() {
+            Some(t @ ("transient" | "steady_state")) => {
+                s += &format!("{t}:\n");
+                if let Some(m) = a["mean_power_w"].as_object() {
+                    for (k, p) in m {
+                        s += &format!(
+                            "  mean power into the base at {k:<24} {:>12.4e} W\n",
+                            p.as_f64().unwrap_or(f64::NAN)
+                        );
+                    }
+                }
+                for (i, p) in a["net_power_w"].as_array().into_iter().flatten().enumerate() {
+                    s += &format!(
+                        "  net power of {:<36} {:>12.4e} W\n",
+                        names.get(i).and_then(|n| n.as_str()).unwrap_or("?"),
+                        p.as_f64().unwrap_or(f64::NAN)
+                    );
+                }
+            }
+            Some("harmonic") => {
+                s += &format!(
+                    "harmonic: {} frequencies, max energy-balance error {:.2e}\n",
+                    a["frequency_hz"].as_array().map_or(0, Vec::len),
+                    a["max_balance_error"].as_f64().unwrap_or(0.0)
+                )
+            }
+            _ => {}
+        }
+    }
+    s.trim_end().to_string()
+}
