@@ -123,19 +123,18 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
     for lk in &sys.links {
         let mut sp = LinkSpectrum { frequency: res.frequency.clone(), ..Default::default() };
         for (k, q) in q_all.iter().enumerate() {
-            let iw = Complex64::new(0.0, k as f64 * w0);
-            let u: Complex64 = lk.stretch.iter().map(|&(d, c)| q[d] * c).sum();
-            let foot = lk.foot_dof.map_or(Complex64::default(), |d| q[d]);
-            let (v, a) = (iw * foot, iw * iw * foot);
-            let ft = u * (lk.k + iw * lk.c) - if lk.active { fp_h[lk.actuator][k] } else { Complex64::default() };
-            let fi = ft - a * lk.foot_mass;
-            let p = if k == 0 { (fi * v.conj()).re } else { 0.5 * (fi * v.conj()).re };
-            sp.transmitted.push(ft);
-            sp.interface.push(fi);
-            sp.velocity.push(v);
-            sp.acceleration.push(a);
-            sp.power.push(p);
-            sp.power_from_acceleration.push(if k == 0 { 0.0 } else { -0.5 * (fi * a.conj()).im / (k as f64 * w0) });
+            let fp: Vec<Complex64> = fp_h.iter().map(|f| f[k]).collect();
+            let h = link_harmonic(lk, q, k as f64 * w0, &fp);
+            sp.transmitted.push(h.transmitted);
+            sp.interface.push(h.interface);
+            sp.velocity.push(h.velocity);
+            sp.acceleration.push(h.acceleration);
+            sp.power.push(if k == 0 { 2.0 * h.power } else { h.power });
+            sp.power_from_acceleration.push(if k == 0 {
+                0.0
+            } else {
+                -0.5 * (h.interface * h.acceleration.conj()).im / (k as f64 * w0)
+            });
         }
         sp.power_total = sp.power.iter().sum();
         res.mean_power.push(sp.power_total);
@@ -221,4 +220,43 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
     }
     res.q = q_all;
     Ok(res)
+}
+
+/// A link's complex amplitudes at one frequency.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LinkHarmonic {
+    /// Transmitted force on the base (N), interface force (N).
+    pub transmitted: Complex64,
+    pub interface: Complex64,
+    /// Base velocity (m/s) and acceleration (m/s²) at the foot.
+    pub velocity: Complex64,
+    pub acceleration: Complex64,
+    /// Time-averaged power ½·Re(F_interface·conj(V)) into the base (W).
+    pub power: f64,
+}
+
+/// What a link transmits when the system moves harmonically with amplitudes `q` at ω
+/// (rad/s) and the stacks' active forces have amplitudes `fp` (one per actuator).
+pub fn link_harmonic(lk: &crate::assembly::LinkDofs, q: &[Complex64], w: f64, fp: &[Complex64]) -> LinkHarmonic {
+    let iw = Complex64::new(0.0, w);
+    let u: Complex64 = lk.stretch.iter().map(|&(d, c)| q[d] * c).sum();
+    let foot = lk.foot_dof.map_or(Complex64::default(), |d| q[d]);
+    let (v, a) = (iw * foot, iw * iw * foot);
+    let ft = u * (lk.k + iw * lk.c) - if lk.active { fp[lk.actuator] } else { Complex64::default() };
+    let fi = ft - a * lk.foot_mass;
+    LinkHarmonic { transmitted: ft, interface: fi, velocity: v, acceleration: a, power: 0.5 * (fi * v.conj()).re }
+}
+
+/// Solves (K − ω²M + iωC)·Q = Σ_a b_a·F̂_p,a for one frequency ω (rad/s).
+pub fn solve_at(sys: &System, w: f64, fp: &[Complex64]) -> Result<Vec<Complex64>> {
+    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
+    dk.factorize(w)?;
+    let mut rhs = vec![Complex64::default(); sys.n()];
+    for (a, b) in sys.drives.iter().enumerate() {
+        for &(d, c) in b {
+            rhs[d] += fp[a] * c;
+        }
+    }
+    dk.solve_in_place(&mut rhs);
+    Ok(rhs)
 }
