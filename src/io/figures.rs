@@ -1,9 +1,258 @@
-//! Standard figures of a case run.
+//! Standard figures of a case run, and the building blocks the paper figures reuse.
+//! Every figure is written as PNG and SVG.
+
+use super::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
+use crate::analysis::harmonic::HarmonicResult;
+use crate::analysis::modes::ModesResult;
+use crate::analysis::transient::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum};
 use crate::case::LoadedCase;
 use crate::error::Result;
-use crate::runner::CaseRun;
+use crate::post::spectra::db;
+use crate::runner::{AnalysisResult, CaseRun};
 use std::path::{Path, PathBuf};
 
-pub fn plot_run(_dir: &Path, _stem: &str, _lc: &LoadedCase, _run: &CaseRun) -> Result<Vec<PathBuf>> {
-    Ok(Vec::new())
+/// Something that can be rendered to a path.
+pub trait Figure {
+    fn render_to(&self, path: &Path) -> Result<()>;
+}
+
+impl Figure for LinePlot {
+    fn render_to(&self, path: &Path) -> Result<()> {
+        self.render(path)
+    }
+}
+impl Figure for MultiPanel {
+    fn render_to(&self, path: &Path) -> Result<()> {
+        self.render(path)
+    }
+}
+impl Figure for BarChart {
+    fn render_to(&self, path: &Path) -> Result<()> {
+        self.render(path)
+    }
+}
+
+/// Writes `dir/name.png` and `dir/name.svg`; returns both paths.
+pub fn save(fig: &dyn Figure, dir: &Path, name: &str) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for ext in ["png", "svg"] {
+        let p = dir.join(format!("{name}.{ext}"));
+        fig.render_to(&p)?;
+        out.push(p);
+    }
+    Ok(out)
+}
+
+/// Time axis in ms from the start of the window.
+pub fn ms_axis(t: &[f64]) -> Vec<f64> {
+    let t0 = t.first().copied().unwrap_or(0.0);
+    t.iter().map(|x| (x - t0) * 1e3).collect()
+}
+
+/// A readable name for a link: "stack foot", "left leg", "right leg".
+pub fn link_label(l: &LinkSeries) -> String {
+    match l.name.as_str() {
+        "stack" => "stack foot".to_string(),
+        n => n.replace('_', " "),
+    }
+}
+
+/// Transmitted force(s) of one actuator over time.
+pub fn forces_panel(title: &str, t: &[f64], links: &[&LinkSeries]) -> LinePlot {
+    let x = ms_axis(t);
+    let mut p = LinePlot::new(title, "time (ms)", "transmitted force (N)");
+    for l in links {
+        p.series.push(Series::line(link_label(l), x.clone(), l.transmitted.clone()));
+    }
+    p
+}
+
+/// Stiffness, damping and PZT components of a stack's transmitted force.
+pub fn components_panel(title: &str, t: &[f64], l: &LinkSeries) -> LinePlot {
+    let x = ms_axis(t);
+    let mut p = LinePlot::new(title, "time (ms)", "force (N)");
+    p.series.push(Series::line("total F", x.clone(), l.transmitted.clone()));
+    p.series.push(Series::line("stiffness k·u", x.clone(), l.f_stiffness.clone()));
+    p.series.push(Series::line("damping c·du/dt", x.clone(), l.f_damping.clone()));
+    p.series.push(Series::line("PZT −F_p", x, l.f_pzt.clone()));
+    p
+}
+
+/// A body DOF over time, in µm (or µrad).
+pub fn body_panel(title: &str, t: &[f64], b: &BodySeries) -> LinePlot {
+    let x = ms_axis(t);
+    let (label, unit) = if b.dof == "phi" { ("rotation φ", "µrad") } else { (b.dof.as_str(), "µm") };
+    let mut p = LinePlot::new(title, "time (ms)", format!("{label} ({unit})"));
+    p.series.push(Series::line(label, x, b.q.iter().map(|v| v * 1e6).collect()));
+    p
+}
+
+/// Force spectrum in dB re 1 N at the harmonics.
+pub fn spectrum_panel(title: &str, spectra: &[(&str, &LinkSpectrum)]) -> LinePlot {
+    let mut p = LinePlot::new(title, "frequency (Hz)", "force level (dB re 1 N)");
+    for (label, s) in spectra {
+        let f: Vec<f64> = s.frequency[1..].to_vec();
+        let l: Vec<f64> = s.transmitted[1..].iter().map(|c| db(c.norm(), 1.0)).collect();
+        p.series.push(Series::line(*label, f, l).with_style(SeriesStyle::LineMarkers));
+    }
+    p
+}
+
+/// Power per harmonic as a level in dB re 1 pW (10·log₁₀|P|/1 pW), positive (into the
+/// base) and negative (out of it) lines as separate series (stems for the first spectrum,
+/// markers for the others); lines below 10⁻⁹ of the largest are left out, since they are
+/// round-off or unsettled transient (even harmonics of a symmetric drive).
+pub fn power_spectrum_panel(title: &str, spectra: &[(&str, &LinkSpectrum)]) -> LinePlot {
+    let mut p = LinePlot::new(title, "frequency (Hz)", "|power| level (dB re 1 pW)");
+    let top = spectra.iter().flat_map(|(_, s)| s.power[1..].iter()).fold(0.0f64, |m, x| m.max(x.abs()));
+    for (i, (label, s)) in spectra.iter().enumerate() {
+        let style = if i == 0 { SeriesStyle::Stems } else { SeriesStyle::Markers };
+        for (sign, name) in [(1.0, "into the beam"), (-1.0, "out of the beam")] {
+            let (f, l): (Vec<f64>, Vec<f64>) = s.frequency[1..]
+                .iter()
+                .zip(&s.power[1..])
+                .filter(|(_, &pw)| pw * sign > 1e-9 * top)
+                .map(|(&f, &pw)| (f, 10.0 * (pw.abs() / 1e-12).log10()))
+                .unzip();
+            if !f.is_empty() {
+                p.series.push(Series::line(format!("{label}, {name}"), f, l).with_style(style));
+            }
+        }
+    }
+    p
+}
+
+/// Stroke against voltage over the recorded window (the hysteresis loop).
+pub fn loop_panel(title: &str, d: &DriveSeries) -> LinePlot {
+    let mut p = LinePlot::new(title, "voltage (V)", "free stroke δ (µm)");
+    p.series.push(Series::line("Bouc–Wen", d.voltage.clone(), d.stroke.iter().map(|s| s * 1e6).collect()));
+    p
+}
+
+fn modes_figure(m: &ModesResult) -> LinePlot {
+    let mut p = LinePlot::new("Mode shapes of the bare beam (mass-normalised)", "x (m)", "w (1/√kg)");
+    for (r, w) in m.shapes_w.iter().enumerate().take(6) {
+        p.series.push(Series::line(
+            format!("mode {}: {:.2} Hz", r + 1, m.frequencies_hz[r]),
+            m.node_x.clone(),
+            w.clone(),
+        ));
+    }
+    p
+}
+
+fn harmonic_figure(h: &HarmonicResult) -> MultiPanel {
+    let mut mob = LinePlot::new("Driving-point mobility", "frequency (Hz)", "|Y| (m/(N·s))");
+    mob.log_x = true;
+    mob.log_y = true;
+    let mut pw = LinePlot::new("Input power", "frequency (Hz)", "power (W)");
+    pw.log_x = true;
+    pw.log_y = true;
+    let nforce = h.input_power.first().map_or(0, Vec::len);
+    for j in 0..nforce {
+        let y: Vec<f64> = h.mobility.iter().map(|m| m[j][j].norm().max(1e-300)).collect();
+        mob.series.push(Series::line(
+            format!("{} at x = {} m", h.point_names[j], h.point_x[j]),
+            h.frequency_hz.clone(),
+            y,
+        ));
+    }
+    pw.series.push(Series::line(
+        "input ½Re(F·V*)",
+        h.frequency_hz.clone(),
+        h.total_power.iter().map(|p| p.abs().max(1e-300)).collect(),
+    ));
+    pw.series.push(
+        Series::line(
+            "beam dissipation",
+            h.frequency_hz.clone(),
+            h.dissipated_power.iter().map(|p| p.abs().max(1e-300)).collect(),
+        )
+        .with_style(SeriesStyle::Markers),
+    );
+    MultiPanel::new("Harmonic response of the beam", vec![mob, pw])
+}
+
+/// The standard figures of `run`: one set per analysis.
+pub fn plot_run(dir: &Path, stem: &str, _lc: &LoadedCase, run: &CaseRun) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for (i, r) in run.results.iter().enumerate() {
+        let tag = format!("{stem}_{i}");
+        match r {
+            AnalysisResult::Modes(m) => out.extend(save(&modes_figure(m), dir, &format!("{tag}_modes"))?),
+            AnalysisResult::Harmonic(h) => out.extend(save(&harmonic_figure(h), dir, &format!("{tag}_harmonic"))?),
+            AnalysisResult::Transient(t) => {
+                out.extend(periodic_figures(dir, &tag, run, &t.t, &t.links, &t.spectra, &t.mean_power, &t.drives)?)
+            }
+            AnalysisResult::SteadyState(s) => {
+                out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?)
+            }
+        }
+    }
+    Ok(out)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn periodic_figures(
+    dir: &Path,
+    tag: &str,
+    run: &CaseRun,
+    t: &[f64],
+    links: &[LinkSeries],
+    spectra: &[LinkSpectrum],
+    mean: &[f64],
+    drives: &[DriveSeries],
+) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for (a, act) in run.model.actuators.iter().enumerate() {
+        let mine: Vec<usize> = (0..links.len()).filter(|&l| links[l].actuator == a).collect();
+        let refs: Vec<&LinkSeries> = mine.iter().map(|&l| &links[l]).collect();
+        let name = act.name();
+        let stack = mine.iter().copied().find(|&l| links[l].name == "stack").expect("every actuator has a stack");
+        let mut panels = vec![
+            forces_panel(&format!("{name}: transmitted forces"), t, &refs),
+            components_panel(&format!("{name}: components of the stack-foot force"), t, &links[stack]),
+        ];
+        if refs.iter().any(|l| l.foot_x.is_some()) {
+            let x = ms_axis(t);
+            let mut pp = LinePlot::new(format!("{name}: instantaneous power into the beam"), "time (ms)", "power (W)");
+            for l in &refs {
+                pp.series.push(Series::line(link_label(l), x.clone(), l.power.clone()));
+            }
+            panels.push(pp);
+        }
+        out.extend(save(
+            &MultiPanel::new(format!("{name} ({})", act.kind()), panels),
+            dir,
+            &format!("{tag}_{name}_time"),
+        )?);
+        let labels: Vec<String> = mine.iter().map(|&l| link_label(&links[l])).collect();
+        let specs: Vec<(&str, &LinkSpectrum)> =
+            mine.iter().zip(&labels).map(|(&l, s)| (s.as_str(), &spectra[l])).collect();
+        out.extend(save(
+            &spectrum_panel(&format!("{name}: transmitted-force spectrum"), &specs),
+            dir,
+            &format!("{tag}_{name}_spectrum"),
+        )?);
+        if refs.iter().any(|l| l.foot_x.is_some()) {
+            out.extend(save(
+                &power_spectrum_panel(&format!("{name}: power per harmonic"), &specs),
+                dir,
+                &format!("{tag}_{name}_power_spectrum"),
+            )?);
+            let mut bar =
+                BarChart::new(format!("{name}: time-averaged power into the beam"), "interface point", "power (W)");
+            bar.categories = labels.clone();
+            bar.groups.push(("mean power".into(), mine.iter().map(|&l| mean[l]).collect()));
+            out.extend(save(&bar, dir, &format!("{tag}_{name}_power_points"))?);
+        }
+        if let Some(d) = drives.get(a) {
+            out.extend(save(
+                &loop_panel(&format!("{name}: stack hysteresis loop"), d),
+                dir,
+                &format!("{tag}_{name}_loop"),
+            )?);
+        }
+    }
+    Ok(out)
 }
