@@ -1,0 +1,127 @@
+//! Bad input is rejected with a message naming the file, the field and the reason.
+
+mod common;
+use beamflow::case::LoadedCase;
+use common::*;
+use std::path::PathBuf;
+
+const SINE: &str = "[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
+
+fn expect(text: &str, needles: &[&str]) {
+    let msg = case_error(text);
+    assert!(msg.contains("bad.toml"), "message must name the file: {msg}");
+    for n in needles {
+        assert!(msg.contains(n), "message must mention `{n}`: {msg}");
+    }
+}
+
+#[test]
+fn non_positive_beam_properties() {
+    for (field, v) in
+        [("youngs_modulus", "0.0"), ("density", "-7850.0"), ("length", "0.0"), ("width", "-0.05"), ("thickness", "0.0")]
+    {
+        expect(&format!("[beam]\n{field} = {v}\n"), &[&format!("beam.{field}"), "positive"]);
+    }
+}
+
+#[test]
+fn points_outside_the_beam() {
+    expect(&format!("[[actuator]]\ntype = \"inertial\"\nx_e = 0.9\n{SINE}"), &["actuator[0].x_e", "outside the beam"]);
+    expect("[[sensor]]\nname = \"s\"\nx = -0.1\n", &["sensor[0].x", "outside"]);
+    expect(&format!("[[actuator]]\ntype = \"frame\"\nx_e = 0.02\n{SINE}"), &["actuator[0].x_e", "left leg"]);
+}
+
+#[test]
+fn unknown_fields_and_misplaced_fields() {
+    expect("[beam]\nyoung = 1.0\n", &["unknown field", "young"]);
+    expect(&format!("[[actuator]]\ntype = \"inertial\"\nk_l = 1e9\n{SINE}"), &["actuator[0].k_l", "frame"]);
+    expect(&format!("[[actuator]]\ntype = \"frame\"\n{SINE}amplitud = 3.0\n"), &["unknown field", "amplitud"]);
+}
+
+#[test]
+fn malformed_toml_reports_line_and_column() {
+    expect("[beam]\nlength = = 3\n", &["line 2", "column"]);
+}
+
+#[test]
+fn non_positive_frequency() {
+    expect("[[analysis]]\ntype = \"harmonic\"\n[analysis.frequencies]\nvalues = [10.0, 0.0]\n[[analysis.force]]\nx = 0.1\n", &["analysis[0].frequencies.values[1]", "positive"]);
+    expect(
+        "[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 1.0\nfrequency = -5.0\n",
+        &["actuator[0].voltage", "frequency"],
+    );
+}
+
+#[test]
+fn mesh_file_missing_a_required_node_names_the_point() {
+    let text = format!(
+        "[beam.mesh]\nfile = \"../meshes/paper-beam-50.toml\"\n[[actuator]]\ntype = \"inertial\"\nx_e = 0.2\n{SINE}"
+    );
+    let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases")).unwrap();
+    let msg = beamflow::case::build_model(&lc).unwrap_err().to_string();
+    assert!(msg.contains("paper-beam-50.toml") && msg.contains("actuator[0].x_e") && msg.contains("0.2"), "{msg}");
+}
+
+#[test]
+fn shipped_meshes_load_and_converge() {
+    let f: Vec<f64> = [50, 100, 200]
+        .iter()
+        .map(|n| {
+            let text = format!("[beam.mesh]\nfile = \"../meshes/paper-beam-{n}.toml\"\n");
+            let lc =
+                LoadedCase::from_str(&text, "m.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases")).unwrap();
+            let beam = beamflow::case::build::build_beam(&lc).unwrap();
+            beamflow::analysis::modes::run(&beam, 1).unwrap().frequencies_hz[0]
+        })
+        .collect();
+    assert!((f[2] - 49.8837).abs() < 1e-3 && (f[0] - f[2]).abs() > (f[1] - f[2]).abs());
+}
+
+#[test]
+fn bouc_wen_constraints_and_non_positive_stack_parameters() {
+    expect(
+        &format!("[[actuator]]\ntype = \"inertial\"\n[actuator.stack]\nbeta = 0.001\ngamma = 0.01\n{SINE}"),
+        &["actuator[0].stack", "gamma"],
+    );
+    expect(
+        &format!("[[actuator]]\ntype = \"inertial\"\n[actuator.stack]\nalpha = -0.3\n{SINE}"),
+        &["actuator[0].stack.alpha"],
+    );
+    expect(
+        &format!("[[actuator]]\ntype = \"inertial\"\n[actuator.stack]\nd_p = 0.0\n{SINE}"),
+        &["actuator[0].stack.d_p"],
+    );
+    expect(
+        &format!("[[actuator]]\ntype = \"inertial\"\n[actuator.stack]\nk_p = 0.0\n{SINE}"),
+        &["actuator[0].stack.k_p", "positive"],
+    );
+    expect(&format!("[[actuator]]\ntype = \"inertial\"\nm_t = -1.0\n{SINE}"), &["actuator[0].m_t", "positive"]);
+    expect(&format!("[[actuator]]\ntype = \"frame\"\nm_b = 0.0\n{SINE}"), &["actuator[0].m_b", "positive"]);
+    expect(&format!("[[actuator]]\ntype = \"frame\"\nk_l = -1.0\n{SINE}"), &["actuator[0].k_l", "positive"]);
+}
+
+#[test]
+fn time_step_errors() {
+    expect("[[analysis]]\ntype = \"transient\"\ndt = 0.0\n", &["analysis[0].dt", "positive"]);
+    let text = format!("base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n{SINE}[[analysis]]\ntype = \"transient\"\ndt = 1e-3\nharmonics = 9\n");
+    let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(".")).unwrap();
+    let msg = beamflow::runner::run_case(&lc).unwrap_err().to_string();
+    // 1/20 of the period of the 9th harmonic of 60 Hz.
+    assert!(msg.contains("bad.toml") && msg.contains("analysis[0].dt") && msg.contains("9.259259e-5"), "{msg}");
+}
+
+#[test]
+fn voltage_series_files() {
+    for (file, needle) in [
+        ("voltage-non-increasing.csv", "time"),
+        ("voltage-nan.csv", "voltage"),
+        ("voltage-missing-column.csv", "voltage"),
+    ] {
+        let text =
+            format!("[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\nkind = \"series\"\nfile = \"{file}\"\n");
+        let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data"))
+            .unwrap();
+        let msg = beamflow::case::build_model(&lc).unwrap_err().to_string();
+        assert!(msg.contains(file) && msg.contains(needle), "{file}: {msg}");
+    }
+}
