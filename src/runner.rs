@@ -8,6 +8,9 @@ use crate::case::{build_model, AnalysisSpec, LoadedCase, SchemeKind};
 use crate::error::{Error, Result};
 use crate::solve::newmark::Scheme;
 
+/// Modes in the mode-resolved tables of a run (the residual of the truncated sum is reported).
+pub const MODAL_TABLE_MODES: usize = 30;
+
 /// One analysis' result, in case order.
 #[derive(Clone, Debug)]
 pub enum AnalysisResult {
@@ -107,10 +110,12 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                     transient::run(&model, &system, &s).map_err(|e| relabel(e, &lc.file, &field))?,
                 ))
             }
-            AnalysisSpec::SteadyState { harmonics, samples_per_period } => AnalysisResult::SteadyState(Box::new(
-                crate::analysis::steady_state::run(&model, &system, *harmonics, *samples_per_period)
-                    .map_err(|e| relabel(e, &lc.file, &field))?,
-            )),
+            AnalysisSpec::SteadyState { harmonics, samples_per_period } => {
+                let mut s = crate::analysis::steady_state::run(&model, &system, *harmonics, *samples_per_period)
+                    .map_err(|e| relabel(e, &lc.file, &field))?;
+                s.decompose_modes(&model, &system, MODAL_TABLE_MODES)?;
+                AnalysisResult::SteadyState(Box::new(s))
+            }
         };
         results.push(r);
     }

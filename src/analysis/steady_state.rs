@@ -45,6 +45,8 @@ pub struct SteadyStateResult {
     pub bodies: Vec<BodySeries>,
     pub drives: Vec<DriveSeries>,
     pub sensors: Vec<SensorSeries>,
+    /// Mode-resolved power flow (filled by the runner; costly for sweeps, so optional).
+    pub modal: Option<crate::post::modal::ModalDecomposition>,
 }
 
 /// Stack forces over one period of the hysteresis's periodic cycle: (V, h, F_p) samples at
@@ -259,4 +261,13 @@ pub fn solve_at(sys: &System, w: f64, fp: &[Complex64]) -> Result<Vec<Complex64>
     }
     dk.solve_in_place(&mut rhs);
     Ok(rhs)
+}
+
+impl SteadyStateResult {
+    /// Adds the mode-resolved decomposition with the first `count` bare-beam modes.
+    pub fn decompose_modes(&mut self, model: &Model, sys: &System, count: usize) -> Result<()> {
+        let interface: Vec<Vec<Complex64>> = self.spectra.iter().map(|s| s.interface.clone()).collect();
+        self.modal = crate::post::modal::decompose(model, sys, &self.q, 2.0 * PI / self.period, &interface, count)?;
+        Ok(())
+    }
 }

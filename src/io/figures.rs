@@ -185,7 +185,10 @@ pub fn plot_run(dir: &Path, stem: &str, _lc: &LoadedCase, run: &CaseRun) -> Resu
                 out.extend(periodic_figures(dir, &tag, run, &t.t, &t.links, &t.spectra, &t.mean_power, &t.drives)?)
             }
             AnalysisResult::SteadyState(s) => {
-                out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?)
+                out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?);
+                if let Some(m) = &s.modal {
+                    out.extend(save(&modal_power_figure(m, run), dir, &format!("{tag}_power_by_mode"))?);
+                }
             }
         }
     }
@@ -255,4 +258,26 @@ fn periodic_figures(
         }
     }
     Ok(out)
+}
+
+/// Net input power by bare-beam mode (first 12), one group per actuator.
+pub fn modal_power_figure(m: &crate::post::modal::ModalDecomposition, run: &CaseRun) -> BarChart {
+    let nm = m.mode_frequency_hz.len().min(12);
+    let mut bar = BarChart::new("Net power into the beam by mode", "bare-beam mode (natural frequency)", "power (W)");
+    bar.categories = (0..nm).map(|r| format!("{:.0} Hz", m.mode_frequency_hz[r])).collect();
+    for (a, act) in run.model.actuators.iter().enumerate() {
+        let v: Vec<f64> = (0..nm)
+            .map(|r| {
+                run.system
+                    .links
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, l)| l.actuator == a)
+                    .map(|(l, _)| m.point_power[l][r])
+                    .sum()
+            })
+            .collect();
+        bar.groups.push((act.name().to_string(), v));
+    }
+    bar
 }

@@ -238,5 +238,60 @@ fn write_steady(g: &GroupWriter, r: &SteadyStateResult, run: &CaseRun) -> Result
     )?;
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;
-    write_powers(g, &r.mean_power, &r.net_power, run)
+    write_powers(g, &r.mean_power, &r.net_power, run)?;
+    if let Some(m) = &r.modal {
+        let mg = g.group("modal")?;
+        let nm = m.mode_frequency_hz.len();
+        let nk = m.frequency.len();
+        let nl = m.point_power.len();
+        mg.write_f64(
+            "mode_frequency_hz",
+            &m.mode_frequency_hz,
+            &[nm],
+            "Hz",
+            "bare-beam natural frequencies of the modes used",
+        )?;
+        mg.write_f64(
+            "eta_abs",
+            &m.eta_abs.concat(),
+            &[nk, nm],
+            "m*sqrt(kg)",
+            "modal coordinate amplitude |eta_r| per harmonic (row) and mode (column)",
+        )?;
+        mg.write_f64(
+            "point_power",
+            &m.point_power.concat(),
+            &[nl, nm],
+            "W",
+            "power per link (row, order of link_names) and mode (column)",
+        )?;
+        mg.write_f64("point_residual", &m.point_residual, &[nl], "W", "P_i minus the truncated modal sum")?;
+        mg.write_f64("dissipation", &m.dissipation, &[nm], "W", "modal dissipated power")?;
+        mg.write_f64("kinetic_energy", &m.kinetic_energy, &[nm], "J", "time-averaged kinetic energy per mode")?;
+        mg.write_f64("strain_energy", &m.strain_energy, &[nm], "J", "time-averaged strain energy per mode")?;
+        mg.write_f64(
+            "power_participation",
+            &m.power_participation,
+            &[nm],
+            "1",
+            "share of the net input power per mode",
+        )?;
+        mg.write_f64(
+            "response_participation",
+            &m.response_participation,
+            &[nm],
+            "1",
+            "share of the kinetic energy per mode",
+        )?;
+        for (a, gf) in m.generalised_force_abs.iter().enumerate() {
+            mg.write_f64(
+                &format!("generalised_force_abs_{}", run.model.actuators[a].name()),
+                &gf.concat(),
+                &[nk, nm],
+                "N/sqrt(kg)",
+                "|sum_i phi_r(x_i) F_i| per harmonic (row) and mode (column)",
+            )?;
+        }
+    }
+    Ok(())
 }

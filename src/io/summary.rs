@@ -32,7 +32,8 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                     points.insert(link_name(l), json!(p));
                 }
                 let amp: Map<String, Value> = s.spectra.iter().enumerate().map(|(l, sp)| (link_name(l), json!(sp.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
-                json!({"type": "steady_state", "harmonics": s.harmonics, "mean_power_w": points, "net_power_w": s.net_power,
+                let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "modal_dissipation_w": m.dissipation}));
+                json!({"type": "steady_state", "harmonics": s.harmonics, "mean_power_w": points, "net_power_w": s.net_power, "modal": modal,
                        "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error})
             }
         });
