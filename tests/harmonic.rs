@@ -9,23 +9,6 @@ use common::*;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
-const L: f64 = 0.73;
-const EI: f64 = 210e9 * 0.05 * 0.005 * 0.005 * 0.005 / 12.0;
-const RHO_A: f64 = 7850.0 * 0.05 * 0.005;
-
-/// Mass-normalised clamped–clamped mode r (βL = `bl`) at x, evaluated without the
-/// cancellation of cosh − sinh for high modes:
-/// W = [e^{−z}(1+σ)/2 + e^{z}(1−σ)/2 − cos z + σ·sin z]/√(ρA·L), z = βx.
-fn cc_mode(bl: f64, x: f64) -> f64 {
-    let z = bl * x / L;
-    let em = (-bl).exp();
-    let denom = 1.0 - em * em - 2.0 * bl.sin() * em; // 2(sinh βL − sin βL)·e^{−βL}
-    let one_minus_sigma = 2.0 * (bl.cos() - bl.sin() - em) * em / denom;
-    let sigma = 1.0 - one_minus_sigma;
-    let grow = (bl.cos() - bl.sin() - em) * (z - bl).exp() / denom; // e^{z}(1−σ)/2
-    ((-z).exp() * (1.0 + sigma) / 2.0 + grow - z.cos() + sigma * z.sin()) / (RHO_A * L).sqrt()
-}
-
 /// Driving-point mobility of the continuous clamped–clamped beam with proportional damping
 /// C = a₀M + a₁K, by the modal sum over `modes` modes.
 fn continuous_mobility(x: f64, f_hz: f64, a0: f64, a1: f64, modes: usize) -> Complex64 {

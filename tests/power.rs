@@ -13,19 +13,6 @@ use common::*;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
-const L: f64 = 0.73;
-const EI: f64 = 210e9 * 0.05 * 0.005 * 0.005 * 0.005 / 12.0;
-const RHO_A: f64 = 7850.0 * 0.05 * 0.005;
-
-fn cc_mode(bl: f64, x: f64) -> f64 {
-    let z = bl * x / L;
-    let em = (-bl).exp();
-    let denom = 1.0 - em * em - 2.0 * bl.sin() * em;
-    let sigma = 1.0 - 2.0 * (bl.cos() - bl.sin() - em) * em / denom;
-    let grow = (bl.cos() - bl.sin() - em) * (z - bl).exp() / denom;
-    ((-z).exp() * (1.0 + sigma) / 2.0 + grow - z.cos() + sigma * z.sin()) / (RHO_A * L).sqrt()
-}
-
 /// Rayleigh coefficients for ζ = 1 % at the analytic modes 1 and 3.
 fn rayleigh() -> (f64, f64) {
     let r = beta_l_roots(End::Clamped, End::Clamped, 3).unwrap();

@@ -25,3 +25,20 @@ pub fn case_error(text: &str) -> String {
 pub fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs()
 }
+
+/// The paper beam's length (m), bending stiffness EI (N·m²) and mass per length ρA (kg/m).
+pub const L: f64 = 0.73;
+pub const EI: f64 = 210e9 * 0.05 * 0.005 * 0.005 * 0.005 / 12.0;
+pub const RHO_A: f64 = 7850.0 * 0.05 * 0.005;
+
+/// Mass-normalised clamped–clamped mode with root βL = `bl` at x, evaluated without the
+/// cancellation of cosh − sinh for high modes:
+/// W = [e^{−z}(1+σ)/2 + e^{z}(1−σ)/2 − cos z + σ·sin z]/√(ρA·L), z = βx.
+pub fn cc_mode(bl: f64, x: f64) -> f64 {
+    let z = bl * x / L;
+    let em = (-bl).exp();
+    let denom = 1.0 - em * em - 2.0 * bl.sin() * em; // 2(sinh βL − sin βL)·e^{−βL}
+    let sigma = 1.0 - 2.0 * (bl.cos() - bl.sin() - em) * em / denom;
+    let grow = (bl.cos() - bl.sin() - em) * (z - bl).exp() / denom; // e^{z}(1−σ)/2
+    ((-z).exp() * (1.0 + sigma) / 2.0 + grow - z.cos() + sigma * z.sin()) / (RHO_A * L).sqrt()
+}

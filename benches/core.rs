@@ -1,0 +1,75 @@
+//! Benchmarks of the foundation paths: assembly, modal analysis, harmonic sweeps, Newmark
+//! steps on the rigid-base models and on a 1000-DOF system, and the coupled transient.
+//! Run: `cargo bench --bench core`. Numbers are recorded in docs/performance.md.
+
+use beamflow::analysis::harmonic::{self, PointForce};
+use beamflow::analysis::modes;
+use beamflow::assembly::System;
+use beamflow::case::build::build_beam;
+use beamflow::case::{build_model, LoadedCase};
+use beamflow::solve::newmark::{Newmark, Scheme};
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::path::PathBuf;
+use std::time::Duration;
+
+fn case(text: &str) -> LoadedCase {
+    LoadedCase::from_str(text, "bench.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases")).unwrap()
+}
+
+const FRAME: &str =
+    "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
+
+fn foundation(c: &mut Criterion) {
+    let lc = case("[damping]\nkind = \"rayleigh\"\na0 = 3.0\na1 = 2e-6\n");
+    let model = build_model(&lc).unwrap().model;
+    c.bench_function("assembly: paper beam, 200 elements", |b| b.iter(|| System::assemble(&model).unwrap()));
+    let beam = build_beam(&lc).unwrap();
+    c.bench_function("modes: paper beam, 200 elements, 20 modes", |b| b.iter(|| modes::run(&beam, 20).unwrap()));
+    let sys = System::assemble(&model).unwrap();
+    let freqs: Vec<f64> = (0..1000).map(|i| 10.0 + i as f64 * 0.99).collect();
+    let f = [PointForce { x: 0.15, amplitude: 1.0, phase: 0.0 }];
+    c.bench_function("harmonic: 1000 frequencies, 200 elements", |b| {
+        b.iter(|| harmonic::run(&model, &sys, &freqs, &f, None).unwrap())
+    });
+}
+
+fn newmark(c: &mut Criterion) {
+    for (name, text) in [("inertial", "base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 48.0\nfrequency = 30.0\n"), ("frame", "base = \"rigid\"\n[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 48.0\nfrequency = 30.0\n")] {
+        let model = build_model(&case(text)).unwrap().model;
+        let sys = System::assemble(&model).unwrap();
+        let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
+        let f = vec![1.0; sys.n()];
+        c.bench_function(&format!("newmark step: rigid-base {name} ({} DOFs)", sys.n()), |b| b.iter(|| nm.step(&f)));
+    }
+    // 1000 DOFs: a 500-element beam (998 free DOFs) plus a frame actuator.
+    let model = build_model(&case(&format!("[beam.mesh]\nelements = 500\n{FRAME}"))).unwrap().model;
+    let sys = System::assemble(&model).unwrap();
+    let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
+    let f = vec![1.0; sys.n()];
+    c.bench_function(&format!("newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| nm.step(&f)));
+}
+
+fn coupled(c: &mut Criterion) {
+    let model = build_model(&case(FRAME)).unwrap().model;
+    let sys = System::assemble(&model).unwrap();
+    let s = beamflow::analysis::transient::TransientSettings {
+        dt: Some(1e-4 / 1.2),
+        periods: Some(100),
+        steady_state: false,
+        record_periods: 1,
+        ..Default::default()
+    };
+    let mut g = c.benchmark_group("coupled transient");
+    g.sample_size(10);
+    g.bench_function("200 elements + frame, 20,000 steps (hysteresis, recording, energy)", |b| {
+        b.iter(|| beamflow::analysis::transient::run(&model, &sys, &s).unwrap())
+    });
+    g.finish();
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().measurement_time(Duration::from_secs(3)).warm_up_time(Duration::from_secs(1));
+    targets = foundation, newmark, coupled
+}
+criterion_main!(benches);
