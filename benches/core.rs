@@ -20,7 +20,7 @@ const FRAME: &str =
     "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
 
 fn foundation(c: &mut Criterion) {
-    let lc = case("[damping]\nkind = \"rayleigh\"\na0 = 3.0\na1 = 2e-6\n");
+    let lc = case("[damping]\nkind = \"rayleigh\"\na0 = 3.0\na1 = 2e-6\n[[sensor]]\nname = \"drive\"\nx = 0.15\n");
     let model = build_model(&lc).unwrap().model;
     c.bench_function("assembly: paper beam, 200 elements", |b| b.iter(|| System::assemble(&model).unwrap()));
     let beam = build_beam(&lc).unwrap();

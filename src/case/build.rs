@@ -130,8 +130,18 @@ pub fn bare_modes(beam: &Beam, count: usize) -> Result<eigen::Modes> {
     let model =
         Model { beam: Some(beam.clone()), rayleigh: Rayleigh::default(), actuators: Vec::new(), sensors: Vec::new() };
     let sys = System::assemble(&model)?;
-    eigen::modes(&sys.k, &sys.m, &sys.dofs.beam_dofs(), count)
+    // Dense reduction up to a few thousand DOFs (all modes at once, robust); beyond that,
+    // or when only a few modes of a large model are wanted, shift-invert Lanczos on the
+    // profile factorisation (linear cost in the number of DOFs).
+    if sys.n() > DENSE_EIGEN_LIMIT && count < sys.n() / 4 {
+        crate::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, count, 0.0)
+    } else {
+        eigen::modes(&sys.k, &sys.m, &sys.dofs.beam_dofs(), count)
+    }
 }
+
+/// Largest model solved by the dense eigensolver.
+pub const DENSE_EIGEN_LIMIT: usize = 1500;
 
 /// Builds the model a case describes.
 pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {

@@ -3,4 +3,5 @@
 
 pub mod eigen;
 pub mod harmonic;
+pub mod lanczos;
 pub mod newmark;
