@@ -122,7 +122,7 @@ pub enum IdentifyCommand {
         #[arg(long)]
         force_window: Option<f64>,
         /// Frequency bins with lower coherence are left out of the fits.
-        #[arg(long, default_value_t = 0.5)]
+        #[arg(long, default_value_t = 0.8)]
         min_coherence: f64,
         #[command(flatten)]
         common: CommonArgs,

@@ -292,7 +292,7 @@ pub struct ModalRequest {
     pub exp_window: Option<f64>,
     /// Force window length (s).
     pub force_window: Option<f64>,
-    /// Bins with coherence below this are left out of the fits (default 0.5).
+    /// Bins with coherence below this are left out of the fits (default 0.8).
     pub min_coherence: f64,
     pub load: LoadOptions,
     pub out: Option<PathBuf>,
@@ -312,7 +312,7 @@ impl ModalRequest {
             segment: None,
             exp_window: None,
             force_window: None,
-            min_coherence: 0.5,
+            min_coherence: 0.8,
             load: LoadOptions::default(),
             out: None,
             plots: true,
