@@ -261,6 +261,65 @@ fn modal_from_a_synthetic_impact_test_of_the_stack_on_its_mass() {
 }
 
 #[test]
+fn multi_mode_fit_through_a_file() {
+    // A 2-DOF chain ground –k1– m1 –k2– m2 with proportional damping, hammer and
+    // accelerometer on m2; 6 hits, 1 % noise, written as a measurement CSV.
+    use beamflow::identify::frf::{add_hammer_pulse, impact_response};
+    use beamflow::identify::measurement::{self, Measurement, Quantity};
+    use beamflow::identify::pso::Rng;
+    use beamflow::identify::synth::add_noise;
+    let dir = tempfile::tempdir().unwrap();
+    let (m1, m2, k1, k2) = (1.0, 0.5, 4.0e5, 2.0e5);
+    let mm = vec![vec![m1, 0.0], vec![0.0, m2]];
+    let kk = vec![vec![k1 + k2, -k2], vec![-k2, k2]];
+    let (a0, a1) = (8.0, 2.0e-5);
+    let cc: Vec<Vec<f64>> = (0..2).map(|i| (0..2).map(|j| a0 * mm[i][j] + a1 * kk[i][j]).collect()).collect();
+    let (a, b, cq) = (m1 * m2, -((k1 + k2) * m2 + k2 * m1), k1 * k2);
+    let disc: f64 = (b * b - 4.0 * a * cq).sqrt();
+    let wn = [((-b - disc) / (2.0 * a)).sqrt(), ((-b + disc) / (2.0 * a)).sqrt()];
+    let (dt, n, hits) = (1.0 / 1024.0, 2048, 6);
+    let mut f = vec![0.0; hits * n];
+    let mut rng = Rng::new(77);
+    for h in 0..hits {
+        add_hammer_pulse(&mut f, dt, (h * n + 40) as f64 * dt + rng.uniform() * dt, 2e-3, 50.0);
+    }
+    let mut acc = impact_response(&mm, &cc, &kk, 1, 1, &f, dt).unwrap();
+    add_noise(&mut f, 0.01, &mut rng);
+    add_noise(&mut acc, 0.01, &mut rng);
+    let t: Vec<f64> = (0..f.len()).map(|i| i as f64 * dt).collect();
+    let path = dir.path().join("chain.csv");
+    let m = Measurement::new("chain", t, vec![(Quantity::Force, f), (Quantity::Acceleration, acc)]).unwrap();
+    measurement::write(&path, &m).unwrap();
+    let req = ModalRequest {
+        modes: 2,
+        band: Some((30.0, 300.0)),
+        use_mode: 2,
+        out: Some(dir.path().join("modal")),
+        ..ModalRequest::new(&path, m2, Element::Stack)
+    };
+    let out = identify_modal(&req).unwrap();
+    assert_eq!(out.used, "multi_mode");
+    assert_eq!(out.multi_mode.modes.len(), 2, "{:?}", out.multi_mode.modes);
+    for (r, mode) in out.multi_mode.modes.iter().enumerate() {
+        let zeta = a0 / (2.0 * wn[r]) + a1 * wn[r] / 2.0;
+        eprintln!(
+            "2-DOF mode {r}: omega_n error {:.2e}, zeta error {:.2e}",
+            rel(mode.omega_n, wn[r]),
+            rel(mode.zeta, zeta)
+        );
+        assert!(rel(mode.omega_n, wn[r]) < 0.005 && rel(mode.zeta, zeta) < 0.05, "{mode:?}");
+    }
+    // Mode 2 gives k and c; the single-mode fit takes the highest peak.
+    assert!(rel(out.parameters.omega_n, wn[1]) < 0.005);
+    assert!(rel(out.parameters.k, m2 * out.multi_mode.modes[1].omega_n.powi(2)) < 1e-12);
+    assert_eq!(out.single_mode.modes.len(), 1);
+    assert!(dir.path().join("modal/modal-frf.png").exists());
+    // A mode that was not found is an error naming the file.
+    let e = identify_modal(&ModalRequest { use_mode: 3, out: None, ..req }).unwrap_err().to_string();
+    assert!(e.contains("chain.csv") && e.contains("--use-mode 3"), "{e}");
+}
+
+#[test]
 fn frame_leg_impact_test_gives_a_leg_fragment() {
     let (dir, case) = setup();
     // One frame leg (k_l = 1.5e9, c_l = 100) under half the top beam (0.1 kg): f_n ≈ 19.5 kHz.

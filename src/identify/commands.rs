@@ -281,7 +281,9 @@ pub struct ModalRequest {
     /// Modes of the multi-mode (rational-fraction) fit (default 1).
     pub modes: usize,
     /// Band (Hz) of the multi-mode fit, also where the single-mode fit looks for its peak.
-    /// None: the hammer's band (force auto-spectrum within 20 dB of its maximum).
+    /// None: the single-mode fit looks in the hammer's band (force auto-spectrum within 20 dB
+    /// of its maximum); the multi-mode fit uses 0.5–1.5 × the single-mode frequency with one
+    /// mode, the hammer's band with more.
     pub band: Option<(f64, f64)>,
     /// Mode (1-based, in increasing frequency) of the multi-mode fit that gives k and c when
     /// `modes > 1`. With `modes = 1` the single-mode fit gives them.
@@ -449,9 +451,20 @@ pub fn identify_modal(req: &ModalRequest) -> Result<ModalOutcome> {
         &SdofOptions { search: Some(band), min_coherence: req.min_coherence, ..SdofOptions::default() },
     )
     .map_err(|e| attribute(e, &file))?;
-    let multi_mode =
-        modal_fit::fit_rfp(&frf, &RfpOptions { min_coherence: req.min_coherence, ..RfpOptions::new(req.modes, band) })
-            .map_err(|e| attribute(e, &file))?;
+    // One mode without a given band: half to one and a half times the single-mode fit's
+    // frequency (a single-mode rational fraction over a very wide band is ill-conditioned).
+    let rfp_band = match (req.band, req.modes) {
+        (None, 1) => {
+            let f = single_mode.modes[0].freq_hz();
+            ((0.5 * f).max(band.0), (1.5 * f).min(band.1))
+        }
+        _ => band,
+    };
+    let multi_mode = modal_fit::fit_rfp(
+        &frf,
+        &RfpOptions { min_coherence: req.min_coherence, ..RfpOptions::new(req.modes, rfp_band) },
+    )
+    .map_err(|e| attribute(e, &file))?;
     let (used, mode) = if req.modes > 1 {
         let i = req.use_mode.max(1) - 1;
         let mode = multi_mode.modes.get(i).ok_or_else(|| {
