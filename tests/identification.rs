@@ -393,8 +393,9 @@ fn cli_round_trip_is_reproducible_by_seed() {
     assert!(rel(lc.case.actuator[0].stack.d_p, TRUE.d_p) < 0.005);
     let imp = d.join("impact.csv");
     ok(&["synth", s(&case), "--out", s(&imp), "--kind", "impact", "--hits", "4"]);
-    let r = ok(&["identify", "modal", s(&imp), "--mass", "0.315", "--out", s(&o1)]);
+    let r = ok(&["identify", "modal", s(&imp), "--mass", "0.315", "--band", "1000,2500", "--out", s(&o1)]);
     assert!(r.contains("k = ") && r.contains("c = ") && r.contains("zeta"), "{r}");
+    assert!(r.contains("over 1000.00..2500.00 Hz"), "{r}");
     let lc = splice_stack(&std::fs::read_to_string(o1.join("modal.toml")).unwrap());
     assert!(rel(lc.case.actuator[0].stack.k_p, 3.0e7) < 0.01);
     assert!(o1.join("modal-frf.png").exists());

@@ -103,9 +103,10 @@ pub enum IdentifyCommand {
         /// Modes of the multi-mode (rational-fraction) fit.
         #[arg(long, default_value_t = 1)]
         modes: usize,
-        /// Band F1,F2 (Hz) of the fits; default: the hammer's band.
-        #[arg(long, value_delimiter = ',', num_args = 2)]
-        band: Option<Vec<f64>>,
+        /// Band F1,F2 (Hz) of the fits; default: the hammer's band for the peak search, and
+        /// 0.5–1.5 × the peak frequency for a one-mode rational-fraction fit.
+        #[arg(long, value_name = "F1,F2", value_parser = parse_band)]
+        band: Option<(f64, f64)>,
         /// Which element the mass sits on: the fields written to the fragment.
         #[arg(long, value_enum, default_value_t = ElementArg::Stack)]
         element: ElementArg,
@@ -217,6 +218,18 @@ pub struct SynthArgs {
     pub digits: usize,
 }
 
+/// `F1,F2` in Hz.
+fn parse_band(s: &str) -> std::result::Result<(f64, f64), String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || format!("expected two frequencies in Hz as F1,F2 (e.g. 30,300), got `{s}`");
+    if parts.len() != 2 {
+        return Err(bad());
+    }
+    let lo: f64 = parts[0].parse().map_err(|_| bad())?;
+    let hi: f64 = parts[1].parse().map_err(|_| bad())?;
+    Ok((lo, hi))
+}
+
 fn cli_err(field: &str, reason: impl Into<String>) -> Error {
     Error::input("<cli>", field, reason)
 }
@@ -286,10 +299,9 @@ pub fn identify(args: &IdentifyArgs) -> Result<()> {
             min_coherence,
             common,
         } => {
-            let band = band.as_ref().map(|b| (b[0], b[1]));
             let req = ModalRequest {
                 modes: *modes,
-                band,
+                band: *band,
                 use_mode: *use_mode,
                 segment: *segment,
                 exp_window: *exp_window,
