@@ -260,6 +260,52 @@ pub fn h1_from_measurement(m: &crate::identify::measurement::Measurement, opts: 
     h1(&m.file, f, a, m.dt, opts)
 }
 
+/// Trigger samples of the hammer hits: the first sample of each pulse where |f| reaches
+/// `threshold` × max|f|; a new hit starts only after |f| has fallen below that level again.
+pub fn find_hits(force: &[f64], threshold: f64) -> Vec<usize> {
+    let peak = force.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let level = threshold * peak;
+    let mut hits = Vec::new();
+    let mut inside = false;
+    for (i, v) in force.iter().enumerate() {
+        if v.abs() >= level && peak > 0.0 {
+            if !inside {
+                hits.push(i);
+            }
+            inside = true;
+        } else {
+            inside = false;
+        }
+    }
+    hits
+}
+
+/// A segment length for [`Segmentation::Hits`] from the record itself: the shortest spacing
+/// between consecutive hits (with one hit: from the hit to the record's end). Errors naming
+/// `file` if there is no hit or the hits are closer than 64 samples (double hits: give the
+/// length explicitly).
+pub fn auto_segment_length(file: &str, force: &[f64], threshold: f64) -> Result<usize> {
+    let hits = find_hits(force, threshold);
+    let Some(&first) = hits.first() else {
+        return Err(Error::input(file, "force", "the force record is identically zero: no hit"));
+    };
+    let len =
+        if hits.len() == 1 { force.len() - first } else { hits.windows(2).map(|w| w[1] - w[0]).min().unwrap_or(0) };
+    if len < 64 {
+        return Err(Error::input(
+            file,
+            "force",
+            format!(
+                "hits only {len} samples apart (a double hit?); give the segment length explicitly \
+                 ({} hits found at samples {:?}...)",
+                hits.len(),
+                &hits[..hits.len().min(5)]
+            ),
+        ));
+    }
+    Ok(len)
+}
+
 impl Frf {
     /// Receptance (m/N) at bin k: accelerance / (iω)²; NaN at f = 0.
     pub fn receptance(&self, k: usize) -> Complex64 {

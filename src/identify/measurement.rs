@@ -406,23 +406,168 @@ pub fn write(path: &Path, m: &Measurement) -> Result<()> {
 
 /// The CSV text [`write()`] puts in a file.
 pub fn to_csv(m: &Measurement) -> String {
+    to_csv_with(m, &["beamflow measurement".to_string()], None)
+}
+
+/// CSV text with `comments` as `# ` lines above the header. `digits`: significant digits of
+/// the data columns (None: shortest round-trip form). Time is always written with enough
+/// digits (at least 12 significant) to keep its sampling uniform on reading.
+pub fn to_csv_with(m: &Measurement, comments: &[String], digits: Option<usize>) -> String {
     let qs = m.quantities();
     let cols: Vec<&[f64]> = qs.iter().map(|q| m.column(*q).unwrap()).collect();
     let mut s = String::with_capacity(24 * qs.len() * (m.len() + 1));
-    s.push_str("# beamflow measurement\n");
+    for c in comments {
+        for line in c.lines() {
+            s.push_str("# ");
+            s.push_str(line);
+            s.push('\n');
+        }
+    }
     let head: Vec<String> = qs.iter().map(|q| format!("{} ({})", q.name(), q.si_unit())).collect();
     s.push_str(&head.join(","));
     s.push('\n');
+    let fmt = |v: f64, time: bool| -> String {
+        match digits {
+            None => format!("{v:e}"),
+            Some(d) => {
+                let d = if time { d.max(12) } else { d.max(1) };
+                let txt = format!("{v:.prec$e}", prec = d - 1);
+                // Shortest form of the rounded value ("1.5e-3" rather than "1.500000e-3").
+                txt.parse::<f64>().map(|r| format!("{r:e}")).unwrap_or(txt)
+            }
+        }
+    };
     for i in 0..m.len() {
         for (k, c) in cols.iter().enumerate() {
             if k > 0 {
                 s.push(',');
             }
-            s.push_str(&format!("{:e}", c[i]));
+            s.push_str(&fmt(c[i], qs[k] == Quantity::Time));
         }
         s.push('\n');
     }
     s
+}
+
+// ---------------------------------------------------------------------------------------
+// Measurements from beamflow results (HDF5)
+// ---------------------------------------------------------------------------------------
+
+/// Splits `FILE.h5[:SELECTOR]` (also `.hdf5`): Some((file, selector)) for an HDF5 source.
+pub fn split_hdf5_source(source: &str) -> Option<(&str, Option<&str>)> {
+    for ext in [".h5", ".hdf5"] {
+        if source.ends_with(ext) {
+            return Some((source, None));
+        }
+        if let Some(i) = source.find(&format!("{ext}:")) {
+            let end = i + ext.len();
+            return Some((&source[..end], Some(&source[end + 1..])));
+        }
+    }
+    None
+}
+
+/// Loads a measurement from a CSV file, or from a beamflow results file when the path ends in
+/// `.h5`/`.hdf5`, optionally followed by `:SELECTOR` (see [`load_hdf5`]).
+pub fn load_source(source: &Path, required: &[Quantity], opts: &LoadOptions) -> Result<Measurement> {
+    let text = source.to_string_lossy();
+    match split_hdf5_source(&text) {
+        Some((file, sel)) => load_hdf5(Path::new(file), sel, required, opts),
+        None => load(source, required, opts),
+    }
+}
+
+/// Reads the drive record of one actuator from a beamflow results file: time from
+/// `/<analysis>/t`, voltage, stroke (as `displacement`) and the active force `f_p` = k_p·stroke
+/// (as `force`: the blocked force) from `/<analysis>/drives/<name>/`.
+///
+/// `selector`: None takes the first analysis group with drive records and its first
+/// actuator; `NAME` the actuator `NAME` in the first analysis group that has it;
+/// `GROUP/NAME` (or `GROUP/drives/NAME`) that analysis group, e.g.
+/// `analysis_0_transient/inertial`.
+pub fn load_hdf5(
+    path: &Path,
+    selector: Option<&str>,
+    required: &[Quantity],
+    opts: &LoadOptions,
+) -> Result<Measurement> {
+    let file = path.display().to_string();
+    let r = crate::io::hdf5::ResultsReader::open(path)?;
+    let groups: Vec<String> = r
+        .list_groups("/")?
+        .into_iter()
+        .filter(|g| g.starts_with("analysis_") && r.exists(&format!("/{g}/drives")) && r.exists(&format!("/{g}/t")))
+        .collect();
+    if groups.is_empty() {
+        return Err(Error::input(
+            &file,
+            "drives",
+            "no analysis group with drive records (`/analysis_*/drives`); run a transient or steady_state analysis",
+        ));
+    }
+    let (want_group, want_name) = match selector.map(|s| s.trim_matches('/')) {
+        None | Some("") => (None, None),
+        Some(s) => match s.split_once('/') {
+            Some((g, rest)) => (Some(g.to_string()), Some(rest.rsplit('/').next().unwrap_or(rest).to_string())),
+            None => (None, Some(s.to_string())),
+        },
+    };
+    let candidates: Vec<&String> = groups.iter().filter(|g| want_group.as_ref().is_none_or(|w| *g == w)).collect();
+    let mut found = None;
+    for g in &candidates {
+        let drives = r.list_groups(&format!("/{g}/drives"))?;
+        let name = match &want_name {
+            Some(n) => drives.iter().find(|d| *d == n).cloned(),
+            None => {
+                // The model's actuator order if recorded, else alphabetical.
+                let order: Vec<String> = r
+                    .read_str_list("/model/actuators")
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(|s| s.split(" (").next().unwrap_or_default().to_string())
+                    .collect();
+                order.iter().find(|o| drives.contains(o)).cloned().or_else(|| drives.first().cloned())
+            }
+        };
+        if let Some(n) = name {
+            found = Some(((*g).clone(), n));
+            break;
+        }
+    }
+    let Some((group, name)) = found else {
+        return Err(Error::input(
+            &file,
+            "drives",
+            format!(
+                "no drive record matches `{}`; analysis groups with drives: {}",
+                selector.unwrap_or(""),
+                groups.join(", ")
+            ),
+        ));
+    };
+    let base = format!("/{group}/drives/{name}");
+    let label = format!("{file}:{base}");
+    let (time, _) = r.read_f64(&format!("/{group}/t"))?;
+    let mut cols = Vec::new();
+    for (q, ds) in [(Quantity::Voltage, "voltage"), (Quantity::Displacement, "stroke"), (Quantity::Force, "f_p")] {
+        let p = format!("{base}/{ds}");
+        if r.exists(&p) {
+            cols.push((q, r.read_f64(&p)?.0));
+        }
+    }
+    let mut m =
+        Measurement { file: label, time, dt: 0.0, voltage: None, displacement: None, force: None, acceleration: None };
+    for (q, c) in cols {
+        *m.slot(q).unwrap() = Some(c);
+    }
+    for q in required {
+        m.column(*q)?;
+    }
+    if m.time.len() < 2 {
+        return Err(Error::input(&m.file, "time", "fewer than 2 samples"));
+    }
+    m.validate(opts)?;
+    Ok(m)
 }
 
 impl Measurement {

@@ -13,21 +13,30 @@
 //!
 //! Every result type renders a case-file TOML fragment ready to paste with
 //! `to_case_fragment()`; the field names are those of the case file (`k_p`, `c_p`, `m_p`,
-//! `d_p`, `alpha`, `beta`, `gamma` for the stack, `k_l`, `c_l` for a frame leg).
+//! `d_p`, `alpha`, `beta`, `gamma` in `[actuator.stack]` for the stack; `k_l`, `c_l` or
+//! `k_l_right`, `c_l_right` as bare keys of the frame's `[[actuator]]` table for a leg).
+//!
+//! [`synth`] makes synthetic measurements from a case with the simulator's own models, and
+//! [`commands`] runs each identification end to end (load, fit, fragment, plots), as the
+//! `beamflow identify` and `beamflow synth` commands do.
 //!
 //! The methods, conventions and tolerances are described in `docs/identification.md`.
 
 pub mod bouc_wen_fit;
+pub mod commands;
 pub mod dp;
 pub mod frf;
 pub mod measurement;
 pub mod modal_fit;
+pub mod plots;
 pub mod pso;
+pub mod synth;
 
 /// Case-file table that holds the stack's parameters.
 pub const STACK_TABLE: &str = "actuator.stack";
-/// Case-file table that holds a frame leg's parameters.
-pub const LEG_TABLE: &str = "actuator.frame";
+/// Frame legs have no table of their own: `k_l`, `c_l` (and `k_l_right`, `c_l_right`) are
+/// fields of the frame's `[[actuator]]` table itself.
+pub const LEG_FIELDS: [&str; 4] = ["k_l", "c_l", "k_l_right", "c_l_right"];
 
 /// Formats a value for a TOML fragment: six significant digits, shortest form that
 /// round-trips that rounding, always a valid TOML float (`0.3`, `1.3e-7`, `30000000.0`).

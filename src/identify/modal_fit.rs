@@ -343,8 +343,12 @@ pub fn dynamic_parameters(mass: f64, omega_n: f64, zeta: f64) -> (f64, f64) {
 pub enum Element {
     /// The stack (`k_p`, `c_p` in `[actuator.stack]`).
     Stack,
-    /// A frame leg (`k_l`, `c_l` in `[actuator.frame]`).
+    /// A frame leg, or both when they are alike (`k_l`, `c_l`: fields of the frame's
+    /// `[[actuator]]` table itself).
     Leg,
+    /// The right leg where the legs differ (`k_l_right`, `c_l_right`, fields of the frame's
+    /// `[[actuator]]` table).
+    LegRight,
 }
 
 /// k and c from a mode and a known mass.
@@ -381,20 +385,29 @@ impl DynamicParameters {
         Ok(DynamicParameters { element, mass, omega_n, zeta, k, c })
     }
 
-    /// Case-file fragment: `[actuator.stack]` `k_p`, `c_p` or `[actuator.frame]` `k_l`, `c_l`.
+    /// Case-file fragment. The stack: a `[actuator.stack]` table with `k_p`, `c_p`, to paste
+    /// below the actuator's `[[actuator]]` header (or whose keys go into its existing
+    /// `[actuator.stack]`). A leg: the bare keys `k_l`, `c_l` (or `k_l_right`, `c_l_right`),
+    /// fields of the frame's `[[actuator]]` table itself, to paste right below its
+    /// `[[actuator]]` header, above its sub-tables.
     pub fn to_case_fragment(&self) -> String {
-        let (table, kf, cf) = match self.element {
-            Element::Stack => (crate::identify::STACK_TABLE, "k_p", "c_p"),
-            Element::Leg => (crate::identify::LEG_TABLE, "k_l", "c_l"),
-        };
-        format!(
-            "# impact test: f_n = {} Hz, zeta = {}, mass = {} kg\n[{table}]\n{kf} = {}\n{cf} = {}\n",
+        let head = format!(
+            "# impact test: f_n = {} Hz, zeta = {}, mass = {} kg\n",
             toml_float(self.omega_n / (2.0 * std::f64::consts::PI)),
             toml_float(self.zeta),
             toml_float(self.mass),
-            toml_float(self.k),
-            toml_float(self.c),
-        )
+        );
+        let (k, c) = (toml_float(self.k), toml_float(self.c));
+        match self.element {
+            Element::Stack => format!("{head}[{}]\nk_p = {k}\nc_p = {c}\n", crate::identify::STACK_TABLE),
+            Element::Leg | Element::LegRight => {
+                let (kf, cf) = if self.element == Element::Leg { ("k_l", "c_l") } else { ("k_l_right", "c_l_right") };
+                format!(
+                    "{head}# fields of the frame's [[actuator]] table: paste right below its [[actuator]] line,\n\
+                     # above its [actuator.stack] and [actuator.voltage] sub-tables\n{kf} = {k}\n{cf} = {c}\n"
+                )
+            }
+        }
     }
 }
 
@@ -659,8 +672,10 @@ mod tests {
         assert_eq!((k, c), (200.0, 2.0));
         let leg = DynamicParameters::new(Element::Leg, 0.2, 2.0 * PI * 13783.0, 0.01).unwrap();
         let t: toml::Table = toml::from_str(&leg.to_case_fragment()).unwrap();
-        let fr = t["actuator"]["frame"].as_table().unwrap();
-        assert!(fr.contains_key("k_l") && fr.contains_key("c_l"));
+        assert!(t["k_l"].as_float().is_some() && t["c_l"].as_float().is_some());
+        let right = DynamicParameters { element: Element::LegRight, ..leg };
+        let t: toml::Table = toml::from_str(&right.to_case_fragment()).unwrap();
+        assert!(t.contains_key("k_l_right") && t.contains_key("c_l_right"));
         let e = DynamicParameters::new(Element::Leg, 0.2, 100.0, -0.01).unwrap_err().to_string();
         assert!(e.contains("zeta"), "{e}");
         let e = DynamicParameters::new(Element::Stack, 0.0, 100.0, 0.01).unwrap_err().to_string();
