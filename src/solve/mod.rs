@@ -4,3 +4,4 @@
 pub mod eigen;
 pub mod harmonic;
 pub mod newmark;
+pub mod reduction;
