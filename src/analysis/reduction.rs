@@ -122,7 +122,7 @@ pub fn reduce(
             "<case>",
             field,
             format!(
-                "the cut-off {cutoff_hz:.4} Hz is below the beam's first natural frequency {f1:.4} Hz, so no mode \
+                "the cut-off {cutoff_hz:.1} Hz is below the beam's first natural frequency {f1:.2} Hz, so no mode \
                  would be kept; raise it (\"auto\" keeps the modes up to 5× the highest analysed harmonic)"
             ),
         ));
