@@ -2,9 +2,11 @@
 
 use crate::analysis::harmonic::{self, HarmonicResult, PointForce};
 use crate::analysis::modes::{self, ModesResult};
+use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
+use crate::analysis::steady_state;
 use crate::analysis::transient::{self, TransientResult, TransientSettings};
 use crate::assembly::{Model, System};
-use crate::case::{build_model, AnalysisSpec, LoadedCase, SchemeKind};
+use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::solve::newmark::Scheme;
 
@@ -41,6 +43,7 @@ pub fn transient_settings(spec: &AnalysisSpec) -> Option<TransientSettings> {
         tolerance,
         max_periods,
         harmonics,
+        reduction: _,
     } = spec
     {
         let scheme = match scheme {
@@ -70,6 +73,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     let built = build_model(lc)?;
     let model = built.model;
     let system = System::assemble(&model)?;
+    let mut reduced = ReducedCache::default();
     let mut results = Vec::new();
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
@@ -104,22 +108,95 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                     modal.as_ref().map(|(m, r)| (m, r.as_slice())),
                 )?)
             }
-            AnalysisSpec::Transient { .. } => {
+            AnalysisSpec::Transient { reduction, .. } => {
                 let s = transient_settings(spec).expect("transient");
-                AnalysisResult::Transient(Box::new(
-                    transient::run(&model, &system, &s).map_err(|e| relabel(e, &lc.file, &field))?,
-                ))
+                let r = match reduction {
+                    None => transient::run(&model, &system, &s),
+                    Some(rs) => (|| {
+                        let rs = reduction_settings(rs);
+                        let (red, mut report) = reduced.get(&model, &system, &rs, s.harmonics)?;
+                        let mut r = transient::run(&model, &red, &s)?;
+                        if rs.error_estimate {
+                            report.error = Some(reduction::estimate_error(
+                                &model,
+                                &system,
+                                &red,
+                                s.harmonics,
+                                ESTIMATE_SAMPLES.max(4 * s.harmonics + 2),
+                            )?);
+                        }
+                        r.reduction = Some(report);
+                        Ok(r)
+                    })(),
+                };
+                AnalysisResult::Transient(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
             }
-            AnalysisSpec::SteadyState { harmonics, samples_per_period } => {
-                let mut s = crate::analysis::steady_state::run(&model, &system, *harmonics, *samples_per_period)
-                    .map_err(|e| relabel(e, &lc.file, &field))?;
-                s.decompose_modes(&model, &system, MODAL_TABLE_MODES)?;
-                AnalysisResult::SteadyState(Box::new(s))
+            AnalysisSpec::SteadyState { harmonics, samples_per_period, reduction } => {
+                let (h, n) = (*harmonics, *samples_per_period);
+                let r = match reduction {
+                    None => steady_state::run(&model, &system, h, n).and_then(|mut s| {
+                        s.decompose_modes(&model, &system, MODAL_TABLE_MODES)?;
+                        Ok(s)
+                    }),
+                    Some(rs) => (|| {
+                        let rs = reduction_settings(rs);
+                        let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
+                        let mut r = steady_state::run(&model, &red, h, n)?;
+                        if rs.error_estimate {
+                            let full = steady_state::run(&model, &system, h, n)?;
+                            report.error = Some(reduction::compare(&full, &r));
+                        }
+                        r.reduction = Some(report);
+                        Ok(r)
+                    })(),
+                };
+                AnalysisResult::SteadyState(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
             }
         };
         results.push(r);
     }
     Ok(CaseRun { model, system, results })
+}
+
+/// Samples per period of the frequency-domain runs behind a reduction's error estimate.
+const ESTIMATE_SAMPLES: usize = 1024;
+
+/// The solver-side settings of a case's `reduction` entry.
+pub fn reduction_settings(spec: &ReductionSpec) -> ReductionSettings {
+    ReductionSettings {
+        cutoff: match (spec.modes_up_to_hz, spec.factor) {
+            (Some(f), _) => Cutoff::Hz(f),
+            (None, k) => Cutoff::HarmonicFactor(k.unwrap_or(reduction::AUTO_FACTOR)),
+        },
+        static_correction: spec.static_correction,
+        error_estimate: spec.error_estimate,
+    }
+}
+
+/// Reduced systems built so far in a case run, so that analyses asking for the same basis
+/// share it.
+#[derive(Default)]
+struct ReducedCache {
+    built: Vec<((u64, bool), System, ReductionReport)>,
+}
+
+impl ReducedCache {
+    fn get(
+        &mut self,
+        model: &Model,
+        full: &System,
+        rs: &ReductionSettings,
+        harmonics: usize,
+    ) -> Result<(System, ReductionReport)> {
+        let hz = reduction::cutoff_hz(model, rs, harmonics)?;
+        let key = (hz.to_bits(), rs.static_correction);
+        if let Some((_, s, r)) = self.built.iter().find(|(k, _, _)| *k == key) {
+            return Ok((s.clone(), r.clone()));
+        }
+        let (s, r) = reduction::reduce(model, full, rs, hz)?;
+        self.built.push((key, s.clone(), r.clone()));
+        Ok((s, r))
+    }
 }
 
 /// Analyses report input problems against `<case>`/`analysis`; name the real file and entry.

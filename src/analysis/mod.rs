@@ -3,5 +3,6 @@
 
 pub mod harmonic;
 pub mod modes;
+pub mod reduction;
 pub mod steady_state;
 pub mod transient;

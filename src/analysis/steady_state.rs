@@ -47,6 +47,9 @@ pub struct SteadyStateResult {
     pub sensors: Vec<SensorSeries>,
     /// Mode-resolved power flow (filled by the runner; costly for sweeps, so optional).
     pub modal: Option<crate::post::modal::ModalDecomposition>,
+    /// Set when the run used a modal reduction: its basis and error estimate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reduction: Option<super::reduction::ReductionReport>,
 }
 
 /// Stack forces over one period of the hysteresis's periodic cycle: (V, h, F_p) samples at
@@ -214,8 +217,8 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
         });
     }
     for se in &model.sensors {
-        let d = sys.w_dof_at(model, se.x, "sensor.x")?;
-        let w: Vec<Complex64> = q_all.iter().map(|q| d.map_or(Complex64::default(), |d| q[d])).collect();
+        let d = sys.w_at(model, se.x, "sensor.x")?;
+        let w: Vec<Complex64> = q_all.iter().map(|q| d.iter().map(|&(i, c)| q[i] * c).sum()).collect();
         let v: Vec<Complex64> = w.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
         let a: Vec<Complex64> = v.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
         res.sensors.push(SensorSeries { name: se.name.clone(), x: se.x, w: synth(&w), v: synth(&v), a: synth(&a) });
@@ -242,7 +245,7 @@ pub struct LinkHarmonic {
 pub fn link_harmonic(lk: &crate::assembly::LinkDofs, q: &[Complex64], w: f64, fp: &[Complex64]) -> LinkHarmonic {
     let iw = Complex64::new(0.0, w);
     let u: Complex64 = lk.stretch.iter().map(|&(d, c)| q[d] * c).sum();
-    let foot = lk.foot_dof.map_or(Complex64::default(), |d| q[d]);
+    let foot: Complex64 = lk.foot.iter().map(|&(d, c)| q[d] * c).sum();
     let (v, a) = (iw * foot, iw * iw * foot);
     let ft = u * (lk.k + iw * lk.c) - if lk.active { fp[lk.actuator] } else { Complex64::default() };
     let fi = ft - a * lk.foot_mass;

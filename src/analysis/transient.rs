@@ -163,6 +163,9 @@ pub struct TransientResult {
     /// the dissipation, so the two balance to round-off in steady state (W). The per-point
     /// `mean_power` are sample means, consistent with the spectra; both converge at O(Δt²).
     pub beam_input_power: f64,
+    /// Set when the run used a modal reduction: its basis and error estimate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reduction: Option<super::reduction::ReductionReport>,
 }
 
 /// Per-sample raw channels of one period.
@@ -307,8 +310,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             ds.iter().enumerate().map(move |(k, &d)| (a, names[k].to_string(), d)).collect::<Vec<_>>()
         })
         .collect();
-    let sensor_dofs: Vec<Option<usize>> =
-        model.sensors.iter().map(|se| sys.w_dof_at(model, se.x, "sensor")).collect::<Result<_>>()?;
+    let sensor_dofs: Vec<Vec<(usize, f64)>> =
+        model.sensors.iter().map(|se| sys.w_at(model, se.x, "sensor")).collect::<Result<_>>()?;
 
     let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, s.scheme, dt)?;
     let stacks: Vec<_> = model.actuators.iter().map(|a| a.stack().clone()).collect();
@@ -370,7 +373,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         let lk = &sys.links[l];
         let u: f64 = lk.stretch.iter().map(|&(d, c)| c * nm.u[d]).sum();
         let ud: f64 = lk.stretch.iter().map(|&(d, c)| c * nm.v[d]).sum();
-        let (fv, fa) = lk.foot_dof.map_or((0.0, 0.0), |d| (nm.v[d], nm.a[d]));
+        let fv: f64 = lk.foot.iter().map(|&(d, c)| c * nm.v[d]).sum();
+        let fa: f64 = lk.foot.iter().map(|&(d, c)| c * nm.a[d]).sum();
         let ft = lk.k * u + lk.c * ud - if lk.active { fp[lk.actuator] } else { 0.0 };
         (u, ud, fv, fa, ft - lk.foot_mass * fa)
     };
@@ -423,7 +427,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
                 rec.fp[a].push(fp_j[a]);
             }
             for (si, d) in sensor_dofs.iter().enumerate() {
-                let (w, v, acc) = d.map_or((0.0, 0.0, 0.0), |d| (nm.u[d], nm.v[d], nm.a[d]));
+                let at = |x: &[f64]| -> f64 { d.iter().map(|&(i, c)| c * x[i]).sum() };
+                let (w, v, acc) = (at(&nm.u), at(&nm.v), at(&nm.a));
                 rec.sw[si].push(w);
                 rec.sv[si].push(v);
                 rec.sa[si].push(acc);

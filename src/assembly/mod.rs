@@ -10,4 +10,4 @@ pub mod dofs;
 pub mod system;
 
 pub use dofs::DofMap;
-pub use system::{LinkDofs, Model, System};
+pub use system::{LinkDofs, Model, Projection, System};

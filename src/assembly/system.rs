@@ -5,6 +5,7 @@ use crate::actuator::{Actuator, Component, FootBase};
 use crate::beam::{element_mass, element_stiffness, Beam, SupportKind};
 use crate::error::{Error, Result};
 use crate::linalg::{Csr, Skyline};
+use std::sync::Arc;
 
 /// Rayleigh damping of the beam, C_beam = a₀·M_beam + a₁·K_beam.
 #[derive(Clone, Copy, Debug, PartialEq, Default)]
@@ -55,8 +56,13 @@ pub struct LinkDofs {
     /// Stretch u = Σ coeff·q[dof] (top minus foot).
     pub stretch: Vec<(usize, f64)>,
     /// Beam node and w DOF of the foot (dof None if a support fixes w or the base is rigid).
+    /// In a reduced system (see [`Projection`]) the foot is not one DOF: `foot_dof` is None
+    /// there and `foot` holds the combination.
     pub foot_node: Option<usize>,
     pub foot_dof: Option<usize>,
+    /// The foot's beam displacement w = Σ coeff·q[dof] (empty on a fixed or rigid base).
+    /// In the full model this is `[(foot_dof, 1.0)]`; analyses read the foot through it.
+    pub foot: Vec<(usize, f64)>,
     /// Foot position on the beam (m), if on the beam.
     pub foot_x: Option<f64>,
     pub foot_mass: f64,
@@ -82,6 +88,27 @@ pub struct System {
     pub drives: Vec<Vec<(usize, f64)>>,
     /// Skyline envelope covering the pattern of M, C and K.
     pub envelope: Vec<usize>,
+    /// For a reduced system, how its coordinates map to the full model's; None for the
+    /// assembled (full) system.
+    pub projection: Option<Arc<Projection>>,
+}
+
+/// The basis of a reduced system: full-model DOFs q_full = T·q_reduced.
+#[derive(Clone, Debug)]
+pub struct Projection {
+    /// The full model's DOF map (beam w, θ per node; actuator bodies).
+    pub full: DofMap,
+    /// T, `full.n` rows × `n_reduced` columns, row-major.
+    pub t: Vec<f64>,
+    pub n_reduced: usize,
+}
+
+impl Projection {
+    /// Row `i` of T (full DOF i in reduced coordinates), without exact zeros.
+    pub fn row(&self, i: usize) -> Vec<(usize, f64)> {
+        let r = &self.t[i * self.n_reduced..(i + 1) * self.n_reduced];
+        r.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(j, &v)| (j, v)).collect()
+    }
 }
 
 impl System {
@@ -217,6 +244,7 @@ impl System {
                     stretch: g,
                     foot_node: node,
                     foot_dof,
+                    foot: foot_dof.map(|d| vec![(d, 1.0)]).unwrap_or_default(),
                     foot_x: node.map(|nd| beam.unwrap().mesh.x[nd]),
                     foot_mass: link.foot_mass,
                     active: link.active,
@@ -230,17 +258,38 @@ impl System {
             n,
             m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
         );
-        Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, links, drives, envelope })
+        Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, links, drives, envelope, projection: None })
     }
 
-    /// The w DOF of the beam node at x, if free. Errors if x is not on a node.
+    /// The w DOF of the beam node at x, if free. Errors if x is not on a node, or if this
+    /// is a reduced system (use [`System::w_at`]).
     pub fn w_dof_at(&self, model: &Model, x: f64, field: &str) -> Result<Option<usize>> {
         let beam = model.beam.as_ref().ok_or_else(|| Error::input("<model>", field, "the model has no beam"))?;
         let node = beam
             .mesh
             .node_at(x)
             .ok_or_else(|| Error::input("<model>", field, format!("x = {x} m is not on a mesh node")))?;
+        if self.projection.is_some() {
+            return Err(Error::Numerical(format!(
+                "{field}: a reduced system has no single w DOF at x = {x} m (use w_at)"
+            )));
+        }
         Ok(self.dofs.w[node])
+    }
+
+    /// The beam's w at x as a combination Σ coeff·q[dof] of this system's DOFs: one DOF in
+    /// the full system, a row of the basis in a reduced one, empty where a support fixes w.
+    /// Errors if x is not on a node.
+    pub fn w_at(&self, model: &Model, x: f64, field: &str) -> Result<Vec<(usize, f64)>> {
+        let beam = model.beam.as_ref().ok_or_else(|| Error::input("<model>", field, "the model has no beam"))?;
+        let node = beam
+            .mesh
+            .node_at(x)
+            .ok_or_else(|| Error::input("<model>", field, format!("x = {x} m is not on a mesh node")))?;
+        Ok(match &self.projection {
+            None => self.dofs.w[node].map(|d| vec![(d, 1.0)]).unwrap_or_default(),
+            Some(p) => p.full.w[node].map(|d| p.row(d)).unwrap_or_default(),
+        })
     }
 
     /// Skyline matrix α·K + β·C + γ·M (real), e.g. the Newmark effective stiffness.

@@ -502,6 +502,9 @@ pub enum AnalysisSpec {
         /// Highest harmonic of the drive frequency analysed (spectra, Δt limit).
         #[serde(default = "d_harmonics")]
         harmonics: usize,
+        /// Run on a modal-reduced model (see [`ReductionSpec`]); default: the full model.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reduction: Option<ReductionSpec>,
     },
     /// Periodic steady state solved in the frequency domain.
     SteadyState {
@@ -509,7 +512,125 @@ pub enum AnalysisSpec {
         harmonics: usize,
         #[serde(default = "d_samples")]
         samples_per_period: usize,
+        /// Run on a modal-reduced model (see [`ReductionSpec`]); default: the full model.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        reduction: Option<ReductionSpec>,
     },
+}
+
+/// Modal reduction of a transient or steady-state analysis: the bare beam's modes up to a
+/// cut-off, a static (residual-flexibility) correction at the actuator feet, and the
+/// actuator bodies kept physical.
+///
+/// ```toml
+/// reduction = "auto"                        # modes up to 5× the highest analysed harmonic
+/// reduction = { modes_up_to_hz = 2500.0 }   # an explicit cut-off (Hz)
+/// reduction = { factor = 8.0, static_correction = false, error_estimate = false }
+/// ```
+///
+/// `factor` (default 5) sets the cut-off as a multiple of the highest analysed harmonic
+/// frequency (harmonics × f₀); `modes_up_to_hz` replaces it. `static_correction` (default
+/// true) adds the residual-flexibility vectors; `error_estimate` (default true) compares
+/// the frequency-domain steady state of the reduced and the full model and stores the
+/// difference of the point powers with the result.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(try_from = "RawReduction", into = "RawReduction")]
+pub struct ReductionSpec {
+    /// Cut-off (Hz).
+    pub modes_up_to_hz: Option<f64>,
+    /// Cut-off as a multiple of the highest analysed harmonic frequency (–).
+    pub factor: Option<f64>,
+    pub static_correction: bool,
+    pub error_estimate: bool,
+}
+
+impl Default for ReductionSpec {
+    /// `"auto"`.
+    fn default() -> Self {
+        ReductionSpec { modes_up_to_hz: None, factor: None, static_correction: true, error_estimate: true }
+    }
+}
+
+impl ReductionSpec {
+    fn validate(&self, file: &str, f: &str, base: BaseKind) -> Result<()> {
+        if base == BaseKind::Rigid {
+            return Err(Error::input(file, f, "a modal reduction needs a beam, but base = \"rigid\""));
+        }
+        if self.modes_up_to_hz.is_some() && self.factor.is_some() {
+            return Err(Error::input(file, f, "give either `modes_up_to_hz` or `factor`, not both"));
+        }
+        if let Some(hz) = self.modes_up_to_hz {
+            positive(file, &format!("{f}.modes_up_to_hz"), hz)?;
+        }
+        if let Some(k) = self.factor {
+            positive(file, &format!("{f}.factor"), k)?;
+        }
+        Ok(())
+    }
+}
+
+/// The table form of [`ReductionSpec`].
+#[derive(Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct ReductionTable {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    modes_up_to_hz: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    factor: Option<f64>,
+    #[serde(default = "d_true")]
+    static_correction: bool,
+    #[serde(default = "d_true")]
+    error_estimate: bool,
+}
+
+/// What a case file may hold: a keyword or a table (parsed in `try_from` so that a bad
+/// table gets its own message, not serde's "did not match any variant").
+#[derive(Deserialize, Serialize)]
+#[serde(untagged)]
+enum RawReduction {
+    Keyword(String),
+    Table(toml::Table),
+}
+
+impl TryFrom<RawReduction> for ReductionSpec {
+    type Error = String;
+    fn try_from(raw: RawReduction) -> std::result::Result<Self, String> {
+        match raw {
+            RawReduction::Keyword(k) if k == "auto" => Ok(ReductionSpec::default()),
+            RawReduction::Keyword(k) => Err(format!(
+                "`reduction`: unknown keyword \"{k}\"; expected \"auto\" or a table such as \
+                 {{ modes_up_to_hz = 2500.0 }}"
+            )),
+            RawReduction::Table(t) => {
+                let t: ReductionTable =
+                    toml::Value::Table(t).try_into().map_err(|e: toml::de::Error| format!("`reduction`: {e}"))?;
+                Ok(ReductionSpec {
+                    modes_up_to_hz: t.modes_up_to_hz,
+                    factor: t.factor,
+                    static_correction: t.static_correction,
+                    error_estimate: t.error_estimate,
+                })
+            }
+        }
+    }
+}
+
+impl From<ReductionSpec> for RawReduction {
+    fn from(s: ReductionSpec) -> Self {
+        if s == ReductionSpec::default() {
+            return RawReduction::Keyword("auto".into());
+        }
+        let t = ReductionTable {
+            modes_up_to_hz: s.modes_up_to_hz,
+            factor: s.factor,
+            static_correction: s.static_correction,
+            error_estimate: s.error_estimate,
+        };
+        match toml::Value::try_from(t) {
+            Ok(toml::Value::Table(t)) => RawReduction::Table(t),
+            _ => unreachable!("a struct serialises to a table"),
+        }
+    }
 }
 
 fn d_mode_count() -> usize {
@@ -704,8 +825,12 @@ impl Case {
                     max_periods,
                     harmonics,
                     scheme,
+                    reduction,
                     ..
                 } => {
+                    if let Some(r) = reduction {
+                        r.validate(file, &format!("{f}.reduction"), self.base)?;
+                    }
                     if let Some(dt) = dt {
                         positive(file, &format!("{f}.dt"), *dt)?;
                     }
@@ -750,7 +875,10 @@ impl Case {
                         ));
                     }
                 }
-                AnalysisSpec::SteadyState { harmonics, samples_per_period } => {
+                AnalysisSpec::SteadyState { harmonics, samples_per_period, reduction } => {
+                    if let Some(r) = reduction {
+                        r.validate(file, &format!("{f}.reduction"), self.base)?;
+                    }
                     if *harmonics == 0 {
                         return Err(Error::input(file, format!("{f}.harmonics"), "must be at least 1"));
                     }

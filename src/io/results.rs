@@ -3,6 +3,7 @@
 use super::hdf5::{utc_timestamp, GroupWriter, ResultsFile};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
+use crate::analysis::reduction::ReductionReport;
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries, TransientResult};
 use crate::case::LoadedCase;
@@ -221,7 +222,51 @@ fn write_transient(g: &GroupWriter, r: &TransientResult, run: &CaseRun) -> Resul
     write_energy(g, "energy_run/beam", &r.energy_run.beam)?;
     write_energy(g, "energy_run/system", &r.energy_run.system)?;
     write_energy(g, "energy_last_period/beam", &r.energy_last_period.beam)?;
-    write_energy(g, "energy_last_period/system", &r.energy_last_period.system)
+    write_energy(g, "energy_last_period/system", &r.energy_last_period.system)?;
+    write_reduction(g, r.reduction.as_ref())
+}
+
+/// The modal reduction a run used, if any: basis and error estimate.
+fn write_reduction(g: &GroupWriter, r: Option<&ReductionReport>) -> Result<()> {
+    let Some(r) = r else { return Ok(()) };
+    let rg = g.group("reduction")?;
+    rg.attr_f64("cutoff_Hz", r.cutoff_hz)?;
+    rg.attr_i64("static_correction", r.static_correction as i64)?;
+    rg.attr_i64("modes_kept", r.modes_kept as i64)?;
+    rg.attr_i64("residual_vectors", r.residual_vectors as i64)?;
+    rg.attr_i64("full_dofs", r.full_dofs as i64)?;
+    rg.attr_i64("reduced_dofs", r.reduced_dofs as i64)?;
+    let n = r.mode_frequencies_hz.len();
+    rg.write_f64("mode_frequencies", &r.mode_frequencies_hz, &[n], "Hz", "bare-beam modes kept")?;
+    let n = r.residual_frequencies_hz.len();
+    rg.write_f64(
+        "residual_frequencies",
+        &r.residual_frequencies_hz,
+        &[n],
+        "Hz",
+        "pseudo-frequencies of the residual-flexibility vectors",
+    )?;
+    if let Some(e) = &r.error {
+        rg.attr_f64("max_relative_error", e.max_relative_error)?;
+        rg.attr_i64("error_harmonics", e.harmonics as i64)?;
+        let n = e.relative_error.len();
+        rg.write_f64(
+            "full_mean_power",
+            &e.full_mean_power,
+            &[n],
+            "W",
+            "full model, frequency-domain steady state, per link",
+        )?;
+        rg.write_f64(
+            "reduced_mean_power",
+            &e.reduced_mean_power,
+            &[n],
+            "W",
+            "reduced model, frequency-domain steady state, per link",
+        )?;
+        rg.write_f64("relative_error", &e.relative_error, &[n], "1", "|P_reduced - P_full| / |P_full| per link")?;
+    }
+    Ok(())
 }
 
 fn write_steady(g: &GroupWriter, r: &SteadyStateResult, run: &CaseRun) -> Result<()> {
@@ -293,5 +338,5 @@ fn write_steady(g: &GroupWriter, r: &SteadyStateResult, run: &CaseRun) -> Result
             )?;
         }
     }
-    Ok(())
+    write_reduction(g, r.reduction.as_ref())
 }

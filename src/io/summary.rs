@@ -21,10 +21,12 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                     points.insert(link_name(l), json!(p));
                 }
                 let amp: Map<String, Value> = t.spectra.iter().enumerate().map(|(l, s)| (link_name(l), json!(s.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
-                json!({"type": "transient", "dt_s": t.dt, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
+                let mut v = json!({"type": "transient", "dt_s": t.dt, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
                        "mean_power_w": points, "net_power_w": t.net_power, "transmitted_force_amplitude_at_drive_n": amp,
                        "beam_dissipation_w": t.beam_dissipation,
-                       "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}})
+                       "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}});
+                add_reduction(&mut v, t.reduction.as_ref());
+                v
             }
             AnalysisResult::SteadyState(s) => {
                 let mut points = Map::new();
@@ -33,12 +35,21 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 }
                 let amp: Map<String, Value> = s.spectra.iter().enumerate().map(|(l, sp)| (link_name(l), json!(sp.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
                 let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "modal_dissipation_w": m.dissipation}));
-                json!({"type": "steady_state", "harmonics": s.harmonics, "mean_power_w": points, "net_power_w": s.net_power, "modal": modal,
-                       "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error})
+                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "mean_power_w": points, "net_power_w": s.net_power, "modal": modal,
+                       "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error});
+                add_reduction(&mut v, s.reduction.as_ref());
+                v
             }
         });
     }
     json!({"case": lc.file, "title": lc.case.title, "actuators": run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>(), "analyses": analyses})
+}
+
+/// A reduced run's basis and error estimate, under `reduction`.
+fn add_reduction(v: &mut Value, r: Option<&crate::analysis::reduction::ReductionReport>) {
+    if let Some(r) = r {
+        v["reduction"] = serde_json::to_value(r).expect("plain data serialises");
+    }
 }
 
 /// A few lines for the terminal.
@@ -63,6 +74,20 @@ pub fn headline_text(v: &Value) -> String {
                         names.get(i).and_then(|n| n.as_str()).unwrap_or("?"),
                         p.as_f64().unwrap_or(f64::NAN)
                     );
+                }
+                if let Some(r) = a.get("reduction") {
+                    s += &format!(
+                        "  modal reduction: {} modes to {:.1} Hz + {} residual vectors, {} of {} DOFs",
+                        r["modes_kept"],
+                        r["cutoff_hz"].as_f64().unwrap_or(f64::NAN),
+                        r["residual_vectors"],
+                        r["reduced_dofs"],
+                        r["full_dofs"]
+                    );
+                    match r["error"]["max_relative_error"].as_f64() {
+                        Some(e) => s += &format!("; point powers within {e:.2e} of the full model\n"),
+                        None => s += "\n",
+                    }
                 }
             }
             Some("harmonic") => {

@@ -5,3 +5,4 @@ pub mod eigen;
 pub mod harmonic;
 pub mod lanczos;
 pub mod newmark;
+pub mod reduction;

@@ -1,0 +1,189 @@
+//! Modal reduction as a solver option of the transient and steady-state analyses.
+//!
+//! [`reduce`] builds the reduced [`System`] (see [`crate::solve::reduction`] for the basis:
+//! bare-beam modes up to a cut-off, residual-flexibility vectors at the feet, actuator
+//! bodies physical); the analyses then run on it unchanged. [`estimate_error`] compares
+//! the frequency-domain periodic steady state (§9) of the reduced and the full model at the
+//! drive harmonics — a few complex solves each — and reports how far the point powers
+//! differ. The estimate is the same whichever domain the reduced run itself was in: the
+//! reduction error is a property of the model pair, and the frequency domain isolates it
+//! from the time-step error of a transient.
+
+use super::steady_state::{self, SteadyStateResult};
+use super::transient::{time_grid, TransientSettings};
+use crate::assembly::{Model, System};
+use crate::error::{Error, Result};
+use crate::solve::reduction::{self as red, ReductionOptions};
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// The multiple of the highest analysed harmonic that `reduction = "auto"` keeps modes up to.
+pub const AUTO_FACTOR: f64 = 5.0;
+
+/// Where the modal cut-off lies.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Cutoff {
+    /// An explicit frequency (Hz).
+    Hz(f64),
+    /// This multiple of the highest analysed harmonic of the drive (k_max·f₀).
+    HarmonicFactor(f64),
+}
+
+/// A reduction request, with the case field it came from (for messages).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReductionSettings {
+    pub cutoff: Cutoff,
+    pub static_correction: bool,
+    /// Compare with the full model (frequency domain) and report the difference.
+    pub error_estimate: bool,
+}
+
+/// The difference between reduced and full model, from the frequency-domain steady state.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct ReductionError {
+    /// Harmonics of the drive compared (besides the mean).
+    pub harmonics: usize,
+    /// Mean power into the base per link (W), full and reduced model.
+    pub full_mean_power: Vec<f64>,
+    pub reduced_mean_power: Vec<f64>,
+    /// |P_red − P_full| / |P_full| per link. A point whose |P_full| is below 1e-6 of the
+    /// largest point power is measured against that largest instead.
+    pub relative_error: Vec<f64>,
+    /// The largest of `relative_error`: the headline estimate.
+    pub max_relative_error: f64,
+    /// Net power per actuator, relative difference.
+    pub net_power_relative_error: Vec<f64>,
+}
+
+/// What a reduced run reports with its result.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct ReductionReport {
+    /// The cut-off used (Hz).
+    pub cutoff_hz: f64,
+    pub static_correction: bool,
+    /// Bare-beam modes kept and their frequencies (Hz).
+    pub modes_kept: usize,
+    pub mode_frequencies_hz: Vec<f64>,
+    /// The lowest discarded mode (Hz), if any.
+    pub first_discarded_mode_hz: Option<f64>,
+    /// Residual-flexibility vectors (static correction) kept, and their
+    /// pseudo-frequencies (Hz).
+    pub residual_vectors: usize,
+    pub residual_frequencies_hz: Vec<f64>,
+    /// DOFs of the full and the reduced system.
+    pub full_dofs: usize,
+    pub reduced_dofs: usize,
+    /// Against the full model, if asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<ReductionError>,
+}
+
+/// The highest analysed harmonic frequency k_max·f₀ (Hz) of a periodic drive.
+pub fn highest_harmonic_hz(model: &Model, harmonics: usize) -> Result<f64> {
+    let (_, _, period, periodic) = time_grid(model, &TransientSettings { harmonics, ..Default::default() })?;
+    if !periodic {
+        return Err(Error::input(
+            "<case>",
+            "analysis.reduction",
+            "a cut-off relative to the drive's harmonics needs a periodic drive: give `modes_up_to_hz`",
+        ));
+    }
+    Ok(harmonics as f64 / period)
+}
+
+/// The cut-off (Hz) a setting means for a model analysed up to harmonic `harmonics`.
+pub fn cutoff_hz(model: &Model, settings: &ReductionSettings, harmonics: usize) -> Result<f64> {
+    match settings.cutoff {
+        Cutoff::Hz(f) => Ok(f),
+        Cutoff::HarmonicFactor(k) => Ok(k * highest_harmonic_hz(model, harmonics)?),
+    }
+}
+
+/// Builds the reduced system of `full` for a cut-off of `cutoff_hz`. Errors (against the
+/// field `analysis.reduction…`, which the runner relabels with the file and entry) if
+/// the cut-off keeps no mode.
+pub fn reduce(
+    model: &Model,
+    full: &System,
+    settings: &ReductionSettings,
+    cutoff_hz: f64,
+) -> Result<(System, ReductionReport)> {
+    let field = match settings.cutoff {
+        Cutoff::Hz(_) => "analysis.reduction.modes_up_to_hz",
+        Cutoff::HarmonicFactor(_) => "analysis.reduction.factor",
+    };
+    if model.beam.is_none() {
+        return Err(Error::input("<case>", "analysis.reduction", "a modal reduction needs a beam (base = \"beam\")"));
+    }
+    let modes = red::beam_modes(full)?;
+    let f1 = modes.omega.first().map_or(f64::INFINITY, |w| w / (2.0 * PI));
+    if cutoff_hz.is_nan() || cutoff_hz < f1 {
+        return Err(Error::input(
+            "<case>",
+            field,
+            format!(
+                "the cut-off {cutoff_hz:.1} Hz is below the beam's first natural frequency {f1:.2} Hz, so no mode \
+                 would be kept; raise it (\"auto\" keeps the modes up to 5× the highest analysed harmonic)"
+            ),
+        ));
+    }
+    let opts = ReductionOptions { cutoff: 2.0 * PI * cutoff_hz, static_correction: settings.static_correction };
+    let r = red::reduce(full, &modes, &opts)?;
+    let hz = |w: &f64| w / (2.0 * PI);
+    let report = ReductionReport {
+        cutoff_hz,
+        static_correction: settings.static_correction,
+        modes_kept: r.mode_omega.len(),
+        mode_frequencies_hz: r.mode_omega.iter().map(hz).collect(),
+        first_discarded_mode_hz: r.first_discarded_omega.as_ref().map(hz),
+        residual_vectors: r.residual_omega.len(),
+        residual_frequencies_hz: r.residual_omega.iter().map(hz).collect(),
+        full_dofs: full.n(),
+        reduced_dofs: r.system.n(),
+        error: None,
+    };
+    Ok((r.system, report))
+}
+
+/// Compares two steady states of the same model (point and net powers).
+pub fn compare(full: &SteadyStateResult, reduced: &SteadyStateResult) -> ReductionError {
+    let scale = full.mean_power.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+    let rel = |a: f64, b: f64, floor: f64| {
+        let d = b.abs().max(floor);
+        if d > 0.0 {
+            (a - b).abs() / d
+        } else {
+            (a - b).abs()
+        }
+    };
+    let relative_error: Vec<f64> =
+        reduced.mean_power.iter().zip(&full.mean_power).map(|(&r, &f)| rel(r, f, 1e-6 * scale)).collect();
+    let net_scale = full.net_power.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+    ReductionError {
+        harmonics: full.harmonics,
+        full_mean_power: full.mean_power.clone(),
+        reduced_mean_power: reduced.mean_power.clone(),
+        max_relative_error: relative_error.iter().fold(0.0f64, |a, &b| a.max(b)),
+        relative_error,
+        net_power_relative_error: reduced
+            .net_power
+            .iter()
+            .zip(&full.net_power)
+            .map(|(&r, &f)| rel(r, f, 1e-6 * net_scale))
+            .collect(),
+    }
+}
+
+/// Runs the frequency-domain steady state of both models at `harmonics` harmonics and
+/// compares their point powers.
+pub fn estimate_error(
+    model: &Model,
+    full: &System,
+    reduced: &System,
+    harmonics: usize,
+    samples: usize,
+) -> Result<ReductionError> {
+    let f = steady_state::run(model, full, harmonics, samples)?;
+    let r = steady_state::run(model, reduced, harmonics, samples)?;
+    Ok(compare(&f, &r))
+}

@@ -1,0 +1,393 @@
+//! Modal reduction of a coupled beam–actuator system.
+//!
+//! The full system has beam DOFs (w, θ per node) and actuator body DOFs. The reduced
+//! system keeps the bodies physical and replaces the beam DOFs by a few generalised
+//! coordinates: `q_full = T·q_red` with
+//!
+//! ```text
+//!         ⎡ Φ_r  Ψ  0 ⎤   beam DOFs
+//!     T = ⎣ 0    0  I ⎦   actuator body DOFs
+//! ```
+//!
+//! * **Φ_r**: the bare beam's mass-normalised modes (K_beam·φ = ω²·M_beam·φ, the beam with
+//!   its supports, point masses and grounded springs, but without the actuators) with
+//!   ω_r at or below the cut-off.
+//! * **Ψ**: a static correction by *residual flexibility* (MacNeal/Rubin attachment
+//!   modes). For every beam DOF an actuator touches (its feet: links' stretches and the
+//!   stacks' load patterns) the static shape under a unit force there, with the retained
+//!   modes' part removed:
+//!   `ψ_j = K_beam⁻¹·e_j − Σ_r φ_r·φ_r(j)/ω_r²`.
+//!   Exactly, ψ_j is M_beam- and K_beam-orthogonal to every retained mode, and
+//!   ψ_iᵀ·K_beam·ψ_j = G_ij, the residual flexibility `S_f − Φ_fᵀ·Ω⁻²·Φ_f` between feet i
+//!   and j. We re-orthogonalise the vectors against the modes (twice, Gram–Schmidt in the
+//!   M_beam inner product) to remove eigensolver round-off, then diagonalise the small
+//!   pencil (G, Ψᵀ·M_beam·Ψ), which turns them into M-orthonormal, K-orthogonal "residual
+//!   modes" with pseudo-frequencies above the cut-off. Vectors are dropped when they carry
+//!   no energy of their own: a foot whose residual flexibility cancels to round-off (the
+//!   modes already span its static shape, at a cut-off above most of the mesh) or one that
+//!   depends on the others. Dependence is judged in the energy (K) norm, not the M norm:
+//!   a residual vector's mass is tiny next to its stiffness at high cut-offs, and an
+//!   M-norm test would throw away stiffness the feet need.
+//! * **I**: the actuator bodies, untouched.
+//!
+//! Why residual flexibility: the forces an actuator puts on the beam act only at its feet,
+//! so with Ψ the basis contains the *exact* static response of the beam to any foot load.
+//! The reduced model is then exact at ω = 0 and its error at a frequency ω comes only from
+//! the dynamics of the discarded modes. On the paper's frame case, with modes to 5× the
+//! highest harmonic, point powers agree with the full model to 2e-8 with the correction and
+//! are 80 % off without it (stiff legs on a beam whose local flexibility the modes miss).
+//! It keeps the bare-beam modes themselves as coordinates (the η_r of §11, so modal
+//! quantities read straight off the reduced state) and leaves M_beam, K_beam and, with
+//! Rayleigh damping, C_beam diagonal. The price is that a foot's w is a combination of all
+//! reduced beam coordinates (a dense row of T), which links and drives carry as coefficient
+//! lists anyway. A Craig–Bampton form of the same subspace (feet kept physical, constraint
+//! modes plus fixed-interface modes) was tried: same results to 1e-8, but the mass coupling
+//! between modal and interface coordinates leaves the matrices just as full, so the
+//! transient ran no faster, and the modal coordinates would no longer be the bare beam's.
+//!
+//! The reduced K_beam is set from the formulas, diag(Ω², ω̃²), rather than projected: K·ψ
+//! is a difference of large numbers at every node away from the feet, and its round-off
+//! would otherwise show as spurious coupling. The actuators' stiffness (K − K_beam), M, C,
+//! M_beam and C_beam are projected, `Tᵀ·A·T`, as small dense matrices (tens of DOFs) and go
+//! back into a [`System`] with a full skyline envelope, so every solver and analysis runs on
+//! it unchanged. Entries below 1e-12 of the geometric mean of their diagonal pair (the
+//! round-off of the orthogonality relations) are dropped.
+//!
+//! Accuracy floor: with every mode of the mesh kept the reduced model reproduces the full
+//! one's point powers to about 1e-8 (inertial 2e-8, frame 1e-8), not 1e-15. The full
+//! model's own complex solve is good to 1e-10 (one step of iterative refinement changes it
+//! by less), so the floor is on the basis side; the likely cause is that a stretch such as
+//! a leg's u = y + a·φ − w is a small difference of large displacements (k_l = 1.5e9 N/m),
+//! which amplifies the round-off of the dense eigenvectors and of K_beam⁻¹.
+
+use crate::assembly::{DofMap, LinkDofs, Projection, System};
+use crate::error::{Error, Result};
+use crate::linalg::{Csr, Skyline};
+use crate::solve::eigen::Modes;
+use faer::{Mat, Side};
+use std::sync::Arc;
+
+/// Relative size below which a projected entry counts as round-off.
+const DROP: f64 = 1e-12;
+
+/// A residual vector whose residual flexibility ψᵀ·K·ψ is below this fraction of the
+/// flexibility at its foot is round-off (that difference cancels to ε of the total).
+const RESIDUAL_FLOOR: f64 = 1e-10;
+
+/// What to keep.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ReductionOptions {
+    /// Keep the bare-beam modes with ω_r ≤ this (rad/s).
+    pub cutoff: f64,
+    /// Add the residual-flexibility vectors at the attachment DOFs.
+    pub static_correction: bool,
+}
+
+/// A reduced system and what went into it.
+#[derive(Clone, Debug)]
+pub struct Reduction {
+    /// The reduced system: coordinates [modes, residual vectors, actuator bodies].
+    pub system: System,
+    /// Circular frequencies of the retained modes (rad/s).
+    pub mode_omega: Vec<f64>,
+    /// The lowest discarded mode's ω (rad/s), if the beam has more modes.
+    pub first_discarded_omega: Option<f64>,
+    /// Pseudo-frequencies √(ψᵀ·K·ψ) of the (M-orthonormal, K-orthogonal) residual vectors
+    /// (rad/s), one per attachment DOF unless dropped.
+    pub residual_omega: Vec<f64>,
+    /// Residual vectors dropped because the retained modes already span their static shape
+    /// (a cut-off above most of the mesh's modes) or another one does (dependence).
+    pub dropped: usize,
+}
+
+impl Reduction {
+    pub fn full_dofs(&self) -> usize {
+        self.system.projection.as_ref().map_or(0, |p| p.full.n)
+    }
+}
+
+/// The bare beam's modes over the beam DOFs of an assembled system (all of them, ascending).
+pub fn beam_modes(full: &System) -> Result<Modes> {
+    crate::solve::eigen::modes(&full.k_beam, &full.m_beam, &full.dofs.beam_dofs(), usize::MAX)
+}
+
+/// Reduces an assembled system with the bare-beam `modes` (from [`beam_modes`]).
+pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<Reduction> {
+    if full.projection.is_some() {
+        return Err(Error::Numerical("the system is already reduced".into()));
+    }
+    let n = full.n();
+    let beam_dofs = full.dofs.beam_dofs();
+    if beam_dofs.is_empty() {
+        return Err(Error::Numerical("modal reduction needs a beam with free DOFs".into()));
+    }
+    let bodies: Vec<usize> = full.dofs.bodies.iter().flatten().copied().collect();
+    if beam_dofs.len() + bodies.len() != n {
+        return Err(Error::Numerical(format!(
+            "modal reduction: {} beam and {} body DOFs do not make up the system's {n}",
+            beam_dofs.len(),
+            bodies.len()
+        )));
+    }
+    let mut is_beam = vec![false; n];
+    for &d in &beam_dofs {
+        is_beam[d] = true;
+    }
+    let kept: Vec<usize> = (0..modes.count()).filter(|&r| modes.omega[r] <= opts.cutoff).collect();
+    let first_discarded_omega = modes.omega.get(kept.len()).copied();
+    let phi: Vec<Vec<f64>> = kept.iter().map(|&r| modes.shape_global(r, n)).collect();
+    let mode_omega: Vec<f64> = kept.iter().map(|&r| modes.omega[r]).collect();
+
+    // Beam DOFs the actuators touch.
+    let mut attach: Vec<usize> = full
+        .links
+        .iter()
+        .flat_map(|l| l.stretch.iter().map(|&(d, _)| d))
+        .chain(full.drives.iter().flatten().map(|&(d, _)| d))
+        .filter(|&d| is_beam[d])
+        .collect();
+    attach.sort_unstable();
+    attach.dedup();
+
+    // Beam columns of T: the retained modes, then (static correction) the residual
+    // vectors. The reduced K_beam is known in closed form, diag(Ω², ω̃²): taking it from
+    // the formulas rather than projecting K keeps it free of the round-off that K·ψ carries
+    // (a difference of large numbers at every node away from the feet).
+    let mut residual_omega = Vec::new();
+    let mut dropped = 0;
+    let mut k_diag: Vec<f64> = mode_omega.iter().map(|w| w * w).collect();
+    let residual: Vec<Vec<f64>> = if opts.static_correction && !attach.is_empty() {
+        // Static shapes S = K_beam⁻¹·E. K_beam is zero on the body rows: put 1 on their
+        // diagonal to factorise it.
+        let mut ks = Skyline::<f64>::zeros(full.envelope.clone());
+        full.k_beam.add_into_skyline(1.0, &mut ks);
+        for &b in &bodies {
+            ks.add(b, b, 1.0);
+        }
+        let kf = ks.factorize()?;
+        let shapes: Vec<Vec<f64>> = attach
+            .iter()
+            .map(|&j| {
+                let mut x = vec![0.0; n];
+                x[j] = 1.0;
+                kf.solve_in_place(&mut x);
+                bodies.iter().for_each(|&b| x[b] = 0.0);
+                x
+            })
+            .collect();
+        // Residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ), at the feet.
+        let p = attach.len();
+        let g = |a: usize, b: usize| {
+            let sf = 0.5 * (shapes[a][attach[b]] + shapes[b][attach[a]]);
+            sf - phi.iter().zip(&mode_omega).map(|(v, w)| v[attach[a]] * v[attach[b]] / (w * w)).sum::<f64>()
+        };
+        // A foot whose residual flexibility cancels to round-off is already spanned by the
+        // retained modes (a cut-off above most of the mesh's modes); keeping it would make
+        // T singular.
+        let live: Vec<usize> = (0..p).filter(|&a| g(a, a) > RESIDUAL_FLOOR * shapes[a][attach[a]]).collect();
+        dropped = p - live.len();
+        // ψ_j = S_j − Φ·Ω⁻²·Φ_f,j, then M-orthogonalised against Φ (twice) for round-off.
+        let psi: Vec<Vec<f64>> = live
+            .iter()
+            .map(|&a| {
+                let j = attach[a];
+                let mut x = shapes[a].clone();
+                for (v, w) in phi.iter().zip(&mode_omega) {
+                    let c = v[j] / (w * w);
+                    x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
+                }
+                for _ in 0..2 {
+                    let mx = mul(&full.m_beam, &x);
+                    for v in &phi {
+                        let c = dot(v, &mx);
+                        x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
+                    }
+                }
+                x
+            })
+            .collect();
+        let q = live.len();
+        let kg = Mat::<f64>::from_fn(q, q, |a, b| g(live[a], live[b]));
+        let mp: Vec<Vec<f64>> = psi.iter().map(|v| mul(&full.m_beam, v)).collect();
+        let mg = Mat::<f64>::from_fn(q, q, |a, b| 0.5 * (dot(&psi[a], &mp[b]) + dot(&psi[b], &mp[a])));
+        let (y, omega) = pencil_basis(&kg, &mg)?;
+        dropped += q - omega.len();
+        k_diag.extend(omega.iter().map(|w| w * w));
+        residual_omega = omega;
+        (0..residual_omega.len())
+            .map(|c| {
+                let mut v = vec![0.0; n];
+                for (r, pr) in psi.iter().enumerate() {
+                    let w = y[(r, c)];
+                    v.iter_mut().zip(pr).for_each(|(a, b)| *a += w * b);
+                }
+                v
+            })
+            .collect()
+    } else {
+        Vec::new()
+    };
+
+    // T, row-major n × nr: columns [modes, residual vectors, bodies].
+    let (nm, np) = (phi.len(), residual.len());
+    let nr = nm + np + bodies.len();
+    let mut t = vec![0.0; n * nr];
+    for (c, v) in phi.iter().chain(&residual).enumerate() {
+        for &d in &beam_dofs {
+            t[d * nr + c] = v[d];
+        }
+    }
+    for (k, &b) in bodies.iter().enumerate() {
+        t[b * nr + nm + np + k] = 1.0;
+    }
+    drop((phi, residual));
+
+    let project = |a: &Csr| -> Vec<f64> {
+        // AT = A·T (n × nr), then Tᵀ·AT, symmetrised.
+        let mut at = vec![0.0; n * nr];
+        for (i, j, v) in a.triplets() {
+            let (src, dst) = (&t[j * nr..(j + 1) * nr], i * nr);
+            for c in 0..nr {
+                at[dst + c] += v * src[c];
+            }
+        }
+        let mut r = vec![0.0; nr * nr];
+        for i in 0..n {
+            let (ti, ai) = (&t[i * nr..(i + 1) * nr], &at[i * nr..(i + 1) * nr]);
+            for a in 0..nr {
+                if ti[a] != 0.0 {
+                    for b in 0..nr {
+                        r[a * nr + b] += ti[a] * ai[b];
+                    }
+                }
+            }
+        }
+        for a in 0..nr {
+            for b in 0..a {
+                let s = 0.5 * (r[a * nr + b] + r[b * nr + a]);
+                r[a * nr + b] = s;
+                r[b * nr + a] = s;
+            }
+        }
+        r
+    };
+    let to_csr = |d: &[f64]| -> Csr {
+        let mut trip = Vec::new();
+        for a in 0..nr {
+            for b in 0..nr {
+                let v = d[a * nr + b];
+                let scale = (d[a * nr + a].abs() * d[b * nr + b].abs()).sqrt();
+                if v != 0.0 && (a == b || v.abs() > DROP * scale) {
+                    trip.push((a, b, v));
+                }
+            }
+        }
+        Csr::from_triplets(nr, &trip)
+    };
+    let [m, c, m_beam, c_beam] = [&full.m, &full.c, &full.m_beam, &full.c_beam].map(|a| to_csr(&project(a)));
+    let k_beam = Csr::from_triplets(nr, &k_diag.iter().enumerate().map(|(r, &v)| (r, r, v)).collect::<Vec<_>>());
+    // The actuators' stiffness (links), projected.
+    let k_links = to_csr(&project(&Csr::combine(&[(1.0, &full.k), (-1.0, &full.k_beam)])));
+    let k = Csr::combine(&[(1.0, &k_beam), (1.0, &k_links)]);
+
+    let reduce_vec = |g: &[(usize, f64)]| -> Vec<(usize, f64)> {
+        let mut r = vec![0.0; nr];
+        for &(d, coef) in g {
+            for (x, tv) in r.iter_mut().zip(&t[d * nr..(d + 1) * nr]) {
+                *x += coef * tv;
+            }
+        }
+        r.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect()
+    };
+    let links: Vec<LinkDofs> = full
+        .links
+        .iter()
+        .map(|l| LinkDofs { stretch: reduce_vec(&l.stretch), foot: reduce_vec(&l.foot), foot_dof: None, ..l.clone() })
+        .collect();
+    let drives: Vec<Vec<(usize, f64)>> = full.drives.iter().map(|b| reduce_vec(b)).collect();
+
+    let mut next = nm + np;
+    let dofs = DofMap {
+        n: nr,
+        w: Vec::new(),
+        theta: Vec::new(),
+        bodies: full
+            .dofs
+            .bodies
+            .iter()
+            .map(|ds| {
+                ds.iter()
+                    .map(|_| {
+                        next += 1;
+                        next - 1
+                    })
+                    .collect()
+            })
+            .collect(),
+    };
+    let envelope =
+        Skyline::<f64>::envelope_of(nr, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
+    let system = System {
+        dofs,
+        m,
+        c,
+        k,
+        m_beam,
+        c_beam,
+        k_beam,
+        links,
+        drives,
+        envelope,
+        projection: Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr })),
+    };
+    Ok(Reduction { system, mode_omega, first_discarded_omega, residual_omega, dropped })
+}
+
+fn mul(a: &Csr, x: &[f64]) -> Vec<f64> {
+    let mut y = vec![0.0; x.len()];
+    a.mul_vec(x, &mut y);
+    y
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Combinations Y of a set of vectors that are M-orthonormal and K-orthogonal, given the
+/// pencil's Gram matrices `kg` = Vᵀ·K·V and `mg` = Vᵀ·M·V; returns Y (columns ascending
+/// in ω) and ω = √(yᵀ·K·y). Directions with less than 1e-10 of the largest K-norm² (after
+/// scaling each vector to unit K-norm) are dropped as dependent: the energy norm is the
+/// one that decides whether a direction matters for the static correction.
+fn pencil_basis(kg: &Mat<f64>, mg: &Mat<f64>) -> Result<(Mat<f64>, Vec<f64>)> {
+    let q = kg.nrows();
+    if q == 0 {
+        return Ok((Mat::zeros(0, 0), Vec::new()));
+    }
+    let eig = |a: &Mat<f64>| {
+        a.self_adjoint_eigen(Side::Lower)
+            .map_err(|e| Error::Numerical(format!("reduction basis eigensolver failed: {e:?}")))
+    };
+    let kmax = (0..q).map(|i| kg[(i, i)]).fold(0.0f64, f64::max);
+    if kmax.is_nan() || kmax <= 0.0 {
+        return Err(Error::Numerical("reduction basis: the modal vectors carry no strain energy".into()));
+    }
+    let d: Vec<f64> = (0..q).map(|i| 1.0 / kg[(i, i)].max(1e-300 * kmax).sqrt()).collect();
+    let ks = Mat::<f64>::from_fn(q, q, |i, j| d[i] * kg[(i, j)] * d[j]);
+    let ek = eig(&ks)?;
+    let lam = ek.S().column_vector();
+    let big = (0..q).map(|i| lam[i]).fold(0.0f64, f64::max);
+    let keep: Vec<usize> = (0..q).filter(|&i| lam[i] > 1e-10 * big).collect();
+    // X = D·V·Λ^{-1/2}: Xᵀ·kg·X = I.
+    let x = Mat::<f64>::from_fn(q, keep.len(), |i, j| d[i] * ek.U()[(i, keep[j])] / lam[keep[j]].sqrt());
+    let mx = x.transpose() * mg * &x;
+    let mx = Mat::<f64>::from_fn(mx.nrows(), mx.ncols(), |i, j| 0.5 * (mx[(i, j)] + mx[(j, i)]));
+    let em = eig(&mx)?;
+    let mu = em.S().column_vector();
+    let nk = keep.len();
+    // Largest μ = lowest ω first; μ ≤ 0 would be a direction without mass.
+    let cols: Vec<usize> = (0..nk).rev().filter(|&c| mu[c] > 0.0).collect();
+    let v = &x * em.U();
+    let y = Mat::<f64>::from_fn(q, cols.len(), |i, j| v[(i, cols[j])] / mu[cols[j]].sqrt());
+    let omega = cols.iter().map(|&c| (1.0 / mu[c]).sqrt()).collect();
+    Ok((y, omega))
+}
