@@ -290,7 +290,8 @@ impl SweepTable {
             let inp = g.group("inputs")?;
             for (k, p) in self.parameters.iter().enumerate() {
                 let col: Vec<f64> = self.rows.iter().map(|r| r.inputs[k]).collect();
-                inp.write_f64(p, &col, &[n], &self.units[k], &format!("swept case field `{p}`"))?;
+                let name = column_name(p);
+                inp.write_f64(&name, &col, &[n], &self.units[k], &format!("swept case field `{p}`"))?;
             }
         }
         let flat = |f: &dyn Fn(&Row) -> &[f64]| -> Vec<f64> { self.rows.iter().flat_map(|r| f(r).to_vec()).collect() };
@@ -350,7 +351,7 @@ impl SweepTable {
         let mut inputs = Vec::new();
         let mut units = Vec::new();
         for p in &parameters {
-            let name = format!("table/inputs/{p}");
+            let name = format!("table/inputs/{}", column_name(p));
             inputs.push(r.read_f64(&name)?.0);
             units.push(r.attr_str(&name, "unit")?);
         }
@@ -406,6 +407,13 @@ impl SweepTable {
             rows,
         })
     }
+}
+
+/// The dataset name of a parameter's column: the path with `[i]` written `_i`
+/// (`actuator[0].x_e` → `actuator_0.x_e`), because h5dump reads brackets in a dataset
+/// name as a selection.
+pub fn column_name(path: &str) -> String {
+    path.replace('[', "_").replace(']', "")
 }
 
 /// Joins shard tables (`(file name, table)`) into the whole sweep's table, sorted by case
