@@ -84,6 +84,16 @@ impl Dir {
     }
 }
 
+/// Serialises the tests that open HDF5 files with the one that starts `beamflow`
+/// processes: libhdf5 opens files without close-on-exec, so a child started while another
+/// test has a file open inherits the descriptor and its lock, and reopening that file then
+/// fails with "unable to lock file" until the child exits.
+static HDF5_AND_CHILDREN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn exclusive() -> std::sync::MutexGuard<'static, ()> {
+    HDF5_AND_CHILDREN.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 fn threads(n: usize) -> RunOptions {
     RunOptions { threads: Some(n), ..Default::default() }
 }
@@ -154,6 +164,7 @@ fn results_do_not_depend_on_thread_count() {
 
 #[test]
 fn merge_of_shards_equals_single_run_bitwise() {
+    let _serial = exclusive();
     let d = Dir::new();
     let sp = d.write("s.sweep.toml", SWEEP);
     let s = sweep::load(&sp).unwrap();
@@ -197,6 +208,7 @@ fn merge_of_shards_equals_single_run_bitwise() {
 
 #[test]
 fn interrupted_sweep_resumes_without_recomputing() {
+    let _serial = exclusive();
     let d = Dir::new();
     let s = d.sweep("s.sweep.toml", SWEEP);
     let reference = sweep::run(&s, &threads(2)).unwrap();
@@ -403,6 +415,7 @@ fn transient_option_agrees_with_steady_state() {
 
 #[test]
 fn cli_sweep_shards_merge_and_report() {
+    let _serial = exclusive();
     let d = Dir::new();
     let sp = d.write("s.sweep.toml", SWEEP);
     let exe = env!("CARGO_BIN_EXE_beamflow");

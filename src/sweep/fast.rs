@@ -69,6 +69,8 @@ pub struct Headline {
 }
 
 /// The periodic steady state's headline numbers, as `steady_state::run` computes them.
+// The harmonic loop is written as in `steady_state::run`, to keep the two easy to compare.
+#[allow(clippy::needless_range_loop)]
 pub fn steady_state(
     model: &Model,
     sys: &System,

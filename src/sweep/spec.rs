@@ -352,10 +352,10 @@ impl Sweep {
 
         // Each parameter on its own, over all its values, on the base case: unknown paths,
         // integer fields and out-of-range values fail here, before anything runs.
-        for i in 0..parameters.len() {
+        for (i, param) in parameters.iter_mut().enumerate() {
             let field = format!("parameter[{i}]");
-            for k in 0..parameters[i].values.len() {
-                let v = parameters[i].values[k];
+            for k in 0..param.values.len() {
+                let v = param.values[k];
                 let attempt = |p: &Parameter| -> Result<()> {
                     let mut val = base_value.clone();
                     set_path(&mut val, &p.segments, p.toml(v))
@@ -379,24 +379,24 @@ impl Sweep {
                         )
                     })
                 };
-                match attempt(&parameters[i]) {
+                match attempt(param) {
                     Ok(()) => {}
-                    Err(e) if k == 0 && !parameters[i].integer && v.fract() == 0.0 => {
+                    Err(e) if k == 0 && !param.integer && v.fract() == 0.0 => {
                         // A field the base leaves at its default may be an integer.
-                        let mut as_int = parameters[i].clone();
+                        let mut as_int = param.clone();
                         as_int.integer = true;
                         if attempt(&as_int).is_err() {
                             return Err(e);
                         }
-                        parameters[i].integer = true;
+                        param.integer = true;
                     }
                     Err(e) => return Err(e),
                 }
-                if parameters[i].integer && v.fract() != 0.0 {
+                if param.integer && v.fract() != 0.0 {
                     return Err(Error::input(
                         file,
                         format!("{field}.values"),
-                        format!("`{}` is an integer field, got {v}", parameters[i].path),
+                        format!("`{}` is an integer field, got {v}", param.path),
                     ));
                 }
             }
