@@ -24,5 +24,6 @@ pub mod post;
 pub mod runner;
 pub mod signal;
 pub mod solve;
+pub mod sweep;
 
 pub use error::{Error, Result};

@@ -1,17 +1,28 @@
-//! `beamflow sweep` and `beamflow merge` (placeholder until the sweep module lands).
+//! `beamflow sweep` and `beamflow merge`.
 
 use crate::error::{Error, Result};
+use crate::sweep::{self, report, RunOptions, Shard, SweepTable};
 use clap::Args;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Arguments of `beamflow sweep`.
 #[derive(Args, Debug)]
 pub struct SweepArgs {
     /// Sweep file (TOML).
     pub sweep: PathBuf,
-    /// Output HDF5 table.
+    /// Output HDF5 table. Checkpoints of finished cases are kept in FILE.h5.parts/ until
+    /// the table is written; rerunning the same command resumes from them.
     #[arg(long)]
     pub out: PathBuf,
+    /// Run only part k of N (cases i with i mod N = k − 1), e.g. --shard 3/16.
+    #[arg(long)]
+    pub shard: Option<String>,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Skip the figure and the best-case table.
+    #[arg(long)]
+    pub no_plots: bool,
 }
 
 /// Arguments of `beamflow merge`.
@@ -21,12 +32,73 @@ pub struct MergeArgs {
     pub shards: Vec<PathBuf>,
     #[arg(long)]
     pub out: PathBuf,
+    /// Skip the figure and the best-case table.
+    #[arg(long)]
+    pub no_plots: bool,
 }
 
-pub fn sweep(_args: &SweepArgs) -> Result<()> {
-    Err(Error::Numerical("sweeps are not available in this build".into()))
+pub fn sweep(args: &SweepArgs) -> Result<()> {
+    let shard = match &args.shard {
+        Some(s) => Shard::parse(s, "<cli>", "--shard")?,
+        None => Shard::ALL,
+    };
+    if args.threads == Some(0) {
+        return Err(Error::input("<cli>", "--threads", "must be at least 1"));
+    }
+    let s = sweep::load(&args.sweep)?;
+    let n = shard.indices(s.len()).len();
+    eprintln!(
+        "{}: {} cases{}, {} analysis, {} harmonics{}",
+        s.file,
+        s.len(),
+        if shard == Shard::ALL { String::new() } else { format!(", shard {shard}: {n} of them") },
+        s.analysis.as_str(),
+        s.harmonics,
+        match s.cached_damping {
+            Some(r) => format!(", Rayleigh a0 = {:.6e} 1/s, a1 = {:.6e} s computed once", r.a0, r.a1),
+            None => String::new(),
+        }
+    );
+    let opts = RunOptions { threads: args.threads, shard, progress: true, ..Default::default() };
+    let t0 = std::time::Instant::now();
+    let ex = sweep::execute(&s, &args.out, &opts)?;
+    let dt = t0.elapsed().as_secs_f64();
+    eprintln!(
+        "{} cases computed in {dt:.2} s ({:.1} cases/s), {} reused",
+        ex.computed,
+        if dt > 0.0 { ex.computed as f64 / dt } else { 0.0 },
+        ex.reused
+    );
+    println!("wrote {}", args.out.display());
+    if !args.no_plots {
+        report_files(&ex.table, &args.out)?;
+    }
+    Ok(())
 }
 
-pub fn merge(_args: &MergeArgs) -> Result<()> {
-    Err(Error::Numerical("merge is not available in this build".into()))
+pub fn merge(args: &MergeArgs) -> Result<()> {
+    if args.shards.is_empty() {
+        return Err(Error::input("<cli>", "SHARD", "give the shard files to merge"));
+    }
+    let t = sweep::merge_files(&args.shards)?;
+    t.write(&args.out)?;
+    println!("merged {} shards, {} cases: wrote {}", args.shards.len(), t.rows.len(), args.out.display());
+    if !args.no_plots {
+        report_files(&t, &args.out)?;
+    }
+    Ok(())
+}
+
+fn report_files(t: &SweepTable, out: &Path) -> Result<()> {
+    for p in report::plot(t, out)? {
+        println!("wrote {}", p.display());
+    }
+    let md = report::write_markdown(t, out)?;
+    println!(
+        "\nBest {} cases by net power into the beam:\n{}",
+        t.best.min(t.rows.len()),
+        report::best_table(t, t.best)
+    );
+    println!("wrote {}", md.display());
+    Ok(())
 }

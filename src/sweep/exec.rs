@@ -1,0 +1,323 @@
+//! Running a sweep: one case evaluated, the shard's cases in parallel on a local rayon
+//! pool, per-case checkpoints for resuming, and the output file.
+
+use super::fast::{self, ForceCache, Headline};
+use super::spec::{Sweep, SweepAnalysis};
+use super::table::{decode_part, encode_part, Row, Shard, SweepTable};
+use crate::analysis::{steady_state, transient};
+use crate::assembly::System;
+use crate::case::build_model;
+use crate::error::{Error, Result};
+use rayon::prelude::*;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::Arc;
+
+/// Called after each case is evaluated, with its index (tests count evaluations).
+pub type OnEvaluated = Arc<dyn Fn(usize) + Send + Sync>;
+
+/// How to run a sweep.
+#[derive(Clone, Default)]
+pub struct RunOptions {
+    /// Worker threads (a local pool; `None`: one per available core).
+    pub threads: Option<usize>,
+    /// The part of the sweep to run.
+    pub shard: Shard,
+    /// Directory of per-case checkpoint files: cases found there are not recomputed, and
+    /// every case computed is saved there as soon as it is done.
+    pub checkpoint: Option<PathBuf>,
+    /// Show a progress bar on stderr (never drawn when stderr is not a terminal).
+    pub progress: bool,
+    pub on_evaluated: Option<OnEvaluated>,
+    /// Evaluate through `steady_state::run` itself rather than the fast path (checks, timing).
+    pub reference: bool,
+    /// Set to stop: cases not yet started are skipped and the table comes back incomplete.
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+impl std::fmt::Debug for RunOptions {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RunOptions")
+            .field("threads", &self.threads)
+            .field("shard", &self.shard)
+            .field("checkpoint", &self.checkpoint)
+            .field("progress", &self.progress)
+            .finish_non_exhaustive()
+    }
+}
+
+/// Evaluates the cases of one sweep, sharing what cases have in common.
+#[derive(Debug)]
+pub struct Evaluator<'a> {
+    pub sweep: &'a Sweep,
+    /// Stack-force harmonics per drive (the fast path's cache).
+    pub forces: ForceCache,
+    /// Use `steady_state::run` itself (with its time-domain reconstruction, no force cache)
+    /// instead of the fast path: for checks and timing.
+    pub reference: bool,
+}
+
+impl<'a> Evaluator<'a> {
+    pub fn new(sweep: &'a Sweep, reference: bool) -> Self {
+        Evaluator { sweep, forces: ForceCache::default(), reference }
+    }
+
+    /// Evaluates case `i`: builds its model (the mesh follows the actuator) and solves the
+    /// periodic steady state (or the transient) for the headline outputs.
+    pub fn evaluate(&self, i: usize) -> Result<Row> {
+        let sweep = self.sweep;
+        let lc = sweep.case(i)?;
+        let wrap = |e: Error| Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string());
+        let built = build_model(&lc).map_err(wrap)?;
+        let model = built.model;
+        let sys = System::assemble(&model).map_err(wrap)?;
+        let amp = |c: &[num_complex::Complex64]| c.get(1).map_or(0.0, |c| c.norm());
+        let (h, n) = (sweep.harmonics, sweep.samples_per_period);
+        let head = match (sweep.analysis, self.reference) {
+            (SweepAnalysis::SteadyState, false) => {
+                fast::steady_state(&model, &sys, h, n, &self.forces).map_err(wrap)?
+            }
+            (SweepAnalysis::SteadyState, true) => {
+                let r = steady_state::run(&model, &sys, h, n).map_err(wrap)?;
+                Headline {
+                    force_amplitude: r.spectra.iter().map(|s| amp(&s.transmitted)).collect(),
+                    net_power: r.net_power,
+                    mean_power: r.mean_power,
+                    beam_dissipation: r.beam_dissipation,
+                    balance_error: r.balance_error,
+                }
+            }
+            (SweepAnalysis::Transient, _) => {
+                let s = transient::TransientSettings { harmonics: h, ..Default::default() };
+                let r = transient::run(&model, &sys, &s).map_err(wrap)?;
+                let input = r.beam_input_power;
+                Headline {
+                    force_amplitude: r.spectra.iter().map(|s| amp(&s.transmitted)).collect(),
+                    net_power: r.net_power,
+                    mean_power: r.mean_power,
+                    beam_dissipation: r.beam_dissipation,
+                    balance_error: if r.beam_dissipation != 0.0 {
+                        (input - r.beam_dissipation).abs() / r.beam_dissipation.abs()
+                    } else {
+                        input.abs()
+                    },
+                }
+            }
+        };
+        if head.net_power.len() != sweep.actuators.len() || head.mean_power.len() != sweep.links.len() {
+            return Err(wrap(Error::Numerical("the case's actuators differ from the base case's".into())));
+        }
+        Ok(Row {
+            index: i,
+            inputs: sweep.values(i),
+            net_power: head.net_power,
+            mean_power: head.mean_power,
+            force_amplitude: head.force_amplitude,
+            beam_dissipation: head.beam_dissipation,
+            balance_error: head.balance_error,
+        })
+    }
+}
+
+/// Evaluates case `i` of a sweep on its own (fast path, fresh cache).
+pub fn evaluate(sweep: &Sweep, i: usize) -> Result<Row> {
+    Evaluator::new(sweep, false).evaluate(i)
+}
+
+fn part_path(dir: &Path, i: usize) -> PathBuf {
+    dir.join(format!("case-{i:09}.bin"))
+}
+
+/// Writes a checkpoint: temporary file, then rename (atomic against a crash of this
+/// process). No fsync per case — it would cost more than many cases; after a power loss
+/// a damaged part fails its checksum and the case is simply recomputed.
+fn write_part(dir: &Path, row: &Row, hash: &str) -> Result<()> {
+    let dest = part_path(dir, row.index);
+    let tmp = dir.join(format!(".case-{:09}.tmp-{}", row.index, std::process::id()));
+    let mut f = std::fs::File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
+    f.write_all(&encode_part(row, hash)).map_err(|e| Error::io(&tmp, e))?;
+    drop(f);
+    std::fs::rename(&tmp, &dest).map_err(|e| Error::io(&dest, e))
+}
+
+/// Prepares a checkpoint directory: creates it with a `sweep-id` file, or checks that an
+/// existing one belongs to this sweep.
+fn open_checkpoint(dir: &Path, sweep: &Sweep) -> Result<()> {
+    let id = dir.join("sweep-id");
+    let text = format!("{}\n{}\n", sweep.hash, sweep.len());
+    if dir.exists() {
+        if let Ok(found) = std::fs::read_to_string(&id) {
+            if found != text {
+                return Err(Error::input(
+                    dir.display().to_string(),
+                    "sweep-id",
+                    format!(
+                        "holds cases of another sweep (id {}, this one is {}): delete the directory or choose \
+                         another --out",
+                        found.lines().next().unwrap_or(""),
+                        sweep.hash
+                    ),
+                ));
+            }
+            return Ok(());
+        }
+    }
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    crate::io::atomic::write_atomic_string(&id, &text)
+}
+
+/// Runs (a shard of) a sweep and returns its table, rows sorted by case index. Cases
+/// already in the checkpoint directory are read, not recomputed. If cancelled, the table
+/// lacks the cases not run ([`SweepTable::missing`]).
+///
+/// Every case is computed alone, from its own inputs, on one thread: the results do not
+/// depend on the thread count, the shard or the order of evaluation, bit for bit.
+pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
+    let mut table = SweepTable::new(sweep, opts.shard);
+    let indices = opts.shard.indices(sweep.len());
+    let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if threads == 0 {
+        return Err(Error::input("<options>", "threads", "must be at least 1"));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Numerical(format!("cannot start {threads} worker threads: {e}")))?;
+    let shape = table.shape();
+
+    let mut done: Vec<Row> = Vec::new();
+    if let Some(dir) = &opts.checkpoint {
+        open_checkpoint(dir, sweep)?;
+        done = pool.install(|| {
+            indices
+                .par_iter()
+                .filter_map(|&i| {
+                    let b = std::fs::read(part_path(dir, i)).ok()?;
+                    decode_part(&b, &sweep.hash, shape).filter(|r| r.index == i)
+                })
+                .collect()
+        });
+    }
+    let have: std::collections::HashSet<usize> = done.iter().map(|r| r.index).collect();
+    let todo: Vec<usize> = indices.iter().copied().filter(|i| !have.contains(i)).collect();
+
+    let bar = if opts.progress && std::io::stderr().is_terminal() {
+        let b =
+            indicatif::ProgressBar::with_draw_target(Some(todo.len() as u64), indicatif::ProgressDrawTarget::stderr());
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} cases ({per_sec}, eta {eta})",
+            )
+            .expect("valid template"),
+        );
+        b
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    let ev = Evaluator::new(sweep, opts.reference);
+    let new: Vec<Row> = pool.install(|| {
+        todo.par_iter()
+            .map(|&i| {
+                if opts.cancel.as_ref().is_some_and(|c| c.load(Ordering::SeqCst)) {
+                    return Ok(None);
+                }
+                let row = ev.evaluate(i)?;
+                if let Some(dir) = &opts.checkpoint {
+                    write_part(dir, &row, &sweep.hash)?;
+                }
+                if let Some(cb) = &opts.on_evaluated {
+                    cb(i);
+                }
+                bar.inc(1);
+                Ok(Some(row))
+            })
+            .collect::<Result<Vec<Option<Row>>>>()
+            .map(|v| v.into_iter().flatten().collect())
+    })?;
+    bar.finish_and_clear();
+    done.extend(new);
+    done.sort_by_key(|r| r.index);
+    table.rows = done;
+    Ok(table)
+}
+
+/// What [`execute`] did.
+#[derive(Clone, Debug)]
+pub struct Execution {
+    pub table: SweepTable,
+    /// Cases computed now, and found finished (checkpoints or an existing output).
+    pub computed: usize,
+    pub reused: usize,
+}
+
+/// The checkpoint directory of an output file: `FILE.h5.parts/`.
+pub fn parts_dir(out: &Path) -> PathBuf {
+    let mut s = out.as_os_str().to_owned();
+    s.push(".parts");
+    PathBuf::from(s)
+}
+
+/// `beamflow sweep`: runs (a shard of) a sweep into `out`, resuming from `out`'s
+/// checkpoints (`FILE.h5.parts/`). The table is written atomically when every case of the
+/// shard is done; then the checkpoints are removed. If `out` already holds this shard of
+/// this sweep, nothing is recomputed.
+pub fn execute(sweep: &Sweep, out: &Path, opts: &RunOptions) -> Result<Execution> {
+    let outfile = out.display().to_string();
+    if out.exists() {
+        let t = SweepTable::read(out)?;
+        if t.hash != sweep.hash {
+            return Err(Error::input(
+                &outfile,
+                "sweep_hash",
+                format!(
+                    "already holds another sweep's results (id {}, this sweep is {}): delete it or choose another \
+                     --out",
+                    t.hash, sweep.hash
+                ),
+            ));
+        }
+        if t.shard != opts.shard {
+            return Err(Error::input(
+                &outfile,
+                "shard",
+                format!("already holds shard {} of this sweep, not {}: choose another --out", t.shard, opts.shard),
+            ));
+        }
+        if t.is_complete() {
+            let reused = t.rows.len();
+            return Ok(Execution { table: t, computed: 0, reused });
+        }
+    }
+    let dir = parts_dir(out);
+    let counter = Arc::new(AtomicUsize::new(0));
+    let mut o = opts.clone();
+    o.checkpoint = Some(dir.clone());
+    let c2 = counter.clone();
+    let user = opts.on_evaluated.clone();
+    o.on_evaluated = Some(Arc::new(move |i| {
+        c2.fetch_add(1, Ordering::Relaxed);
+        if let Some(u) = &user {
+            u(i);
+        }
+    }));
+    let table = run(sweep, &o)?;
+    let computed = counter.load(Ordering::Relaxed);
+    let reused = table.rows.len() - computed;
+    let missing = table.missing();
+    if !missing.is_empty() {
+        return Err(Error::input(
+            &outfile,
+            "cases",
+            format!(
+                "interrupted with {} of {} cases done (kept in {}); rerun the same command to resume",
+                table.rows.len(),
+                table.rows.len() + missing.len(),
+                dir.display()
+            ),
+        ));
+    }
+    table.write(out)?;
+    std::fs::remove_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
+    Ok(Execution { table, computed, reused })
+}

@@ -1,0 +1,238 @@
+//! Figures and the best-case table of a sweep table.
+//!
+//! * Two parameters on a full grid (e.g. position × frequency): a heat map of the net
+//!   power into the beam on a **logarithmic** colour scale. In steady state the net power
+//!   of an actuator alone on a damped beam equals the beam's dissipation, so it is positive
+//!   and spans many decades (dips near mode nodes, peaks at resonances); a linear scale
+//!   would show only the resonance peaks. If any value is negative or zero (several
+//!   actuators, one taking power back), |P| is shown with a floor of 10⁻¹² × max and the
+//!   colour-bar label says so.
+//! * One parameter: net power against it (log y if all positive), one line per actuator.
+//! * The best cases by net power, as Markdown; with a position parameter (`….x_e`) and one
+//!   other parameter, also the best and worst position for each value of the other.
+
+use super::table::SweepTable;
+use crate::error::Result;
+use crate::io::plot::{HeatMap, LinePlot, Series, SeriesStyle};
+use std::path::{Path, PathBuf};
+
+/// A number with about 6 significant digits, without trailing zeros.
+pub fn num(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() {
+        return format!("{v}");
+    }
+    let a = v.abs();
+    if (1e-3..1e6).contains(&a) {
+        let decimals = (5 - a.log10().floor() as i32).max(0) as usize;
+        let s = format!("{v:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{v:.4e}")
+    }
+}
+
+fn label(t: &SweepTable, k: usize) -> String {
+    let u = &t.units[k];
+    if u == "1" || u == "?" {
+        t.parameters[k].clone()
+    } else {
+        format!("{} ({u})", t.parameters[k])
+    }
+}
+
+/// Index of the position parameter (a path ending in `x_e`), if any.
+fn position_param(t: &SweepTable) -> Option<usize> {
+    t.parameters.iter().position(|p| p.ends_with("x_e"))
+}
+
+fn sorted_unique(v: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut u: Vec<f64> = v.collect();
+    u.sort_by(|a, b| a.total_cmp(b));
+    u.dedup();
+    u
+}
+
+/// A full grid over two parameters: (x parameter, y parameter, x values, y values, z
+/// row-major ny × nx of total net power).
+type Grid = (usize, usize, Vec<f64>, Vec<f64>, Vec<f64>);
+
+fn grid(t: &SweepTable) -> Option<Grid> {
+    if t.parameters.len() != 2 || t.rows.is_empty() {
+        return None;
+    }
+    let px = position_param(t).unwrap_or(0);
+    let py = 1 - px;
+    let xs = sorted_unique(t.rows.iter().map(|r| r.inputs[px]));
+    let ys = sorted_unique(t.rows.iter().map(|r| r.inputs[py]));
+    if xs.len() * ys.len() != t.rows.len() {
+        return None;
+    }
+    let mut z = vec![f64::NAN; xs.len() * ys.len()];
+    for r in &t.rows {
+        let i = xs.binary_search_by(|v| v.total_cmp(&r.inputs[px])).ok()?;
+        let j = ys.binary_search_by(|v| v.total_cmp(&r.inputs[py])).ok()?;
+        let cell = &mut z[j * xs.len() + i];
+        if !cell.is_nan() {
+            return None;
+        }
+        *cell = r.total_net_power();
+    }
+    Some((px, py, xs, ys, z))
+}
+
+/// Writes the figures for a table next to `out` (`<stem>.net_power.png`) and returns the
+/// files written (none if the table's shape has no figure).
+pub fn plot(t: &SweepTable, out: &Path) -> Result<Vec<PathBuf>> {
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
+    let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
+    let png = dir.join(format!("{stem}.net_power.png"));
+    let title = if t.title.is_empty() { "Sweep".to_string() } else { t.title.clone() };
+    if let Some((px, py, xs, ys, z)) = grid(t) {
+        let max = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let signed = z.iter().any(|&v| v <= 0.0);
+        let floor = if max > 0.0 { max * 1e-12 } else { 1e-30 };
+        let mut h = HeatMap::new(
+            format!("{title}: net power into the beam"),
+            label(t, px),
+            label(t, py),
+            if signed { "|net power| (W)" } else { "net power (W)" },
+        );
+        h.x = xs;
+        h.y = ys;
+        h.z = z.iter().map(|v| v.abs().max(floor)).collect();
+        h.log_z = true;
+        h.render(&png)?;
+        return Ok(vec![png]);
+    }
+    if t.parameters.len() == 1 && !t.rows.is_empty() {
+        let x: Vec<f64> = t.rows.iter().map(|r| r.inputs[0]).collect();
+        let mut p = LinePlot::new(format!("{title}: net power into the beam"), label(t, 0), "net power (W)");
+        let style = if t.rows.len() <= 40 { SeriesStyle::LineMarkers } else { SeriesStyle::Line };
+        let mut order: Vec<usize> = (0..x.len()).collect();
+        order.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
+        let xs: Vec<f64> = order.iter().map(|&j| x[j]).collect();
+        let mut all_pos = true;
+        for (a, name) in t.actuators.iter().enumerate() {
+            let y: Vec<f64> = order.iter().map(|&j| t.rows[j].net_power[a]).collect();
+            all_pos &= y.iter().all(|&v| v > 0.0);
+            p.series.push(Series::line(name.clone(), xs.clone(), y).with_style(style));
+        }
+        if t.actuators.len() > 1 {
+            let y: Vec<f64> = order.iter().map(|&j| t.rows[j].total_net_power()).collect();
+            all_pos &= y.iter().all(|&v| v > 0.0);
+            p.series.push(Series::line("total", xs, y).with_style(style));
+        }
+        p.log_y = all_pos;
+        p.render(&png)?;
+        return Ok(vec![png]);
+    }
+    Ok(Vec::new())
+}
+
+/// The best cases by total net power, as a Markdown table of at most `n` rows.
+pub fn best_table(t: &SweepTable, n: usize) -> String {
+    let mut order: Vec<usize> = (0..t.rows.len()).collect();
+    order.sort_by(|&a, &b| t.rows[b].total_net_power().total_cmp(&t.rows[a].total_net_power()));
+    let mut s = String::from("| rank | case |");
+    for k in 0..t.parameters.len() {
+        s += &format!(" {} |", label(t, k));
+    }
+    for a in &t.actuators {
+        s += &format!(" P {a} (W) |");
+    }
+    s += " beam dissipation (W) | balance error |\n|---:|---:|";
+    s += &"---:|".repeat(t.parameters.len() + t.actuators.len() + 2);
+    s.push('\n');
+    for (rank, &j) in order.iter().take(n).enumerate() {
+        let r = &t.rows[j];
+        s += &format!("| {} | {} |", rank + 1, r.index);
+        for v in &r.inputs {
+            s += &format!(" {} |", num(*v));
+        }
+        for v in &r.net_power {
+            s += &format!(" {v:.4e} |");
+        }
+        s += &format!(" {:.4e} | {:.1e} |\n", r.beam_dissipation, r.balance_error);
+    }
+    s
+}
+
+/// With a position parameter and one other: for each value of the other, the best and the
+/// worst position (Markdown).
+pub fn best_positions(t: &SweepTable) -> Option<String> {
+    let px = position_param(t)?;
+    if t.parameters.len() != 2 {
+        return None;
+    }
+    let py = 1 - px;
+    let ys = sorted_unique(t.rows.iter().map(|r| r.inputs[py]));
+    let mut s = format!(
+        "| {} | best {} | net power (W) | worst {} | net power (W) | best/worst |\n|---:|---:|---:|---:|---:|---:|\n",
+        label(t, py),
+        label(t, px),
+        label(t, px)
+    );
+    for y in ys {
+        let rows: Vec<_> = t.rows.iter().filter(|r| r.inputs[py] == y).collect();
+        let best = rows.iter().max_by(|a, b| a.total_net_power().total_cmp(&b.total_net_power()))?;
+        let worst = rows.iter().min_by(|a, b| a.total_net_power().total_cmp(&b.total_net_power()))?;
+        let (pb, pw) = (best.total_net_power(), worst.total_net_power());
+        s += &format!(
+            "| {} | {} | {pb:.4e} | {} | {pw:.4e} | {} |\n",
+            num(y),
+            num(best.inputs[px]),
+            num(worst.inputs[px]),
+            if pw != 0.0 { format!("{:.3e}", pb / pw) } else { "–".into() }
+        );
+    }
+    Some(s)
+}
+
+/// The whole Markdown report (best cases, and best positions where it applies).
+pub fn markdown(t: &SweepTable) -> String {
+    let mut s = format!(
+        "# Sweep results: {}\n\nSweep `{}` (id `{}`), {} of {} cases, analysis `{}` with {} harmonics. Ranked by the \
+         net power into the beam (sum over actuators).\n\n## Best {} cases\n\n{}",
+        if t.title.is_empty() { "(untitled)" } else { &t.title },
+        t.sweep_file,
+        t.hash,
+        t.rows.len(),
+        t.total_cases,
+        t.analysis,
+        t.harmonics,
+        t.best.min(t.rows.len()),
+        best_table(t, t.best)
+    );
+    if let Some(b) = best_positions(t) {
+        let py = 1 - position_param(t).unwrap_or(0);
+        s += &format!("\n## Best and worst position for each {}\n\n{b}", t.parameters[py]);
+    }
+    s
+}
+
+/// Writes `<stem>.best.md` next to `out` and returns its path.
+pub fn write_markdown(t: &SweepTable, out: &Path) -> Result<PathBuf> {
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
+    let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
+    let md = dir.join(format!("{stem}.best.md"));
+    crate::io::atomic::write_atomic_string(&md, &markdown(t))?;
+    Ok(md)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::num;
+
+    #[test]
+    fn numbers_read_well() {
+        assert_eq!(num(0.15000000000000002), "0.15");
+        assert_eq!(num(60.0), "60");
+        assert_eq!(num(123.456789), "123.457");
+        assert_eq!(num(1.5e-7), "1.5000e-7");
+        assert_eq!(num(0.0), "0");
+    }
+}
