@@ -293,7 +293,7 @@ impl Sweep {
             .analysis
             .iter()
             .find_map(|a| match a {
-                AnalysisSpec::SteadyState { harmonics, samples_per_period } => {
+                AnalysisSpec::SteadyState { harmonics, samples_per_period, .. } => {
                     Some((*harmonics, Some(*samples_per_period)))
                 }
                 AnalysisSpec::Transient { harmonics, .. } => Some((*harmonics, None)),
