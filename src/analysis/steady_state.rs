@@ -98,24 +98,8 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
     }
     let (forces, hyst_periods) = periodic_stack_forces(model, period, samples)?;
     let fp_h: Vec<Vec<Complex64>> = forces.iter().map(|f| harmonics(&f[2])[..=n_harm].to_vec()).collect();
-    let n = sys.n();
     let w0 = 2.0 * PI / period;
-    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
-    let mut q_all = Vec::with_capacity(n_harm + 1);
-    let mut diss = Vec::with_capacity(n_harm + 1);
-    for k in 0..=n_harm {
-        let w = k as f64 * w0;
-        let mut rhs = vec![Complex64::default(); n];
-        for (a, b) in sys.drives.iter().enumerate() {
-            for &(d, c) in b {
-                rhs[d] += fp_h[a][k] * c;
-            }
-        }
-        dk.factorize(w)?;
-        dk.solve_in_place(&mut rhs);
-        diss.push(dissipated_power(&sys.c_beam, &rhs, w));
-        q_all.push(rhs);
-    }
+    let (q_all, diss) = solve_harmonics(sys, |a, k| fp_h[a][k], n_harm, w0)?;
     let mut res = SteadyStateResult {
         period,
         harmonics: n_harm,
@@ -273,4 +257,34 @@ impl SteadyStateResult {
         self.modal = crate::post::modal::decompose(model, sys, &self.q, 2.0 * PI / self.period, &interface, count)?;
         Ok(())
     }
+}
+
+/// Solves (K − ω_k²M + iω_kC)·Q_k = Σ_a b_a·F̂_p,a,k for k = 0..=n_harm (ω_k = k·ω₀),
+/// with `fp_h(a, k)` = F̂_p of actuator a at harmonic k,
+/// refilling one profile factorisation, and returns Q_k and the beam dissipation per
+/// harmonic (W).
+pub fn solve_harmonics(
+    sys: &System,
+    fp_h: impl Fn(usize, usize) -> Complex64,
+    n_harm: usize,
+    w0: f64,
+) -> Result<(Vec<Vec<Complex64>>, Vec<f64>)> {
+    let n = sys.n();
+    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
+    let mut q_all = Vec::with_capacity(n_harm + 1);
+    let mut diss = Vec::with_capacity(n_harm + 1);
+    for k in 0..=n_harm {
+        let w = k as f64 * w0;
+        let mut rhs = vec![Complex64::default(); n];
+        for (a, b) in sys.drives.iter().enumerate() {
+            for &(d, c) in b {
+                rhs[d] += fp_h(a, k) * c;
+            }
+        }
+        dk.factorize(w)?;
+        dk.solve_in_place(&mut rhs);
+        diss.push(dissipated_power(&sys.c_beam, &rhs, w));
+        q_all.push(rhs);
+    }
+    Ok((q_all, diss))
 }

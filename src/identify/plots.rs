@@ -10,43 +10,17 @@
 //!
 //! Each figure is written as PNG and SVG by [`render_both`].
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 use num_complex::Complex64;
 
-use crate::error::Result;
 use crate::identify::bouc_wen_fit::{CycleData, FitTarget, MultiSeedFit};
 use crate::identify::frf::Frf;
 use crate::identify::modal_fit::ModalFit;
 use crate::io::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
 
-/// A figure that renders to a file.
-pub trait Figure {
-    fn render_to(&self, path: &Path) -> Result<()>;
-}
-
-impl Figure for LinePlot {
-    fn render_to(&self, path: &Path) -> Result<()> {
-        self.render(path)
-    }
-}
-
-impl Figure for MultiPanel {
-    fn render_to(&self, path: &Path) -> Result<()> {
-        self.render(path)
-    }
-}
-
-/// Writes `dir/stem.png` and `dir/stem.svg`; returns both paths.
-pub fn render_both(fig: &dyn Figure, dir: &Path, stem: &str) -> Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for ext in ["png", "svg"] {
-        let p = dir.join(format!("{stem}.{ext}"));
-        fig.render_to(&p)?;
-        out.push(p);
-    }
-    Ok(out)
-}
+// Figures are written through the run figures' helpers: PNG and SVG side by side.
+pub use crate::io::figures::{save as render_both, Figure};
 
 /// Short file name for titles.
 fn short(file: &str) -> String {

@@ -18,7 +18,6 @@ use crate::analysis::transient::{time_grid, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::post::spectra::harmonics;
-use crate::solve::harmonic::{dissipated_power, DynamicStiffness};
 use num_complex::Complex64;
 use std::collections::HashMap;
 use std::f64::consts::PI;
@@ -85,24 +84,8 @@ pub fn steady_state(
     }
     let fp_h =
         (0..model.actuators.len()).map(|a| cache.get(model, a, period, samples, n_harm)).collect::<Result<Vec<_>>>()?;
-    let n = sys.n();
     let w0 = 2.0 * PI / period;
-    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
-    let mut q_all = Vec::with_capacity(n_harm + 1);
-    let mut diss = Vec::with_capacity(n_harm + 1);
-    for k in 0..=n_harm {
-        let w = k as f64 * w0;
-        let mut rhs = vec![Complex64::default(); n];
-        for (a, b) in sys.drives.iter().enumerate() {
-            for &(d, c) in b {
-                rhs[d] += fp_h[a][k] * c;
-            }
-        }
-        dk.factorize(w)?;
-        dk.solve_in_place(&mut rhs);
-        diss.push(dissipated_power(&sys.c_beam, &rhs, w));
-        q_all.push(rhs);
-    }
+    let (q_all, diss) = crate::analysis::steady_state::solve_harmonics(sys, |a, k| fp_h[a][k], n_harm, w0)?;
     let mut out = Headline::default();
     for lk in &sys.links {
         let mut power = Vec::with_capacity(n_harm + 1);
