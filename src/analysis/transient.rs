@@ -388,6 +388,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let mut hist_h: Vec<Vec<f64>> = vec![Vec::new(); na];
     let mut hist_v: Vec<Vec<f64>> = vec![Vec::new(); na];
     let mut fp_step = vec![0.0; na];
+    // F_p at the recorded sample t_j; a buffer so the step loop allocates nothing.
+    let mut fp_j = vec![0.0; na];
     for p in 0..total_periods {
         let t0 = p as f64 * period;
         for (j, t) in times.iter_mut().enumerate() {
@@ -407,7 +409,9 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         let mut pb = Balances::default();
         for j in 0..n_per {
             // Record the state at t_j.
-            let fp_j: Vec<f64> = (0..na).map(|a| stacks[a].active_force(hist_v[a][j], hist_h[a][j])).collect();
+            for a in 0..na {
+                fp_j[a] = stacks[a].active_force(hist_v[a][j], hist_h[a][j]);
+            }
             rec.t.push(times[j]);
             for l in 0..nl {
                 let (u, ud, fv, fa, _) = link_state(&nm, l, &fp_j);
