@@ -7,6 +7,7 @@ use beamflow::analysis::modes;
 use beamflow::assembly::System;
 use beamflow::case::build::build_beam;
 use beamflow::case::{build_model, LoadedCase};
+use beamflow::solve::fused::FusedNewmark;
 use beamflow::solve::newmark::{Newmark, Scheme};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::PathBuf;
@@ -47,6 +48,13 @@ fn newmark(c: &mut Criterion) {
     let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
     let f = vec![1.0; sys.n()];
     c.bench_function(&format!("newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| nm.step(&f)));
+    let mut fused = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
+    let load: Vec<(usize, f64)> = sys.drives[0].clone();
+    c.bench_function(&format!("fused newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| fused.step(&load)));
+    fused.track_dissipation = true;
+    c.bench_function(&format!("fused newmark step with dissipation: beam + frame ({} DOFs)", sys.n()), |b| {
+        b.iter(|| fused.step(&load))
+    });
 }
 
 fn coupled(c: &mut Criterion) {

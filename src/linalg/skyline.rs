@@ -110,6 +110,11 @@ impl<T: Scalar> Skyline<T> {
         }
     }
 
+    /// The stored entries, row by row from `first[i]` to the diagonal.
+    pub fn into_values(self) -> Vec<T> {
+        self.values
+    }
+
     /// Overwrites self with Σ cᵢ·Aᵢ for real matrices Aᵢ of the same envelope: the dynamic
     /// stiffness K − ω²M + iωC of a frequency sweep is built this way with no allocation.
     pub fn set_combination(&mut self, terms: &[(T, &Skyline<f64>)]) {
@@ -200,6 +205,12 @@ impl<T: Scalar> SkylineLdlt<T> {
 
     pub fn dim(&self) -> usize {
         self.first.len()
+    }
+
+    /// The factor's storage: envelope `first`, row offsets `start` (n + 1 of them), the
+    /// values (L strictly below the diagonal, D in the diagonal slot) and D.
+    pub fn into_parts(self) -> (Vec<usize>, Vec<usize>, Vec<T>, Vec<T>) {
+        (self.first, self.start, self.values, self.diag)
     }
 
     /// Solves A·x = b in place (`x` holds b on entry).

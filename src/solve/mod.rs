@@ -2,6 +2,7 @@
 //! of beams or actuators.
 
 pub mod eigen;
+pub mod fused;
 pub mod harmonic;
 pub mod lanczos;
 pub mod newmark;
