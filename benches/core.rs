@@ -48,7 +48,8 @@ fn newmark(c: &mut Criterion) {
     let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
     let f = vec![1.0; sys.n()];
     c.bench_function(&format!("newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| nm.step(&f)));
-    let mut fused = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
+    let mut fused =
+        FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
     let load: Vec<(usize, f64)> = sys.drives[0].clone();
     c.bench_function(&format!("fused newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| fused.step(&load)));
     fused.track_dissipation = true;

@@ -1,42 +1,35 @@
-//! The fast path of the Newmark family for linear systems: one step in two streaming passes.
+//! The fast path of the Newmark family for linear systems.
 //!
-//! [`Newmark`](super::newmark::Newmark) does a step as the textbook writes it: build two
-//! work vectors, two sparse products, a forward sweep, a diagonal scaling, a backward sweep
-//! and an update, each a separate pass over n-vectors, plus whatever the caller does with
-//! full load vectors and velocity copies. Per degree of freedom a step is only a few dozen
-//! flops, so those passes and the sparse index arithmetic, not the flops, set the cost. This
-//! kernel does the same arithmetic in two passes:
+//! [`Newmark`](super::newmark::Newmark) does a step as the textbook writes it, through the
+//! general CSR and profile kernels: every product walks column indices and every triangular
+//! sweep runs loops of data-dependent length. Per degree of freedom a step is only about 60
+//! flops, so index arithmetic, bounds checks and loop overhead, not the flops, set its cost.
+//! This integrator does the same arithmetic on storage shaped for the beam:
 //!
-//! 1. **Forward** (row i ascending): form w₁ᵢ, w₂ᵢ (the M- and C-parts of the known history),
-//!    add row i of the symmetric products M·w₁ + C·w₂ (− α_f·K·u) — the row's own sum and its
-//!    mirror scattered to earlier rows — plus the load, and forward-substitute L·y = rhs for
-//!    every row whose right-hand side is complete. Row r is complete once every row that
-//!    reaches back to column r has been added, i.e. after row `reach[r]`.
-//! 2. **Backward** (row i descending): xᵢ = yᵢ/dᵢ minus the Lᵀ terms already scattered,
-//!    which is the new displacement; update aᵢ, vᵢ, uᵢ in place; and, if asked, accumulate
-//!    the midpoint dissipation v̄ᵀ·C·v̄ with the same row of C.
+//! * M, C (and K when α_f ≠ 0) are stored by **diagonals** of a band of half-width B (3 for
+//!   Hermite beam elements): the right-hand side M·w₁ + C·w₂ is then one loop over rows whose
+//!   body reads 2·(2B+1) contiguous streams, which the compiler vectorises.
+//! * The factor L·D·Lᵀ of the effective stiffness is stored **by rows of width B** with
+//!   1/D; the forward and backward sweeps, which are recurrences and cannot be vectorised,
+//!   are fully unrolled for B known at compile time, ordered so the newest unknown enters
+//!   last (the critical path per row is one multiply–add), and use fused multiply–add where
+//!   the processor has it.
+//! * The few rows that reach beyond the band (an actuator's body rows reach back to its
+//!   feet) keep their extra entries in short side lists.
+//! * Loads are sparse (actuators load a handful of DOFs), the dissipation v̄ᵀ·C·v̄ of the
+//!   step is optional, and nothing in a step allocates.
 //!
-//! Storage. M, C, K and the factor share the effective stiffness's envelope. A beam's rows
-//! all reach back at most a few columns (3 for Hermite elements), an actuator's body rows
-//! much further. So each matrix is a dense band of fixed half-width B (row i holds columns
-//! i−B..=i, zero-padded) plus, for the few rows that reach further, a contiguous tail.
-//! With B a compile-time constant the band loops unroll completely; the vectors the band
-//! reads at j < i carry B leading zeros so the first rows need no special case. No column
-//! indices are stored, loads are sparse (actuators load a handful of DOFs), and nothing in
-//! a step allocates.
-//!
-//! The arithmetic is that of `Newmark::step` with the sums taken in a different order, so
-//! the two agree to round-off (`tests/newmark.rs` checks it).
+//! On x86-64 the step is compiled twice, for the baseline target and for AVX2 + FMA, and the
+//! faster one is chosen at run time when the processor supports it. The FMA version rounds
+//! differently (a fused multiply–add rounds once), so the two agree to round-off, as does
+//! this integrator with `Newmark` (`tests/newmark.rs`).
 
 use super::newmark::Scheme;
 use crate::error::{Error, Result};
 use crate::linalg::{Csr, Skyline};
 
-/// Widths with an unrolled kernel; wider bands (dense reduced systems) use the same code
-/// with the width known only at run time.
-const FIXED_WIDTHS: [usize; 6] = [0, 1, 2, 3, 4, 5];
-
-/// A row that reaches back beyond the band: columns `first..row − B` live in the tails.
+/// A row of the factor that reaches back beyond the band: its columns `first..row − B`
+/// are `tail[offset..]`.
 #[derive(Clone, Copy, Debug)]
 struct LongRow {
     row: usize,
@@ -44,77 +37,14 @@ struct LongRow {
     offset: usize,
 }
 
-/// A symmetric (or unit-lower) matrix as band + tails in a shared layout.
-#[derive(Clone, Debug)]
-struct BandMatrix {
-    /// n × (B+1), row-major; entry t of row i is column i − B + t.
-    band: Vec<f64>,
-    tail: Vec<f64>,
-}
-
-#[derive(Clone, Debug)]
-struct Layout {
-    n: usize,
-    b: usize,
-    long: Vec<LongRow>,
-    /// Last row that reaches back to column r, as a running maximum (completion order).
-    reach: Vec<usize>,
-}
-
-impl Layout {
-    fn new(first: &[usize]) -> Self {
-        let n = first.len();
-        let mut widths: Vec<usize> = first.iter().enumerate().map(|(i, &f)| i - f).collect();
-        widths.sort_unstable();
-        // Cover nine rows in ten with the band; the rest become tails. The widths with an
-        // unrolled kernel are preferred when one covers the same rows.
-        let p90 = widths.get((n * 9) / 10).copied().unwrap_or(0);
-        let b = FIXED_WIDTHS.iter().copied().find(|&w| w >= p90).unwrap_or(p90);
-        let mut long = Vec::new();
-        let mut offset = 0;
-        for (i, &f) in first.iter().enumerate() {
-            if i > b && f < i - b {
-                long.push(LongRow { row: i, first: f, offset });
-                offset += i - b - f;
-            }
-        }
-        let mut reach: Vec<usize> = (0..n).collect();
-        for (i, &f) in first.iter().enumerate() {
-            for r in reach.iter_mut().take(i).skip(f) {
-                *r = (*r).max(i);
-            }
-        }
-        for r in 1..n {
-            reach[r] = reach[r].max(reach[r - 1]);
-        }
-        Layout { n, b, long, reach }
-    }
-
-    /// Splits skyline values (rows from `first[i]` to the diagonal) into band and tails.
-    fn split(&self, first: &[usize], values: &[f64]) -> BandMatrix {
-        let (n, b) = (self.n, self.b);
-        let mut band = vec![0.0; n * (b + 1)];
-        let mut tail = vec![0.0; self.long.iter().map(|lr| lr.row - b - lr.first).sum()];
-        let mut k = 0;
-        let mut lp = 0;
-        for (i, &f) in first.iter().enumerate() {
-            for j in f..=i {
-                let v = values[k];
-                k += 1;
-                if j + b >= i {
-                    band[i * (b + 1) + (j + b - i)] = v;
-                } else {
-                    let lr = self.long[lp];
-                    debug_assert_eq!(lr.row, i);
-                    tail[lr.offset + (j - lr.first)] = v;
-                }
-            }
-            if lp < self.long.len() && self.long[lp].row == i {
-                lp += 1;
-            }
-        }
-        BandMatrix { band, tail }
-    }
+/// An entry of M, C, K outside the band (lower triangle, i > j); applied symmetrically.
+#[derive(Clone, Copy, Debug)]
+struct Extra {
+    i: usize,
+    j: usize,
+    m: f64,
+    c: f64,
+    k: f64,
 }
 
 /// The band half-width as a type, so that fixed widths unroll.
@@ -138,6 +68,16 @@ impl Width for Dynamic {
     }
 }
 
+/// a·b + c, fused (one rounding) when compiled for a processor with FMA.
+#[inline(always)]
+fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FMA {
+        a.mul_add(b, c)
+    } else {
+        a * b + c
+    }
+}
+
 /// The step's coefficients: w₁ = c_u·u + c_v·v + c_a·a, w₂ = e_u·u + e_v·v + e_a·a, and the
 /// update a_new = (x − u − Δt·v)·ab − a_old·a, v_new = v + va_old·a + va_new·a_new.
 #[derive(Clone, Copy)]
@@ -156,37 +96,42 @@ struct Coeffs {
     va_new: f64,
 }
 
-/// A linear system's Newmark integrator with the fused two-pass step.
+/// A linear system's Newmark integrator on band storage.
 pub struct FusedNewmark {
     scheme: Scheme,
     dt: f64,
-    layout: Layout,
-    m: BandMatrix,
-    c: BandMatrix,
+    n: usize,
+    b: usize,
+    /// Diagonal t ∈ −B..=B of M at `m[(t + B)·n + i]` = M(i, i + t) (zero outside).
+    m: Vec<f64>,
+    c: Vec<f64>,
     /// Only when α_f ≠ 0.
-    k: Option<BandMatrix>,
-    /// Unit-lower L of K_eff = L·D·Lᵀ (its diagonal slot holds D).
-    l: BandMatrix,
-    /// D and 1/D, with B leading zeros (padded like the work vectors).
-    d: Vec<f64>,
+    k: Option<Vec<f64>>,
+    extra: Vec<Extra>,
+    /// Row i of L at `l[i·B + s]` = L(i, i − B + s) (zero before column 0; B zero rows
+    /// follow the last).
+    l: Vec<f64>,
+    long: Vec<LongRow>,
+    l_tail: Vec<f64>,
     d_inv: Vec<f64>,
     u: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
-    /// Padded by B: right-hand side, then y, then x, of the step in progress.
-    z: Vec<f64>,
+    /// w₁, w₂ and (α_f ≠ 0) u, padded with B zeros at both ends; w₁ then holds v̄.
     w1: Vec<f64>,
     w2: Vec<f64>,
-    /// Padded copy of u (only read when α_f ≠ 0).
     up: Vec<f64>,
-    /// Padded: Σ_{k>i} c_ki·v̄_k, accumulated in the backward pass for the dissipation.
-    acc: Vec<f64>,
+    /// Right-hand side then y (forward sweep), padded with B leading zeros.
+    z: Vec<f64>,
+    /// y/d then x (backward sweep), padded with B zeros at both ends.
+    x: Vec<f64>,
     /// Dense load of the step in progress, zero except at the DOFs just loaded.
     load: Vec<f64>,
     touched: Vec<usize>,
     /// F_n, kept for α_f ≠ 0.
     f_prev: Vec<(usize, f64)>,
-    /// Accumulate Δt·v̄ᵀ·C·v̄ during the backward pass.
+    fma: bool,
+    /// Accumulate Δt·v̄ᵀ·C·v̄ (v̄ the step's mean velocity) and return it from `step`.
     pub track_dissipation: bool,
 }
 
@@ -199,39 +144,86 @@ impl FusedNewmark {
         }
         let n = m.dim();
         let s = scheme;
-        let profile = |a: &Csr, scale: f64| {
-            let mut sk = Skyline::<f64>::zeros(envelope.to_vec());
-            a.add_into_skyline(scale, &mut sk);
-            sk
-        };
-        let mut k_eff = profile(k, 1.0 - s.alpha_f);
+        let mut k_eff = Skyline::<f64>::zeros(envelope.to_vec());
+        k.add_into_skyline(1.0 - s.alpha_f, &mut k_eff);
         c.add_into_skyline((1.0 - s.alpha_f) * s.gamma / (s.beta * dt), &mut k_eff);
         m.add_into_skyline((1.0 - s.alpha_m) / (s.beta * dt * dt), &mut k_eff);
-        let (first, _, l, d) = k_eff.factorize()?.into_parts();
-        let layout = Layout::new(&first);
-        let b = layout.b;
-        let padded = |x: &[f64]| [vec![0.0; b], x.to_vec()].concat();
+        let (first, start, lv, d) = k_eff.factorize()?.into_parts();
+
+        // Band half-width: covers nine rows in ten; the rest get side lists.
+        let mut widths: Vec<usize> = first.iter().enumerate().map(|(i, &f)| i - f).collect();
+        widths.sort_unstable();
+        let b = widths.get((n * 9) / 10).copied().unwrap_or(0);
+
+        // B rows of zeros past the end, so the backward sweep's gathers need no bounds.
+        let mut l = vec![0.0; (n + b) * b];
+        let mut long = Vec::new();
+        let mut l_tail = Vec::new();
+        for i in 0..n {
+            let row = &lv[start[i]..start[i + 1] - 1];
+            for (t, &val) in row.iter().enumerate() {
+                let j = first[i] + t;
+                if j + b >= i {
+                    l[i * b + (j + b - i)] = val;
+                } else {
+                    if long.last().map(|lr: &LongRow| lr.row) != Some(i) {
+                        long.push(LongRow { row: i, first: j, offset: l_tail.len() });
+                    }
+                    l_tail.push(val);
+                }
+            }
+        }
+        let mut extra: Vec<Extra> = Vec::new();
+        let mut dia = |a: &Csr, which: usize| {
+            let mut out = vec![0.0; (2 * b + 1) * n];
+            for (i, j, v) in a.triplets() {
+                if i.abs_diff(j) <= b {
+                    out[(j + b - i) * n + i] = v;
+                } else if i > j {
+                    let e = match extra.iter().position(|e| e.i == i && e.j == j) {
+                        Some(p) => &mut extra[p],
+                        None => {
+                            extra.push(Extra { i, j, m: 0.0, c: 0.0, k: 0.0 });
+                            extra.last_mut().unwrap()
+                        }
+                    };
+                    *[&mut e.m, &mut e.c, &mut e.k][which] = v;
+                }
+            }
+            out
+        };
+        let (mm, cc) = (dia(m, 0), dia(c, 1));
+        let kk = dia(k, 2);
+        extra.sort_by_key(|e| (e.i, e.j));
+        #[cfg(target_arch = "x86_64")]
+        let fma = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
+        #[cfg(not(target_arch = "x86_64"))]
+        let fma = false;
         Ok(FusedNewmark {
             scheme,
             dt,
-            m: layout.split(&first, &profile(m, 1.0).into_values()),
-            c: layout.split(&first, &profile(c, 1.0).into_values()),
-            k: (s.alpha_f != 0.0).then(|| layout.split(&first, &profile(k, 1.0).into_values())),
-            l: layout.split(&first, &l),
-            d_inv: padded(&d.iter().map(|x| 1.0 / x).collect::<Vec<_>>()),
-            d: padded(&d),
-            layout,
+            n,
+            b,
+            m: mm,
+            c: cc,
+            k: (s.alpha_f != 0.0).then_some(kk),
+            extra,
+            l,
+            long,
+            l_tail,
+            d_inv: d.iter().map(|x| 1.0 / x).collect(),
             u: vec![0.0; n],
             v: vec![0.0; n],
             a: vec![0.0; n],
+            w1: vec![0.0; n + 2 * b],
+            w2: vec![0.0; n + 2 * b],
+            up: vec![0.0; n + 2 * b],
             z: vec![0.0; n + b],
-            w1: vec![0.0; n + b],
-            w2: vec![0.0; n + b],
-            up: vec![0.0; n + b],
-            acc: vec![0.0; n + b],
+            x: vec![0.0; n + 2 * b],
             load: vec![0.0; n],
             touched: Vec::new(),
             f_prev: Vec::new(),
+            fma,
             track_dissipation: false,
         })
     }
@@ -241,12 +233,22 @@ impl FusedNewmark {
     }
 
     pub fn dim(&self) -> usize {
-        self.u.len()
+        self.n
     }
 
-    /// Half-width of the band part of the storage (rows reaching further have tails).
+    /// Half-width of the band part of the storage (rows reaching further have side lists).
     pub fn band_width(&self) -> usize {
-        self.layout.b
+        self.b
+    }
+
+    /// Whether the AVX2 + FMA build of the step is in use.
+    pub fn uses_fma(&self) -> bool {
+        self.fma
+    }
+
+    /// Uses the baseline build of the step even where FMA is available (to compare them).
+    pub fn disable_fma(&mut self) {
+        self.fma = false;
     }
 
     /// Displacement, velocity and acceleration at the current time.
@@ -271,7 +273,7 @@ impl FusedNewmark {
     }
 
     /// Advances one step to the load F_{n+1} (sparse pairs, duplicates summed). Returns
-    /// Δt·v̄ᵀ·C·v̄ with v̄ the step's mean velocity if `track_dissipation` is set, else 0.
+    /// Δt·v̄ᵀ·C·v̄ if `track_dissipation` is set, else 0.
     pub fn step(&mut self, f_next: &[(usize, f64)]) -> f64 {
         let s = self.scheme;
         let dt = self.dt;
@@ -301,15 +303,7 @@ impl FusedNewmark {
             va_old: dt * (1.0 - g),
             va_new: dt * g,
         };
-        let diss = match self.layout.b {
-            0 => self.run(Fixed::<0>, k),
-            1 => self.run(Fixed::<1>, k),
-            2 => self.run(Fixed::<2>, k),
-            3 => self.run(Fixed::<3>, k),
-            4 => self.run(Fixed::<4>, k),
-            5 => self.run(Fixed::<5>, k),
-            w => self.run(Dynamic(w), k),
-        };
+        let diss = self.dispatch(k);
         for &d in &self.touched {
             self.load[d] = 0.0;
         }
@@ -321,158 +315,206 @@ impl FusedNewmark {
         diss * dt
     }
 
-    fn run<W: Width>(&mut self, w: W, k: Coeffs) -> f64 {
-        if self.k.is_some() {
-            self.up[w.b()..].copy_from_slice(&self.u);
+    fn dispatch(&mut self, k: Coeffs) -> f64 {
+        #[cfg(target_arch = "x86_64")]
+        if self.fma {
+            // SAFETY: `fma` is set only when the processor reports AVX2 and FMA.
+            return unsafe { self.step_avx2(k) };
         }
-        self.forward(w, k);
-        self.backward(w, k)
+        self.by_width::<false>(k)
     }
 
-    #[inline(never)]
-    fn forward<W: Width>(&mut self, w: W, k: Coeffs) {
-        let b = w.b();
-        let n = self.layout.n;
-        let mut lp = 0;
-        let mut next = 0; // next row to forward-substitute
-        let mut lsp = 0; // next long row among those
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn step_avx2(&mut self, k: Coeffs) -> f64 {
+        self.by_width::<true>(k)
+    }
+
+    #[inline(always)]
+    fn by_width<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
+        match self.b {
+            0 => self.step_impl::<_, FMA>(Fixed::<0>, k),
+            1 => self.step_impl::<_, FMA>(Fixed::<1>, k),
+            2 => self.step_impl::<_, FMA>(Fixed::<2>, k),
+            3 => self.step_impl::<_, FMA>(Fixed::<3>, k),
+            4 => self.step_impl::<_, FMA>(Fixed::<4>, k),
+            w => self.step_impl::<_, FMA>(Dynamic(w), k),
+        }
+    }
+
+    #[inline(always)]
+    fn step_impl<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) -> f64 {
+        self.rhs::<W, FMA>(w, k);
+        self.forward::<W, FMA>(w);
+        self.backward::<W, FMA>(w);
+        self.update::<FMA>(k)
+    }
+
+    /// z = load + M·w₁ + C·w₂ (− α_f·K·u), by diagonals.
+    #[inline(always)]
+    fn rhs<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
+        let (n, b) = (self.n, w.b());
+        {
+            let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
+            let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
+            for i in 0..n {
+                w1[i] = madd::<FMA>(k.cu, u[i], madd::<FMA>(k.cv, v[i], k.ca * a[i]));
+                w2[i] = madd::<FMA>(k.eu, u[i], madd::<FMA>(k.ev, v[i], k.ea * a[i]));
+            }
+        }
+        if self.k.is_some() {
+            self.up[b..b + n].copy_from_slice(&self.u);
+        }
+        let width = 2 * b + 1;
+        let (m, c) = (&self.m[..width * n], &self.c[..width * n]);
+        let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
+        let load = &self.load[..n];
+        let z = &mut self.z[b..b + n];
         for i in 0..n {
-            let (ui, vi, ai) = (self.u[i], self.v[i], self.a[i]);
-            let w1i = k.cu * ui + k.cv * vi + k.ca * ai;
-            let w2i = k.eu * ui + k.ev * vi + k.ea * ai;
-            // Padded index of column j is j + b; row i's band starts at column i − b.
-            self.w1[i + b] = w1i;
-            self.w2[i + b] = w2i;
-            let mrow = &self.m.band[i * (b + 1)..(i + 1) * (b + 1)];
-            let crow = &self.c.band[i * (b + 1)..(i + 1) * (b + 1)];
-            let w1 = &self.w1[i..i + b];
-            let w2 = &self.w2[i..i + b];
-            let mut sum = mrow[b] * w1i + crow[b] * w2i + self.load[i];
-            {
-                let z = &mut self.z[i..i + b];
-                for t in 0..b {
-                    sum += mrow[t] * w1[t] + crow[t] * w2[t];
-                    z[t] += mrow[t] * w1i + crow[t] * w2i;
+            let mut sm = 0.0;
+            let mut sc = load[i];
+            for t in 0..width {
+                // SAFETY: t < 2B+1 and i < n index m, c (length (2B+1)·n) and the padded
+                // w₁, w₂ (length n + 2B) in range; unchecked so the row loop vectorises.
+                unsafe {
+                    sm = madd::<FMA>(*m.get_unchecked(t * n + i), *w1.get_unchecked(i + t), sm);
+                    sc = madd::<FMA>(*c.get_unchecked(t * n + i), *w2.get_unchecked(i + t), sc);
                 }
             }
-            if let Some(kk) = &self.k {
-                let krow = &kk.band[i * (b + 1)..(i + 1) * (b + 1)];
-                let up = &self.up[i..=i + b];
-                let z = &mut self.z[i..i + b];
-                sum -= k.af * krow[b] * ui;
-                for t in 0..b {
-                    sum -= k.af * krow[t] * up[t];
-                    z[t] -= k.af * krow[t] * ui;
-                }
-            }
-            if lp < self.layout.long.len() && self.layout.long[lp].row == i {
-                let lr = self.layout.long[lp];
-                let len = i - b - lr.first;
-                let (mt, ct) = (&self.m.tail[lr.offset..lr.offset + len], &self.c.tail[lr.offset..lr.offset + len]);
-                let cols = lr.first + b..lr.first + b + len;
-                for (t, j) in cols.clone().enumerate() {
-                    sum += mt[t] * self.w1[j] + ct[t] * self.w2[j];
-                    self.z[j] += mt[t] * w1i + ct[t] * w2i;
-                }
-                if let Some(kk) = &self.k {
-                    let kt = &kk.tail[lr.offset..lr.offset + len];
-                    for (t, j) in cols.enumerate() {
-                        sum -= k.af * kt[t] * self.up[j];
-                        self.z[j] -= k.af * kt[t] * ui;
+            z[i] = sm + sc;
+        }
+        if let Some(kk) = &self.k {
+            let kk = &kk[..width * n];
+            let up = &self.up[..n + 2 * b];
+            for i in 0..n {
+                let mut s = 0.0;
+                for t in 0..width {
+                    // SAFETY: as above.
+                    unsafe {
+                        s = madd::<FMA>(*kk.get_unchecked(t * n + i), *up.get_unchecked(i + t), s);
                     }
+                }
+                z[i] -= k.af * s;
+            }
+        }
+        for e in &self.extra {
+            let (i, j) = (e.i, e.j);
+            z[i] += e.m * self.w1[j + b] + e.c * self.w2[j + b] - k.af * e.k * self.up[j + b];
+            z[j] += e.m * self.w1[i + b] + e.c * self.w2[i + b] - k.af * e.k * self.up[i + b];
+        }
+    }
+
+    /// L·y = z in place in z, and x = y/d. The newest unknown enters each row last and
+    /// is carried in a register, so a row's critical path is one multiply–add rather than a
+    /// store, a reload and a multiply–add.
+    #[inline(always)]
+    fn forward<W: Width, const FMA: bool>(&mut self, w: W) {
+        let (n, b) = (self.n, w.b());
+        let l = &self.l[..n * b];
+        let d_inv = &self.d_inv[..n];
+        let z = &mut self.z[..n + b];
+        let x = &mut self.x[..n + b];
+        let mut lp = 0;
+        let mut prev = 0.0; // y_{i−1}
+        for i in 0..n {
+            // Padded index of column i − B + s is i + s.
+            let mut y = z[i + b];
+            if lp < self.long.len() && self.long[lp].row == i {
+                let lr = self.long[lp];
+                let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
+                for (t, &lv) in tail.iter().enumerate() {
+                    y = madd::<FMA>(-lv, z[lr.first + t + b], y);
                 }
                 lp += 1;
             }
-            self.z[i + b] = sum;
-            while next <= i && self.layout.reach[next] <= i {
-                self.forward_substitute(w, next, &mut lsp);
-                next += 1;
-            }
-        }
-        while next < n {
-            self.forward_substitute(w, next, &mut lsp);
-            next += 1;
-        }
-    }
-
-    /// y_r = rhs_r − Σ_j l_rj·y_j over the band and, for a long row, its tail.
-    #[inline(always)]
-    fn forward_substitute<W: Width>(&mut self, w: W, r: usize, lp: &mut usize) {
-        let b = w.b();
-        let row = &self.l.band[r * (b + 1)..r * (b + 1) + b];
-        let y = &self.z[r..r + b];
-        let mut s = 0.0;
-        for t in 0..b {
-            s += row[t] * y[t];
-        }
-        // Rows are substituted in ascending order, so one pointer walks the long rows.
-        if *lp < self.layout.long.len() && self.layout.long[*lp].row == r {
-            {
-                let lr = self.layout.long[*lp];
-                *lp += 1;
-                let len = r - b - lr.first;
-                let lt = &self.l.tail[lr.offset..lr.offset + len];
-                let y = &self.z[lr.first + b..lr.first + b + len];
-                for t in 0..len {
-                    s += lt[t] * y[t];
-                }
-            }
-        }
-        self.z[r + b] -= s;
-    }
-
-    #[inline(never)]
-    fn backward<W: Width>(&mut self, w: W, k: Coeffs) -> f64 {
-        let b = w.b();
-        let n = self.layout.n;
-        let long = &self.layout.long;
-        let track = self.track_dissipation;
-        let mut lp = long.len();
-        let mut diss = 0.0;
-        for i in (0..n).rev() {
-            // z holds y with the Lᵀ terms of later rows already subtracted (scaled by d).
-            let x = self.z[i + b] * self.d_inv[i + b];
-            let (ui, vi, ai) = (self.u[i], self.v[i], self.a[i]);
-            let a_new = (x - ui - k.dt * vi) * k.ab - k.a_old * ai;
-            let v_new = vi + k.va_old * ai + k.va_new * a_new;
-            self.u[i] = x;
-            self.v[i] = v_new;
-            self.a[i] = a_new;
-            let vb = 0.5 * (vi + v_new);
-            // Lᵀ: y_j −= d_j·l_ij·x_i for the columns of row i.
-            {
-                let row = &self.l.band[i * (b + 1)..i * (b + 1) + b];
-                let d = &self.d[i..i + b];
-                let z = &mut self.z[i..i + b];
-                for t in 0..b {
-                    z[t] -= row[t] * x * d[t];
-                }
-            }
-            if track {
-                let crow = &self.c.band[i * (b + 1)..(i + 1) * (b + 1)];
-                diss += vb * (crow[b] * vb + 2.0 * self.acc[i + b]);
-                self.acc[i + b] = 0.0;
-                let acc = &mut self.acc[i..i + b];
-                for t in 0..b {
-                    acc[t] += crow[t] * vb;
-                }
-            }
-            if lp > 0 && long[lp - 1].row == i {
-                lp -= 1;
-                let lr = long[lp];
-                let len = i - b - lr.first;
-                let cols = lr.first + b..lr.first + b + len;
-                let lt = &self.l.tail[lr.offset..lr.offset + len];
-                for (t, j) in cols.clone().enumerate() {
-                    self.z[j] -= lt[t] * x * self.d[j];
-                }
-                if track {
-                    let ct = &self.c.tail[lr.offset..lr.offset + len];
-                    for (t, j) in cols.enumerate() {
-                        self.acc[j] += ct[t] * vb;
+            if b > 0 {
+                for t in 0..b - 1 {
+                    // SAFETY: i·B + t < n·B and i + t < n + B.
+                    unsafe {
+                        y = madd::<FMA>(-*l.get_unchecked(i * b + t), *z.get_unchecked(i + t), y);
                     }
                 }
+                y = madd::<FMA>(-l[i * b + b - 1], prev, y);
             }
+            z[i + b] = y;
+            x[i + b] = y * d_inv[i];
+            prev = y;
+        }
+    }
+
+    /// Lᵀ·x = y/d in place in x. Band entries are gathered down column i (entry l_{i+s,i}
+    /// sits in row i+s at slot B−s), the newest xᵢ₊₁ last and from a register; the entries
+    /// of long rows, which reach far back, are scattered as soon as their xₖ is known.
+    #[inline(always)]
+    fn backward<W: Width, const FMA: bool>(&mut self, w: W) {
+        let (n, b) = (self.n, w.b());
+        let l = &self.l[..(n + b) * b];
+        let x = &mut self.x[..n + 2 * b];
+        let mut lp = self.long.len();
+        let mut prev = 0.0; // x_{i+1}
+        for i in (0..n).rev() {
+            let mut xi = x[i + b];
+            if b > 0 {
+                for s in (2..=b).rev() {
+                    // SAFETY: (i+s)·B + B − s < (n+B)·B and i + s + B < n + 2B.
+                    unsafe {
+                        xi = madd::<FMA>(-*l.get_unchecked((i + s) * b + b - s), *x.get_unchecked(i + s + b), xi);
+                    }
+                }
+                xi = madd::<FMA>(-l[(i + 1) * b + b - 1], prev, xi);
+            }
+            x[i + b] = xi;
+            prev = xi;
+            if lp > 0 && self.long[lp - 1].row == i {
+                lp -= 1;
+                let lr = self.long[lp];
+                let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
+                for (t, &lv) in tail.iter().enumerate() {
+                    x[lr.first + t + b] -= lv * xi;
+                }
+            }
+        }
+    }
+
+    /// New u, v, a from x; returns v̄ᵀ·C·v̄ if tracked.
+    #[inline(always)]
+    fn update<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
+        let (n, b) = (self.n, self.b);
+        {
+            let x = &self.x[b..b + n];
+            let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
+            let vbar = &mut self.w1[b..b + n];
+            for i in 0..n {
+                let (ui, vi, ai) = (u[i], v[i], a[i]);
+                let a_new = madd::<FMA>(x[i] - ui - k.dt * vi, k.ab, -k.a_old * ai);
+                let v_new = madd::<FMA>(k.va_new, a_new, madd::<FMA>(k.va_old, ai, vi));
+                u[i] = x[i];
+                v[i] = v_new;
+                a[i] = a_new;
+                vbar[i] = 0.5 * (vi + v_new);
+            }
+        }
+        if !self.track_dissipation {
+            return 0.0;
+        }
+        let width = 2 * b + 1;
+        let c = &self.c[..width * n];
+        let vb = &self.w1[..n + 2 * b];
+        // Four partial sums so the reduction vectorises.
+        let mut part = [0.0f64; 4];
+        for i in 0..n {
+            let mut s = 0.0;
+            for t in 0..width {
+                // SAFETY: as in `rhs`.
+                unsafe {
+                    s = madd::<FMA>(*c.get_unchecked(t * n + i), *vb.get_unchecked(i + t), s);
+                }
+            }
+            part[i % 4] = madd::<FMA>(s, vb[i + b], part[i % 4]);
+        }
+        let mut diss = (part[0] + part[1]) + (part[2] + part[3]);
+        for e in &self.extra {
+            diss += 2.0 * e.c * vb[e.i + b] * vb[e.j + b];
         }
         diss
     }
