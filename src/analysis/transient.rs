@@ -10,7 +10,8 @@ use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::post::power::{mean_product, EnergyBalance};
 use crate::post::spectra::{harmonics, power_from_acceleration, power_per_harmonic};
-use crate::solve::newmark::{Newmark, Scheme};
+use crate::solve::fused::FusedNewmark;
+use crate::solve::newmark::{consistent_acceleration, Scheme};
 use num_complex::Complex64;
 use serde::Serialize;
 use std::collections::VecDeque;
@@ -236,6 +237,17 @@ impl PeriodRecord {
     }
 }
 
+/// A link's state at one instant (SI units).
+#[derive(Clone, Copy, Debug)]
+struct LinkState {
+    u: f64,
+    ud: f64,
+    fv: f64,
+    fa: f64,
+    /// Interface force on the beam, F_T − m_foot·ẅ (N).
+    fi: f64,
+}
+
 /// The time grid of a run: step, samples per period and the period (s).
 pub fn time_grid(model: &Model, s: &TransientSettings) -> Result<(f64, usize, f64, bool)> {
     let first = model.actuators.first().ok_or_else(|| {
@@ -313,15 +325,18 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let sensor_dofs: Vec<Vec<(usize, f64)>> =
         model.sensors.iter().map(|se| sys.w_at(model, se.x, "sensor")).collect::<Result<_>>()?;
 
-    let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, s.scheme, dt)?;
+    let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, s.scheme, dt)?;
+    nm.track_dissipation = true;
     let stacks: Vec<_> = model.actuators.iter().map(|a| a.stack().clone()).collect();
     let mut h_now: Vec<f64> = stacks.iter().map(|st| st.h0).collect();
-    let mut f = vec![0.0; n];
-    let load = |f: &mut [f64], fp: &[f64]| {
-        f.iter_mut().for_each(|x| *x = 0.0);
+    // The load Σ_a b_a·F_p,a as sparse pairs: actuators load a handful of DOFs.
+    let mut loads: Vec<(usize, f64)> = sys.drives.iter().flatten().map(|&(d, _)| (d, 0.0)).collect();
+    let set_loads = |loads: &mut Vec<(usize, f64)>, fp: &[f64]| {
+        let mut k = 0;
         for (a, b) in sys.drives.iter().enumerate() {
-            for &(d, c) in b {
-                f[d] += c * fp[a];
+            for &(_, c) in b {
+                loads[k].1 = c * fp[a];
+                k += 1;
             }
         }
     };
@@ -336,9 +351,10 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             }
         })
         .collect();
-    load(&mut f, &fp0);
+    set_loads(&mut loads, &fp0);
     let zeros = vec![0.0; n];
-    nm.initialize(&zeros, &zeros, &f, &mut [])?;
+    let a0 = consistent_acceleration(&sys.m, &sys.c, &sys.k, &sys.envelope, &zeros, &zeros, &loads)?;
+    nm.set_state(&zeros, &zeros, &a0, &loads);
 
     let total_periods = if !periodic {
         1
@@ -357,39 +373,33 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let mut periods_run = 0;
     let mut run_bal = Balances::default();
     let mut per_bal = Balances::default();
-    let stored = |nm: &Newmark| -> (f64, f64) {
-        let eb = 0.5 * sys.m_beam.bilinear(&nm.v, &nm.v) + 0.5 * sys.k_beam.bilinear(&nm.u, &nm.u);
-        let es = 0.5 * sys.m.bilinear(&nm.v, &nm.v) + 0.5 * sys.k.bilinear(&nm.u, &nm.u);
+    let stored = |nm: &FusedNewmark| -> (f64, f64) {
+        let eb = 0.5 * sys.m_beam.bilinear(nm.v(), nm.v()) + 0.5 * sys.k_beam.bilinear(nm.u(), nm.u());
+        let es = 0.5 * sys.m.bilinear(nm.v(), nm.v()) + 0.5 * sys.k.bilinear(nm.u(), nm.u());
         (eb, es)
     };
     let (eb_start, es_start) = stored(&nm);
-    let mut v_old = vec![0.0; n];
-    let mut vbar = vec![0.0; n];
-    let mut cv = vec![0.0; n];
-    let mut fp_prev = fp0.clone();
-    let mut fint_prev = vec![0.0; nl];
-    let mut vfoot_prev = vec![0.0; nl];
-    let link_state = |nm: &Newmark, l: usize, fp: &[f64]| -> (f64, f64, f64, f64, f64) {
-        let lk = &sys.links[l];
-        let u: f64 = lk.stretch.iter().map(|&(d, c)| c * nm.u[d]).sum();
-        let ud: f64 = lk.stretch.iter().map(|&(d, c)| c * nm.v[d]).sum();
-        let fv: f64 = lk.foot.iter().map(|&(d, c)| c * nm.v[d]).sum();
-        let fa: f64 = lk.foot.iter().map(|&(d, c)| c * nm.a[d]).sum();
-        let ft = lk.k * u + lk.c * ud - if lk.active { fp[lk.actuator] } else { 0.0 };
-        (u, ud, fv, fa, ft - lk.foot_mass * fa)
+    // Each link's state (stretch, its rate, foot velocity and acceleration, interface
+    // force) is evaluated once per step, after the step: it is both the record of the next
+    // sample and the end point of this step's energy terms.
+    let link_state = |nm: &FusedNewmark, lk: &crate::assembly::LinkDofs, fp: &[f64]| -> LinkState {
+        let (u, v, a) = (nm.u(), nm.v(), nm.a());
+        let su: f64 = lk.stretch.iter().map(|&(d, c)| c * u[d]).sum();
+        let sud: f64 = lk.stretch.iter().map(|&(d, c)| c * v[d]).sum();
+        let fv: f64 = lk.foot.iter().map(|&(d, c)| c * v[d]).sum();
+        let fa: f64 = lk.foot.iter().map(|&(d, c)| c * a[d]).sum();
+        let ft = lk.k * su + lk.c * sud - if lk.active { fp[lk.actuator] } else { 0.0 };
+        LinkState { u: su, ud: sud, fv, fa, fi: ft - lk.foot_mass * fa }
     };
-    for l in 0..nl {
-        let (_, _, fv, _, fi) = link_state(&nm, l, &fp0);
-        fint_prev[l] = fi;
-        vfoot_prev[l] = fv;
-    }
+    let drive_rate = |nm: &FusedNewmark, b: &[(usize, f64)]| -> f64 { b.iter().map(|&(d, c)| c * nm.v()[d]).sum() };
+    let mut links_now: Vec<LinkState> = sys.links.iter().map(|lk| link_state(&nm, lk, &fp0)).collect();
+    let mut drive_v: Vec<f64> = sys.drives.iter().map(|b| drive_rate(&nm, b)).collect();
+    let mut fp_prev = fp0.clone();
 
     let mut times = vec![0.0; n_per + 1];
     let mut hist_h: Vec<Vec<f64>> = vec![Vec::new(); na];
     let mut hist_v: Vec<Vec<f64>> = vec![Vec::new(); na];
     let mut fp_step = vec![0.0; na];
-    // F_p at the recorded sample t_j; a buffer so the step loop allocates nothing.
-    let mut fp_j = vec![0.0; na];
     for p in 0..total_periods {
         let t0 = p as f64 * period;
         for (j, t) in times.iter_mut().enumerate() {
@@ -409,60 +419,53 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         let mut pb = Balances::default();
         for j in 0..n_per {
             // Record the state at t_j.
-            for a in 0..na {
-                fp_j[a] = stacks[a].active_force(hist_v[a][j], hist_h[a][j]);
-            }
             rec.t.push(times[j]);
-            for l in 0..nl {
-                let (u, ud, fv, fa, _) = link_state(&nm, l, &fp_j);
-                rec.u[l].push(u);
-                rec.ud[l].push(ud);
-                rec.fv[l].push(fv);
-                rec.fa[l].push(fa);
+            for (l, st) in links_now.iter().enumerate() {
+                rec.u[l].push(st.u);
+                rec.ud[l].push(st.ud);
+                rec.fv[l].push(st.fv);
+                rec.fa[l].push(st.fa);
             }
             for (b, (_, _, d)) in body_dofs.iter().enumerate() {
-                rec.q[b].push(nm.u[*d]);
-                rec.qd[b].push(nm.v[*d]);
-                rec.qdd[b].push(nm.a[*d]);
+                rec.q[b].push(nm.u()[*d]);
+                rec.qd[b].push(nm.v()[*d]);
+                rec.qdd[b].push(nm.a()[*d]);
             }
             for a in 0..na {
                 rec.v[a].push(hist_v[a][j]);
                 rec.h[a].push(hist_h[a][j]);
-                rec.fp[a].push(fp_j[a]);
+                rec.fp[a].push(fp_prev[a]);
             }
             for (si, d) in sensor_dofs.iter().enumerate() {
                 let at = |x: &[f64]| -> f64 { d.iter().map(|&(i, c)| c * x[i]).sum() };
-                let (w, v, acc) = (at(&nm.u), at(&nm.v), at(&nm.a));
-                rec.sw[si].push(w);
-                rec.sv[si].push(v);
-                rec.sa[si].push(acc);
+                rec.sw[si].push(at(nm.u()));
+                rec.sv[si].push(at(nm.v()));
+                rec.sa[si].push(at(nm.a()));
             }
             // Step to t_{j+1}.
             for a in 0..na {
                 fp_step[a] = stacks[a].active_force(hist_v[a][j + 1], hist_h[a][j + 1]);
             }
-            load(&mut f, &fp_step);
-            v_old.copy_from_slice(&nm.v);
-            nm.step(&f);
-            // Energy by the midpoint rule, which the trapezoidal scheme balances exactly.
-            for i in 0..n {
-                vbar[i] = 0.5 * (v_old[i] + nm.v[i]);
-            }
-            sys.c_beam.mul_vec(&vbar, &mut cv);
-            let d_beam: f64 = dt * vbar.iter().zip(&cv).map(|(a, b)| a * b).sum::<f64>();
-            sys.c.mul_vec(&vbar, &mut cv);
-            let d_sys: f64 = dt * vbar.iter().zip(&cv).map(|(a, b)| a * b).sum::<f64>();
+            set_loads(&mut loads, &fp_step);
+            // Energy by the midpoint rule, which the trapezoidal scheme balances exactly:
+            // the system's dissipation Δt·v̄ᵀ·C·v̄ comes from the step itself; the beam's is
+            // that minus the links' dampers, C = C_beam + Σ c_l·g_l·g_lᵀ.
+            let d_sys = nm.step(&loads);
+            let mut d_beam = d_sys;
             let mut w_beam = 0.0;
-            for l in 0..nl {
-                let (_, _, fv, _, fi) = link_state(&nm, l, &fp_step);
-                w_beam += dt * 0.5 * (fint_prev[l] + fi) * 0.5 * (vfoot_prev[l] + fv);
-                fint_prev[l] = fi;
-                vfoot_prev[l] = fv;
+            for (l, lk) in sys.links.iter().enumerate() {
+                let new = link_state(&nm, lk, &fp_step);
+                let old = &links_now[l];
+                let ud_mid = 0.5 * (old.ud + new.ud);
+                d_beam -= dt * lk.c * ud_mid * ud_mid;
+                w_beam += dt * 0.5 * (old.fi + new.fi) * 0.5 * (old.fv + new.fv);
+                links_now[l] = new;
             }
             let mut w_sys = 0.0;
             for (a, b) in sys.drives.iter().enumerate() {
-                let gv: f64 = b.iter().map(|&(d, c)| c * vbar[d]).sum();
-                w_sys += dt * 0.5 * (fp_prev[a] + fp_step[a]) * gv;
+                let gv = drive_rate(&nm, b);
+                w_sys += dt * 0.5 * (fp_prev[a] + fp_step[a]) * 0.5 * (drive_v[a] + gv);
+                drive_v[a] = gv;
             }
             fp_prev.copy_from_slice(&fp_step);
             pb.beam.input += w_beam;

@@ -102,7 +102,8 @@ pub struct FusedNewmark {
     dt: f64,
     n: usize,
     b: usize,
-    /// Diagonal t ∈ −B..=B of M at `m[(t + B)·n + i]` = M(i, i + t) (zero outside).
+    /// Lower diagonal t ∈ 0..=B of M at `m[t·(n + B) + i]` = M(i, i − t) (zero where
+    /// i < t and for the B padding entries past n); the upper half is the same numbers.
     m: Vec<f64>,
     c: Vec<f64>,
     /// Only when α_f ≠ 0.
@@ -175,11 +176,11 @@ impl FusedNewmark {
         }
         let mut extra: Vec<Extra> = Vec::new();
         let mut dia = |a: &Csr, which: usize| {
-            let mut out = vec![0.0; (2 * b + 1) * n];
+            let mut out = vec![0.0; (b + 1) * (n + b)];
             for (i, j, v) in a.triplets() {
-                if i.abs_diff(j) <= b {
-                    out[(j + b - i) * n + i] = v;
-                } else if i > j {
+                if j <= i && i - j <= b {
+                    out[(i - j) * (n + b) + i] = v;
+                } else if i > j + b {
                     let e = match extra.iter().position(|e| e.i == i && e.j == j) {
                         Some(p) => &mut extra[p],
                         None => {
@@ -365,33 +366,39 @@ impl FusedNewmark {
         if self.k.is_some() {
             self.up[b..b + n].copy_from_slice(&self.u);
         }
-        let width = 2 * b + 1;
-        let (m, c) = (&self.m[..width * n], &self.c[..width * n]);
+        // Row i: Σ_t D_t[i]·w[i−t] (lower half) + Σ_{t≥1} D_t[i+t]·w[i+t] (upper half, the
+        // same diagonal read t entries further on). Padded index of column j is j + B.
+        let stride = n + b;
+        let (m, c) = (&self.m[..(b + 1) * stride], &self.c[..(b + 1) * stride]);
         let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
         let load = &self.load[..n];
         let z = &mut self.z[b..b + n];
         for i in 0..n {
-            let mut sm = 0.0;
-            let mut sc = load[i];
-            for t in 0..width {
-                // SAFETY: t < 2B+1 and i < n index m, c (length (2B+1)·n) and the padded
-                // w₁, w₂ (length n + 2B) in range; unchecked so the row loop vectorises.
+            let mut sm = m[i] * w1[i + b];
+            let mut sc = madd::<FMA>(c[i], w2[i + b], load[i]);
+            for t in 1..=b {
+                // SAFETY: t ≤ B and i < n, so t·(n+B) + i + t < (B+1)·(n+B), and
+                // i + B ± t lies in 0..n + 2B; unchecked so the row loop vectorises.
                 unsafe {
-                    sm = madd::<FMA>(*m.get_unchecked(t * n + i), *w1.get_unchecked(i + t), sm);
-                    sc = madd::<FMA>(*c.get_unchecked(t * n + i), *w2.get_unchecked(i + t), sc);
+                    let (lo, up) = (t * stride + i, t * stride + i + t);
+                    sm = madd::<FMA>(*m.get_unchecked(lo), *w1.get_unchecked(i + b - t), sm);
+                    sm = madd::<FMA>(*m.get_unchecked(up), *w1.get_unchecked(i + b + t), sm);
+                    sc = madd::<FMA>(*c.get_unchecked(lo), *w2.get_unchecked(i + b - t), sc);
+                    sc = madd::<FMA>(*c.get_unchecked(up), *w2.get_unchecked(i + b + t), sc);
                 }
             }
             z[i] = sm + sc;
         }
         if let Some(kk) = &self.k {
-            let kk = &kk[..width * n];
+            let kk = &kk[..(b + 1) * stride];
             let up = &self.up[..n + 2 * b];
             for i in 0..n {
-                let mut s = 0.0;
-                for t in 0..width {
+                let mut s = kk[i] * up[i + b];
+                for t in 1..=b {
                     // SAFETY: as above.
                     unsafe {
-                        s = madd::<FMA>(*kk.get_unchecked(t * n + i), *up.get_unchecked(i + t), s);
+                        s = madd::<FMA>(*kk.get_unchecked(t * stride + i), *up.get_unchecked(i + b - t), s);
+                        s = madd::<FMA>(*kk.get_unchecked(t * stride + i + t), *up.get_unchecked(i + b + t), s);
                     }
                 }
                 z[i] -= k.af * s;
@@ -497,20 +504,21 @@ impl FusedNewmark {
         if !self.track_dissipation {
             return 0.0;
         }
-        let width = 2 * b + 1;
-        let c = &self.c[..width * n];
+        let stride = n + b;
+        let c = &self.c[..(b + 1) * stride];
         let vb = &self.w1[..n + 2 * b];
-        // Four partial sums so the reduction vectorises.
+        // v̄ᵀ·C·v̄ = Σᵢ v̄ᵢ·(C_ii·v̄ᵢ + 2·Σ_{t≥1} C_{i,i−t}·v̄_{i−t}); four partial sums so the
+        // reduction vectorises.
         let mut part = [0.0f64; 4];
         for i in 0..n {
-            let mut s = 0.0;
-            for t in 0..width {
+            let mut s = 0.5 * c[i] * vb[i + b];
+            for t in 1..=b {
                 // SAFETY: as in `rhs`.
                 unsafe {
-                    s = madd::<FMA>(*c.get_unchecked(t * n + i), *vb.get_unchecked(i + t), s);
+                    s = madd::<FMA>(*c.get_unchecked(t * stride + i), *vb.get_unchecked(i + b - t), s);
                 }
             }
-            part[i % 4] = madd::<FMA>(s, vb[i + b], part[i % 4]);
+            part[i % 4] = madd::<FMA>(2.0 * s, vb[i + b], part[i % 4]);
         }
         let mut diss = (part[0] + part[1]) + (part[2] + part[3]);
         for e in &self.extra {

@@ -103,6 +103,33 @@ pub struct NewtonStats {
     pub max_iterations_in_a_step: usize,
 }
 
+/// The consistent initial acceleration a₀ = M⁻¹·(F₀ − C·v₀ − K·u₀), F₀ as sparse pairs;
+/// zero without a solve when the right-hand side is zero.
+pub fn consistent_acceleration(
+    m: &Csr,
+    c: &Csr,
+    k: &Csr,
+    envelope: &[usize],
+    u0: &[f64],
+    v0: &[f64],
+    f0: &[(usize, f64)],
+) -> Result<Vec<f64>> {
+    let mut r = vec![0.0; m.dim()];
+    for &(d, f) in f0 {
+        r[d] += f;
+    }
+    c.mul_vec_add(-1.0, v0, &mut r);
+    k.mul_vec_add(-1.0, u0, &mut r);
+    if r.iter().all(|&x| x == 0.0) {
+        return Ok(r);
+    }
+    let mut ms = Skyline::zeros(envelope.to_vec());
+    m.add_into_skyline(1.0, &mut ms);
+    let mf = ms.factorize().map_err(|e| Error::Numerical(format!("initial acceleration: {e}")))?;
+    mf.solve_in_place(&mut r);
+    Ok(r)
+}
+
 /// The integrator state and its workspace.
 pub struct Newmark<'a> {
     m: &'a Csr,
