@@ -1,12 +1,12 @@
 //! Compressed sparse rows for the assembled M, C and K.
 //!
-//! Assembly goes through `sprs` triplets (duplicates summed), and the matrices stay `sprs`
-//! matrices for interchange (Matrix Market). `Csr` wraps one with the allocation-free
+//! Assembly collects (row, col, value) triplets (duplicates summed), and the matrices are
+//! `sprs` matrices for interchange (Matrix Market). `Csr` wraps one with the allocation-free
 //! products the time-step loop needs.
 
 use super::scalar::Scalar;
 use super::skyline::Skyline;
-use sprs::{CsMat, TriMat};
+use sprs::CsMat;
 
 /// A square sparse matrix in CSR form.
 #[derive(Clone, Debug)]
@@ -16,12 +16,42 @@ pub struct Csr {
 
 impl Csr {
     /// Builds from (row, col, value) triplets; duplicates are summed.
+    ///
+    /// A counting sort by row and a small sort within each row: finite-element rows hold a
+    /// handful of entries, so this is linear in the number of triplets, where a general
+    /// triplet sort (what `sprs` does) is n·log n and dominated assembly of large meshes.
     pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> Self {
-        let mut t = TriMat::with_capacity((n, n), triplets.len());
-        for &(i, j, v) in triplets {
-            t.add_triplet(i, j, v);
+        let mut start = vec![0usize; n + 1];
+        for &(i, _, _) in triplets {
+            start[i + 1] += 1;
         }
-        Csr { mat: t.to_csr() }
+        for i in 0..n {
+            start[i + 1] += start[i];
+        }
+        let mut fill = start.clone();
+        let mut bucket = vec![(0usize, 0.0f64); triplets.len()];
+        for &(i, j, v) in triplets {
+            bucket[fill[i]] = (j, v);
+            fill[i] += 1;
+        }
+        let mut indptr = Vec::with_capacity(n + 1);
+        let mut indices = Vec::with_capacity(triplets.len());
+        let mut data = Vec::with_capacity(triplets.len());
+        indptr.push(0);
+        for i in 0..n {
+            let row = &mut bucket[start[i]..start[i + 1]];
+            row.sort_unstable_by_key(|&(j, _)| j);
+            for &(j, v) in row.iter() {
+                if indices.len() > indptr[i] && *indices.last().unwrap() == j {
+                    *data.last_mut().unwrap() += v;
+                } else {
+                    indices.push(j);
+                    data.push(v);
+                }
+            }
+            indptr.push(indices.len());
+        }
+        Csr { mat: CsMat::new((n, n), indptr, indices, data) }
     }
 
     pub fn zeros(n: usize) -> Self {
@@ -47,10 +77,9 @@ impl Csr {
 
     /// Iterates the stored entries as (row, col, value).
     pub fn triplets(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
-        self.mat
-            .outer_iterator()
-            .enumerate()
-            .flat_map(|(i, row)| row.iter().map(move |(j, &v)| (i, j, v)).collect::<Vec<_>>())
+        let ip: &[usize] = self.mat.indptr().into_raw_storage();
+        let (idx, val) = (self.mat.indices(), self.mat.data());
+        (0..self.dim()).flat_map(move |i| (ip[i]..ip[i + 1]).map(move |k| (i, idx[k], val[k])))
     }
 
     /// y = A·x (overwrites y). No allocation.

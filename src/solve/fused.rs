@@ -242,6 +242,19 @@ impl FusedNewmark {
         self.b
     }
 
+    /// Bytes held by the integrator (matrices, factor, state and work vectors): linear in
+    /// the number of DOFs, since everything is stored by band.
+    pub fn memory_bytes(&self) -> usize {
+        let f = std::mem::size_of::<f64>();
+        let vecs = [&self.m, &self.c, &self.l, &self.l_tail, &self.d_inv, &self.u, &self.v, &self.a]
+            .iter()
+            .chain([&self.w1, &self.w2, &self.up, &self.z, &self.x, &self.load].iter())
+            .map(|v| v.len())
+            .sum::<usize>()
+            + self.k.as_ref().map_or(0, |k| k.len());
+        vecs * f + self.extra.len() * std::mem::size_of::<Extra>() + self.long.len() * std::mem::size_of::<LongRow>()
+    }
+
     /// Whether the AVX2 + FMA build of the step is in use.
     pub fn uses_fma(&self) -> bool {
         self.fma
