@@ -177,54 +177,77 @@ fn newton_reports_failure_instead_of_returning_garbage() {
     assert!(r.unwrap_err().to_string().contains("Newton"));
 }
 
-/// The fused two-pass kernel against the textbook step on the coupled paper beam with a
-/// frame actuator (the frame's body rows reach back over the leg span, so the completion
-/// order of the fused forward pass is exercised), for every scheme with and without α_f.
+/// The fast integrator against the textbook step, on the coupled paper beam with a frame
+/// actuator (band storage; the frame's body rows reach back over the leg span, so the long
+/// rows are exercised) and on its modal-reduced model (15 dense DOFs: the dense path), for
+/// schemes with and without α_f, with the FMA build and without.
 #[test]
-fn fused_kernel_matches_textbook_step_to_round_off() {
+fn fast_integrator_matches_textbook_step_to_round_off() {
+    use beamflow::analysis::reduction::{self, Cutoff, ReductionSettings};
     use beamflow::assembly::System;
     use beamflow::case::{build_model, LoadedCase};
     use beamflow::solve::fused::FusedNewmark;
     let text =
         "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
     let lc = LoadedCase::from_str(text, "fused.toml", std::env::temp_dir()).unwrap();
-    let sys = System::assemble(&build_model(&lc).unwrap().model).unwrap();
-    let n = sys.n();
-    let drive = sys.drives[0].clone();
-    // (Linear acceleration is only conditionally stable: this mesh's top modes need Δt < 1e-7 s.)
-    for scheme in [Scheme::average_acceleration(), Scheme::hht(0.1), Scheme::generalized_alpha(0.8)] {
-        let dt = 1.0 / 60.0 / 200.0;
-        let mut slow = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
-        let mut fast = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
-        fast.track_dissipation = true;
-        let zeros = vec![0.0; n];
-        slow.initialize(&zeros, &zeros, &zeros, &mut []).unwrap();
-        fast.set_state(&zeros, &zeros, &zeros, &[]);
-        let mut f = vec![0.0; n];
-        // Worst relative difference of u, v and a over the run.
-        let (mut worst, mut d_fast, mut d_slow) = ([0.0f64; 3], 0.0, 0.0);
-        for step in 1..=600 {
-            let fp = 46.8 * (2.0 * std::f64::consts::PI * 60.0 * step as f64 * dt).sin();
-            let sparse: Vec<(usize, f64)> = drive.iter().map(|&(d, c)| (d, c * fp)).collect();
-            f.iter_mut().for_each(|x| *x = 0.0);
-            for &(d, v) in &sparse {
-                f[d] += v;
-            }
-            let v_old = slow.v.clone();
-            slow.step(&f);
-            d_fast += fast.step(&sparse);
-            let vbar: Vec<f64> = v_old.iter().zip(&slow.v).map(|(a, b)| 0.5 * (a + b)).collect();
-            d_slow += dt * sys.c.bilinear(&vbar, &vbar);
-            for (q, (x, y)) in [(&slow.u, fast.u()), (&slow.v, fast.v()), (&slow.a, fast.a())].into_iter().enumerate() {
-                let s = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                let e = x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
-                assert!(s > 0.0 || step == 1, "step {step} q {q} drive {drive:?}");
-                worst[q] = worst[q].max(e / s.max(f64::MIN_POSITIVE));
+    let model = build_model(&lc).unwrap().model;
+    let full = System::assemble(&model).unwrap();
+    let rs = ReductionSettings { cutoff: Cutoff::HarmonicFactor(5.0), static_correction: true, error_estimate: false };
+    let hz = reduction::cutoff_hz(&model, &rs, 9).unwrap();
+    let (red, _) = reduction::reduce(&model, &full, &rs, hz).unwrap();
+    for (sys, dense) in [(&full, false), (&red, true)] {
+        let n = sys.n();
+        let drive = sys.drives[0].clone();
+        // (Linear acceleration is only conditionally stable: this mesh's top modes need
+        // Δt < 1e-7 s.)
+        for scheme in [Scheme::average_acceleration(), Scheme::hht(0.1), Scheme::generalized_alpha(0.8)] {
+            for fma in [true, false] {
+                let dt = 1.0 / 60.0 / 200.0;
+                let mut slow = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
+                let mut fast = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
+                assert_eq!(fast.is_dense(), dense, "{n} DOFs");
+                if !fma {
+                    fast.disable_fma();
+                }
+                fast.track_dissipation = true;
+                let zeros = vec![0.0; n];
+                slow.initialize(&zeros, &zeros, &zeros, &mut []).unwrap();
+                fast.set_state(&zeros, &zeros, &zeros, &[]);
+                let mut f = vec![0.0; n];
+                // Worst relative difference of u, v and a over the run.
+                let (mut worst, mut d_fast, mut d_slow) = ([0.0f64; 3], 0.0, 0.0);
+                for step in 1..=600 {
+                    let fp = 46.8 * (2.0 * std::f64::consts::PI * 60.0 * step as f64 * dt).sin();
+                    let sparse: Vec<(usize, f64)> = drive.iter().map(|&(d, c)| (d, c * fp)).collect();
+                    f.iter_mut().for_each(|x| *x = 0.0);
+                    for &(d, v) in &sparse {
+                        f[d] += v;
+                    }
+                    let v_old = slow.v.clone();
+                    slow.step(&f);
+                    d_fast += fast.step(&sparse);
+                    let vbar: Vec<f64> = v_old.iter().zip(&slow.v).map(|(a, b)| 0.5 * (a + b)).collect();
+                    d_slow += dt * sys.c.bilinear(&vbar, &vbar);
+                    for (q, (x, y)) in
+                        [(&slow.u, fast.u()), (&slow.v, fast.v()), (&slow.a, fast.a())].into_iter().enumerate()
+                    {
+                        let s = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                        let e = x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+                        assert!(s > 0.0 || step == 1, "step {step}: zero or non-finite state");
+                        worst[q] = worst[q].max(e / s.max(f64::MIN_POSITIVE));
+                    }
+                }
+                // Round-off, amplified by K_eff's conditioning (≈ 1e6 here) over 600 steps; a
+                // is (Δu − Δt·v)/(βΔt²), a difference of nearly equal numbers, so it shows most.
+                assert!(
+                    worst[0] < 1e-8 && worst[1] < 1e-8 && worst[2] < 1e-6,
+                    "{n} DOFs, {scheme:?}, fma {fma}: fast vs textbook {worst:?}"
+                );
+                assert!(
+                    (d_fast - d_slow).abs() < 1e-10 * d_slow.abs(),
+                    "{n} DOFs, {scheme:?}: dissipation {d_fast} vs {d_slow}"
+                );
             }
         }
-        // Round-off, amplified by K_eff's conditioning (≈ 1e6 here) over 600 steps; a is
-        // (Δu − Δt·v)/(βΔt²), a difference of nearly equal numbers, so it shows most.
-        assert!(worst[0] < 1e-8 && worst[1] < 1e-8 && worst[2] < 1e-6, "{scheme:?}: fused vs textbook {worst:?}");
-        assert!((d_fast - d_slow).abs() < 1e-10 * d_slow.abs(), "{scheme:?}: dissipation {d_fast} vs {d_slow}");
     }
 }

@@ -248,6 +248,18 @@ struct LinkState {
     fi: f64,
 }
 
+/// (Σ c·x[d], Σ c·y[d]) over sparse pairs (d, c), with two partial sums each: a reduced
+/// model's link rows are dense, and one accumulator would make each term wait on the last.
+#[inline]
+fn combine2(pairs: &[(usize, f64)], x: &[f64], y: &[f64]) -> (f64, f64) {
+    let (mut sx, mut sy) = ([0.0f64; 2], [0.0f64; 2]);
+    for (k, &(d, c)) in pairs.iter().enumerate() {
+        sx[k & 1] += c * x[d];
+        sy[k & 1] += c * y[d];
+    }
+    (sx[0] + sx[1], sy[0] + sy[1])
+}
+
 /// The time grid of a run: step, samples per period and the period (s).
 pub fn time_grid(model: &Model, s: &TransientSettings) -> Result<(f64, usize, f64, bool)> {
     let first = model.actuators.first().ok_or_else(|| {
@@ -355,6 +367,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let zeros = vec![0.0; n];
     let a0 = consistent_acceleration(&sys.m, &sys.c, &sys.k, &sys.envelope, &zeros, &zeros, &loads)?;
     nm.set_state(&zeros, &zeros, &a0, &loads);
+    nm.set_load_patterns(sys.drives.clone());
+    nm.set_previous_weights(&fp0);
 
     let total_periods = if !periodic {
         1
@@ -384,10 +398,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     // sample and the end point of this step's energy terms.
     let link_state = |nm: &FusedNewmark, lk: &crate::assembly::LinkDofs, fp: &[f64]| -> LinkState {
         let (u, v, a) = (nm.u(), nm.v(), nm.a());
-        let su: f64 = lk.stretch.iter().map(|&(d, c)| c * u[d]).sum();
-        let sud: f64 = lk.stretch.iter().map(|&(d, c)| c * v[d]).sum();
-        let fv: f64 = lk.foot.iter().map(|&(d, c)| c * v[d]).sum();
-        let fa: f64 = lk.foot.iter().map(|&(d, c)| c * a[d]).sum();
+        let (su, sud) = combine2(&lk.stretch, u, v);
+        let (fv, fa) = combine2(&lk.foot, v, a);
         let ft = lk.k * su + lk.c * sud - if lk.active { fp[lk.actuator] } else { 0.0 };
         LinkState { u: su, ud: sud, fv, fa, fi: ft - lk.foot_mass * fa }
     };
@@ -446,11 +458,10 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             for a in 0..na {
                 fp_step[a] = stacks[a].active_force(hist_v[a][j + 1], hist_h[a][j + 1]);
             }
-            set_loads(&mut loads, &fp_step);
             // Energy by the midpoint rule, which the trapezoidal scheme balances exactly:
             // the system's dissipation Δt·v̄ᵀ·C·v̄ comes from the step itself; the beam's is
             // that minus the links' dampers, C = C_beam + Σ c_l·g_l·g_lᵀ.
-            let d_sys = nm.step(&loads);
+            let d_sys = nm.step_weighted(&fp_step);
             let mut d_beam = d_sys;
             let mut w_beam = 0.0;
             for (l, lk) in sys.links.iter().enumerate() {

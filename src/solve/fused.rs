@@ -96,6 +96,24 @@ struct Coeffs {
     va_new: f64,
 }
 
+/// Systems at most this large whose band covers half the matrix are stepped densely.
+const DENSE_LIMIT: usize = 48;
+
+/// The step of a small dense system as x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·F
+/// (− α_f·K_eff⁻¹K·u): column-major n×n operators, each column from a solve with the
+/// factor. A modal-reduced model is dense by construction, and for it independent
+/// multiply–adds over whole columns beat two triangular sweeps whose every row waits on the
+/// previous one.
+#[derive(Clone, Debug)]
+struct DenseStep {
+    /// C itself, column-major, for the dissipation.
+    c: Vec<f64>,
+    am: Vec<f64>,
+    ac: Vec<f64>,
+    ak: Option<Vec<f64>>,
+    a: Vec<f64>,
+}
+
 /// A linear system's Newmark integrator on band storage.
 pub struct FusedNewmark {
     scheme: Scheme,
@@ -132,6 +150,15 @@ pub struct FusedNewmark {
     /// F_n, kept for α_f ≠ 0.
     f_prev: Vec<(usize, f64)>,
     fma: bool,
+    /// For small dense systems (modal-reduced models), the step as dense products.
+    dense: Option<DenseStep>,
+    /// Registered load patterns b_a (see `set_load_patterns`), K_eff⁻¹·b_a for the dense
+    /// step, and the pattern weights of the step in progress (α_f-blended) and of F_n.
+    patterns: Vec<Vec<(usize, f64)>>,
+    patterns_solved: Vec<Vec<f64>>,
+    weights: Vec<f64>,
+    weights_prev: Vec<f64>,
+    use_weights: bool,
     /// Accumulate Δt·v̄ᵀ·C·v̄ (v̄ the step's mean velocity) and return it from `step`.
     pub track_dissipation: bool,
 }
@@ -149,7 +176,8 @@ impl FusedNewmark {
         k.add_into_skyline(1.0 - s.alpha_f, &mut k_eff);
         c.add_into_skyline((1.0 - s.alpha_f) * s.gamma / (s.beta * dt), &mut k_eff);
         m.add_into_skyline((1.0 - s.alpha_m) / (s.beta * dt * dt), &mut k_eff);
-        let (first, start, lv, d) = k_eff.factorize()?.into_parts();
+        let factor = k_eff.factorize()?;
+        let (first, start, lv, d) = factor.clone().into_parts();
 
         // Band half-width: covers nine rows in ten; the rest get side lists.
         let mut widths: Vec<usize> = first.iter().enumerate().map(|(i, &f)| i - f).collect();
@@ -196,6 +224,25 @@ impl FusedNewmark {
         let (mm, cc) = (dia(m, 0), dia(c, 1));
         let kk = dia(k, 2);
         extra.sort_by_key(|e| (e.i, e.j));
+        let dense = (n <= DENSE_LIMIT && 2 * b >= n).then(|| {
+            let column = |a: Option<&Csr>, j: usize| {
+                let mut x = vec![0.0; n];
+                match a {
+                    Some(a) => (0..n).for_each(|i| x[i] = a.get(i, j)),
+                    None => x[j] = 1.0,
+                }
+                factor.solve_in_place(&mut x);
+                x
+            };
+            let op = |a: Option<&Csr>| (0..n).flat_map(|j| column(a, j)).collect::<Vec<f64>>();
+            DenseStep {
+                c: (0..n * n).map(|q| c.get(q % n, q / n)).collect(),
+                am: op(Some(m)),
+                ac: op(Some(c)),
+                ak: (s.alpha_f != 0.0).then(|| op(Some(k))),
+                a: op(None),
+            }
+        });
         #[cfg(target_arch = "x86_64")]
         let fma = std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma");
         #[cfg(not(target_arch = "x86_64"))]
@@ -225,6 +272,12 @@ impl FusedNewmark {
             touched: Vec::new(),
             f_prev: Vec::new(),
             fma,
+            dense,
+            patterns: Vec::new(),
+            patterns_solved: Vec::new(),
+            weights: Vec::new(),
+            weights_prev: Vec::new(),
+            use_weights: false,
             track_dissipation: false,
         })
     }
@@ -253,6 +306,11 @@ impl FusedNewmark {
             .sum::<usize>()
             + self.k.as_ref().map_or(0, |k| k.len());
         vecs * f + self.extra.len() * std::mem::size_of::<Extra>() + self.long.len() * std::mem::size_of::<LongRow>()
+    }
+
+    /// Whether the step runs as dense products (small dense systems).
+    pub fn is_dense(&self) -> bool {
+        self.dense.is_some()
     }
 
     /// Whether the AVX2 + FMA build of the step is in use.
@@ -286,6 +344,61 @@ impl FusedNewmark {
         self.f_prev.extend_from_slice(f0);
     }
 
+    /// Registers load patterns b_a (sparse, on the system's DOFs) for `step_weighted`, whose
+    /// load is Σ_a b_a·weight_a: the actuators' drives. For a dense system K_eff⁻¹·b_a is
+    /// computed once, so a step's load costs n multiply–adds per pattern.
+    pub fn set_load_patterns(&mut self, patterns: Vec<Vec<(usize, f64)>>) {
+        let n = self.n;
+        self.patterns_solved = match &self.dense {
+            Some(ops) => patterns
+                .iter()
+                .map(|b| {
+                    let mut x = vec![0.0; n];
+                    for &(d, c) in b {
+                        for i in 0..n {
+                            x[i] += ops.a[d * n + i] * c;
+                        }
+                    }
+                    x
+                })
+                .collect(),
+            None => Vec::new(),
+        };
+        self.weights = vec![0.0; patterns.len()];
+        self.weights_prev = vec![0.0; patterns.len()];
+        self.patterns = patterns;
+    }
+
+    /// Sets the weights of F_n (the current load) for α_f schemes; see `set_load_patterns`.
+    pub fn set_previous_weights(&mut self, w: &[f64]) {
+        self.weights_prev.copy_from_slice(w);
+    }
+
+    /// Advances one step to the load F_{n+1} = Σ_a b_a·wₐ of the registered patterns.
+    /// Returns Δt·v̄ᵀ·C·v̄ if `track_dissipation` is set, else 0.
+    pub fn step_weighted(&mut self, w: &[f64]) -> f64 {
+        assert_eq!(w.len(), self.patterns.len(), "one weight per registered load pattern");
+        let af = self.scheme.alpha_f;
+        for a in 0..w.len() {
+            self.weights[a] = (1.0 - af) * w[a] + af * self.weights_prev[a];
+            self.weights_prev[a] = w[a];
+        }
+        if self.dense.is_none() {
+            for (b, &wa) in self.patterns.iter().zip(&self.weights) {
+                for &(d, c) in b {
+                    self.load[d] += c * wa;
+                    self.touched.push(d);
+                }
+            }
+        }
+        self.use_weights = true;
+        let f_prev = std::mem::take(&mut self.f_prev);
+        let diss = self.step(&[]);
+        self.f_prev = f_prev;
+        self.use_weights = false;
+        diss
+    }
+
     /// Advances one step to the load F_{n+1} (sparse pairs, duplicates summed). Returns
     /// Δt·v̄ᵀ·C·v̄ if `track_dissipation` is set, else 0.
     pub fn step(&mut self, f_next: &[(usize, f64)]) -> f64 {
@@ -296,7 +409,7 @@ impl FusedNewmark {
             self.load[d] += (1.0 - af) * f;
             self.touched.push(d);
         }
-        if af != 0.0 {
+        if af != 0.0 && !self.use_weights {
             for &(d, f) in &self.f_prev {
                 self.load[d] += af * f;
                 self.touched.push(d);
@@ -322,7 +435,7 @@ impl FusedNewmark {
             self.load[d] = 0.0;
         }
         self.touched.clear();
-        if af != 0.0 {
+        if af != 0.0 && !self.use_weights {
             self.f_prev.clear();
             self.f_prev.extend_from_slice(f_next);
         }
@@ -346,6 +459,10 @@ impl FusedNewmark {
 
     #[inline(always)]
     fn by_width<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
+        if self.dense.is_some() {
+            self.dense_solve::<FMA>(k);
+            return self.update::<FMA>(k);
+        }
         match self.b {
             0 => self.step_impl::<_, FMA>(Fixed::<0>, k),
             1 => self.step_impl::<_, FMA>(Fixed::<1>, k),
@@ -362,6 +479,47 @@ impl FusedNewmark {
         self.forward::<W, FMA>(w);
         self.backward::<W, FMA>(w);
         self.update::<FMA>(k)
+    }
+
+    /// x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·load (− α_f·K_eff⁻¹K·u), column by column.
+    #[inline(always)]
+    fn dense_solve<const FMA: bool>(&mut self, k: Coeffs) {
+        let (n, b) = (self.n, self.b);
+        let ops = self.dense.as_ref().expect("dense step");
+        let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
+        let x = &mut self.x[b..b + n];
+        x.iter_mut().for_each(|x| *x = 0.0);
+        for j in 0..n {
+            let w1 = madd::<FMA>(k.cu, u[j], madd::<FMA>(k.cv, v[j], k.ca * a[j]));
+            let w2 = madd::<FMA>(k.eu, u[j], madd::<FMA>(k.ev, v[j], k.ea * a[j]));
+            let (am, ac) = (&ops.am[j * n..(j + 1) * n], &ops.ac[j * n..(j + 1) * n]);
+            for i in 0..n {
+                x[i] = madd::<FMA>(am[i], w1, madd::<FMA>(ac[i], w2, x[i]));
+            }
+            if let Some(ak) = &ops.ak {
+                let ak = &ak[j * n..(j + 1) * n];
+                let s = -k.af * u[j];
+                for i in 0..n {
+                    x[i] = madd::<FMA>(ak[i], s, x[i]);
+                }
+            }
+        }
+        if self.use_weights {
+            for (xa, &wa) in self.patterns_solved.iter().zip(&self.weights) {
+                for i in 0..n {
+                    x[i] = madd::<FMA>(xa[i], wa, x[i]);
+                }
+            }
+        }
+        for &d in &self.touched {
+            let f = std::mem::take(&mut self.load[d]);
+            if f != 0.0 {
+                let col = &ops.a[d * n..(d + 1) * n];
+                for i in 0..n {
+                    x[i] = madd::<FMA>(col[i], f, x[i]);
+                }
+            }
+        }
     }
 
     /// z = load + M·w₁ + C·w₂ (− α_f·K·u), by diagonals.
@@ -516,6 +674,19 @@ impl FusedNewmark {
         }
         if !self.track_dissipation {
             return 0.0;
+        }
+        if let Some(ops) = &self.dense {
+            // C·v̄ column by column into z (free here), then v̄ᵀ·(C·v̄).
+            let vb = &self.w1[b..b + n];
+            let cv = &mut self.z[b..b + n];
+            cv.iter_mut().for_each(|x| *x = 0.0);
+            for j in 0..n {
+                let col = &ops.c[j * n..(j + 1) * n];
+                for i in 0..n {
+                    cv[i] = madd::<FMA>(col[i], vb[j], cv[i]);
+                }
+            }
+            return vb.iter().zip(cv.iter()).map(|(a, b)| a * b).sum();
         }
         let stride = n + b;
         let c = &self.c[..(b + 1) * stride];
