@@ -159,6 +159,11 @@ pub struct FusedNewmark {
     weights: Vec<f64>,
     weights_prev: Vec<f64>,
     use_weights: bool,
+    /// w₁, w₂ already hold the next step's history terms (the update writes them while it
+    /// has u, v, a in registers); false after `set_state`.
+    w_ready: bool,
+    /// v̄ of the last step, padded like w₁, for the dissipation.
+    vbar: Vec<f64>,
     /// Accumulate Δt·v̄ᵀ·C·v̄ (v̄ the step's mean velocity) and return it from `step`.
     pub track_dissipation: bool,
 }
@@ -278,6 +283,8 @@ impl FusedNewmark {
             weights: Vec::new(),
             weights_prev: Vec::new(),
             use_weights: false,
+            w_ready: false,
+            vbar: vec![0.0; n + 2 * b],
             track_dissipation: false,
         })
     }
@@ -301,7 +308,7 @@ impl FusedNewmark {
         let f = std::mem::size_of::<f64>();
         let vecs = [&self.m, &self.c, &self.l, &self.l_tail, &self.d_inv, &self.u, &self.v, &self.a]
             .iter()
-            .chain([&self.w1, &self.w2, &self.up, &self.z, &self.x, &self.load].iter())
+            .chain([&self.w1, &self.w2, &self.vbar, &self.up, &self.z, &self.x, &self.load].iter())
             .map(|v| v.len())
             .sum::<usize>()
             + self.k.as_ref().map_or(0, |k| k.len());
@@ -340,6 +347,7 @@ impl FusedNewmark {
         self.u.copy_from_slice(u0);
         self.v.copy_from_slice(v0);
         self.a.copy_from_slice(a0);
+        self.w_ready = false;
         self.f_prev.clear();
         self.f_prev.extend_from_slice(f0);
     }
@@ -526,7 +534,7 @@ impl FusedNewmark {
     #[inline(always)]
     fn rhs<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
         let (n, b) = (self.n, w.b());
-        {
+        if !self.w_ready {
             let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
             let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
             for i in 0..n {
@@ -542,11 +550,10 @@ impl FusedNewmark {
         let stride = n + b;
         let (m, c) = (&self.m[..(b + 1) * stride], &self.c[..(b + 1) * stride]);
         let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
-        let load = &self.load[..n];
         let z = &mut self.z[b..b + n];
         for i in 0..n {
             let mut sm = m[i] * w1[i + b];
-            let mut sc = madd::<FMA>(c[i], w2[i + b], load[i]);
+            let mut sc = c[i] * w2[i + b];
             for t in 1..=b {
                 // SAFETY: t ≤ B and i < n, so t·(n+B) + i + t < (B+1)·(n+B), and
                 // i + B ± t lies in 0..n + 2B; unchecked so the row loop vectorises.
@@ -559,6 +566,10 @@ impl FusedNewmark {
                 }
             }
             z[i] = sm + sc;
+        }
+        // The load touches a handful of DOFs: added here rather than streamed in the loop.
+        for &d in &self.touched {
+            z[d] += std::mem::take(&mut self.load[d]);
         }
         if let Some(kk) = &self.k {
             let kk = &kk[..(b + 1) * stride];
@@ -661,7 +672,8 @@ impl FusedNewmark {
         {
             let x = &self.x[b..b + n];
             let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
-            let vbar = &mut self.w1[b..b + n];
+            let vbar = &mut self.vbar[b..b + n];
+            let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
             for i in 0..n {
                 let (ui, vi, ai) = (u[i], v[i], a[i]);
                 let a_new = madd::<FMA>(x[i] - ui - k.dt * vi, k.ab, -k.a_old * ai);
@@ -670,14 +682,19 @@ impl FusedNewmark {
                 v[i] = v_new;
                 a[i] = a_new;
                 vbar[i] = 0.5 * (vi + v_new);
+                // The next step's history terms, while u, v, a are at hand.
+                let un = x[i];
+                w1[i] = madd::<FMA>(k.cu, un, madd::<FMA>(k.cv, v_new, k.ca * a_new));
+                w2[i] = madd::<FMA>(k.eu, un, madd::<FMA>(k.ev, v_new, k.ea * a_new));
             }
         }
+        self.w_ready = true;
         if !self.track_dissipation {
             return 0.0;
         }
         if let Some(ops) = &self.dense {
             // C·v̄ column by column into z (free here), then v̄ᵀ·(C·v̄).
-            let vb = &self.w1[b..b + n];
+            let vb = &self.vbar[b..b + n];
             let cv = &mut self.z[b..b + n];
             cv.iter_mut().for_each(|x| *x = 0.0);
             for j in 0..n {
@@ -690,7 +707,7 @@ impl FusedNewmark {
         }
         let stride = n + b;
         let c = &self.c[..(b + 1) * stride];
-        let vb = &self.w1[..n + 2 * b];
+        let vb = &self.vbar[..n + 2 * b];
         // v̄ᵀ·C·v̄ = Σᵢ v̄ᵢ·(C_ii·v̄ᵢ + 2·Σ_{t≥1} C_{i,i−t}·v̄_{i−t}); four partial sums so the
         // reduction vectorises.
         let mut part = [0.0f64; 4];
