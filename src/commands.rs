@@ -44,6 +44,14 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
             _ => s += &format!("{:>4}  {:>14.6}  {:>14}  {:>11}\n", i + 1, f, "–", "–"),
         }
     }
+    if let Some(&bound) = r.roundoff_bound.first() {
+        if bound > 1e-3 {
+            s += &format!(
+                "note: this mesh is fine enough for round-off to matter: mode 1 may be off by up to ~{bound:.0e} \
+                 (relative; K's conditioning grows as elements⁴). Fewer elements give more accurate low modes.\n"
+            );
+        }
+    }
     s.trim_end().to_string()
 }
 
