@@ -30,6 +30,6 @@ pub mod report;
 pub mod spec;
 pub mod table;
 
-pub use exec::{evaluate, execute, parts_dir, run, Evaluator, Execution, OnEvaluated, RunOptions};
+pub use exec::{evaluate, execute, group_cases, parts_dir, run, Evaluator, Execution, OnEvaluated, RunOptions};
 pub use spec::{load, Combine, Parameter, Sweep, SweepAnalysis};
 pub use table::{merge, merge_files, Row, Shard, SweepTable};
