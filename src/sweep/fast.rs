@@ -11,6 +11,9 @@
 //!   integrates the Bouc–Wen cycle once per drive instead of once per case. The cached value
 //!   is a pure function of its key, so which thread fills it does not change any bit.
 //!
+//! [`steady_state_with`] also keeps the harmonic solver of one system between cases that
+//! share it (see `exec::Evaluator::evaluate_group`).
+//!
 //! `tests/sweeps.rs` checks it against `steady_state::run` on the same cases.
 
 use crate::analysis::steady_state::{link_harmonic, periodic_stack_forces, HarmonicSolver};
