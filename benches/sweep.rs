@@ -3,6 +3,9 @@
 //! the two shortcuts save (Rayleigh damping cached, fast steady state vs
 //! `steady_state::run`). Criterion reports the throughput in cases ("elements") per second.
 //!
+//! `fast_2x250` is 2 placements × 250 frequencies: the cases of a placement share one
+//! assembled system, as in a full placement sweep.
+//!
 //! `cargo bench --bench sweep`; numbers and machine in docs/performance.md (## Sweeps).
 
 use beamflow::sweep::{self, RunOptions, Sweep};
@@ -31,6 +34,13 @@ fn bench(c: &mut Criterion) {
             b.iter(|| sweep::run(&s, &RunOptions { threads: Some(threads), ..Default::default() }).unwrap())
         });
     }
+    // Few placements, many frequencies: the cases of a placement share one assembled system.
+    let wide = placement(2, 250, "");
+    g.throughput(Throughput::Elements(wide.len() as u64));
+    g.bench_function("fast_2x250/1_thread", |b| {
+        b.iter(|| sweep::run(&wide, &RunOptions { threads: Some(1), ..Default::default() }).unwrap())
+    });
+    g.throughput(Throughput::Elements(s.len() as u64));
     g.bench_function("steady_state_run/1_thread", |b| {
         b.iter(|| sweep::run(&s, &RunOptions { threads: Some(1), reference: true, ..Default::default() }).unwrap())
     });

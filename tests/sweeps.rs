@@ -402,6 +402,50 @@ fn frequency_sweep_matches_direct_steady_state() {
 }
 
 #[test]
+fn grouped_evaluation_equals_case_by_case() {
+    let d = Dir::new();
+    // Hysteresis on; placements × frequencies × amplitudes: two groups of six cases that
+    // differ only in the drive.
+    for base in ["base.toml", "frame.toml"] {
+        let s = d.sweep(
+            "g.sweep.toml",
+            &format!(
+                "base = \"{base}\"\n[[parameter]]\npath = \"actuator[0].voltage.amplitude\"\nvalues = [6.0, 12.0]\n\
+                 [[parameter]]\npath = \"actuator[0].x_e\"\nvalues = [0.1, 0.3]\n\
+                 [[parameter]]\npath = \"actuator[0].voltage.frequency\"\nvalues = [20.0, 60.0, 137.0]\n"
+            ),
+        );
+        let all: Vec<usize> = (0..s.len()).collect();
+        let groups = sweep::group_cases(&s, &all, usize::MAX);
+        assert_eq!(groups, vec![vec![0, 1, 2, 6, 7, 8], vec![3, 4, 5, 9, 10, 11]], "{base}");
+        assert_eq!(sweep::group_cases(&s, &all, 4)[..2], [vec![0, 1, 2, 6], vec![7, 8]]);
+        let grouped = sweep::run(&s, &threads(2)).unwrap();
+        let reference = sweep::run(&s, &RunOptions { reference: true, ..threads(1) }).unwrap();
+        assert_eq!(grouped.rows.len(), 12);
+        for (r, q) in grouped.rows.iter().zip(&reference.rows) {
+            let alone = sweep::evaluate(&s, r.index).unwrap();
+            assert!(r.bitwise_eq(&alone), "{base}: grouped differs from case by case: {r:?} vs {alone:?}");
+            assert!(r.bitwise_eq(q), "{base}: grouped differs from steady_state::run: {r:?} vs {q:?}");
+        }
+        // Evaluated in another order, one group at a time, the rows are the same.
+        let ev = sweep::Evaluator::new(&s, false);
+        let mut rows = Vec::new();
+        ev.evaluate_group(
+            &[8, 2, 6],
+            || false,
+            |r| {
+                rows.push(r);
+                Ok(())
+            },
+        )
+        .unwrap();
+        for r in &rows {
+            assert!(r.bitwise_eq(&grouped.rows[r.index]), "{base}: case {} out of order", r.index);
+        }
+    }
+}
+
+#[test]
 fn transient_option_agrees_with_steady_state() {
     let d = Dir::new();
     let text = "base = \"base.toml\"\nanalysis = \"transient\"\nharmonics = 3\n[[parameter]]\n\

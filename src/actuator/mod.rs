@@ -39,6 +39,15 @@ impl Actuator {
         }
     }
 
+    /// The stack, to change its drive: a sweep over drive frequencies keeps one model per
+    /// placement and sets each case's voltage on it.
+    pub fn stack_mut(&mut self) -> &mut Stack {
+        match self {
+            Actuator::Inertial(a) => &mut a.stack,
+            Actuator::Frame(a) => &mut a.stack,
+        }
+    }
+
     /// Short type name, as in case files.
     pub fn kind(&self) -> &'static str {
         match self {

@@ -54,6 +54,14 @@ pub struct SteadyStateResult {
 
 /// Stack forces over one period of the hysteresis's periodic cycle: (V, h, F_p) samples at
 /// t_j = j·T/N, j < N, for each actuator, and the number of periods it took.
+///
+/// The cycle settles over whole periods from h₀ at t = 0, until h at the end of a period
+/// repeats its start to 1e-13 of the hysteresis bound. h at the end of a period does not
+/// depend on the samples in between (the Bouc–Wen solution is exact over every monotone
+/// piece of the voltage, see [`crate::actuator::bouc_wen`]), so the settling periods are
+/// advanced from turning point to turning point, a few closed-form steps each, and only the
+/// settled period is sampled N times. Splitting at the samples as well would give the same
+/// h up to rounding, at N steps a period.
 pub fn periodic_stack_forces(model: &Model, period: f64, n: usize) -> Result<(Vec<[Vec<f64>; 3]>, usize)> {
     let mut out = Vec::new();
     let mut most = 0;
@@ -62,24 +70,42 @@ pub fn periodic_stack_forces(model: &Model, period: f64, n: usize) -> Result<(Ve
         let bound = bw.bound(st.h0).max(f64::MIN_POSITIVE);
         let mut h0 = st.h0;
         let mut p = 0;
-        let (v, h) = loop {
-            let t: Vec<f64> = (0..=n).map(|j| (p as f64 + j as f64 / n as f64) * period).collect();
-            let h = if st.hysteresis_on { bw.history(&st.voltage, &t, h0) } else { vec![0.0; n + 1] };
-            let change = (h[n] - h0).abs() / bound;
-            p += 1;
-            if change < 1e-13 || !st.hysteresis_on {
-                break (t[..n].iter().map(|&t| st.voltage.value(t)).collect::<Vec<_>>(), h[..n].to_vec());
+        if st.hysteresis_on {
+            loop {
+                let h_end = bw.advance_time(&st.voltage, h0, p as f64 * period, (p as f64 + 1.0) * period);
+                let change = (h_end - h0).abs() / bound;
+                p += 1;
+                if change < 1e-13 {
+                    break;
+                }
+                if p > 10_000 {
+                    return Err(Error::Numerical("the hysteresis cycle did not repeat within 10 000 periods".into()));
+                }
+                h0 = h_end;
             }
-            if p > 10_000 {
-                return Err(Error::Numerical("the hysteresis cycle did not repeat within 10 000 periods".into()));
-            }
-            h0 = h[n];
-        };
+        } else {
+            p = 1;
+        }
+        // The settled period, p − 1, sampled.
+        let t: Vec<f64> = (0..=n).map(|j| ((p - 1) as f64 + j as f64 / n as f64) * period).collect();
+        let mut h = if st.hysteresis_on { bw.history(&st.voltage, &t, h0) } else { vec![0.0; n + 1] };
+        h.truncate(n);
+        let v: Vec<f64> = t[..n].iter().map(|&t| st.voltage.value(t)).collect();
         most = most.max(p);
         let f = v.iter().zip(&h).map(|(&v, &h)| st.active_force(v, h)).collect();
         out.push([v, h, f]);
     }
     Ok((out, most))
+}
+
+/// Real time series x_j = Re Σ_k c_k·e^{2πi·kj/N}, j < N, of one period from its harmonic
+/// amplitudes c_k (k < N), by one inverse FFT: N·log N work instead of N·(k + 1) sines and
+/// cosines of a direct sum. `buf` is scratch of length N for `fft`.
+fn synthesise(fft: &dyn rustfft::Fft<f64>, buf: &mut [Complex64], c: &[Complex64]) -> Vec<f64> {
+    buf.fill(Complex64::default());
+    buf[..c.len()].copy_from_slice(c);
+    fft.process(buf);
+    buf.iter().map(|x| x.re).collect()
 }
 
 /// Solves the periodic steady state with `n_harm` harmonics from `samples` per period.
@@ -143,12 +169,11 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
     // One period in time, for plots.
     let nt = samples;
     res.t = (0..nt).map(|j| j as f64 * period / nt as f64).collect();
-    let synth = |c: &[Complex64]| -> Vec<f64> {
-        res.t
-            .iter()
-            .map(|&t| c.iter().enumerate().map(|(k, x)| (x * Complex64::from_polar(1.0, k as f64 * w0 * t)).re).sum())
-            .collect()
-    };
+    // t_j = j·T/N, so e^{ikω₀t_j} = e^{2πi·kj/N}: one period is an inverse DFT of the
+    // harmonics (rustfft's inverse transform is unnormalised, as the sum needs).
+    let ifft = rustfft::FftPlanner::new().plan_fft_inverse(nt);
+    let mut buf = vec![Complex64::default(); nt];
+    let mut synth = |c: &[Complex64]| -> Vec<f64> { synthesise(ifft.as_ref(), &mut buf, c) };
     for (l, lk) in sys.links.iter().enumerate() {
         let sp = &res.spectra[l];
         let u: Vec<Complex64> = q_all.iter().map(|q| lk.stretch.iter().map(|&(d, c)| q[d] * c).sum()).collect();
@@ -269,22 +294,74 @@ pub fn solve_harmonics(
     n_harm: usize,
     w0: f64,
 ) -> Result<(Vec<Vec<Complex64>>, Vec<f64>)> {
-    let n = sys.n();
-    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
-    let mut q_all = Vec::with_capacity(n_harm + 1);
-    let mut diss = Vec::with_capacity(n_harm + 1);
-    for k in 0..=n_harm {
-        let w = k as f64 * w0;
-        let mut rhs = vec![Complex64::default(); n];
-        for (a, b) in sys.drives.iter().enumerate() {
-            for &(d, c) in b {
-                rhs[d] += fp_h(a, k) * c;
+    let mut solver = HarmonicSolver::new(sys);
+    solver.solve(fp_h, n_harm, w0)?;
+    Ok((solver.q, solver.diss))
+}
+
+/// The harmonic solves of one system, kept for many periodic steady states: a sweep
+/// evaluates every drive frequency of a placement against one assembled system, and this
+/// keeps its profile storage and the Q_k vectors, so a steady state allocates nothing.
+/// Results are bit for bit those of [`solve_harmonics`].
+pub struct HarmonicSolver<'s> {
+    sys: &'s System,
+    dk: DynamicStiffness,
+    /// Q_k, k = 0..=n_harm, of the last [`HarmonicSolver::solve`] (DOF units: m, rad).
+    pub q: Vec<Vec<Complex64>>,
+    /// Beam dissipation per harmonic (W) of the last solve.
+    pub diss: Vec<f64>,
+}
+
+impl<'s> HarmonicSolver<'s> {
+    pub fn new(sys: &'s System) -> Self {
+        HarmonicSolver {
+            sys,
+            dk: DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope),
+            q: Vec::new(),
+            diss: Vec::new(),
+        }
+    }
+
+    /// The system solved against.
+    pub fn system(&self) -> &'s System {
+        self.sys
+    }
+
+    /// Solves for k = 0..=n_harm at ω_k = k·ω₀ (rad/s), `fp_h(a, k)` = F̂_p,a,k (N), into
+    /// [`HarmonicSolver::q`] and [`HarmonicSolver::diss`].
+    pub fn solve(&mut self, fp_h: impl Fn(usize, usize) -> Complex64, n_harm: usize, w0: f64) -> Result<()> {
+        let sys = self.sys;
+        let n = sys.n();
+        self.q.resize_with(n_harm + 1, Vec::new);
+        self.diss.clear();
+        for (k, rhs) in self.q.iter_mut().enumerate() {
+            rhs.clear();
+            rhs.resize(n, Complex64::default());
+            for (a, b) in sys.drives.iter().enumerate() {
+                for &(d, c) in b {
+                    rhs[d] += fp_h(a, k) * c;
+                }
             }
         }
-        dk.factorize(w)?;
-        dk.solve_in_place(&mut rhs);
-        diss.push(dissipated_power(&sys.c_beam, &rhs, w));
-        q_all.push(rhs);
+        // Harmonics in pairs (see DynamicStiffness::factorize_pair): the same bits as one
+        // at a time, in less time.
+        for (p, pair) in self.q.chunks_mut(2).enumerate() {
+            let k = 2 * p;
+            match pair {
+                [qa, qb] => {
+                    self.dk.factorize_pair(k as f64 * w0, (k + 1) as f64 * w0)?;
+                    self.dk.solve_pair(qa, qb);
+                }
+                [qa] => {
+                    self.dk.factorize(k as f64 * w0)?;
+                    self.dk.solve_in_place(qa);
+                }
+                _ => unreachable!("chunks of 1 or 2"),
+            }
+        }
+        for (k, q) in self.q.iter().enumerate() {
+            self.diss.push(dissipated_power(&sys.c_beam, q, k as f64 * w0));
+        }
+        Ok(())
     }
-    Ok((q_all, diss))
 }

@@ -122,10 +122,21 @@ impl Csr {
     }
 
     /// Hermitian form x̄ᵀ·A·x of a complex vector (A real symmetric): real by symmetry.
+    /// Row by row, without storing A·x: harmonic solves call it once per frequency.
     pub fn hermitian_form(&self, x: &[num_complex::Complex64]) -> f64 {
-        let mut ax = vec![num_complex::Complex64::default(); self.dim()];
-        self.mul_vec(x, &mut ax);
-        x.iter().zip(&ax).map(|(a, b)| (a.conj() * b).re).sum()
+        let ip = self.mat.indptr();
+        let ip = ip.raw_storage();
+        let idx = self.mat.indices();
+        let val = self.mat.data();
+        let mut sum = -0.0;
+        for (i, xi) in x.iter().enumerate().take(self.dim()) {
+            let mut s = num_complex::Complex64::default();
+            for k in ip[i]..ip[i + 1] {
+                s += x[idx[k]] * val[k];
+            }
+            sum += (xi.conj() * s).re;
+        }
+        sum
     }
 
     /// Dense copy (row-major), for small problems and tests.

@@ -4,7 +4,8 @@
 use super::fast::{self, ForceCache, Headline};
 use super::spec::{Sweep, SweepAnalysis};
 use super::table::{decode_part, encode_part, Row, Shard, SweepTable};
-use crate::analysis::{steady_state, transient};
+use crate::analysis::steady_state::{self, HarmonicSolver};
+use crate::analysis::transient;
 use crate::assembly::System;
 use crate::case::build_model;
 use crate::error::{Error, Result};
@@ -105,8 +106,75 @@ impl<'a> Evaluator<'a> {
                 }
             }
         };
+        self.row(i, head)
+    }
+
+    /// Whether [`Evaluator::evaluate_group`] shares one assembled system between the cases
+    /// of a group (the fast steady-state path); otherwise it evaluates them one by one.
+    pub fn shares_systems(&self) -> bool {
+        self.sweep.analysis == SweepAnalysis::SteadyState && !self.reference
+    }
+
+    /// Evaluates cases that differ only in their drives (equal [`Sweep::model_key`]), in the
+    /// given order, and hands each row to `sink` as soon as it is done. The model and system
+    /// are built once, from the first case; every case then sets its actuators' voltages on
+    /// that model and solves against the shared system and its [`HarmonicSolver`]. Each
+    /// row is bit for bit what [`Evaluator::evaluate`] gives for the case alone. Stops before
+    /// a case when `cancelled()` says so.
+    pub fn evaluate_group(
+        &self,
+        indices: &[usize],
+        cancelled: impl Fn() -> bool,
+        mut sink: impl FnMut(Row) -> Result<()>,
+    ) -> Result<()> {
+        let Some(&first) = indices.first() else {
+            return Ok(());
+        };
+        if !self.shares_systems() || indices.len() == 1 {
+            for &i in indices {
+                if cancelled() {
+                    return Ok(());
+                }
+                sink(self.evaluate(i)?)?;
+            }
+            return Ok(());
+        }
+        let sweep = self.sweep;
+        let wrap = |i: usize| {
+            move |e: Error| Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string())
+        };
+        debug_assert!(indices.iter().all(|&i| sweep.model_key(i) == sweep.model_key(first)));
+        let lc = sweep.case(first)?;
+        let mut model = build_model(&lc).map_err(wrap(first))?.model;
+        let sys = System::assemble(&model).map_err(wrap(first))?;
+        let mut solver = HarmonicSolver::new(&sys);
+        let driven = sweep.driven_actuators();
+        for &i in indices {
+            if cancelled() {
+                return Ok(());
+            }
+            if i != first {
+                for &a in &driven {
+                    let v = sweep.voltage(i, a)?;
+                    let slot = model.actuators.get_mut(a).ok_or_else(|| {
+                        wrap(i)(Error::Numerical("the case's actuators differ from the base case's".into()))
+                    })?;
+                    slot.stack_mut().voltage = v;
+                }
+            }
+            let head =
+                fast::steady_state_with(&model, &mut solver, sweep.harmonics, sweep.samples_per_period, &self.forces)
+                    .map_err(wrap(i))?;
+            sink(self.row(i, head)?)?;
+        }
+        Ok(())
+    }
+
+    fn row(&self, i: usize, head: Headline) -> Result<Row> {
+        let sweep = self.sweep;
         if head.net_power.len() != sweep.actuators.len() || head.mean_power.len() != sweep.links.len() {
-            return Err(wrap(Error::Numerical("the case's actuators differ from the base case's".into())));
+            let e = Error::Numerical("the case's actuators differ from the base case's".into());
+            return Err(Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string()));
         }
         Ok(Row {
             index: i,
@@ -118,6 +186,24 @@ impl<'a> Evaluator<'a> {
             balance_error: head.balance_error,
         })
     }
+}
+
+/// The cases of `todo` (in order) in groups that share their model up to the drives (equal
+/// [`Sweep::model_key`]), each group in the order of `todo`, groups in the order of their
+/// first case. Groups longer than `max_len` are cut, so that a sweep of few placements and
+/// many frequencies still keeps every thread busy.
+pub fn group_cases(sweep: &Sweep, todo: &[usize], max_len: usize) -> Vec<Vec<usize>> {
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut by_key: std::collections::HashMap<Vec<u64>, usize> = std::collections::HashMap::new();
+    for &i in todo {
+        let g = *by_key.entry(sweep.model_key(i)).or_insert_with(|| {
+            groups.push(Vec::new());
+            groups.len() - 1
+        });
+        groups[g].push(i);
+    }
+    let max_len = max_len.max(1);
+    groups.into_iter().flat_map(|g| g.chunks(max_len).map(<[usize]>::to_vec).collect::<Vec<_>>()).collect()
 }
 
 /// Evaluates case `i` of a sweep on its own (fast path, fresh cache).
@@ -171,8 +257,10 @@ fn open_checkpoint(dir: &Path, sweep: &Sweep) -> Result<()> {
 /// already in the checkpoint directory are read, not recomputed. If cancelled, the table
 /// lacks the cases not run ([`SweepTable::missing`]).
 ///
-/// Every case is computed alone, from its own inputs, on one thread: the results do not
-/// depend on the thread count, the shard or the order of evaluation, bit for bit.
+/// Every case is computed from its own inputs, on one thread: the results do not depend on
+/// the thread count, the shard or the order of evaluation, bit for bit. Cases that differ
+/// only in their drives share the assembled system ([`Evaluator::evaluate_group`]), which
+/// gives the same bits as building it per case.
 pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
     let mut table = SweepTable::new(sweep, opts.shard);
     let indices = opts.shard.indices(sweep.len());
@@ -216,23 +304,33 @@ pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
         indicatif::ProgressBar::hidden()
     };
     let ev = Evaluator::new(sweep, opts.reference);
+    // Cases that differ only in their drives share one assembled system (most of a case's
+    // cost otherwise). Groups are cut so that there are at least ≈ 8 per thread.
+    let groups = if ev.shares_systems() {
+        group_cases(sweep, &todo, todo.len().div_ceil(8 * threads).max(16))
+    } else {
+        todo.iter().map(|&i| vec![i]).collect()
+    };
+    let cancelled = || opts.cancel.as_ref().is_some_and(|c| c.load(Ordering::SeqCst));
     let new: Vec<Row> = pool.install(|| {
-        todo.par_iter()
-            .map(|&i| {
-                if opts.cancel.as_ref().is_some_and(|c| c.load(Ordering::SeqCst)) {
-                    return Ok(None);
-                }
-                let row = ev.evaluate(i)?;
-                if let Some(dir) = &opts.checkpoint {
-                    write_part(dir, &row, &sweep.hash)?;
-                }
-                if let Some(cb) = &opts.on_evaluated {
-                    cb(i);
-                }
-                bar.inc(1);
-                Ok(Some(row))
+        groups
+            .par_iter()
+            .map(|g| {
+                let mut rows = Vec::with_capacity(g.len());
+                ev.evaluate_group(g, cancelled, |row| {
+                    if let Some(dir) = &opts.checkpoint {
+                        write_part(dir, &row, &sweep.hash)?;
+                    }
+                    if let Some(cb) = &opts.on_evaluated {
+                        cb(row.index);
+                    }
+                    bar.inc(1);
+                    rows.push(row);
+                    Ok(())
+                })?;
+                Ok(rows)
             })
-            .collect::<Result<Vec<Option<Row>>>>()
+            .collect::<Result<Vec<Vec<Row>>>>()
             .map(|v| v.into_iter().flatten().collect())
     })?;
     bar.finish_and_clear();

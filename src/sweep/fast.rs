@@ -11,9 +11,12 @@
 //!   integrates the Bouc–Wen cycle once per drive instead of once per case. The cached value
 //!   is a pure function of its key, so which thread fills it does not change any bit.
 //!
+//! [`steady_state_with`] also keeps the harmonic solver of one system between cases that
+//! share it (see `exec::Evaluator::evaluate_group`).
+//!
 //! `tests/sweeps.rs` checks it against `steady_state::run` on the same cases.
 
-use crate::analysis::steady_state::{link_harmonic, periodic_stack_forces};
+use crate::analysis::steady_state::{link_harmonic, periodic_stack_forces, HarmonicSolver};
 use crate::analysis::transient::{time_grid, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
@@ -68,8 +71,6 @@ pub struct Headline {
 }
 
 /// The periodic steady state's headline numbers, as `steady_state::run` computes them.
-// The harmonic loop is written as in `steady_state::run`, to keep the two easy to compare.
-#[allow(clippy::needless_range_loop)]
 pub fn steady_state(
     model: &Model,
     sys: &System,
@@ -77,6 +78,24 @@ pub fn steady_state(
     samples: usize,
     cache: &ForceCache,
 ) -> Result<Headline> {
+    steady_state_with(model, &mut HarmonicSolver::new(sys), n_harm, samples, cache)
+}
+
+/// [`steady_state`] against a solver kept between cases: the cases of a sweep that differ
+/// only in their drives (voltage) share the assembled system, so they share its solver and
+/// allocate nothing for the harmonic solves. `model` must be the model the solver's system
+/// was assembled from, up to the actuators' voltages. Bit for bit the same as
+/// [`steady_state`].
+// The harmonic loop is written as in `steady_state::run`, to keep the two easy to compare.
+#[allow(clippy::needless_range_loop)]
+pub fn steady_state_with(
+    model: &Model,
+    solver: &mut HarmonicSolver,
+    n_harm: usize,
+    samples: usize,
+    cache: &ForceCache,
+) -> Result<Headline> {
+    let sys = solver.system();
     let grid = TransientSettings { harmonics: n_harm, ..Default::default() };
     let (_, _, period, periodic) = time_grid(model, &grid)?;
     if !periodic {
@@ -85,12 +104,14 @@ pub fn steady_state(
     let fp_h =
         (0..model.actuators.len()).map(|a| cache.get(model, a, period, samples, n_harm)).collect::<Result<Vec<_>>>()?;
     let w0 = 2.0 * PI / period;
-    let (q_all, diss) = crate::analysis::steady_state::solve_harmonics(sys, |a, k| fp_h[a][k], n_harm, w0)?;
+    solver.solve(|a, k| fp_h[a][k], n_harm, w0)?;
+    let (q_all, diss) = (&solver.q, &solver.diss);
+    let mut fp = vec![Complex64::default(); fp_h.len()];
     let mut out = Headline::default();
     for lk in &sys.links {
         let mut power = Vec::with_capacity(n_harm + 1);
         for (k, q) in q_all.iter().enumerate() {
-            let fp: Vec<Complex64> = fp_h.iter().map(|f| f[k]).collect();
+            fp.iter_mut().zip(&fp_h).for_each(|(x, f)| *x = f[k]);
             let h = link_harmonic(lk, q, k as f64 * w0, &fp);
             power.push(if k == 0 { 2.0 * h.power } else { h.power });
             if k == 1 {

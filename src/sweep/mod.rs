@@ -9,9 +9,11 @@
 //! dissipation and the energy-balance error ([`exec`]). Results go into one table
 //! ([`table`]): one row per case, in case order, written as HDF5.
 //!
-//! Reproducibility: a case is computed alone, on one thread, from its own inputs, so the
-//! table does not depend on the thread count or on how the sweep was sharded — the merge
-//! of shards is bit for bit the single run. Shards are round-robin (`k/N` takes cases
+//! Reproducibility: a case is computed on one thread from its own inputs, so the table
+//! does not depend on the thread count or on how the sweep was sharded — the merge of
+//! shards is bit for bit the single run. Cases that differ only in their drives
+//! (`actuator[a].voltage.…`) share one assembled system ([`exec::Evaluator::evaluate_group`]);
+//! that saves the assembly and gives the same bits as building it per case. Shards are round-robin (`k/N` takes cases
 //! i with i mod N = k − 1). A running sweep saves every finished case in a checkpoint
 //! directory; rerunning it skips them.
 //!
@@ -30,6 +32,6 @@ pub mod report;
 pub mod spec;
 pub mod table;
 
-pub use exec::{evaluate, execute, parts_dir, run, Evaluator, Execution, OnEvaluated, RunOptions};
+pub use exec::{evaluate, execute, group_cases, parts_dir, run, Evaluator, Execution, OnEvaluated, RunOptions};
 pub use spec::{load, Combine, Parameter, Sweep, SweepAnalysis};
 pub use table::{merge, merge_files, Row, Shard, SweepTable};

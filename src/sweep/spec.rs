@@ -5,6 +5,7 @@
 use crate::assembly::system::Rayleigh;
 use crate::case::{AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase, Spacing};
 use crate::error::{Error, Result};
+use crate::signal::voltage::VoltageInput;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -181,6 +182,16 @@ pub struct Parameter {
 }
 
 impl Parameter {
+    /// The actuator whose drive this parameter sets, if its path starts with
+    /// `actuator[a].voltage.`: such a parameter changes what the stack is driven with, not
+    /// the model that is assembled.
+    pub fn drive_of(&self) -> Option<usize> {
+        match self.segments.as_slice() {
+            [a, v, _, ..] if a.key == "actuator" && v.key == "voltage" && v.index.is_none() => a.index,
+            _ => None,
+        }
+    }
+
     /// The value as TOML.
     fn toml(&self, v: f64) -> toml::Value {
         if self.integer {
@@ -543,6 +554,47 @@ impl Sweep {
             .map(|(p, v)| format!("{} = {v}", p.path))
             .collect::<Vec<_>>()
             .join(", ")
+    }
+
+    /// Identifies the model of case `i` up to the actuators' drives: the bits of its values
+    /// of the parameters that are not [`Parameter::drive_of`] an actuator. Cases with equal
+    /// keys assemble the same system (the voltage enters only the stack forces).
+    pub fn model_key(&self, i: usize) -> Vec<u64> {
+        self.parameters
+            .iter()
+            .zip(self.values(i))
+            .filter(|(p, _)| p.drive_of().is_none())
+            .map(|(_, v)| v.to_bits())
+            .collect()
+    }
+
+    /// Actuators whose drive some parameter changes.
+    pub fn driven_actuators(&self) -> Vec<usize> {
+        let mut a: Vec<usize> = self.parameters.iter().filter_map(Parameter::drive_of).collect();
+        a.sort_unstable();
+        a.dedup();
+        a
+    }
+
+    /// The voltage of actuator `a` in case `i`, as [`Sweep::case`] would build it (the base
+    /// case's `actuator[a].voltage` with the case's values of the parameters under it set,
+    /// loaded and validated), without expanding and checking the whole case.
+    pub fn voltage(&self, i: usize, a: usize) -> Result<VoltageInput> {
+        let field = format!("actuator[{a}].voltage");
+        let file = format!("{} [sweep case {i}]", self.base_file);
+        let wrap = |reason: String| Error::input(&self.file, format!("case {i} ({})", self.describe(i)), reason);
+        let path = [Segment { key: "actuator".into(), index: Some(a) }, Segment { key: "voltage".into(), index: None }];
+        let mut val = get_path(&self.base_value, &path).cloned().unwrap_or(toml::Value::Table(Default::default()));
+        for (p, v) in self.parameters.iter().zip(self.values(i)) {
+            if p.drive_of() == Some(a) {
+                set_path(&mut val, &p.segments[2..], p.toml(v)).map_err(wrap)?;
+            }
+        }
+        let mut voltage: VoltageInput =
+            val.try_into().map_err(|e: toml::de::Error| wrap(e.message().trim_end().to_string()))?;
+        voltage.load(&self.base_dir, &file, &field).map_err(|e| wrap(e.to_string()))?;
+        voltage.validate(&file, &field).map_err(|e| wrap(e.to_string()))?;
+        Ok(voltage)
     }
 
     /// The case with index `i`: the base with the case's values set, deserialised and
