@@ -1,5 +1,5 @@
 //! Running a sweep: one case evaluated, the shard's cases in parallel on a local rayon
-//! pool, per-case checkpoints for resuming, and the output file.
+//! pool, checkpoints for resuming (batches of rows), and the output file.
 
 use super::fast::{self, ForceCache, Headline};
 use super::spec::{Sweep, SweepAnalysis};
@@ -10,7 +10,7 @@ use crate::assembly::System;
 use crate::case::build_model;
 use crate::error::{Error, Result};
 use rayon::prelude::*;
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::Arc;
@@ -25,8 +25,9 @@ pub struct RunOptions {
     pub threads: Option<usize>,
     /// The part of the sweep to run.
     pub shard: Shard,
-    /// Directory of per-case checkpoint files: cases found there are not recomputed, and
-    /// every case computed is saved there as soon as it is done.
+    /// Directory of checkpoint files: cases found there are not recomputed, and
+    /// every case computed is saved there in batches of at most 256 rows, and when its
+    /// group of cases ends or stops.
     pub checkpoint: Option<PathBuf>,
     /// Show a progress bar on stderr (never drawn when stderr is not a terminal).
     pub progress: bool,
@@ -211,20 +212,41 @@ pub fn evaluate(sweep: &Sweep, i: usize) -> Result<Row> {
     Evaluator::new(sweep, false).evaluate(i)
 }
 
-fn part_path(dir: &Path, i: usize) -> PathBuf {
-    dir.join(format!("case-{i:09}.bin"))
+/// Checkpoint rows are flushed to a file at least this often (and when a group ends).
+const ROWS_PER_PART: usize = 256;
+
+/// Writes checkpoint rows as one part file: temporary file, then rename (atomic against a
+/// crash of this process). Rows are batched because one file per case made the file system,
+/// not the physics, the cost of a large sweep. No fsync — it would cost more than many
+/// cases; after a power loss a damaged row fails its checksum and is simply recomputed.
+fn write_part(dir: &Path, rows: &[Row], hash: &str) -> Result<()> {
+    static SEQ: AtomicUsize = AtomicUsize::new(0);
+    let Some(first) = rows.first() else { return Ok(()) };
+    let seq = SEQ.fetch_add(1, Ordering::Relaxed);
+    let name = format!("rows-{:09}-{}-{seq}.bin", first.index, std::process::id());
+    let dest = dir.join(&name);
+    let tmp = dir.join(format!(".{name}.tmp"));
+    let bytes: Vec<u8> = rows.iter().flat_map(|r| encode_part(r, hash)).collect();
+    std::fs::write(&tmp, bytes).map_err(|e| Error::io(&tmp, e))?;
+    std::fs::rename(&tmp, &dest).map_err(|e| Error::io(&dest, e))
 }
 
-/// Writes a checkpoint: temporary file, then rename (atomic against a crash of this
-/// process). No fsync per case — it would cost more than many cases; after a power loss
-/// a damaged part fails its checksum and the case is simply recomputed.
-fn write_part(dir: &Path, row: &Row, hash: &str) -> Result<()> {
-    let dest = part_path(dir, row.index);
-    let tmp = dir.join(format!(".case-{:09}.tmp-{}", row.index, std::process::id()));
-    let mut f = std::fs::File::create(&tmp).map_err(|e| Error::io(&tmp, e))?;
-    f.write_all(&encode_part(row, hash)).map_err(|e| Error::io(&tmp, e))?;
-    drop(f);
-    std::fs::rename(&tmp, &dest).map_err(|e| Error::io(&dest, e))
+/// Every intact checkpoint row in `dir` (part files hold fixed-length records; a damaged
+/// record is skipped, so only its case is recomputed).
+fn read_parts(dir: &Path, hash: &str, shape: (usize, usize, usize)) -> Vec<Row> {
+    let record = 36 + 8 * (shape.0 + shape.1 + 2 * shape.2 + 2) + 8;
+    let Ok(entries) = std::fs::read_dir(dir) else { return Vec::new() };
+    let files: Vec<PathBuf> = entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "bin"))
+        .collect();
+    files
+        .par_iter()
+        .flat_map_iter(|p| {
+            let b = std::fs::read(p).unwrap_or_default();
+            b.chunks_exact(record).filter_map(|c| decode_part(c, hash, shape)).collect::<Vec<_>>()
+        })
+        .collect()
 }
 
 /// Prepares a checkpoint directory: creates it with a `sweep-id` file, or checks that an
@@ -277,15 +299,13 @@ pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
     let mut done: Vec<Row> = Vec::new();
     if let Some(dir) = &opts.checkpoint {
         open_checkpoint(dir, sweep)?;
-        done = pool.install(|| {
-            indices
-                .par_iter()
-                .filter_map(|&i| {
-                    let b = std::fs::read(part_path(dir, i)).ok()?;
-                    decode_part(&b, &sweep.hash, shape).filter(|r| r.index == i)
-                })
-                .collect()
-        });
+        let wanted: std::collections::HashSet<usize> = indices.iter().copied().collect();
+        let mut seen = std::collections::HashSet::new();
+        done = pool
+            .install(|| read_parts(dir, &sweep.hash, shape))
+            .into_iter()
+            .filter(|r| wanted.contains(&r.index) && seen.insert(r.index))
+            .collect();
     }
     let have: std::collections::HashSet<usize> = done.iter().map(|r| r.index).collect();
     let todo: Vec<usize> = indices.iter().copied().filter(|i| !have.contains(i)).collect();
@@ -317,17 +337,27 @@ pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
             .par_iter()
             .map(|g| {
                 let mut rows = Vec::with_capacity(g.len());
-                ev.evaluate_group(g, cancelled, |row| {
-                    if let Some(dir) = &opts.checkpoint {
-                        write_part(dir, &row, &sweep.hash)?;
-                    }
+                let mut unsaved = 0;
+                let result = ev.evaluate_group(g, cancelled, |row| {
                     if let Some(cb) = &opts.on_evaluated {
                         cb(row.index);
                     }
                     bar.inc(1);
                     rows.push(row);
+                    unsaved += 1;
+                    if unsaved == ROWS_PER_PART {
+                        if let Some(dir) = &opts.checkpoint {
+                            write_part(dir, &rows[rows.len() - unsaved..], &sweep.hash)?;
+                        }
+                        unsaved = 0;
+                    }
                     Ok(())
-                })?;
+                });
+                // Save what the group finished, also when it stopped early.
+                if let Some(dir) = &opts.checkpoint {
+                    write_part(dir, &rows[rows.len() - unsaved..], &sweep.hash)?;
+                }
+                result?;
                 Ok(rows)
             })
             .collect::<Result<Vec<Vec<Row>>>>()

@@ -34,4 +34,4 @@ pub mod table;
 
 pub use exec::{evaluate, execute, group_cases, parts_dir, run, Evaluator, Execution, OnEvaluated, RunOptions};
 pub use spec::{load, Combine, Parameter, Sweep, SweepAnalysis};
-pub use table::{merge, merge_files, Row, Shard, SweepTable};
+pub use table::{encode_part, merge, merge_files, Row, Shard, SweepTable};
