@@ -35,3 +35,48 @@ fn periodic_steady_state_matches_the_transient_as_dt_shrinks() {
     assert!(errs[2] < 1e-4, "point powers differ by {:e} at Δt = T/800 (trend {errs:?})", errs[2]);
     assert!(errs[0] / errs[1] > 3.0 && errs[1] / errs[2] > 3.0, "error must fall ~4× per halving: {errs:?}");
 }
+
+/// Harmonics with no stack force are skipped, and only those: a sine drive through the
+/// symmetric hysteresis excites odd harmonics only (even ones are left at exactly zero),
+/// while a drive with a second harmonic and an offset gets its even harmonics and mean
+/// solved, and each of them matches a linear single-harmonic solve of the same system.
+#[test]
+fn only_harmonics_without_force_are_skipped() {
+    let sine = case(
+        "[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n",
+    );
+    let model = build_model(&sine).unwrap().model;
+    let sys = System::assemble(&model).unwrap();
+    let r = steady_state::run(&model, &sys, 9, 512).unwrap();
+    for k in 0..=9 {
+        let qmax = r.q[k].iter().fold(0.0f64, |m, z| m.max(z.norm()));
+        if k % 2 == 0 {
+            assert_eq!(qmax, 0.0, "harmonic {k} of a sine drive should be skipped");
+        } else {
+            assert!(qmax > 0.0, "harmonic {k} must be solved");
+        }
+    }
+    let mixed = case(
+        "[[actuator]]\ntype = \"inertial\"\n[actuator.stack]\nhysteresis = false\n[actuator.voltage]\nkind = \"sines\"\n\
+         offset = 3.0\ncomponents = [{ amplitude = 12.0, frequency = 60.0, phase = 0.0 }, \
+         { amplitude = 4.0, frequency = 120.0, phase = 0.3 }]\n",
+    );
+    let model = build_model(&mixed).unwrap().model;
+    let sys = System::assemble(&model).unwrap();
+    let r = steady_state::run(&model, &sys, 4, 256).unwrap();
+    for k in [0usize, 1, 2] {
+        let qmax = r.q[k].iter().fold(0.0f64, |m, z| m.max(z.norm()));
+        assert!(qmax > 0.0, "harmonic {k} of the two-tone drive with offset must be solved");
+    }
+    // Linear stack: Q_k is the solve of the dynamic stiffness against b·F̂_p,k.
+    let w0 = 2.0 * std::f64::consts::PI * 60.0;
+    for k in [0usize, 2] {
+        let (q, _) =
+            steady_state::solve_harmonics(&sys, |_, j| if j == k { r.f_p[0][k] } else { Default::default() }, k, w0)
+                .unwrap();
+        let err = q[k].iter().zip(&r.q[k]).fold(0.0f64, |m, (a, b)| m.max((a - b).norm()));
+        let scale = r.q[k].iter().fold(0.0f64, |m, z| m.max(z.norm()));
+        assert!(err <= 1e-9 * scale, "harmonic {k}: {err:e} of {scale:e}");
+    }
+    assert_eq!(r.q[3].iter().fold(0.0f64, |m, z| m.max(z.norm())), 0.0, "no third harmonic in a linear two-tone drive");
+}
