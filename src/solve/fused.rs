@@ -96,6 +96,9 @@ struct Coeffs {
     va_new: f64,
 }
 
+/// Widest band whose right-hand side runs on per-diagonal slices (vectorised).
+const MAX_SLICED: usize = 5;
+
 /// Systems at most this large whose band covers half the matrix are stepped densely.
 const DENSE_LIMIT: usize = 48;
 
@@ -551,21 +554,49 @@ impl FusedNewmark {
         let (m, c) = (&self.m[..(b + 1) * stride], &self.c[..(b + 1) * stride]);
         let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
         let z = &mut self.z[b..b + n];
-        for i in 0..n {
-            let mut sm = m[i] * w1[i + b];
-            let mut sc = c[i] * w2[i + b];
-            for t in 1..=b {
-                // SAFETY: t ≤ B and i < n, so t·(n+B) + i + t < (B+1)·(n+B), and
-                // i + B ± t lies in 0..n + 2B; unchecked so the row loop vectorises.
-                unsafe {
-                    let (lo, up) = (t * stride + i, t * stride + i + t);
-                    sm = madd::<FMA>(*m.get_unchecked(lo), *w1.get_unchecked(i + b - t), sm);
-                    sm = madd::<FMA>(*m.get_unchecked(up), *w1.get_unchecked(i + b + t), sm);
-                    sc = madd::<FMA>(*c.get_unchecked(lo), *w2.get_unchecked(i + b - t), sc);
-                    sc = madd::<FMA>(*c.get_unchecked(up), *w2.get_unchecked(i + b + t), sc);
-                }
+        if b <= MAX_SLICED {
+            // Every diagonal and every shifted copy of w as a slice of length n, so that no
+            // index in the row loop needs a bounds check and the loop vectorises.
+            let empty: &[f64] = &[];
+            let (mut ml, mut mu, mut cl, mut cu) =
+                ([empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1]);
+            let (mut w1l, mut w1u, mut w2l, mut w2u) =
+                ([empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1]);
+            for t in 0..=b {
+                let o = t * stride;
+                (ml[t], mu[t]) = (&m[o..o + n], &m[o + t..o + t + n]);
+                (cl[t], cu[t]) = (&c[o..o + n], &c[o + t..o + t + n]);
+                (w1l[t], w1u[t]) = (&w1[b - t..b - t + n], &w1[b + t..b + t + n]);
+                (w2l[t], w2u[t]) = (&w2[b - t..b - t + n], &w2[b + t..b + t + n]);
             }
-            z[i] = sm + sc;
+            for i in 0..n {
+                let mut sm = ml[0][i] * w1l[0][i];
+                let mut sc = cl[0][i] * w2l[0][i];
+                for t in 1..=b {
+                    sm = madd::<FMA>(ml[t][i], w1l[t][i], sm);
+                    sm = madd::<FMA>(mu[t][i], w1u[t][i], sm);
+                    sc = madd::<FMA>(cl[t][i], w2l[t][i], sc);
+                    sc = madd::<FMA>(cu[t][i], w2u[t][i], sc);
+                }
+                z[i] = sm + sc;
+            }
+        } else {
+            for i in 0..n {
+                let mut sm = m[i] * w1[i + b];
+                let mut sc = c[i] * w2[i + b];
+                for t in 1..=b {
+                    // SAFETY: t ≤ B and i < n, so t·(n+B) + i + t < (B+1)·(n+B), and
+                    // i + B ± t lies in 0..n + 2B.
+                    unsafe {
+                        let (lo, up) = (t * stride + i, t * stride + i + t);
+                        sm = madd::<FMA>(*m.get_unchecked(lo), *w1.get_unchecked(i + b - t), sm);
+                        sm = madd::<FMA>(*m.get_unchecked(up), *w1.get_unchecked(i + b + t), sm);
+                        sc = madd::<FMA>(*c.get_unchecked(lo), *w2.get_unchecked(i + b - t), sc);
+                        sc = madd::<FMA>(*c.get_unchecked(up), *w2.get_unchecked(i + b + t), sc);
+                    }
+                }
+                z[i] = sm + sc;
+            }
         }
         // The load touches a handful of DOFs: added here rather than streamed in the loop.
         for &d in &self.touched {
