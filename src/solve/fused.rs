@@ -47,6 +47,32 @@ struct Extra {
     k: f64,
 }
 
+/// The Newmark update of one row from its new displacement x: a, v, u, the step's mean
+/// velocity v̄ and the next step's history terms w₁, w₂.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn update_row<const FMA: bool>(
+    k: Coeffs,
+    i: usize,
+    x: f64,
+    u: &mut [f64],
+    v: &mut [f64],
+    a: &mut [f64],
+    vbar: &mut [f64],
+    w1: &mut [f64],
+    w2: &mut [f64],
+) {
+    let (ui, vi, ai) = (u[i], v[i], a[i]);
+    let a_new = madd::<FMA>(x - ui - k.dt * vi, k.ab, -k.a_old * ai);
+    let v_new = madd::<FMA>(k.va_new, a_new, madd::<FMA>(k.va_old, ai, vi));
+    u[i] = x;
+    v[i] = v_new;
+    a[i] = a_new;
+    vbar[i] = 0.5 * (vi + v_new);
+    w1[i] = madd::<FMA>(k.cu, x, madd::<FMA>(k.cv, v_new, k.ca * a_new));
+    w2[i] = madd::<FMA>(k.eu, x, madd::<FMA>(k.ev, v_new, k.ea * a_new));
+}
+
 /// The band half-width as a type, so that fixed widths unroll.
 trait Width: Copy {
     fn b(self) -> usize;
@@ -472,7 +498,8 @@ impl FusedNewmark {
     fn by_width<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
         if self.dense.is_some() {
             self.dense_solve::<FMA>(k);
-            return self.update::<FMA>(k);
+            self.update::<FMA>(k);
+            return self.dissipation::<FMA>();
         }
         match self.b {
             0 => self.step_impl::<_, FMA>(Fixed::<0>, k),
@@ -488,8 +515,9 @@ impl FusedNewmark {
     fn step_impl<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) -> f64 {
         self.rhs::<W, FMA>(w, k);
         self.forward::<W, FMA>(w);
-        self.backward::<W, FMA>(w);
-        self.update::<FMA>(k)
+        self.backward::<W, FMA>(w, k);
+        self.w_ready = true;
+        self.dissipation::<FMA>()
     }
 
     /// x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·load (− α_f·K_eff⁻¹K·u), column by column.
@@ -666,10 +694,13 @@ impl FusedNewmark {
     /// sits in row i+s at slot B−s), the newest xᵢ₊₁ last and from a register; the entries
     /// of long rows, which reach far back, are scattered as soon as their xₖ is known.
     #[inline(always)]
-    fn backward<W: Width, const FMA: bool>(&mut self, w: W) {
+    fn backward<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
         let (n, b) = (self.n, w.b());
         let l = &self.l[..(n + b) * b];
         let x = &mut self.x[..n + 2 * b];
+        let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
+        let vbar = &mut self.vbar[b..b + n];
+        let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         let mut lp = self.long.len();
         let mut prev = 0.0; // x_{i+1}
         for i in (0..n).rev() {
@@ -685,6 +716,9 @@ impl FusedNewmark {
             }
             x[i + b] = xi;
             prev = xi;
+            // Row i's new state is final: update it here, off the sweep's critical path,
+            // so the processor overlaps it with the recurrence's latency.
+            update_row::<FMA>(k, i, xi, u, v, a, vbar, w1, w2);
             if lp > 0 && self.long[lp - 1].row == i {
                 lp -= 1;
                 let lr = self.long[lp];
@@ -696,30 +730,24 @@ impl FusedNewmark {
         }
     }
 
-    /// New u, v, a from x; returns v̄ᵀ·C·v̄ if tracked.
+    /// New u, v, a (and v̄, w₁, w₂) from x, for the dense step.
     #[inline(always)]
-    fn update<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
+    fn update<const FMA: bool>(&mut self, k: Coeffs) {
         let (n, b) = (self.n, self.b);
-        {
-            let x = &self.x[b..b + n];
-            let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
-            let vbar = &mut self.vbar[b..b + n];
-            let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
-            for i in 0..n {
-                let (ui, vi, ai) = (u[i], v[i], a[i]);
-                let a_new = madd::<FMA>(x[i] - ui - k.dt * vi, k.ab, -k.a_old * ai);
-                let v_new = madd::<FMA>(k.va_new, a_new, madd::<FMA>(k.va_old, ai, vi));
-                u[i] = x[i];
-                v[i] = v_new;
-                a[i] = a_new;
-                vbar[i] = 0.5 * (vi + v_new);
-                // The next step's history terms, while u, v, a are at hand.
-                let un = x[i];
-                w1[i] = madd::<FMA>(k.cu, un, madd::<FMA>(k.cv, v_new, k.ca * a_new));
-                w2[i] = madd::<FMA>(k.eu, un, madd::<FMA>(k.ev, v_new, k.ea * a_new));
-            }
+        let x = &self.x[b..b + n];
+        let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
+        let vbar = &mut self.vbar[b..b + n];
+        let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
+        for i in 0..n {
+            update_row::<FMA>(k, i, x[i], u, v, a, vbar, w1, w2);
         }
         self.w_ready = true;
+    }
+
+    /// v̄ᵀ·C·v̄ of the last step if tracked, else 0.
+    #[inline(always)]
+    fn dissipation<const FMA: bool>(&mut self) -> f64 {
+        let (n, b) = (self.n, self.b);
         if !self.track_dissipation {
             return 0.0;
         }
