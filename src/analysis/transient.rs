@@ -341,17 +341,6 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     nm.track_dissipation = true;
     let stacks: Vec<_> = model.actuators.iter().map(|a| a.stack().clone()).collect();
     let mut h_now: Vec<f64> = stacks.iter().map(|st| st.h0).collect();
-    // The load Σ_a b_a·F_p,a as sparse pairs: actuators load a handful of DOFs.
-    let mut loads: Vec<(usize, f64)> = sys.drives.iter().flatten().map(|&(d, _)| (d, 0.0)).collect();
-    let set_loads = |loads: &mut Vec<(usize, f64)>, fp: &[f64]| {
-        let mut k = 0;
-        for (a, b) in sys.drives.iter().enumerate() {
-            for &(_, c) in b {
-                loads[k].1 = c * fp[a];
-                k += 1;
-            }
-        }
-    };
     let fp0: Vec<f64> = stacks
         .iter()
         .enumerate()
@@ -363,7 +352,9 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             }
         })
         .collect();
-    set_loads(&mut loads, &fp0);
+    // F₀ = Σ_a b_a·F_p,a(0) as sparse pairs, for the initial acceleration.
+    let loads: Vec<(usize, f64)> =
+        sys.drives.iter().zip(&fp0).flat_map(|(b, &fp)| b.iter().map(move |&(d, c)| (d, c * fp))).collect();
     let zeros = vec![0.0; n];
     let a0 = consistent_acceleration(&sys.m, &sys.c, &sys.k, &sys.envelope, &zeros, &zeros, &loads)?;
     nm.set_state(&zeros, &zeros, &a0, &loads);

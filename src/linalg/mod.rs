@@ -9,3 +9,8 @@ pub mod sparse;
 pub use scalar::Scalar;
 pub use skyline::{Skyline, SkylineLdlt};
 pub use sparse::Csr;
+
+/// Σ aᵢ·bᵢ, summed in order (the Krylov and reduction bases' inner products).
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}

@@ -115,21 +115,6 @@ impl<T: Scalar> Skyline<T> {
         self.values
     }
 
-    /// Overwrites self with Σ cᵢ·Aᵢ for real matrices Aᵢ of the same envelope: the dynamic
-    /// stiffness K − ω²M + iωC of a frequency sweep is built this way with no allocation.
-    pub fn set_combination(&mut self, terms: &[(T, &Skyline<f64>)]) {
-        for (_, a) in terms {
-            assert_eq!(a.first, self.first, "skyline: combination of different envelopes");
-        }
-        for (k, v) in self.values.iter_mut().enumerate() {
-            let mut s = T::zero();
-            for (c, a) in terms {
-                s += *c * T::from_real(a.values[k]);
-            }
-            *v = s;
-        }
-    }
-
     /// Factorises A = L·D·Lᵀ in a copy of the storage. Fails on a zero, tiny or non-finite
     /// pivot, naming the row: that means a singular (e.g. unsupported) or ill-posed system.
     pub fn factorize(&self) -> Result<SkylineLdlt<T>> {
@@ -155,14 +140,6 @@ pub struct SkylineLdlt<T: Scalar> {
 }
 
 impl<T: Scalar> SkylineLdlt<T> {
-    /// Refactorises with the values of `a`, which must have the same envelope. Allocates
-    /// nothing: a frequency sweep factorises thousands of matrices of one shape.
-    pub fn refactor_from(&mut self, a: &Skyline<T>) -> Result<()> {
-        assert_eq!(self.first, a.first, "skyline: refactor with a different envelope");
-        self.values.copy_from_slice(&a.values);
-        self.refactor_in_place()
-    }
-
     fn refactor_in_place(&mut self) -> Result<()> {
         let n = self.first.len();
         self.diag.clear();

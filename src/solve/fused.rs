@@ -432,10 +432,9 @@ impl FusedNewmark {
                 }
             }
         }
+        // F_n of the pattern weights is kept in `weights_prev`; `step` leaves `f_prev` alone.
         self.use_weights = true;
-        let f_prev = std::mem::take(&mut self.f_prev);
         let diss = self.step(&[]);
-        self.f_prev = f_prev;
         self.use_weights = false;
         diss
     }
@@ -471,10 +470,8 @@ impl FusedNewmark {
             va_old: dt * (1.0 - g),
             va_new: dt * g,
         };
+        // The right-hand side consumed (and zeroed) the touched load entries.
         let diss = self.dispatch(k);
-        for &d in &self.touched {
-            self.load[d] = 0.0;
-        }
         self.touched.clear();
         if af != 0.0 && !self.use_weights {
             self.f_prev.clear();

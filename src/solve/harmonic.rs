@@ -11,8 +11,7 @@ use num_complex::Complex64;
 /// row) one factorisation is only ≈ 10⁴ flops. At that size the generic
 /// [`crate::linalg::SkylineLdlt`] is dominated by overheads, so this holds its own complex
 /// LDLᵀ with the same envelope and algorithm (row-oriented, no pivoting), except that it:
-/// * builds K − ω²M + iωC entry by entry from K, M and C in the profile's order (the same
-///   bits as `Skyline::set_combination`);
+/// * builds K − ω²M + iωC entry by entry from K, M and C in the profile's order;
 /// * keeps 1/d_j and multiplies by it instead of dividing by d_j (one real division per row
 ///   instead of two per entry; this changes the last bits, not the accuracy);
 /// * tests the pivot against 1e-13·|a_ii| with a bound on the modulus first and takes the

@@ -9,7 +9,7 @@
 
 use super::eigen::Modes;
 use crate::error::{Error, Result};
-use crate::linalg::{Csr, Skyline};
+use crate::linalg::{dot, Csr, Skyline};
 use faer::{Mat, Side};
 
 /// The `count` modes of (K, M) nearest above the shift σ (rad²/s²; use 0 for the lowest
@@ -139,18 +139,4 @@ fn lanczos(
         }
     }
     Ok((omega, shapes, converged))
-}
-
-/// Dot product with four partial sums, so it vectorises (the reorthogonalisation is
-/// mostly dot products over n-vectors).
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut part = [0.0f64; 4];
-    let (ca, cb) = (a.chunks_exact(4), b.chunks_exact(4));
-    let tail: f64 = ca.remainder().iter().zip(cb.remainder()).map(|(x, y)| x * y).sum();
-    for (x, y) in ca.zip(cb) {
-        for k in 0..4 {
-            part[k] += x[k] * y[k];
-        }
-    }
-    (part[0] + part[1]) + (part[2] + part[3]) + tail
 }

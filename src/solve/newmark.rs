@@ -120,6 +120,11 @@ pub fn consistent_acceleration(
     }
     c.mul_vec_add(-1.0, v0, &mut r);
     k.mul_vec_add(-1.0, u0, &mut r);
+    solve_mass(m, envelope, r)
+}
+
+/// M⁻¹·r for the initial acceleration (zero without a solve when r is zero).
+fn solve_mass(m: &Csr, envelope: &[usize], mut r: Vec<f64>) -> Result<Vec<f64>> {
     if r.iter().all(|&x| x == 0.0) {
         return Ok(r);
     }
@@ -203,7 +208,6 @@ impl<'a> Newmark<'a> {
         self.u.copy_from_slice(u0);
         self.v.copy_from_slice(v0);
         self.f_prev.copy_from_slice(f0);
-        let n = self.u.len();
         let mut r = f0.to_vec();
         self.c.mul_vec_add(-1.0, v0, &mut r);
         self.k.mul_vec_add(-1.0, u0, &mut r);
@@ -216,16 +220,8 @@ impl<'a> Newmark<'a> {
             }
             el.commit();
         }
-        if r.iter().all(|&x| x == 0.0) {
-            self.a.iter_mut().for_each(|x| *x = 0.0);
-            return Ok(());
-        }
-        let mut ms = Skyline::zeros(self.k_eff.first().to_vec());
-        self.m.add_into_skyline(1.0, &mut ms);
-        let mf = ms.factorize().map_err(|e| Error::Numerical(format!("initial acceleration: {e}")))?;
-        mf.solve_in_place(&mut r);
-        debug_assert_eq!(r.len(), n);
-        self.a.copy_from_slice(&r);
+        let a0 = solve_mass(self.m, self.k_eff.first(), r)?;
+        self.a.copy_from_slice(&a0);
         Ok(())
     }
 

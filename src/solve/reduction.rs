@@ -62,7 +62,7 @@
 
 use crate::assembly::{DofMap, LinkDofs, Projection, System};
 use crate::error::{Error, Result};
-use crate::linalg::{Csr, Skyline};
+use crate::linalg::{dot, Csr, Skyline};
 use crate::solve::eigen::Modes;
 use faer::{Mat, Side};
 use std::sync::Arc;
@@ -347,10 +347,6 @@ fn mul(a: &Csr, x: &[f64]) -> Vec<f64> {
     let mut y = vec![0.0; x.len()];
     a.mul_vec(x, &mut y);
     y
-}
-
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// Combinations Y of a set of vectors that are M-orthonormal and K-orthogonal, given the
