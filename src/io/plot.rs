@@ -1115,11 +1115,14 @@ mod tests {
         tempfile::tempdir().unwrap()
     }
 
-    /// Where example figures are kept for a human to look at, when the directory exists.
+    /// Copies a test figure to `$BEAMFLOW_KEEP_PLOTS` (a directory) when that is set, for a
+    /// human to look at; tests never write into the source tree.
     fn keep(path: &Path) {
-        let dest = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
-        if dest.is_dir() {
-            let _ = std::fs::copy(path, dest.join(path.file_name().unwrap()));
+        if let Some(dest) = std::env::var_os("BEAMFLOW_KEEP_PLOTS") {
+            let dest = Path::new(&dest);
+            if std::fs::create_dir_all(dest).is_ok() {
+                let _ = std::fs::copy(path, dest.join(path.file_name().unwrap()));
+            }
         }
     }
 
