@@ -210,6 +210,13 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                     fast.disable_fma();
                 }
                 fast.track_dissipation = true;
+                // Read-outs: every link's stretch and foot (dense rows in the reduced model),
+                // the drive, and one long row over every third DOF (dense in both).
+                let mut rows: Vec<Vec<(usize, f64)>> =
+                    sys.links.iter().flat_map(|l| [l.stretch.clone(), l.foot.clone()]).collect();
+                rows.push(drive.clone());
+                rows.push((0..n).step_by(3).map(|d| (d, 1.0 + 0.1 * d as f64)).collect());
+                fast.set_observations(&rows);
                 let zeros = vec![0.0; n];
                 slow.initialize(&zeros, &zeros, &zeros, &mut []).unwrap();
                 fast.set_state(&zeros, &zeros, &zeros, &[]);
@@ -235,6 +242,18 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                         let e = x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
                         assert!(s > 0.0 || step == 1, "step {step}: zero or non-finite state");
                         worst[q] = worst[q].max(e / s.max(f64::MIN_POSITIVE));
+                    }
+                    // Each read-out equals its plain sum over the fast integrator's own state.
+                    for (g, got) in rows.iter().zip(fast.observed()) {
+                        for (q, x) in [fast.u(), fast.v(), fast.a()].into_iter().enumerate() {
+                            let want: f64 = g.iter().map(|&(d, c)| c * x[d]).sum();
+                            let scale: f64 = g.iter().map(|&(d, c)| (c * x[d]).abs()).sum();
+                            assert!(
+                                (got[q] - want).abs() <= 1e-13 * scale,
+                                "{n} DOFs, step {step}: read-out {q} {} vs {want}",
+                                got[q]
+                            );
+                        }
                     }
                 }
                 // Round-off, amplified by K_eff's conditioning (≈ 1e6 here) over 600 steps; a

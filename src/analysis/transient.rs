@@ -194,7 +194,8 @@ struct PeriodRecord {
 
 impl PeriodRecord {
     fn new(nl: usize, nb: usize, na: usize, ns: usize, cap: usize) -> Self {
-        let mk = |k: usize| vec![Vec::with_capacity(cap); k];
+        // Not vec![Vec::with_capacity(cap); k]: clones of a Vec do not keep its capacity.
+        let mk = |k: usize| (0..k).map(|_| Vec::with_capacity(cap)).collect::<Vec<Vec<f64>>>();
         PeriodRecord {
             t: Vec::with_capacity(cap),
             u: mk(nl),
@@ -246,18 +247,6 @@ struct LinkState {
     fa: f64,
     /// Interface force on the beam, F_T − m_foot·ẅ (N).
     fi: f64,
-}
-
-/// (Σ c·x[d], Σ c·y[d]) over sparse pairs (d, c), with two partial sums each: a reduced
-/// model's link rows are dense, and one accumulator would make each term wait on the last.
-#[inline]
-fn combine2(pairs: &[(usize, f64)], x: &[f64], y: &[f64]) -> (f64, f64) {
-    let (mut sx, mut sy) = ([0.0f64; 2], [0.0f64; 2]);
-    for (k, &(d, c)) in pairs.iter().enumerate() {
-        sx[k & 1] += c * x[d];
-        sy[k & 1] += c * y[d];
-    }
-    (sx[0] + sx[1], sy[0] + sy[1])
 }
 
 /// The time grid of a run: step, samples per period and the period (s).
@@ -387,16 +376,29 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     // Each link's state (stretch, its rate, foot velocity and acceleration, interface
     // force) is evaluated once per step, after the step: it is both the record of the next
     // sample and the end point of this step's energy terms.
-    let link_state = |nm: &FusedNewmark, lk: &crate::assembly::LinkDofs, fp: &[f64]| -> LinkState {
-        let (u, v, a) = (nm.u(), nm.v(), nm.a());
-        let (su, sud) = combine2(&lk.stretch, u, v);
-        let (fv, fa) = combine2(&lk.foot, v, a);
+    // Read-outs the integrator evaluates after every step: each link's stretch and foot,
+    // each drive, each sensor and each body DOF, in that order.
+    let mut rows: Vec<Vec<(usize, f64)>> = Vec::new();
+    for lk in &sys.links {
+        rows.push(lk.stretch.clone());
+        rows.push(lk.foot.clone());
+    }
+    let (drive_row, sensor_row) = (2 * nl, 2 * nl + sys.drives.len());
+    let body_row = sensor_row + sensor_dofs.len();
+    rows.extend(sys.drives.iter().cloned());
+    rows.extend(sensor_dofs.iter().cloned());
+    rows.extend(body_dofs.iter().map(|&(_, _, d)| vec![(d, 1.0)]));
+    nm.set_observations(&rows);
+    let link_state = |nm: &FusedNewmark, l: usize, lk: &crate::assembly::LinkDofs, fp: &[f64]| -> LinkState {
+        let (stretch, foot) = (nm.observed()[2 * l], nm.observed()[2 * l + 1]);
+        let (su, sud, fv, fa) = (stretch[0], stretch[1], foot[1], foot[2]);
         let ft = lk.k * su + lk.c * sud - if lk.active { fp[lk.actuator] } else { 0.0 };
         LinkState { u: su, ud: sud, fv, fa, fi: ft - lk.foot_mass * fa }
     };
-    let drive_rate = |nm: &FusedNewmark, b: &[(usize, f64)]| -> f64 { b.iter().map(|&(d, c)| c * nm.v()[d]).sum() };
-    let mut links_now: Vec<LinkState> = sys.links.iter().map(|lk| link_state(&nm, lk, &fp0)).collect();
-    let mut drive_v: Vec<f64> = sys.drives.iter().map(|b| drive_rate(&nm, b)).collect();
+    let drive_rate = |nm: &FusedNewmark, a: usize| -> f64 { nm.observed()[drive_row + a][1] };
+    let mut links_now: Vec<LinkState> =
+        sys.links.iter().enumerate().map(|(l, lk)| link_state(&nm, l, lk, &fp0)).collect();
+    let mut drive_v: Vec<f64> = (0..sys.drives.len()).map(|a| drive_rate(&nm, a)).collect();
     let mut fp_prev = fp0.clone();
 
     let mut times = vec![0.0; n_per + 1];
@@ -429,21 +431,21 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
                 rec.fv[l].push(st.fv);
                 rec.fa[l].push(st.fa);
             }
-            for (b, (_, _, d)) in body_dofs.iter().enumerate() {
-                rec.q[b].push(nm.u()[*d]);
-                rec.qd[b].push(nm.v()[*d]);
-                rec.qdd[b].push(nm.a()[*d]);
+            let obs = nm.observed();
+            for b in 0..body_dofs.len() {
+                let [q, qd, qdd] = obs[body_row + b];
+                rec.q[b].push(q);
+                rec.qd[b].push(qd);
+                rec.qdd[b].push(qdd);
             }
-            for a in 0..na {
-                rec.v[a].push(hist_v[a][j]);
-                rec.h[a].push(hist_h[a][j]);
-                rec.fp[a].push(fp_prev[a]);
+            for (series, &fp) in rec.fp.iter_mut().zip(&fp_prev) {
+                series.push(fp);
             }
-            for (si, d) in sensor_dofs.iter().enumerate() {
-                let at = |x: &[f64]| -> f64 { d.iter().map(|&(i, c)| c * x[i]).sum() };
-                rec.sw[si].push(at(nm.u()));
-                rec.sv[si].push(at(nm.v()));
-                rec.sa[si].push(at(nm.a()));
+            for si in 0..sensor_dofs.len() {
+                let [w, wd, wdd] = obs[sensor_row + si];
+                rec.sw[si].push(w);
+                rec.sv[si].push(wd);
+                rec.sa[si].push(wdd);
             }
             // Step to t_{j+1}.
             for a in 0..na {
@@ -456,7 +458,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             let mut d_beam = d_sys;
             let mut w_beam = 0.0;
             for (l, lk) in sys.links.iter().enumerate() {
-                let new = link_state(&nm, lk, &fp_step);
+                let new = link_state(&nm, l, lk, &fp_step);
                 let old = &links_now[l];
                 let ud_mid = 0.5 * (old.ud + new.ud);
                 d_beam -= dt * lk.c * ud_mid * ud_mid;
@@ -464,8 +466,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
                 links_now[l] = new;
             }
             let mut w_sys = 0.0;
-            for (a, b) in sys.drives.iter().enumerate() {
-                let gv = drive_rate(&nm, b);
+            for a in 0..sys.drives.len() {
+                let gv = drive_rate(&nm, a);
                 w_sys += dt * 0.5 * (fp_prev[a] + fp_step[a]) * 0.5 * (drive_v[a] + gv);
                 drive_v[a] = gv;
             }
@@ -474,6 +476,10 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             pb.beam.dissipated += d_beam;
             pb.system.input += w_sys;
             pb.system.dissipated += d_sys;
+        }
+        for a in 0..na {
+            rec.v[a].extend_from_slice(&hist_v[a][..n_per]);
+            rec.h[a].extend_from_slice(&hist_h[a][..n_per]);
         }
         let (eb1, es1) = stored(&nm);
         pb.beam.stored_change = eb1 - eb0;

@@ -126,6 +126,28 @@ struct Coeffs {
     va_new: f64,
 }
 
+impl Coeffs {
+    /// The coefficients of a scheme at step Δt (s).
+    fn new(s: Scheme, dt: f64) -> Self {
+        let (am, af, g, b) = (s.alpha_m, s.alpha_f, s.gamma, s.beta);
+        let cu = (1.0 - am) / (b * dt * dt);
+        Coeffs {
+            cu,
+            cv: cu * dt,
+            ca: (1.0 - am) * (0.5 / b - 1.0) - am,
+            eu: (1.0 - af) * g / (b * dt),
+            ev: -(1.0 - af) * (1.0 - g / b) - af,
+            ea: -(1.0 - af) * dt * (1.0 - 0.5 * g / b),
+            af,
+            dt,
+            ab: 1.0 / (b * dt * dt),
+            a_old: 0.5 / b - 1.0,
+            va_old: dt * (1.0 - g),
+            va_new: dt * g,
+        }
+    }
+}
+
 /// Widest band whose right-hand side runs on per-diagonal slices (vectorised).
 const MAX_SLICED: usize = 5;
 
@@ -133,18 +155,115 @@ const MAX_SLICED: usize = 5;
 const DENSE_LIMIT: usize = 48;
 
 /// The step of a small dense system as x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·F
-/// (− α_f·K_eff⁻¹K·u): column-major n×n operators, each column from a solve with the
-/// factor. A modal-reduced model is dense by construction, and for it independent
-/// multiply–adds over whole columns beat two triangular sweeps whose every row waits on the
-/// previous one.
+/// (− α_f·K_eff⁻¹K·u), each operator from solves with the factor. A modal-reduced model is
+/// dense by construction, and for it independent multiply–adds beat two triangular sweeps
+/// whose every row waits on the previous one. The operators are stored side by side by
+/// rows, [K_eff⁻¹M | K_eff⁻¹C | K_eff⁻¹K], each row padded to a multiple of four, so that
+/// row i of x is one dot product with w = [w₁ | w₂ | −α_f·u] over lanes of four and the n
+/// rows are independent of each other.
 #[derive(Clone, Debug)]
 struct DenseStep {
-    /// C itself, column-major, for the dissipation.
+    /// C by rows (padded like `ops`), for the dissipation.
     c: Vec<f64>,
-    am: Vec<f64>,
-    ac: Vec<f64>,
-    ak: Option<Vec<f64>>,
+    /// Padded length of a row of `c` (n rounded up to four).
+    c_stride: usize,
+    /// [K_eff⁻¹M | K_eff⁻¹C (| K_eff⁻¹K)] by rows, `stride` numbers per row.
+    ops: Vec<f64>,
+    stride: usize,
+    /// w = [w₁ | w₂ (| −α_f·u)] of the step in progress, zero-padded to `stride`.
+    w: Vec<f64>,
+    /// K_eff⁻¹ column-major, for loads given as sparse pairs.
     a: Vec<f64>,
+}
+
+/// Σ aᵢ·bᵢ over slices whose length is a multiple of four, in four independent lanes (so
+/// the loop is one vector multiply–add per four terms).
+#[inline(always)]
+fn dot_lanes<const FMA: bool>(a: &[f64], b: &[f64]) -> f64 {
+    debug_assert!(a.len() % 4 == 0 && b.len() >= a.len());
+    #[cfg(target_arch = "x86_64")]
+    if FMA {
+        // SAFETY: the FMA build of the step runs only inside `step_avx2`, which is called
+        // only when the processor reports AVX2 and FMA; `b` is at least as long as `a`.
+        return unsafe { dot_lanes_avx2(a, b) };
+    }
+    let mut acc = [0.0f64; 4];
+    for (x, y) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        for l in 0..4 {
+            acc[l] = madd::<FMA>(x[l], y[l], acc[l]);
+        }
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
+}
+
+/// `dot_lanes` with AVX2 vectors: the compiler's own vectorisation of the lane loop
+/// shuffles pairs of lanes instead.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn dot_lanes_avx2(a: &[f64], b: &[f64]) -> f64 {
+    use std::arch::x86_64::*;
+    let (pa, pb) = (a.as_ptr(), b.as_ptr());
+    let mut acc = _mm256_setzero_pd();
+    let mut k = 0;
+    while k + 4 <= a.len() {
+        acc = _mm256_fmadd_pd(_mm256_loadu_pd(pa.add(k)), _mm256_loadu_pd(pb.add(k)), acc);
+        k += 4;
+    }
+    let mut lanes = [0.0f64; 4];
+    _mm256_storeu_pd(lanes.as_mut_ptr(), acc);
+    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
+}
+
+/// out = A·w for a row-major A with `stride` numbers per row (a multiple of four), at least
+/// out.len() rounded up to four rows (zero rows past the end), and w of length ≥ stride. Each
+/// row is `dot_lanes` of the row and w, so every build rounds the same way up to fused
+/// multiply–adds.
+#[inline(always)]
+fn gemv<const FMA: bool>(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
+    assert!(stride % 4 == 0 && w.len() >= stride && a.len() >= out.len().next_multiple_of(4) * stride);
+    #[cfg(target_arch = "x86_64")]
+    if FMA {
+        // SAFETY: as in `dot_lanes`; the sizes are checked above.
+        return unsafe { gemv_avx2(a, stride, w, out) };
+    }
+    for (i, o) in out.iter_mut().enumerate() {
+        *o = dot_lanes::<FMA>(&a[i * stride..(i + 1) * stride], &w[..stride]);
+    }
+}
+
+/// `gemv` four rows at a time: four independent accumulators share each load of w, and
+/// one horizontal reduction yields four results.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
+    use std::arch::x86_64::*;
+    let n = out.len();
+    let (pa, pw) = (a.as_ptr(), w.as_ptr());
+    let mut i = 0;
+    while i < n {
+        let r = pa.add(i * stride);
+        let (mut a0, mut a1, mut a2, mut a3) =
+            (_mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd(), _mm256_setzero_pd());
+        let mut k = 0;
+        while k < stride {
+            let x = _mm256_loadu_pd(pw.add(k));
+            a0 = _mm256_fmadd_pd(_mm256_loadu_pd(r.add(k)), x, a0);
+            a1 = _mm256_fmadd_pd(_mm256_loadu_pd(r.add(stride + k)), x, a1);
+            a2 = _mm256_fmadd_pd(_mm256_loadu_pd(r.add(2 * stride + k)), x, a2);
+            a3 = _mm256_fmadd_pd(_mm256_loadu_pd(r.add(3 * stride + k)), x, a3);
+            k += 4;
+        }
+        // [l0+l1, l2+l3] of each accumulator, then (l0+l1)+(l2+l3) for four rows at once.
+        let h01 = _mm256_hadd_pd(a0, a1);
+        let h23 = _mm256_hadd_pd(a2, a3);
+        let sum = _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31));
+        let mut t = [0.0f64; 4];
+        _mm256_storeu_pd(t.as_mut_ptr(), sum);
+        for q in 0..4.min(n - i) {
+            out[i + q] = t[q];
+        }
+        i += 4;
+    }
 }
 
 /// A linear system's Newmark integrator on band storage.
@@ -199,7 +318,33 @@ pub struct FusedNewmark {
     vbar: Vec<f64>,
     /// Accumulate Δt·v̄ᵀ·C·v̄ (v̄ the step's mean velocity) and return it from `step`.
     pub track_dissipation: bool,
+    /// Registered read-outs (see `set_observations`) and their latest values.
+    observations: Observations,
+    /// The step's coefficients, fixed by the scheme and Δt.
+    coeffs: Coeffs,
 }
+
+/// Read-outs gᵀ·(u, v, a) of the state evaluated after every step, while the state is in
+/// cache: the analyses' links, feet, drives and sensors. A row with many entries (every row
+/// of a modal-reduced model) is kept dense and read over lanes; short rows stay pairs.
+#[derive(Clone, Debug, Default)]
+struct Observations {
+    /// Dense rows, `stride` (n rounded up to four) numbers each, zero rows up to a multiple
+    /// of four, and the observation each belongs to.
+    dense: Vec<f64>,
+    stride: usize,
+    dense_index: Vec<usize>,
+    /// u, v, a padded to `stride`, and the dense rows' products with one of them.
+    padded: Vec<f64>,
+    products: Vec<f64>,
+    /// Short rows as (observation, pairs).
+    sparse: Vec<(usize, Vec<(usize, f64)>)>,
+    /// (gᵀu, gᵀv, gᵀa) per observation.
+    values: Vec<[f64; 3]>,
+}
+
+/// Rows with at least this many entries are read densely.
+const DENSE_OBSERVATION: usize = 8;
 
 impl FusedNewmark {
     /// Sets up the integrator and factorises the effective stiffness. `envelope` must cover
@@ -272,13 +417,31 @@ impl FusedNewmark {
                 factor.solve_in_place(&mut x);
                 x
             };
-            let op = |a: Option<&Csr>| (0..n).flat_map(|j| column(a, j)).collect::<Vec<f64>>();
+            let blocks: Vec<&Csr> = if s.alpha_f != 0.0 { vec![m, c, k] } else { vec![m, c] };
+            let stride = (blocks.len() * n).next_multiple_of(4);
+            let rows = n.next_multiple_of(4);
+            let mut ops = vec![0.0; rows * stride];
+            for (q, a) in blocks.iter().enumerate() {
+                for j in 0..n {
+                    for (i, x) in column(Some(a), j).into_iter().enumerate() {
+                        ops[i * stride + q * n + j] = x;
+                    }
+                }
+            }
+            let c_stride = n.next_multiple_of(4);
+            let mut cr = vec![0.0; rows * c_stride];
+            for i in 0..n {
+                for j in 0..n {
+                    cr[i * c_stride + j] = c.get(i, j);
+                }
+            }
             DenseStep {
-                c: (0..n * n).map(|q| c.get(q % n, q / n)).collect(),
-                am: op(Some(m)),
-                ac: op(Some(c)),
-                ak: (s.alpha_f != 0.0).then(|| op(Some(k))),
-                a: op(None),
+                c: cr,
+                c_stride,
+                ops,
+                stride,
+                w: vec![0.0; stride],
+                a: (0..n).flat_map(|j| column(None, j)).collect(),
             }
         });
         #[cfg(target_arch = "x86_64")]
@@ -317,8 +480,10 @@ impl FusedNewmark {
             weights_prev: Vec::new(),
             use_weights: false,
             w_ready: false,
-            vbar: vec![0.0; n + 2 * b],
+            vbar: vec![0.0; n + 2 * b + 4],
             track_dissipation: false,
+            observations: Observations::default(),
+            coeffs: Coeffs::new(scheme, dt),
         })
     }
 
@@ -383,6 +548,79 @@ impl FusedNewmark {
         self.w_ready = false;
         self.f_prev.clear();
         self.f_prev.extend_from_slice(f0);
+        self.observe_dispatch();
+    }
+
+    /// Registers read-outs: row r is gᵣ as sparse pairs (duplicates summed). After
+    /// `set_observations`, `set_state` and every step, `observed()[r]` holds
+    /// (gᵣᵀu, gᵣᵀv, gᵣᵀa).
+    pub fn set_observations(&mut self, rows: &[Vec<(usize, f64)>]) {
+        let n = self.n;
+        let stride = n.next_multiple_of(4);
+        let mut o = Observations { values: vec![[0.0; 3]; rows.len()], stride, ..Default::default() };
+        for (r, g) in rows.iter().enumerate() {
+            if g.len() >= DENSE_OBSERVATION {
+                let mut row = vec![0.0; stride];
+                for &(d, c) in g {
+                    row[d] += c;
+                }
+                o.dense.extend(row);
+                o.dense_index.push(r);
+            } else {
+                o.sparse.push((r, g.clone()));
+            }
+        }
+        o.dense.resize(o.dense_index.len().next_multiple_of(4) * stride, 0.0);
+        o.padded = vec![0.0; stride];
+        o.products = vec![0.0; o.dense_index.len()];
+        self.observations = o;
+        self.observe_dispatch();
+    }
+
+    /// (gᵣᵀu, gᵣᵀv, gᵣᵀa) of each registered read-out at the current state.
+    pub fn observed(&self) -> &[[f64; 3]] {
+        &self.observations.values
+    }
+
+    fn observe_dispatch(&mut self) {
+        #[cfg(target_arch = "x86_64")]
+        if self.fma {
+            // SAFETY: `fma` is set only when the processor reports AVX2 and FMA.
+            return unsafe { self.observe_avx2() };
+        }
+        self.observe::<false>();
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn observe_avx2(&mut self) {
+        self.observe::<true>();
+    }
+
+    #[inline(always)]
+    fn observe<const FMA: bool>(&mut self) {
+        let n = self.n;
+        let o = &mut self.observations;
+        if o.values.is_empty() {
+            return;
+        }
+        let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
+        if !o.dense_index.is_empty() {
+            for (q, x) in [u, v, a].into_iter().enumerate() {
+                o.padded[..n].copy_from_slice(x);
+                gemv::<FMA>(&o.dense, o.stride, &o.padded, &mut o.products);
+                for (&r, &p) in o.dense_index.iter().zip(&o.products) {
+                    o.values[r][q] = p;
+                }
+            }
+        }
+        for (r, g) in &o.sparse {
+            let mut val = [0.0; 3];
+            for &(d, c) in g {
+                val = [madd::<FMA>(c, u[d], val[0]), madd::<FMA>(c, v[d], val[1]), madd::<FMA>(c, a[d], val[2])];
+            }
+            o.values[*r] = val;
+        }
     }
 
     /// Registers load patterns b_a (sparse, on the system's DOFs) for `step_weighted`, whose
@@ -442,9 +680,7 @@ impl FusedNewmark {
     /// Advances one step to the load F_{n+1} (sparse pairs, duplicates summed). Returns
     /// Δt·v̄ᵀ·C·v̄ if `track_dissipation` is set, else 0.
     pub fn step(&mut self, f_next: &[(usize, f64)]) -> f64 {
-        let s = self.scheme;
-        let dt = self.dt;
-        let (am, af, g, b) = (s.alpha_m, s.alpha_f, s.gamma, s.beta);
+        let (af, dt) = (self.scheme.alpha_f, self.dt);
         for &(d, f) in f_next {
             self.load[d] += (1.0 - af) * f;
             self.touched.push(d);
@@ -455,21 +691,7 @@ impl FusedNewmark {
                 self.touched.push(d);
             }
         }
-        let cu = (1.0 - am) / (b * dt * dt);
-        let k = Coeffs {
-            cu,
-            cv: cu * dt,
-            ca: (1.0 - am) * (0.5 / b - 1.0) - am,
-            eu: (1.0 - af) * g / (b * dt),
-            ev: -(1.0 - af) * (1.0 - g / b) - af,
-            ea: -(1.0 - af) * dt * (1.0 - 0.5 * g / b),
-            af,
-            dt,
-            ab: 1.0 / (b * dt * dt),
-            a_old: 0.5 / b - 1.0,
-            va_old: dt * (1.0 - g),
-            va_new: dt * g,
-        };
+        let k = self.coeffs;
         // The right-hand side consumed (and zeroed) the touched load entries.
         let diss = self.dispatch(k);
         self.touched.clear();
@@ -497,6 +719,13 @@ impl FusedNewmark {
 
     #[inline(always)]
     fn by_width<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
+        let diss = self.advance::<FMA>(k);
+        self.observe::<FMA>();
+        diss
+    }
+
+    #[inline(always)]
+    fn advance<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
         if self.dense.is_some() {
             self.dense_solve::<FMA>(k);
             self.update::<FMA>(k);
@@ -521,29 +750,28 @@ impl FusedNewmark {
         self.dissipation::<FMA>()
     }
 
-    /// x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·load (− α_f·K_eff⁻¹K·u), column by column.
+    /// x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·load (− α_f·K_eff⁻¹K·u), row by row.
     #[inline(always)]
     fn dense_solve<const FMA: bool>(&mut self, k: Coeffs) {
         let (n, b) = (self.n, self.b);
-        let ops = self.dense.as_ref().expect("dense step");
+        let ops = self.dense.as_mut().expect("dense step");
         let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
-        let x = &mut self.x[b..b + n];
-        x.iter_mut().for_each(|x| *x = 0.0);
-        for j in 0..n {
-            let w1 = madd::<FMA>(k.cu, u[j], madd::<FMA>(k.cv, v[j], k.ca * a[j]));
-            let w2 = madd::<FMA>(k.eu, u[j], madd::<FMA>(k.ev, v[j], k.ea * a[j]));
-            let (am, ac) = (&ops.am[j * n..(j + 1) * n], &ops.ac[j * n..(j + 1) * n]);
-            for i in 0..n {
-                x[i] = madd::<FMA>(am[i], w1, madd::<FMA>(ac[i], w2, x[i]));
-            }
-            if let Some(ak) = &ops.ak {
-                let ak = &ak[j * n..(j + 1) * n];
-                let s = -k.af * u[j];
-                for i in 0..n {
-                    x[i] = madd::<FMA>(ak[i], s, x[i]);
-                }
+        let (w1, rest) = ops.w.split_at_mut(n);
+        let (w2, rest) = rest.split_at_mut(n);
+        if !self.w_ready {
+            for j in 0..n {
+                w1[j] = madd::<FMA>(k.cu, u[j], madd::<FMA>(k.cv, v[j], k.ca * a[j]));
+                w2[j] = madd::<FMA>(k.eu, u[j], madd::<FMA>(k.ev, v[j], k.ea * a[j]));
             }
         }
+        if k.af != 0.0 {
+            for j in 0..n {
+                rest[j] = -k.af * u[j];
+            }
+        }
+        gemv::<FMA>(&ops.ops, ops.stride, &ops.w, &mut self.x[b..b + n]);
+        let ops = self.dense.as_ref().expect("dense step");
+        let x = &mut self.x[b..b + n];
         if self.use_weights {
             for (xa, &wa) in self.patterns_solved.iter().zip(&self.weights) {
                 for i in 0..n {
@@ -738,7 +966,10 @@ impl FusedNewmark {
         let x = &self.x[b..b + n];
         let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
         let vbar = &mut self.vbar[b..b + n];
-        let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
+        // The next step's w₁, w₂ go straight into the dense step's w.
+        let ops = self.dense.as_mut().expect("dense step");
+        let (w1, rest) = ops.w.split_at_mut(n);
+        let w2 = &mut rest[..n];
         for i in 0..n {
             update_row::<FMA>(k, i, x[i], u, v, a, vbar, w1, w2);
         }
@@ -753,17 +984,12 @@ impl FusedNewmark {
             return 0.0;
         }
         if let Some(ops) = &self.dense {
-            // C·v̄ column by column into z (free here), then v̄ᵀ·(C·v̄).
-            let vb = &self.vbar[b..b + n];
-            let cv = &mut self.z[b..b + n];
-            cv.iter_mut().for_each(|x| *x = 0.0);
-            for j in 0..n {
-                let col = &ops.c[j * n..(j + 1) * n];
-                for i in 0..n {
-                    cv[i] = madd::<FMA>(col[i], vb[j], cv[i]);
-                }
-            }
-            return vb.iter().zip(cv.iter()).map(|(a, b)| a * b).sum();
+            // v̄ᵀ·(C·v̄) with C by rows; v̄ is padded with zeros past n (`vbar` has 2B ≥ n
+            // spare entries, and the padding of a row of `c` is zero).
+            let vb = &self.vbar[b..b + ops.c_stride];
+            let cv = &mut self.z[..n];
+            gemv::<FMA>(&ops.c, ops.c_stride, vb, cv);
+            return vb.iter().zip(cv.iter()).map(|(v, c)| v * c).sum();
         }
         let stride = n + b;
         let c = &self.c[..(b + 1) * stride];
