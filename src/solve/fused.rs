@@ -259,9 +259,8 @@ unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
         let sum = _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31));
         let mut t = [0.0f64; 4];
         _mm256_storeu_pd(t.as_mut_ptr(), sum);
-        for q in 0..4.min(n - i) {
-            out[i + q] = t[q];
-        }
+        let m = 4.min(n - i);
+        out[i..i + m].copy_from_slice(&t[..m]);
         i += 4;
     }
 }
