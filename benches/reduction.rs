@@ -37,6 +37,19 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("reduction_frame_12V_60Hz");
     g.sample_size(20).measurement_time(Duration::from_secs(8));
     g.bench_function("reduced_transient", |b| b.iter(|| transient::run(&model, black_box(&red), &settings).unwrap()));
+    // The same work as the full-model coupled benchmark (`--bench core -- coupled`): 100
+    // periods of 200 steps, 20,000 steps, recording and energy bookkeeping included.
+    let same_work = TransientSettings {
+        dt: Some(1e-4 / 1.2),
+        periods: Some(100),
+        steady_state: false,
+        record_periods: 1,
+        harmonics: 9,
+        ..Default::default()
+    };
+    g.bench_function("reduced_transient_20000_steps", |b| {
+        b.iter(|| transient::run(&model, black_box(&red), &same_work).unwrap())
+    });
     g.bench_function("build_reduced_system", |b| {
         b.iter(|| reduction::reduce(&model, black_box(&full), &rs, hz).unwrap())
     });

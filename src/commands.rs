@@ -24,7 +24,7 @@ pub fn modes(case: &Path, count: Option<usize>, json: Option<&Path>) -> Result<(
     }
     let beam = build_beam(&lc)?;
     let r = modes::run(&beam, count)?;
-    println!("{}", modes_table(&r));
+    crate::say!("{}", modes_table(&r));
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&r).expect("plain data serialises");
         write_atomic_string(path, &text)?;
@@ -61,7 +61,7 @@ pub fn check(case: &Path) -> Result<()> {
     let built = crate::case::build_model(&lc)?;
     let sys = crate::assembly::System::assemble(&built.model)?;
     let elements = built.model.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
-    println!(
+    crate::say!(
         "{}: ok — {} elements, {} DOFs, {} actuator(s), {} analysis(es)",
         lc.file,
         elements,
@@ -87,27 +87,27 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) ->
     let h5 = dir.join(format!("{stem}.h5"));
     if lc.case.output.hdf5 {
         crate::io::results::write(&h5, &lc, &run)?;
-        println!("wrote {}", h5.display());
+        crate::say!("wrote {}", h5.display());
     }
     if lc.case.output.matrices {
         for (name, m) in [("K", &run.system.k), ("M", &run.system.m), ("C", &run.system.c)] {
             let p = dir.join(format!("{stem}_{name}.mtx"));
             crate::io::mtx::write_matrix_market(&p, m.as_sprs())?;
-            println!("wrote {}", p.display());
+            crate::say!("wrote {}", p.display());
         }
     }
     if plots && lc.case.output.plots {
         for p in crate::io::figures::plot_run(&dir, stem, &lc, &run)? {
-            println!("wrote {}", p.display());
+            crate::say!("wrote {}", p.display());
         }
     }
     let summary = crate::io::summary::summary(&lc, &run);
     for r in &run.results {
         if let AnalysisResult::Modes(m) = r {
-            println!("{}", modes_table(m));
+            crate::say!("{}", modes_table(m));
         }
     }
-    println!("{}", crate::io::summary::headline_text(&summary));
+    crate::say!("{}", crate::io::summary::headline_text(&summary));
     let text = serde_json::to_string_pretty(&summary).expect("plain data serialises");
     write_atomic_string(&dir.join(format!("{stem}.json")), &text)?;
     if let Some(j) = json {

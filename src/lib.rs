@@ -8,6 +8,16 @@
 //! time integration) driven by [`analysis`] → [`post`] (power, spectra, modes) → I/O at
 //! the edge. There is no global state: two cases can run side by side in one process.
 
+/// Prints a line to standard output like `println!`, but a closed output (the reader of a
+/// pipe such as `beamflow modes case.toml | head` has gone) is not an error: the rest of
+/// the output is dropped and the command finishes its work (results are still written).
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {
+        $crate::cli::say_line(format_args!($($arg)*))
+    };
+}
+
 pub mod actuator;
 pub mod analysis;
 pub mod assembly;

@@ -234,8 +234,8 @@ pub fn run(out: &Path) -> Result<()> {
     let md_path = out.join("summary.md");
     write_atomic_string(&md_path, &md)?;
     written.push(md_path);
-    println!("{md}");
-    println!("wrote {} files to {}", written.len(), out.display());
+    crate::say!("{md}");
+    crate::say!("wrote {} files to {}", written.len(), out.display());
     Ok(())
 }
 

@@ -125,3 +125,23 @@ fn voltage_series_files() {
         assert!(msg.contains(file) && msg.contains(needle), "{file}: {msg}");
     }
 }
+
+/// A reader that goes away (`beamflow modes case.toml | head -1`) is not an error: the
+/// command neither panics nor fails.
+#[test]
+fn closed_standard_output_is_not_a_panic() {
+    use std::process::{Command, Stdio};
+    let case = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases/paper-beam.toml");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_beamflow"))
+        .args(["modes", case.to_str().unwrap(), "--count", "40"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the beamflow binary runs");
+    // Close the read end before the command prints anything.
+    drop(child.stdout.take());
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "status {:?}, stderr: {stderr}", out.status);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}

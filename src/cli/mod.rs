@@ -60,6 +60,17 @@ pub enum Command {
 }
 
 /// Entry point of the binary.
+/// The body of [`say!`](crate::say).
+pub fn say_line(args: std::fmt::Arguments) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n")) {
+        if e.kind() != std::io::ErrorKind::BrokenPipe {
+            eprintln!("warning: could not write to standard output: {e}");
+        }
+    }
+}
+
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match dispatch(&cli.command) {

@@ -69,7 +69,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         if dt > 0.0 { ex.computed as f64 / dt } else { 0.0 },
         ex.reused
     );
-    println!("wrote {}", args.out.display());
+    crate::say!("wrote {}", args.out.display());
     if !args.no_plots {
         report_files(&ex.table, &args.out)?;
     }
@@ -82,7 +82,7 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     }
     let t = sweep::merge_files(&args.shards)?;
     t.write(&args.out)?;
-    println!("merged {} shards, {} cases: wrote {}", args.shards.len(), t.rows.len(), args.out.display());
+    crate::say!("merged {} shards, {} cases: wrote {}", args.shards.len(), t.rows.len(), args.out.display());
     if !args.no_plots {
         report_files(&t, &args.out)?;
     }
@@ -91,14 +91,14 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
 
 fn report_files(t: &SweepTable, out: &Path) -> Result<()> {
     for p in report::plot(t, out)? {
-        println!("wrote {}", p.display());
+        crate::say!("wrote {}", p.display());
     }
     let md = report::write_markdown(t, out)?;
-    println!(
+    crate::say!(
         "\nBest {} cases by net power into the beam:\n{}",
         t.best.min(t.rows.len()),
         report::best_table(t, t.best)
     );
-    println!("wrote {}", md.display());
+    crate::say!("wrote {}", md.display());
     Ok(())
 }
