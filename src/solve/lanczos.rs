@@ -22,7 +22,7 @@ pub fn modes_shift_invert(k: &Csr, m: &Csr, envelope: &[usize], count: usize, si
     k.add_into_skyline(1.0, &mut a);
     m.add_into_skyline(-sigma, &mut a);
     let fac = a.factorize()?;
-    run(m, count, sigma, &|x| fac.solve_in_place(x))
+    run(m, count, sigma, &|x| fac.solve_in_place(x), false)
 }
 
 /// The `count` lowest modes of (K, M) with K = RᵀR given by its square-root factor (see
@@ -33,12 +33,13 @@ pub fn lowest_modes_from_root(root: &BandedR, m: &Csr, count: usize) -> Result<M
     if root.dim() != m.dim() {
         return Err(Error::Numerical(format!("stiffness factor has {} DOFs, M {}", root.dim(), m.dim())));
     }
-    run(m, count, 0.0, &|x| root.solve_normal_in_place(x))
+    run(m, count, 0.0, &|x| root.solve_normal_in_place(x), true)
 }
 
 /// Lanczos on x ↦ (K − σM)⁻¹·M·x, `solve` applying (K − σM)⁻¹ in place, with more vectors
 /// until the wanted Ritz pairs converge.
-fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64])) -> Result<Modes> {
+/// `from_root` only labels the result (see [`Modes::from_root`]).
+fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64]), from_root: bool) -> Result<Modes> {
     let n = m.dim();
     if count == 0 || n == 0 {
         return Err(Error::Numerical("shift-invert Lanczos needs at least one mode and one DOF".into()));
@@ -53,7 +54,7 @@ fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64])) -> Result<
                     "shift-invert Lanczos did not converge for {count} modes with {steps} vectors"
                 )));
             }
-            return Ok(Modes { omega, shapes, dofs: (0..n).collect() });
+            return Ok(Modes { omega, shapes, dofs: (0..n).collect(), from_root });
         }
         steps = (steps * 2).min(n);
     }
