@@ -1,9 +1,11 @@
-//! The lowest modes of large models: shift-invert Lanczos on the profile factorisation.
+//! The lowest modes of large models: shift-invert Lanczos, solving with K's banded
+//! square-root factor from the element rows (σ = 0, supported structures: accurate on very
+//! fine meshes) or with the profile LDLᵀ of K − σM as assembled.
 //!
 //! The operator x ↦ (K − σM)⁻¹·M·x has eigenvalues θ = 1/(λ − σ), so the modes nearest the
 //! shift come first and are well separated (for a beam 1/λ falls as r⁻⁴). Lanczos runs in
 //! the M-inner product with full reorthogonalisation (twice, which is enough in floating
-//! point), so the Ritz vectors come out mass-normalised. Cost: one profile solve and one
+//! point), so the Ritz vectors come out mass-normalised. Cost: one banded or profile solve and one
 //! sparse product per Lanczos vector plus O(n·m²) for the orthogonalisation — linear in the
 //! number of DOFs for a fixed number of modes, with no dense n×n matrix anywhere.
 
