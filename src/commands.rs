@@ -48,7 +48,8 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
         if bound > 1e-3 {
             s += &format!(
                 "note: this mesh is fine enough for round-off to matter: mode 1 may be off by up to ~{bound:.0e} \
-                 (relative; K's conditioning grows as elements⁴). Fewer elements give more accurate low modes.\n"
+                 (relative; it grows as elements², or elements⁴ for a structure without supports). Fewer \
+                 elements give more accurate low modes.\n"
             );
         }
     }

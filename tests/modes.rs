@@ -129,8 +129,8 @@ fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
         let phi = lz.shape_global(r, sys.n());
         assert!((sys.m.bilinear(&phi, &phi) - 1.0).abs() < 1e-9);
     }
-    // 1000 elements (≈ 2000 DOFs) go through the sparse path and still match βL roots.
-    // (Much finer meshes run out of double precision: K's condition number grows as h⁻⁴.)
+    // 1000 elements (≈ 2000 DOFs) go through the sparse path and still match βL roots
+    // (much finer meshes too: see `very_fine_meshes_keep_the_lowest_frequencies`).
     let big = beam_case(1000, "");
     assert!(2 * 1000 > beamflow::case::build::DENSE_EIGEN_LIMIT);
     let r = modes::run(&big, 6).unwrap();
@@ -138,4 +138,80 @@ fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
     for (f, a) in r.frequencies_hz.iter().zip(&exact) {
         assert!(rel(*f, *a) < 1e-6, "{f} vs {a}");
     }
+}
+
+/// K as assembled loses ~ε·elements⁴ of its lowest eigenvalues (28 % for f₁ at 50,000
+/// elements); the square-root factor from the element rows keeps ~ε·elements² (a few 1e-9).
+#[test]
+fn very_fine_meshes_keep_the_lowest_frequencies() {
+    for n in [20_000, 50_000] {
+        let r = modes::run(&beam_case(n, ""), 10).unwrap();
+        assert_eq!(r.analytic_hz.len(), 10);
+        for k in 0..10 {
+            let err = rel(r.frequencies_hz[k], r.analytic_hz[k]);
+            assert!(err < 1e-6, "{n} elements, mode {}: {} Hz vs {} Hz", k + 1, r.frequencies_hz[k], r.analytic_hz[k]);
+            // Discretisation error is far below round-off here, so the bound must hold.
+            assert!(err < r.roundoff_bound[k], "{n} elements, mode {}: error {err:e} above its bound", k + 1);
+        }
+        assert!(r.roundoff_bound[0] < 1e-6, "bound {}", r.roundoff_bound[0]);
+        let table = beamflow::commands::modes_table(&r);
+        assert!(!table.contains("note:"), "no round-off warning expected at {n} elements:\n{table}");
+    }
+}
+
+/// The dense path (≤ 1500 DOFs) reduces with the same factor: its f₁ error keeps falling
+/// as h⁴ up to its largest meshes, where K's own Cholesky factor had stalled it at ~1e-7.
+#[test]
+fn dense_path_converges_at_fourth_order_up_to_its_largest_meshes() {
+    let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 3).unwrap();
+    let err = |n: usize| {
+        let r = modes::run(&beam_case(n, ""), 3).unwrap();
+        assert!(2 * n <= beamflow::case::build::DENSE_EIGEN_LIMIT);
+        r.frequencies_hz.iter().zip(&exact).map(|(f, a)| rel(*f, *a)).collect::<Vec<_>>()
+    };
+    let (coarse, fine) = (err(250), err(500));
+    for mode in 0..3 {
+        let order = (coarse[mode] / fine[mode]).log2();
+        assert!((3.7..4.3).contains(&order), "mode {}: order {order:.3} ({coarse:?} → {fine:?})", mode + 1);
+    }
+}
+
+/// Springs, point masses, an interior support and varying sections: the square-root path
+/// (Lanczos and dense) agrees with the assembled-K path where the latter is still accurate.
+#[test]
+fn square_root_path_matches_the_assembled_stiffness_on_an_irregular_beam() {
+    use beamflow::assembly::system::structure_stiffness_root;
+    let text = "[beam.mesh]\nelements = 800\n\
+        [[beam.support]]\nx = 0.0\nkind = \"clamped\"\n\
+        [[beam.support]]\nx = 0.3\nkind = \"pinned\"\n\
+        [[beam.support]]\nx = 0.73\nkind = \"spring\"\nk_w = 2.0e4\nk_theta = 15.0\n\
+        [[beam.spring]]\nx = 0.5\nstiffness = 3.0e5\n\
+        [[beam.point_mass]]\nx = 0.61\nmass = 0.08\nrotary_inertia = 2e-5\n";
+    let mut beam = build_beam(&case(text)).unwrap();
+    for (i, e) in beam.mesh.elements.iter_mut().enumerate() {
+        e.ei *= 1.0 + 0.5 * (i as f64 * 0.01).sin();
+    }
+    let model = Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let sys = System::assemble(&model).unwrap();
+    assert!(sys.n() > beamflow::case::build::DENSE_EIGEN_LIMIT);
+    let root = structure_stiffness_root(&beam, &sys.dofs).unwrap();
+    let reference = beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 8, 0.0).unwrap();
+    let sparse = beamflow::solve::lanczos::lowest_modes_from_root(&root, &sys.m, 8).unwrap();
+    let dense = beamflow::solve::eigen::modes_from_root(&root, &sys.m, 8).unwrap();
+    assert!(sparse.from_root && dense.from_root && !reference.from_root);
+    for r in 0..8 {
+        // The reference itself carries ~ε·n⁴-scale round-off at 800 elements (~1e-7).
+        assert!(rel(sparse.omega[r], reference.omega[r]) < 1e-6, "mode {}", r + 1);
+        assert!(rel(dense.omega[r], sparse.omega[r]) < 1e-10, "mode {}", r + 1);
+        let phi = sparse.shape_global(r, sys.n());
+        assert!((sys.m.bilinear(&phi, &phi) - 1.0).abs() < 1e-9);
+    }
+}
+
+/// An unsupported beam has no square-root factor; large meshes still go to the profile
+/// LDLᵀ, which reports the singular stiffness as before.
+#[test]
+fn unsupported_fine_beam_is_still_reported_by_the_profile_solver() {
+    let err = modes::run(&beam_case(1000, "[[beam.support]]\nx = 0.0\nkind = \"free\""), 6).unwrap_err().to_string();
+    assert!(err.contains("LDLᵀ pivot") && err.contains("singular"), "{err}");
 }

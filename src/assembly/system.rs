@@ -2,9 +2,9 @@
 
 use super::dofs::DofMap;
 use crate::actuator::{Actuator, Component, FootBase};
-use crate::beam::{element_mass, element_stiffness, Beam, SupportKind};
+use crate::beam::{element_mass, element_stiffness, element_stiffness_rows, Beam, SupportKind};
 use crate::error::{Error, Result};
-use crate::linalg::{Csr, Skyline};
+use crate::linalg::{BandedR, Csr, Skyline};
 use std::sync::Arc;
 
 /// Rayleigh damping of the beam, C_beam = a₀·M_beam + a₁·K_beam.
@@ -302,6 +302,42 @@ impl System {
     }
 }
 
+/// A square-root factor R of the structure's stiffness (`k_beam` of [`System::assemble`]:
+/// elements, support springs, grounded springs) over the free DOFs of `dofs`, with
+/// RᵀR = K_beam, built from G's rows — two per element ([`element_stiffness_rows`]), √k
+/// on the DOF of each spring — by Givens QR, never forming K. Banded in `dofs`' numbering
+/// (half-bandwidth 3 for a bare beam). Errors if a spring is negative (K is then no Gram
+/// matrix) or if K is singular or nearly so (an unsupported structure), so the caller can
+/// fall back to the LDLᵀ of K.
+pub fn structure_stiffness_root(beam: &Beam, dofs: &DofMap) -> Result<BandedR> {
+    // G's rows, flat: entries of row r at `entries[starts[r]..starts[r + 1]]`.
+    let mut entries: Vec<(usize, f64)> = Vec::with_capacity(8 * beam.mesh.elements.len());
+    let mut starts = vec![0];
+    for e in &beam.mesh.elements {
+        let d = dofs.element_dofs(e.nodes);
+        for g in element_stiffness_rows(e.ei, e.length) {
+            entries.extend(d.iter().zip(g).filter_map(|(dof, v)| dof.map(|i| (i, v))));
+            starts.push(entries.len());
+        }
+    }
+    let springs = beam.supports.iter().flat_map(|s| match s.kind {
+        SupportKind::Spring { k_w, k_theta } => vec![(dofs.w[s.node], k_w), (dofs.theta[s.node], k_theta)],
+        _ => vec![],
+    });
+    for (dof, k) in springs.chain(beam.springs.iter().map(|s| (dofs.w[s.node], s.stiffness))) {
+        if k < 0.0 {
+            return Err(Error::Numerical(format!("a negative spring ({k} N/m) has no square-root factor")));
+        }
+        if let (Some(i), true) = (dof, k > 0.0) {
+            entries.push((i, k.sqrt()));
+            starts.push(entries.len());
+        }
+    }
+    let mut r = BandedR::from_rows(dofs.n, starts.windows(2).map(|w| &entries[w[0]..w[1]]));
+    r.check()?;
+    Ok(r)
+}
+
 impl System {
     /// Static displacement K·q = f (m, rad). Errors if the structure is not supported.
     pub fn static_solve(&self, f: &[f64]) -> Result<Vec<f64>> {
@@ -315,5 +351,78 @@ impl System {
     /// Kinetic plus strain energy of the beam part (J) at displacement q and velocity v.
     pub fn beam_energy(&self, q: &[f64], v: &[f64]) -> f64 {
         0.5 * self.m_beam.bilinear(v, v) + 0.5 * self.k_beam.bilinear(q, q)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::beam::{GroundedSpring, Material, Mesh, PointMass, Section, Support};
+
+    /// Small beams with varying sections and element lengths, interior supports (DOFs
+    /// removed mid-numbering), support springs, grounded springs and point masses.
+    fn odd_beams() -> Vec<Beam> {
+        let section = Section { width: 0.05, thickness: 0.005 };
+        let material = Material { youngs_modulus: 210e9, density: 7850.0 };
+        let mut beams = Vec::new();
+        for (n, seed) in [(7usize, 1u32), (12, 2), (19, 3)] {
+            let mut mesh = Mesh::uniform(0.73, n, &[], section, material);
+            for (i, e) in mesh.elements.iter_mut().enumerate() {
+                // Sections two decades apart, deterministic but irregular.
+                let t = ((i as f64 + 1.0) * 0.754_877_666 * seed as f64).fract();
+                e.ei *= 10f64.powf(2.0 * t - 1.0);
+                e.rho_a *= 1.0 + t;
+            }
+            let last = mesh.n_nodes() - 1;
+            let supports = vec![
+                Support { node: 0, kind: SupportKind::Clamped },
+                Support { node: n / 3, kind: SupportKind::Pinned },
+                Support { node: n / 2, kind: SupportKind::Guided },
+                Support { node: last, kind: SupportKind::Spring { k_w: 3.0e5 * seed as f64, k_theta: 40.0 } },
+            ];
+            let mut beam = Beam::new(mesh, supports);
+            beam.springs.push(GroundedSpring { node: 2 * n / 3, stiffness: 1.2e6, damping: 3.0 });
+            beam.springs.push(GroundedSpring { node: last, stiffness: 7.0e3, damping: 0.0 });
+            beam.point_masses.push(PointMass { node: n / 4 + 1, mass: 0.3, rotary_inertia: 1e-4 });
+            beams.push(beam);
+        }
+        beams
+    }
+
+    #[test]
+    fn stiffness_root_squares_to_the_assembled_stiffness_and_is_banded() {
+        for beam in odd_beams() {
+            let model =
+                Model { beam: Some(beam.clone()), rayleigh: Rayleigh::default(), actuators: vec![], sensors: vec![] };
+            let sys = System::assemble(&model).unwrap();
+            let r = structure_stiffness_root(&beam, &sys.dofs).unwrap();
+            let n = sys.n();
+            assert_eq!(r.dim(), n);
+            assert!(r.bandwidth() <= 3, "bandwidth {}", r.bandwidth());
+            for i in 0..n {
+                assert!(r.get(i, i) > 0.0);
+                for j in 0..n {
+                    let rtr: f64 = (0..n).map(|k| r.get(k, i) * r.get(k, j)).sum();
+                    let scale = (sys.k.get(i, i) * sys.k.get(j, j)).sqrt();
+                    assert!(
+                        (rtr - sys.k.get(i, j)).abs() <= 1e-14 * scale,
+                        "({i},{j}): RᵀR = {rtr}, K = {}",
+                        sys.k.get(i, j)
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn an_unsupported_beam_has_no_stiffness_root() {
+        let mut beam = odd_beams().remove(0);
+        beam.supports.clear();
+        beam.springs.clear();
+        let model =
+            Model { beam: Some(beam.clone()), rayleigh: Rayleigh::default(), actuators: vec![], sensors: vec![] };
+        let sys = System::assemble(&model).unwrap();
+        let err = structure_stiffness_root(&beam, &sys.dofs).unwrap_err().to_string();
+        assert!(err.contains("singular"), "{err}");
     }
 }

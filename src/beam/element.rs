@@ -39,6 +39,28 @@ pub fn element_stiffness(ei: f64, l: f64) -> Matrix4<f64> {
     )
 }
 
+/// The element stiffness as a sum of squares, Kₑ = g₁·g₁ᵀ + g₂·g₂ᵀ: one row g per Gauss
+/// point of ∫₀ˡ EI·w″² ds, gₚ = √(EI·l/2)·B(ξₚ), where B = N″ is the curvature of the cubic
+/// shape functions (1/m for w, 1/rad·1/m … entries ~1/l², 1/l) and ξₚ = ½ ∓ 1/(2√3).
+/// Curvature is linear along the element, so two-point Gauss quadrature is exact and
+/// Σ gₚ·gₚᵀ equals [`element_stiffness`] in exact arithmetic. gₚ·qₑ is in √J (strain
+/// energy ½·Σ(gₚ·qₑ)²), so entries on w are in √(N·m)/m and on θ in √(N·m)/rad.
+///
+/// Why: a factor of K assembled from these rows by orthogonal transformations never forms
+/// K's entries ~EI/l³, whose round-off, in a smooth mode's tiny strain energy, is amplified
+/// by ~(L/l)⁴; the rows' own round-off is amplified only by ~(L/l)².
+///
+/// The entries are written so that a rigid translation (1, 0, 1, 0) gives exactly zero.
+pub fn element_stiffness_rows(ei: f64, l: f64) -> [[f64; 4]; 2] {
+    let s3 = 3.0f64.sqrt();
+    let c = (0.5 * ei * l).sqrt();
+    // At ξ = ½ ∓ 1/(2√3): N₁″ = ∓2√3/l², N₂″ = (−1 ∓ √3)/l, N₃″ = −N₁″, N₄″ = (1 ∓ √3)/l.
+    let a = c * 2.0 * s3 / (l * l);
+    let b = c * (1.0 + s3) / l;
+    let d = c * (s3 - 1.0) / l;
+    [[-a, -b, a, -d], [a, d, -a, b]]
+}
+
 /// Element mass for mass per length `rho_a` (kg/m) and length `l` (m).
 pub fn element_mass(rho_a: f64, l: f64, kind: MassKind) -> Matrix4<f64> {
     let l2 = l * l;
@@ -92,6 +114,25 @@ mod tests {
         let rotation = nalgebra::Vector4::new(0.0, 1.0, l, 1.0);
         assert!((k * translation).norm() < 1e-12);
         assert!((k * rotation).norm() < 1e-10);
+    }
+
+    #[test]
+    fn stiffness_rows_are_a_square_root_of_the_element_stiffness() {
+        for (ei, l) in [(3.0, 0.37), (0.109375, 1.46e-5), (2.5e4, 2.0)] {
+            let k = element_stiffness(ei, l);
+            let g = element_stiffness_rows(ei, l);
+            for a in 0..4 {
+                for b in 0..4 {
+                    let sum = g[0][a] * g[0][b] + g[1][a] * g[1][b];
+                    let scale = (k[(a, a)] * k[(b, b)]).sqrt();
+                    assert!((sum - k[(a, b)]).abs() <= 1e-14 * scale, "({a},{b}): {sum} vs {}", k[(a, b)]);
+                }
+            }
+            // A rigid translation strains nothing, exactly.
+            for r in &g {
+                assert_eq!(r[0] + r[2], 0.0);
+            }
+        }
     }
 
     #[test]

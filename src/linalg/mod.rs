@@ -1,11 +1,15 @@
 //! Linear algebra kernels the solvers need and the general crates do not provide in the
 //! form we want: a profile (skyline) LDLᵀ that is fast for the banded-with-a-few-long-rows
-//! matrices a beam with actuators produces, for real and complex symmetric matrices alike.
+//! matrices a beam with actuators produces, for real and complex symmetric matrices alike;
+//! and a banded square-root factor of the stiffness built from its element rows without
+//! forming K (see [`banded_qr`]), for modes of very fine meshes.
 
+pub mod banded_qr;
 pub mod scalar;
 pub mod skyline;
 pub mod sparse;
 
+pub use banded_qr::BandedR;
 pub use scalar::Scalar;
 pub use skyline::{Skyline, SkylineLdlt};
 pub use sparse::Csr;

@@ -5,9 +5,9 @@
 //! thousand DOFs; that covers every beam mesh a power-flow study needs.
 
 use crate::error::{Error, Result};
-use crate::linalg::Csr;
+use crate::linalg::{BandedR, Csr};
 use faer::linalg::triangular_solve::{solve_lower_triangular_in_place, solve_upper_triangular_in_place};
-use faer::{Mat, Par, Side};
+use faer::{Mat, MatRef, Par, Side};
 
 /// Natural modes of a system over a subset of its DOFs.
 #[derive(Clone, Debug)]
@@ -18,6 +18,10 @@ pub struct Modes {
     pub shapes: Mat<f64>,
     /// The global DOF index of each row of `shapes`.
     pub dofs: Vec<usize>,
+    /// Whether K entered through its square-root factor from the element rows (relative
+    /// round-off in ω_r ~ε·ω_max/ω_r) rather than as assembled (~ε·(ω_max/ω_r)²); see
+    /// `analysis::modes::ModesResult::roundoff_bound`.
+    pub from_root: bool,
 }
 
 impl Modes {
@@ -80,7 +84,41 @@ pub fn modes(k: &Csr, m: &Csr, dofs: &[usize], count: usize) -> Result<Modes> {
                 .map_err(|_| Error::Numerical("the stiffness matrix is not positive semi-definite".into()))?
         }
     };
-    let l = llt.L();
+    reduce(llt.L(), md, shift, dofs, count, false)
+}
+
+/// The lowest `count` modes of (K, M) over all of M's DOFs, with K = RᵀR given by its
+/// banded square-root factor (see [`crate::assembly::system::structure_stiffness_root`]):
+/// the same reduction as [`modes`] with L = Rᵀ, whose round-off is that of K's element
+/// rows rather than of K's assembled entries. R must have passed [`BandedR::check`].
+pub fn modes_from_root(root: &BandedR, m: &Csr, count: usize) -> Result<Modes> {
+    let n = root.dim();
+    if n == 0 || m.dim() != n {
+        return Err(Error::Numerical(format!(
+            "modal analysis with a {n}-DOF stiffness factor and a {}-DOF M",
+            m.dim()
+        )));
+    }
+    let l = Mat::<f64>::from_fn(n, n, |i, j| root.get(j, i));
+    let mut md = Mat::<f64>::zeros(n, n);
+    for (i, j, v) in m.triplets() {
+        md[(i, j)] += v;
+    }
+    let dofs: Vec<usize> = (0..n).collect();
+    reduce(l.as_ref(), md, 0.0, &dofs, count, true)
+}
+
+/// Modes from K + shift·M = L·Lᵀ and M (dense, over `dofs`): the largest eigenvalues μ of
+/// L⁻¹·M·L⁻ᵀ are 1/(λ + shift) of the lowest modes.
+fn reduce(
+    l: MatRef<'_, f64>,
+    mut md: Mat<f64>,
+    shift: f64,
+    dofs: &[usize],
+    count: usize,
+    from_root: bool,
+) -> Result<Modes> {
+    let n = dofs.len();
     // B = L⁻¹·M·L⁻ᵀ: X = L⁻¹M, then B = L⁻¹·Xᵀ.
     solve_lower_triangular_in_place(l, md.as_mut(), Par::Seq);
     let mut b = md.transpose().to_owned();
@@ -121,5 +159,5 @@ pub fn modes(k: &Csr, m: &Csr, dofs: &[usize], count: usize) -> Result<Modes> {
             }
         }
     }
-    Ok(Modes { omega, shapes: x, dofs: dofs.to_vec() })
+    Ok(Modes { omega, shapes: x, dofs: dofs.to_vec(), from_root })
 }
