@@ -265,6 +265,73 @@ unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
     }
 }
 
+/// The banded right-hand side z = M·w₁ + C·w₂ four rows at a time: the same multiply–adds
+/// in the same order as the scalar loop of `rhs` (so the same bits), written with vectors
+/// because the compiler left that loop scalar. `m`, `c`: (B+1)·(n+B) diagonal storage;
+/// `w1`, `w2`: n + 2B, padded; `z`: n.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn rhs_band_avx2(n: usize, b: usize, m: &[f64], c: &[f64], w1: &[f64], w2: &[f64], z: &mut [f64]) {
+    use std::arch::x86_64::*;
+    let stride = n + b;
+    assert!(m.len() >= (b + 1) * stride && c.len() >= (b + 1) * stride);
+    assert!(w1.len() >= n + 2 * b && w2.len() >= n + 2 * b && z.len() >= n);
+    let (pm, pc, p1, p2) = (m.as_ptr(), c.as_ptr(), w1.as_ptr(), w2.as_ptr());
+    let mut i = 0;
+    while i + 4 <= n {
+        let mut sm = _mm256_mul_pd(_mm256_loadu_pd(pm.add(i)), _mm256_loadu_pd(p1.add(b + i)));
+        let mut sc = _mm256_mul_pd(_mm256_loadu_pd(pc.add(i)), _mm256_loadu_pd(p2.add(b + i)));
+        for t in 1..=b {
+            let (lo, up) = (t * stride + i, t * stride + i + t);
+            sm = _mm256_fmadd_pd(_mm256_loadu_pd(pm.add(lo)), _mm256_loadu_pd(p1.add(b + i - t)), sm);
+            sm = _mm256_fmadd_pd(_mm256_loadu_pd(pm.add(up)), _mm256_loadu_pd(p1.add(b + i + t)), sm);
+            sc = _mm256_fmadd_pd(_mm256_loadu_pd(pc.add(lo)), _mm256_loadu_pd(p2.add(b + i - t)), sc);
+            sc = _mm256_fmadd_pd(_mm256_loadu_pd(pc.add(up)), _mm256_loadu_pd(p2.add(b + i + t)), sc);
+        }
+        _mm256_storeu_pd(z.as_mut_ptr().add(i), _mm256_add_pd(sm, sc));
+        i += 4;
+    }
+    for i in i..n {
+        let mut sm = m[i] * w1[b + i];
+        let mut sc = c[i] * w2[b + i];
+        for t in 1..=b {
+            let (lo, up) = (t * stride + i, t * stride + i + t);
+            sm = m[lo].mul_add(w1[b + i - t], sm);
+            sm = m[up].mul_add(w1[b + i + t], sm);
+            sc = c[lo].mul_add(w2[b + i - t], sc);
+            sc = c[up].mul_add(w2[b + i + t], sc);
+        }
+        z[i] = sm + sc;
+    }
+}
+
+/// The banded dissipation's four partial sums (lane l takes the rows i ≡ l mod 4, as the
+/// scalar loop of `dissipation` does) over whole groups of four rows; returns the first row
+/// left for the scalar loop.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn dissipation_avx2(n: usize, b: usize, c: &[f64], vb: &[f64], part: &mut [f64; 4]) -> usize {
+    use std::arch::x86_64::*;
+    let stride = n + b;
+    assert!(c.len() >= (b + 1) * stride && vb.len() >= n + 2 * b);
+    let (pc, pv) = (c.as_ptr(), vb.as_ptr());
+    let mut acc = _mm256_loadu_pd(part.as_ptr());
+    let half = _mm256_set1_pd(0.5);
+    let two = _mm256_set1_pd(2.0);
+    let mut i = 0;
+    while i + 4 <= n {
+        let vi = _mm256_loadu_pd(pv.add(b + i));
+        let mut s = _mm256_mul_pd(_mm256_mul_pd(half, _mm256_loadu_pd(pc.add(i))), vi);
+        for t in 1..=b {
+            s = _mm256_fmadd_pd(_mm256_loadu_pd(pc.add(t * stride + i)), _mm256_loadu_pd(pv.add(b + i - t)), s);
+        }
+        acc = _mm256_fmadd_pd(_mm256_mul_pd(two, s), vi, acc);
+        i += 4;
+    }
+    _mm256_storeu_pd(part.as_mut_ptr(), acc);
+    i
+}
+
 /// A linear system's Newmark integrator on band storage.
 pub struct FusedNewmark {
     scheme: Scheme,
@@ -810,9 +877,17 @@ impl FusedNewmark {
         let (m, c) = (&self.m[..(b + 1) * stride], &self.c[..(b + 1) * stride]);
         let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
         let z = &mut self.z[b..b + n];
-        if b <= MAX_SLICED {
+        if cfg!(target_arch = "x86_64") && FMA {
+            // SAFETY: the FMA build runs only inside `step_avx2` (see `dot_lanes`); the
+            // kernel checks the slice lengths it relies on.
+            #[cfg(target_arch = "x86_64")]
+            unsafe {
+                rhs_band_avx2(n, b, m, c, w1, w2, z)
+            };
+        } else if b <= MAX_SLICED {
             // Every diagonal and every shifted copy of w as a slice of length n, so that no
-            // index in the row loop needs a bounds check and the loop vectorises.
+            // index in the row loop needs a bounds check (the baseline build; the compiler
+            // kept even this loop scalar, hence `rhs_band_avx2`).
             let empty: &[f64] = &[];
             let (mut ml, mut mu, mut cl, mut cu) =
                 ([empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1]);
@@ -996,7 +1071,16 @@ impl FusedNewmark {
         // v̄ᵀ·C·v̄ = Σᵢ v̄ᵢ·(C_ii·v̄ᵢ + 2·Σ_{t≥1} C_{i,i−t}·v̄_{i−t}); four partial sums so the
         // reduction vectorises.
         let mut part = [0.0f64; 4];
-        for i in 0..n {
+        #[cfg(target_arch = "x86_64")]
+        let start = if FMA {
+            // SAFETY: as in `rhs`; the lengths are the ones `dissipation_avx2` requires.
+            unsafe { dissipation_avx2(n, b, c, vb, &mut part) }
+        } else {
+            0
+        };
+        #[cfg(not(target_arch = "x86_64"))]
+        let start = 0;
+        for i in start..n {
             let mut s = 0.5 * c[i] * vb[i + b];
             for t in 1..=b {
                 // SAFETY: as in `rhs`.
