@@ -257,10 +257,17 @@ unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
         let h01 = _mm256_hadd_pd(a0, a1);
         let h23 = _mm256_hadd_pd(a2, a3);
         let sum = _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31));
-        let mut t = [0.0f64; 4];
-        _mm256_storeu_pd(t.as_mut_ptr(), sum);
-        let m = 4.min(n - i);
-        out[i..i + m].copy_from_slice(&t[..m]);
+        if i + 4 <= n {
+            _mm256_storeu_pd(out.as_mut_ptr().add(i), sum);
+        } else {
+            // The last, partial group: element by element (a length-dependent slice copy
+            // would be a call to memcpy).
+            let mut t = [0.0f64; 4];
+            _mm256_storeu_pd(t.as_mut_ptr(), sum);
+            for (o, &x) in out[i..].iter_mut().zip(&t) {
+                *o = x;
+            }
+        }
         i += 4;
     }
 }
@@ -400,8 +407,7 @@ struct Observations {
     dense: Vec<f64>,
     stride: usize,
     dense_index: Vec<usize>,
-    /// u, v, a padded to `stride`, and the dense rows' products with one of them.
-    padded: Vec<f64>,
+    /// The dense rows' products with one of u, v, a.
     products: Vec<f64>,
     /// Short rows as (observation, pairs).
     sparse: Vec<(usize, Vec<(usize, f64)>)>,
@@ -527,9 +533,10 @@ impl FusedNewmark {
             long,
             l_tail,
             d_inv: d.iter().map(|x| 1.0 / x).collect(),
-            u: vec![0.0; n],
-            v: vec![0.0; n],
-            a: vec![0.0; n],
+            // Zero padding to a multiple of four, so dense read-outs run over whole lanes.
+            u: vec![0.0; n.next_multiple_of(4)],
+            v: vec![0.0; n.next_multiple_of(4)],
+            a: vec![0.0; n.next_multiple_of(4)],
             w1: vec![0.0; n + 2 * b],
             w2: vec![0.0; n + 2 * b],
             up: vec![0.0; n + 2 * b],
@@ -596,21 +603,21 @@ impl FusedNewmark {
 
     /// Displacement, velocity and acceleration at the current time.
     pub fn u(&self) -> &[f64] {
-        &self.u
+        &self.u[..self.n]
     }
     pub fn v(&self) -> &[f64] {
-        &self.v
+        &self.v[..self.n]
     }
     pub fn a(&self) -> &[f64] {
-        &self.a
+        &self.a[..self.n]
     }
 
     /// Starts from displacement u₀, velocity v₀ and acceleration a₀ (which should be the
     /// consistent one, M⁻¹·(F₀ − C·v₀ − K·u₀)), with load F₀ as sparse pairs.
     pub fn set_state(&mut self, u0: &[f64], v0: &[f64], a0: &[f64], f0: &[(usize, f64)]) {
-        self.u.copy_from_slice(u0);
-        self.v.copy_from_slice(v0);
-        self.a.copy_from_slice(a0);
+        self.u[..self.n].copy_from_slice(u0);
+        self.v[..self.n].copy_from_slice(v0);
+        self.a[..self.n].copy_from_slice(a0);
         self.w_ready = false;
         self.f_prev.clear();
         self.f_prev.extend_from_slice(f0);
@@ -637,7 +644,6 @@ impl FusedNewmark {
             }
         }
         o.dense.resize(o.dense_index.len().next_multiple_of(4) * stride, 0.0);
-        o.padded = vec![0.0; stride];
         o.products = vec![0.0; o.dense_index.len()];
         self.observations = o;
         self.observe_dispatch();
@@ -670,16 +676,16 @@ impl FusedNewmark {
         if o.values.is_empty() {
             return;
         }
-        let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
         if !o.dense_index.is_empty() {
-            for (q, x) in [u, v, a].into_iter().enumerate() {
-                o.padded[..n].copy_from_slice(x);
-                gemv::<FMA>(&o.dense, o.stride, &o.padded, &mut o.products);
+            // u, v, a carry zero padding up to `stride`.
+            for (q, x) in [&self.u, &self.v, &self.a].into_iter().enumerate() {
+                gemv::<FMA>(&o.dense, o.stride, x, &mut o.products);
                 for (&r, &p) in o.dense_index.iter().zip(&o.products) {
                     o.values[r][q] = p;
                 }
             }
         }
+        let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
         for (r, g) in &o.sparse {
             let mut val = [0.0; 3];
             for &(d, c) in g {
@@ -869,7 +875,7 @@ impl FusedNewmark {
             }
         }
         if self.k.is_some() {
-            self.up[b..b + n].copy_from_slice(&self.u);
+            self.up[b..b + n].copy_from_slice(&self.u[..n]);
         }
         // Row i: Σ_t D_t[i]·w[i−t] (lower half) + Σ_{t≥1} D_t[i+t]·w[i+t] (upper half, the
         // same diagonal read t entries further on). Padded index of column j is j + B.
