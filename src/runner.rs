@@ -71,6 +71,14 @@ pub fn transient_settings(spec: &AnalysisSpec) -> Option<TransientSettings> {
 /// Builds the model and runs the case's analyses in order.
 pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     let built = build_model(lc)?;
+    // Before anything runs: the time-domain and steady-state analyses cannot apply modal damping.
+    for spec in &lc.case.analysis {
+        match spec {
+            AnalysisSpec::Transient { .. } => built.require_viscous_damping(&lc.file, "transient analysis")?,
+            AnalysisSpec::SteadyState { .. } => built.require_viscous_damping(&lc.file, "steady-state analysis")?,
+            _ => {}
+        }
+    }
     let model = built.model;
     let system = System::assemble(&model)?;
     let mut reduced = ReducedCache::default();

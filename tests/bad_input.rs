@@ -145,3 +145,29 @@ fn closed_standard_output_is_not_a_panic() {
     assert!(out.status.success(), "status {:?}, stderr: {stderr}", out.status);
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+/// Modal damping exists only as the harmonic analysis's modal sum: a transient or
+/// steady-state analysis of such a case is refused (naming the file and the field) instead of
+/// running undamped; the harmonic analysis still runs.
+#[test]
+fn modal_damping_is_refused_by_time_domain_and_steady_state_analyses() {
+    const BASE: &str = "[damping]\nkind = \"modal\"\nratios = [0.01]\n\
+        [[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
+    for analysis in ["type = \"transient\"\nperiods = 2", "type = \"steady_state\""] {
+        let text = format!("{BASE}[[analysis]]\n{analysis}\n");
+        let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(".")).unwrap();
+        let msg = match beamflow::runner::run_case(&lc) {
+            Ok(_) => panic!("a modal-damped {analysis} ran"),
+            Err(e) => e.to_string(),
+        };
+        for needle in ["bad.toml", "damping.kind", "modal", "harmonic"] {
+            assert!(msg.contains(needle), "message must mention `{needle}`: {msg}");
+        }
+    }
+    let text = format!(
+        "{BASE}[[analysis]]\ntype = \"harmonic\"\n[analysis.frequencies]\nvalues = [60.0]\n\
+         [[analysis.force]]\nx = 0.15\n"
+    );
+    let lc = LoadedCase::from_str(&text, "ok.toml", PathBuf::from(".")).unwrap();
+    beamflow::runner::run_case(&lc).expect("modal damping in a harmonic analysis");
+}

@@ -356,6 +356,12 @@ fn bad_sweep_files_give_clear_errors() {
     let e = sweep::run(&s, &threads(1)).unwrap_err().to_string();
     assert!(e.contains("f.sweep.toml") && e.contains("case 1") && e.contains("actuator[0].e = 0.02"), "{e}");
     assert!(e.contains("left leg"), "{e}");
+    // Modal damping is refused rather than swept undamped.
+    d.write("modal.toml", &format!("[damping]\nkind = \"modal\"\nratios = [0.01]\n{FRAME_BASE}"));
+    let s =
+        d.sweep("m.sweep.toml", "base = \"modal.toml\"\n[[parameter]]\npath = \"actuator[0].x_e\"\nvalues = [0.3]\n");
+    let e = sweep::run(&s, &threads(1)).unwrap_err().to_string();
+    assert!(e.contains("m.sweep.toml") && e.contains("damping.kind") && e.contains("modal"), "{e}");
 
     // Shard specifications name the option.
     for (spec, why) in [("0/3", "1..=3"), ("4/3", "1..=3"), ("1/0", "at least 1"), ("2", "k/N"), ("a/3", "whole")] {

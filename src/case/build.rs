@@ -17,6 +17,25 @@ pub struct BuiltModel {
     pub modal_ratios: Option<Vec<f64>>,
 }
 
+impl BuiltModel {
+    /// Analyses that integrate M, C, K directly (transient, periodic steady state, sweeps)
+    /// have no modal damping: it exists only as the harmonic analysis's modal sum. They
+    /// refuse such a case rather than run it undamped.
+    pub fn require_viscous_damping(&self, file: &str, analysis: &str) -> Result<()> {
+        if self.modal_ratios.is_some() {
+            return Err(Error::input(
+                file,
+                "damping.kind",
+                format!(
+                    "\"modal\" damping is applied only by harmonic analyses (as a modal sum); a {analysis} \
+                     needs \"rayleigh_ratio\", \"rayleigh\" or \"none\""
+                ),
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Points that must be mesh nodes, named after the field that asks for them.
 pub fn required_points(case: &Case) -> Vec<RequiredPoint> {
     let mut pts = Vec::new();

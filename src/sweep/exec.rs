@@ -72,6 +72,7 @@ impl<'a> Evaluator<'a> {
         let lc = sweep.case(i)?;
         let wrap = |e: Error| Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string());
         let built = build_model(&lc).map_err(wrap)?;
+        built.require_viscous_damping(&lc.file, "sweep").map_err(wrap)?;
         let model = built.model;
         let sys = System::assemble(&model).map_err(wrap)?;
         let amp = |c: &[num_complex::Complex64]| c.get(1).map_or(0.0, |c| c.norm());
@@ -146,7 +147,9 @@ impl<'a> Evaluator<'a> {
         };
         debug_assert!(indices.iter().all(|&i| sweep.model_key(i) == sweep.model_key(first)));
         let lc = sweep.case(first)?;
-        let mut model = build_model(&lc).map_err(wrap(first))?.model;
+        let built = build_model(&lc).map_err(wrap(first))?;
+        built.require_viscous_damping(&lc.file, "sweep").map_err(wrap(first))?;
+        let mut model = built.model;
         let sys = System::assemble(&model).map_err(wrap(first))?;
         let mut solver = HarmonicSolver::new(&sys);
         let driven = sweep.driven_actuators();
