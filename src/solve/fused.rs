@@ -260,12 +260,16 @@ unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
         if i + 4 <= n {
             _mm256_storeu_pd(out.as_mut_ptr().add(i), sum);
         } else {
-            // The last, partial group: element by element (a length-dependent slice copy
-            // would be a call to memcpy).
-            let mut t = [0.0f64; 4];
-            _mm256_storeu_pd(t.as_mut_ptr(), sum);
-            for (o, &x) in out[i..].iter_mut().zip(&t) {
-                *o = x;
+            // The last, partial group, lane by lane with explicit stores (a copy loop of
+            // variable length is turned into a call to memcpy).
+            let (lo, hi) = (_mm256_castpd256_pd128(sum), _mm256_extractf128_pd(sum, 1));
+            let o = out.as_mut_ptr().add(i);
+            _mm_storel_pd(o, lo);
+            if n - i > 1 {
+                _mm_storeh_pd(o.add(1), lo);
+            }
+            if n - i > 2 {
+                _mm_storel_pd(o.add(2), hi);
             }
         }
         i += 4;
