@@ -1107,3 +1107,44 @@ impl FusedNewmark {
         diss
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every row count (whole groups of four and each partial last group), both builds:
+    /// the product equals plain sums to round-off and writes nothing past `out`.
+    #[test]
+    fn gemv_matches_plain_sums_for_every_row_count() {
+        let stride = 8;
+        let w: Vec<f64> = (0..stride).map(|k| 0.3 + 0.7 * ((k * 7 % 5) as f64) - 1.1).collect();
+        for rows in 1..=9usize {
+            let a: Vec<f64> = (0..rows.next_multiple_of(4) * stride)
+                .map(|q| if q < rows * stride { ((q * 13 % 11) as f64 - 5.0) / 3.0 } else { 0.0 })
+                .collect();
+            let mut builds = vec![false];
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+                builds.push(true);
+            }
+            for fma in builds {
+                // A sentinel past the rows checks that the last group stores only its rows.
+                let mut out = vec![f64::NAN; rows + 1];
+                let (head, tail) = out.split_at_mut(rows);
+                tail[0] = 42.0;
+                if fma {
+                    gemv::<true>(&a, stride, &w, head);
+                } else {
+                    gemv::<false>(&a, stride, &w, head);
+                }
+                for (i, &got) in out[..rows].iter().enumerate() {
+                    let row = &a[i * stride..(i + 1) * stride];
+                    let want: f64 = row.iter().zip(&w).map(|(x, y)| x * y).sum();
+                    let scale: f64 = row.iter().zip(&w).map(|(x, y)| (x * y).abs()).sum();
+                    assert!((got - want).abs() <= 1e-14 * scale, "rows {rows}, fma {fma}, row {i}: {got} vs {want}");
+                }
+                assert_eq!(out[rows], 42.0, "rows {rows}, fma {fma}: wrote past the end");
+            }
+        }
+    }
+}
