@@ -73,8 +73,15 @@ fn update_row<const FMA: bool>(
     v[i] = v_new;
     a[i] = a_new;
     vbar[i] = 0.5 * (vi + v_new);
-    w1[i] = madd::<FMA>(k.cu, x, madd::<FMA>(k.cv, v_new, k.ca * a_new));
-    w2[i] = madd::<FMA>(k.eu, x, madd::<FMA>(k.ev, v_new, k.ea * a_new));
+    (w1[i], w2[i]) = k.history::<FMA>(x, v_new, a_new);
+}
+
+/// w₁, w₂ of every DOF from u, v, a: after `set_state`, before an update has written them.
+#[inline(always)]
+fn fill_history<const FMA: bool>(k: Coeffs, u: &[f64], v: &[f64], a: &[f64], w1: &mut [f64], w2: &mut [f64]) {
+    for i in 0..u.len() {
+        (w1[i], w2[i]) = k.history::<FMA>(u[i], v[i], a[i]);
+    }
 }
 
 /// The band half-width as a type, so that fixed widths unroll.
@@ -127,6 +134,15 @@ struct Coeffs {
 }
 
 impl Coeffs {
+    /// The history terms (w₁, w₂) of one DOF with state (u, v, a).
+    #[inline(always)]
+    fn history<const FMA: bool>(self, u: f64, v: f64, a: f64) -> (f64, f64) {
+        (
+            madd::<FMA>(self.cu, u, madd::<FMA>(self.cv, v, self.ca * a)),
+            madd::<FMA>(self.eu, u, madd::<FMA>(self.ev, v, self.ea * a)),
+        )
+    }
+
     /// The coefficients of a scheme at step Δt (s).
     fn new(s: Scheme, dt: f64) -> Self {
         let (am, af, g, b) = (s.alpha_m, s.alpha_f, s.gamma, s.beta);
@@ -176,17 +192,11 @@ struct DenseStep {
     a: Vec<f64>,
 }
 
-/// Σ aᵢ·bᵢ over slices whose length is a multiple of four, in four independent lanes (so
-/// the loop is one vector multiply–add per four terms).
+/// Σ aᵢ·bᵢ over slices whose length is a multiple of four, in four lanes (lane l takes the
+/// terms i ≡ l mod 4), summed as (l₀ + l₁) + (l₂ + l₃): the rounding of `gemv_avx2`.
 #[inline(always)]
 fn dot_lanes<const FMA: bool>(a: &[f64], b: &[f64]) -> f64 {
     debug_assert!(a.len() % 4 == 0 && b.len() >= a.len());
-    #[cfg(target_arch = "x86_64")]
-    if FMA {
-        // SAFETY: the FMA build of the step runs only inside `step_avx2`, which is called
-        // only when the processor reports AVX2 and FMA; `b` is at least as long as `a`.
-        return unsafe { dot_lanes_avx2(a, b) };
-    }
     let mut acc = [0.0f64; 4];
     for (x, y) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
         for l in 0..4 {
@@ -194,24 +204,6 @@ fn dot_lanes<const FMA: bool>(a: &[f64], b: &[f64]) -> f64 {
         }
     }
     (acc[0] + acc[1]) + (acc[2] + acc[3])
-}
-
-/// `dot_lanes` with AVX2 vectors: the compiler's own vectorisation of the lane loop
-/// shuffles pairs of lanes instead.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn dot_lanes_avx2(a: &[f64], b: &[f64]) -> f64 {
-    use std::arch::x86_64::*;
-    let (pa, pb) = (a.as_ptr(), b.as_ptr());
-    let mut acc = _mm256_setzero_pd();
-    let mut k = 0;
-    while k + 4 <= a.len() {
-        acc = _mm256_fmadd_pd(_mm256_loadu_pd(pa.add(k)), _mm256_loadu_pd(pb.add(k)), acc);
-        k += 4;
-    }
-    let mut lanes = [0.0f64; 4];
-    _mm256_storeu_pd(lanes.as_mut_ptr(), acc);
-    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3])
 }
 
 /// out = A·w for a row-major A with `stride` numbers per row (a multiple of four), at least
@@ -223,7 +215,8 @@ fn gemv<const FMA: bool>(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
     assert!(stride % 4 == 0 && w.len() >= stride && a.len() >= out.len().next_multiple_of(4) * stride);
     #[cfg(target_arch = "x86_64")]
     if FMA {
-        // SAFETY: as in `dot_lanes`; the sizes are checked above.
+        // SAFETY: the FMA build of the step runs only inside `step_avx2`, which is called
+        // only when the processor reports AVX2 and FMA; the sizes are checked above.
         return unsafe { gemv_avx2(a, stride, w, out) };
     }
     for (i, o) in out.iter_mut().enumerate() {
@@ -835,10 +828,7 @@ impl FusedNewmark {
         let (w1, rest) = ops.w.split_at_mut(n);
         let (w2, rest) = rest.split_at_mut(n);
         if !self.w_ready {
-            for j in 0..n {
-                w1[j] = madd::<FMA>(k.cu, u[j], madd::<FMA>(k.cv, v[j], k.ca * a[j]));
-                w2[j] = madd::<FMA>(k.eu, u[j], madd::<FMA>(k.ev, v[j], k.ea * a[j]));
-            }
+            fill_history::<FMA>(k, u, v, a, w1, w2);
         }
         if k.af != 0.0 {
             for j in 0..n {
@@ -872,11 +862,7 @@ impl FusedNewmark {
         let (n, b) = (self.n, w.b());
         if !self.w_ready {
             let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
-            let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
-            for i in 0..n {
-                w1[i] = madd::<FMA>(k.cu, u[i], madd::<FMA>(k.cv, v[i], k.ca * a[i]));
-                w2[i] = madd::<FMA>(k.eu, u[i], madd::<FMA>(k.ev, v[i], k.ea * a[i]));
-            }
+            fill_history::<FMA>(k, u, v, a, &mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         }
         if self.k.is_some() {
             self.up[b..b + n].copy_from_slice(&self.u[..n]);
@@ -888,7 +874,7 @@ impl FusedNewmark {
         let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
         let z = &mut self.z[b..b + n];
         if cfg!(target_arch = "x86_64") && FMA {
-            // SAFETY: the FMA build runs only inside `step_avx2` (see `dot_lanes`); the
+            // SAFETY: the FMA build runs only inside `step_avx2` (see `gemv`); the
             // kernel checks the slice lengths it relies on.
             #[cfg(target_arch = "x86_64")]
             unsafe {
