@@ -421,6 +421,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         }
         let mut rec = PeriodRecord::new(nl, body_dofs.len(), na, model.sensors.len(), n_per);
         let (eb0, es0) = stored(&nm);
+        let d_sys0 = nm.dissipated();
         let mut pb = Balances::default();
         for j in 0..n_per {
             // Record the state at t_j.
@@ -452,16 +453,16 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
                 fp_step[a] = stacks[a].active_force(hist_v[a][j + 1], hist_h[a][j + 1]);
             }
             // Energy by the midpoint rule, which the trapezoidal scheme balances exactly:
-            // the system's dissipation Δt·v̄ᵀ·C·v̄ comes from the step itself; the beam's is
-            // that minus the links' dampers, C = C_beam + Σ c_l·g_l·g_lᵀ.
-            let d_sys = nm.step_weighted(&fp_step);
-            let mut d_beam = d_sys;
+            // the system's dissipation Σ Δt·v̄ᵀ·C·v̄ is kept by the integrator (read once a
+            // period); the beam's is that minus the links' dampers, C = C_beam + Σ c_l·g_l·g_lᵀ.
+            nm.step_weighted(&fp_step);
+            let mut d_links = 0.0;
             let mut w_beam = 0.0;
             for (l, lk) in sys.links.iter().enumerate() {
                 let new = link_state(&nm, l, lk, &fp_step);
                 let old = &links_now[l];
                 let ud_mid = 0.5 * (old.ud + new.ud);
-                d_beam -= dt * lk.c * ud_mid * ud_mid;
+                d_links += dt * lk.c * ud_mid * ud_mid;
                 w_beam += dt * 0.5 * (old.fi + new.fi) * 0.5 * (old.fv + new.fv);
                 links_now[l] = new;
             }
@@ -473,10 +474,12 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             }
             fp_prev.copy_from_slice(&fp_step);
             pb.beam.input += w_beam;
-            pb.beam.dissipated += d_beam;
+            pb.beam.dissipated -= d_links;
             pb.system.input += w_sys;
-            pb.system.dissipated += d_sys;
         }
+        let d_sys = nm.dissipated() - d_sys0;
+        pb.system.dissipated = d_sys;
+        pb.beam.dissipated += d_sys;
         for a in 0..na {
             rec.v[a].extend_from_slice(&hist_v[a][..n_per]);
             rec.h[a].extend_from_slice(&hist_h[a][..n_per]);

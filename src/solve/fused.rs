@@ -273,28 +273,57 @@ unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
 /// in the same order as the scalar loop of `rhs` (so the same bits), written with vectors
 /// because the compiler left that loop scalar. `m`, `c`: (B+1)·(n+B) diagonal storage;
 /// `w1`, `w2`: n + 2B, padded; `z`: n.
+///
+/// With `DISS`, the same pass also adds the last step's v̄ᵀ·C·v̄ over whole groups of four
+/// rows to `part` (`vb`: v̄, padded like w₁), reusing the loads of C's lower diagonals, with
+/// the rounding of `dissipation_avx2`; returns the first row it left to the scalar loop.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn rhs_band_avx2(n: usize, b: usize, m: &[f64], c: &[f64], w1: &[f64], w2: &[f64], z: &mut [f64]) {
+#[allow(clippy::too_many_arguments)]
+unsafe fn rhs_band_avx2<const DISS: bool>(
+    n: usize,
+    b: usize,
+    m: &[f64],
+    c: &[f64],
+    w1: &[f64],
+    w2: &[f64],
+    z: &mut [f64],
+    vb: &[f64],
+    part: &mut [f64; 4],
+) -> usize {
     use std::arch::x86_64::*;
     let stride = n + b;
     assert!(m.len() >= (b + 1) * stride && c.len() >= (b + 1) * stride);
     assert!(w1.len() >= n + 2 * b && w2.len() >= n + 2 * b && z.len() >= n);
-    let (pm, pc, p1, p2) = (m.as_ptr(), c.as_ptr(), w1.as_ptr(), w2.as_ptr());
+    assert!(!DISS || vb.len() >= n + 2 * b);
+    let (pm, pc, p1, p2, pv) = (m.as_ptr(), c.as_ptr(), w1.as_ptr(), w2.as_ptr(), vb.as_ptr());
+    let mut acc = _mm256_loadu_pd(part.as_ptr());
+    let (half, two) = (_mm256_set1_pd(0.5), _mm256_set1_pd(2.0));
     let mut i = 0;
     while i + 4 <= n {
+        let c0 = _mm256_loadu_pd(pc.add(i));
         let mut sm = _mm256_mul_pd(_mm256_loadu_pd(pm.add(i)), _mm256_loadu_pd(p1.add(b + i)));
-        let mut sc = _mm256_mul_pd(_mm256_loadu_pd(pc.add(i)), _mm256_loadu_pd(p2.add(b + i)));
+        let mut sc = _mm256_mul_pd(c0, _mm256_loadu_pd(p2.add(b + i)));
+        let vi = if DISS { _mm256_loadu_pd(pv.add(b + i)) } else { _mm256_setzero_pd() };
+        let mut sd = if DISS { _mm256_mul_pd(_mm256_mul_pd(half, c0), vi) } else { _mm256_setzero_pd() };
         for t in 1..=b {
             let (lo, up) = (t * stride + i, t * stride + i + t);
+            let c_lo = _mm256_loadu_pd(pc.add(lo));
             sm = _mm256_fmadd_pd(_mm256_loadu_pd(pm.add(lo)), _mm256_loadu_pd(p1.add(b + i - t)), sm);
             sm = _mm256_fmadd_pd(_mm256_loadu_pd(pm.add(up)), _mm256_loadu_pd(p1.add(b + i + t)), sm);
-            sc = _mm256_fmadd_pd(_mm256_loadu_pd(pc.add(lo)), _mm256_loadu_pd(p2.add(b + i - t)), sc);
+            sc = _mm256_fmadd_pd(c_lo, _mm256_loadu_pd(p2.add(b + i - t)), sc);
             sc = _mm256_fmadd_pd(_mm256_loadu_pd(pc.add(up)), _mm256_loadu_pd(p2.add(b + i + t)), sc);
+            if DISS {
+                sd = _mm256_fmadd_pd(c_lo, _mm256_loadu_pd(pv.add(b + i - t)), sd);
+            }
         }
         _mm256_storeu_pd(z.as_mut_ptr().add(i), _mm256_add_pd(sm, sc));
+        if DISS {
+            acc = _mm256_fmadd_pd(_mm256_mul_pd(two, sd), vi, acc);
+        }
         i += 4;
     }
+    let start = i;
     for i in i..n {
         let mut sm = m[i] * w1[b + i];
         let mut sc = c[i] * w2[b + i];
@@ -307,6 +336,10 @@ unsafe fn rhs_band_avx2(n: usize, b: usize, m: &[f64], c: &[f64], w1: &[f64], w2
         }
         z[i] = sm + sc;
     }
+    if DISS {
+        _mm256_storeu_pd(part.as_mut_ptr(), acc);
+    }
+    start
 }
 
 /// The banded dissipation's four partial sums (lane l takes the rows i ≡ l mod 4, as the
@@ -386,8 +419,14 @@ pub struct FusedNewmark {
     w_ready: bool,
     /// v̄ of the last step, padded like w₁, for the dissipation.
     vbar: Vec<f64>,
-    /// Accumulate Δt·v̄ᵀ·C·v̄ (v̄ the step's mean velocity) and return it from `step`.
+    /// Accumulate the dissipated energy Σ Δt·v̄ᵀ·C·v̄ (v̄ each step's mean velocity), read
+    /// by `dissipated`.
     pub track_dissipation: bool,
+    /// Σ v̄ᵀ·C·v̄ over the steps counted so far (without the factor Δt).
+    diss_sum: f64,
+    /// `vbar` holds a step not yet in `diss_sum`: the band step counts it in the next
+    /// step's right-hand side pass, which reads C's diagonals anyway, or in `dissipated`.
+    diss_pending: bool,
     /// Registered read-outs (see `set_observations`) and their latest values.
     observations: Observations,
     /// The step's coefficients, fixed by the scheme and Δt.
@@ -552,6 +591,8 @@ impl FusedNewmark {
             w_ready: false,
             vbar: vec![0.0; n + 2 * b + 4],
             track_dissipation: false,
+            diss_sum: 0.0,
+            diss_pending: false,
             observations: Observations::default(),
             coeffs: Coeffs::new(scheme, dt),
         })
@@ -616,6 +657,8 @@ impl FusedNewmark {
         self.v[..self.n].copy_from_slice(v0);
         self.a[..self.n].copy_from_slice(a0);
         self.w_ready = false;
+        self.diss_sum = 0.0;
+        self.diss_pending = false;
         self.f_prev.clear();
         self.f_prev.extend_from_slice(f0);
         self.observe_dispatch();
@@ -723,8 +766,7 @@ impl FusedNewmark {
     }
 
     /// Advances one step to the load F_{n+1} = Σ_a b_a·wₐ of the registered patterns.
-    /// Returns Δt·v̄ᵀ·C·v̄ if `track_dissipation` is set, else 0.
-    pub fn step_weighted(&mut self, w: &[f64]) -> f64 {
+    pub fn step_weighted(&mut self, w: &[f64]) {
         assert_eq!(w.len(), self.patterns.len(), "one weight per registered load pattern");
         let af = self.scheme.alpha_f;
         for a in 0..w.len() {
@@ -741,15 +783,13 @@ impl FusedNewmark {
         }
         // F_n of the pattern weights is kept in `weights_prev`; `step` leaves `f_prev` alone.
         self.use_weights = true;
-        let diss = self.step(&[]);
+        self.step(&[]);
         self.use_weights = false;
-        diss
     }
 
-    /// Advances one step to the load F_{n+1} (sparse pairs, duplicates summed). Returns
-    /// Δt·v̄ᵀ·C·v̄ if `track_dissipation` is set, else 0.
-    pub fn step(&mut self, f_next: &[(usize, f64)]) -> f64 {
-        let (af, dt) = (self.scheme.alpha_f, self.dt);
+    /// Advances one step to the load F_{n+1} (sparse pairs, duplicates summed).
+    pub fn step(&mut self, f_next: &[(usize, f64)]) {
+        let af = self.scheme.alpha_f;
         for &(d, f) in f_next {
             self.load[d] += (1.0 - af) * f;
             self.touched.push(d);
@@ -762,16 +802,27 @@ impl FusedNewmark {
         }
         let k = self.coeffs;
         // The right-hand side consumed (and zeroed) the touched load entries.
-        let diss = self.dispatch(k);
+        self.dispatch(k);
         self.touched.clear();
         if af != 0.0 && !self.use_weights {
             self.f_prev.clear();
             self.f_prev.extend_from_slice(f_next);
         }
-        diss * dt
     }
 
-    fn dispatch(&mut self, k: Coeffs) -> f64 {
+    /// Energy dissipated by C since the start (`set_state` or construction):
+    /// Σ Δt·v̄ᵀ·C·v̄ over the steps, v̄ each step's mean velocity (J). Zero unless
+    /// `track_dissipation` was set for those steps.
+    pub fn dissipated(&self) -> f64 {
+        let mut sum = self.diss_sum;
+        if self.diss_pending {
+            let start_part = self.band_dissipation_lanes();
+            sum += self.band_dissipation_rows(start_part);
+        }
+        self.dt * sum
+    }
+
+    fn dispatch(&mut self, k: Coeffs) {
         #[cfg(target_arch = "x86_64")]
         if self.fma {
             // SAFETY: `fma` is set only when the processor reports AVX2 and FMA.
@@ -782,23 +833,25 @@ impl FusedNewmark {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
-    unsafe fn step_avx2(&mut self, k: Coeffs) -> f64 {
+    unsafe fn step_avx2(&mut self, k: Coeffs) {
         self.by_width::<true>(k)
     }
 
     #[inline(always)]
-    fn by_width<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
-        let diss = self.advance::<FMA>(k);
+    fn by_width<const FMA: bool>(&mut self, k: Coeffs) {
+        self.advance::<FMA>(k);
         self.observe::<FMA>();
-        diss
     }
 
     #[inline(always)]
-    fn advance<const FMA: bool>(&mut self, k: Coeffs) -> f64 {
+    fn advance<const FMA: bool>(&mut self, k: Coeffs) {
         if self.dense.is_some() {
             self.dense_solve::<FMA>(k);
             self.update::<FMA>(k);
-            return self.dissipation::<FMA>();
+            if self.track_dissipation {
+                self.diss_sum += self.dense_dissipation::<FMA>();
+            }
+            return;
         }
         match self.b {
             0 => self.step_impl::<_, FMA>(Fixed::<0>, k),
@@ -811,12 +864,12 @@ impl FusedNewmark {
     }
 
     #[inline(always)]
-    fn step_impl<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) -> f64 {
+    fn step_impl<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
         self.rhs::<W, FMA>(w, k);
         self.forward::<W, FMA>(w);
         self.backward::<W, FMA>(w, k);
         self.w_ready = true;
-        self.dissipation::<FMA>()
+        self.diss_pending = self.track_dissipation;
     }
 
     /// x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·load (− α_f·K_eff⁻¹K·u), row by row.
@@ -867,6 +920,15 @@ impl FusedNewmark {
         if self.k.is_some() {
             self.up[b..b + n].copy_from_slice(&self.u[..n]);
         }
+        // The last step's dissipation: folded into this pass in the AVX2 build (it reads C's
+        // lower diagonals anyway, and v̄ is not overwritten before the backward sweep), a pass
+        // of its own in the baseline build.
+        let fold = self.diss_pending && FMA && cfg!(target_arch = "x86_64");
+        if self.diss_pending && !fold {
+            self.diss_sum += self.band_dissipation_rows((0, [0.0; 4]));
+            self.diss_pending = false;
+        }
+        let mut lanes = (0, [0.0f64; 4]);
         // Row i: Σ_t D_t[i]·w[i−t] (lower half) + Σ_{t≥1} D_t[i+t]·w[i+t] (upper half, the
         // same diagonal read t entries further on). Padded index of column j is j + B.
         let stride = n + b;
@@ -878,8 +940,13 @@ impl FusedNewmark {
             // kernel checks the slice lengths it relies on.
             #[cfg(target_arch = "x86_64")]
             unsafe {
-                rhs_band_avx2(n, b, m, c, w1, w2, z)
-            };
+                let vb = &self.vbar[..n + 2 * b];
+                lanes.0 = if fold {
+                    rhs_band_avx2::<true>(n, b, m, c, w1, w2, z, vb, &mut lanes.1)
+                } else {
+                    rhs_band_avx2::<false>(n, b, m, c, w1, w2, z, vb, &mut lanes.1)
+                };
+            }
         } else if b <= MAX_SLICED {
             // Every diagonal and every shifted copy of w as a slice of length n, so that no
             // index in the row loop needs a bounds check (the baseline build; the compiler
@@ -948,6 +1015,10 @@ impl FusedNewmark {
             let (i, j) = (e.i, e.j);
             z[i] += e.m * self.w1[j + b] + e.c * self.w2[j + b] - k.af * e.k * self.up[j + b];
             z[j] += e.m * self.w1[i + b] + e.c * self.w2[i + b] - k.af * e.k * self.up[i + b];
+        }
+        if fold {
+            self.diss_sum += self.band_dissipation_rows(lanes);
+            self.diss_pending = false;
         }
     }
 
@@ -1046,45 +1117,50 @@ impl FusedNewmark {
         self.w_ready = true;
     }
 
-    /// v̄ᵀ·C·v̄ of the last step if tracked, else 0.
+    /// v̄ᵀ·C·v̄ of the step just taken by the dense step, with C by rows; v̄ is padded with
+    /// zeros past n (`vbar` has 2B ≥ n spare entries, and the padding of a row of `c` is zero).
     #[inline(always)]
-    fn dissipation<const FMA: bool>(&mut self) -> f64 {
+    fn dense_dissipation<const FMA: bool>(&mut self) -> f64 {
         let (n, b) = (self.n, self.b);
-        if !self.track_dissipation {
-            return 0.0;
+        let ops = self.dense.as_ref().expect("dense step");
+        let vb = &self.vbar[b..b + ops.c_stride];
+        let cv = &mut self.z[..n];
+        gemv::<FMA>(&ops.c, ops.c_stride, vb, cv);
+        vb.iter().zip(cv.iter()).map(|(v, c)| v * c).sum()
+    }
+
+    /// The banded v̄ᵀ·C·v̄ of `vbar` over whole groups of four rows in the AVX2 build, as
+    /// (first row left, four partial sums); nothing in the baseline build.
+    fn band_dissipation_lanes(&self) -> (usize, [f64; 4]) {
+        let mut part = [0.0f64; 4];
+        #[cfg(target_arch = "x86_64")]
+        if self.fma {
+            let (n, b) = (self.n, self.b);
+            let stride = n + b;
+            // SAFETY: `fma` is set only when the processor reports AVX2 and FMA; the lengths
+            // are the ones `dissipation_avx2` checks.
+            let start =
+                unsafe { dissipation_avx2(n, b, &self.c[..(b + 1) * stride], &self.vbar[..n + 2 * b], &mut part) };
+            return (start, part);
         }
-        if let Some(ops) = &self.dense {
-            // v̄ᵀ·(C·v̄) with C by rows; v̄ is padded with zeros past n (`vbar` has 2B ≥ n
-            // spare entries, and the padding of a row of `c` is zero).
-            let vb = &self.vbar[b..b + ops.c_stride];
-            let cv = &mut self.z[..n];
-            gemv::<FMA>(&ops.c, ops.c_stride, vb, cv);
-            return vb.iter().zip(cv.iter()).map(|(v, c)| v * c).sum();
-        }
+        (0, part)
+    }
+
+    /// Finishes the banded v̄ᵀ·C·v̄ = Σᵢ v̄ᵢ·(C_ii·v̄ᵢ + 2·Σ_{t≥1} C_{i,i−t}·v̄_{i−t}) from row
+    /// `start` on, lane l taking rows i ≡ l mod 4 (as the vector kernels do), plus the entries
+    /// outside the band.
+    fn band_dissipation_rows(&self, (start, mut part): (usize, [f64; 4])) -> f64 {
+        let (n, b) = (self.n, self.b);
         let stride = n + b;
         let c = &self.c[..(b + 1) * stride];
         let vb = &self.vbar[..n + 2 * b];
-        // v̄ᵀ·C·v̄ = Σᵢ v̄ᵢ·(C_ii·v̄ᵢ + 2·Σ_{t≥1} C_{i,i−t}·v̄_{i−t}); four partial sums so the
-        // reduction vectorises.
-        let mut part = [0.0f64; 4];
-        #[cfg(target_arch = "x86_64")]
-        let start = if FMA {
-            // SAFETY: as in `rhs`; the lengths are the ones `dissipation_avx2` requires.
-            unsafe { dissipation_avx2(n, b, c, vb, &mut part) }
-        } else {
-            0
-        };
-        #[cfg(not(target_arch = "x86_64"))]
-        let start = 0;
+        let madd = |x: f64, y: f64, acc: f64| if self.fma { x.mul_add(y, acc) } else { x * y + acc };
         for i in start..n {
             let mut s = 0.5 * c[i] * vb[i + b];
             for t in 1..=b {
-                // SAFETY: as in `rhs`.
-                unsafe {
-                    s = madd::<FMA>(*c.get_unchecked(t * stride + i), *vb.get_unchecked(i + b - t), s);
-                }
+                s = madd(c[t * stride + i], vb[i + b - t], s);
             }
-            part[i % 4] = madd::<FMA>(2.0 * s, vb[i + b], part[i % 4]);
+            part[i % 4] = madd(2.0 * s, vb[i + b], part[i % 4]);
         }
         let mut diss = (part[0] + part[1]) + (part[2] + part[3]);
         for e in &self.extra {
