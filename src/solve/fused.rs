@@ -269,6 +269,62 @@ unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
     }
 }
 
+/// out[i] = (rowᵢ·u, rowᵢ·v, rowᵢ·a) for a row-major A as in `gemv` (zero rows up to a
+/// multiple of four) and u, v, a of length ≥ stride: the three products of each row in one
+/// pass over A, each rounded as `dot_lanes`.
+fn gemv3<const FMA: bool>(a: &[f64], stride: usize, u: &[f64], v: &[f64], acc: &[f64], out: &mut [[f64; 3]]) {
+    assert!(stride % 4 == 0 && a.len() >= out.len().next_multiple_of(4) * stride);
+    assert!(u.len() >= stride && v.len() >= stride && acc.len() >= stride);
+    #[cfg(target_arch = "x86_64")]
+    if FMA {
+        // SAFETY: as in `gemv`; the sizes are checked above.
+        return unsafe { gemv3_avx2(a, stride, [u, v, acc], out) };
+    }
+    for (i, o) in out.iter_mut().enumerate() {
+        let row = &a[i * stride..(i + 1) * stride];
+        *o = [dot_lanes::<FMA>(row, u), dot_lanes::<FMA>(row, v), dot_lanes::<FMA>(row, acc)];
+    }
+}
+
+/// `gemv3` four rows at a time: each load of a row's four entries serves u, v and a, twelve
+/// accumulators in all.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 3]]) {
+    use std::arch::x86_64::*;
+    let n = out.len();
+    let pa = a.as_ptr();
+    let px = [x[0].as_ptr(), x[1].as_ptr(), x[2].as_ptr()];
+    let mut i = 0;
+    while i < n {
+        let r = pa.add(i * stride);
+        let mut acc = [[_mm256_setzero_pd(); 4]; 3];
+        let mut k = 0;
+        while k < stride {
+            let xs = [_mm256_loadu_pd(px[0].add(k)), _mm256_loadu_pd(px[1].add(k)), _mm256_loadu_pd(px[2].add(k))];
+            for row in 0..4 {
+                let g = _mm256_loadu_pd(r.add(row * stride + k));
+                for q in 0..3 {
+                    acc[q][row] = _mm256_fmadd_pd(g, xs[q], acc[q][row]);
+                }
+            }
+            k += 4;
+        }
+        let mut sums = [[0.0f64; 4]; 3];
+        for q in 0..3 {
+            // As in `gemv_avx2`: (l0 + l1) + (l2 + l3) for four rows at once.
+            let h01 = _mm256_hadd_pd(acc[q][0], acc[q][1]);
+            let h23 = _mm256_hadd_pd(acc[q][2], acc[q][3]);
+            let sum = _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31));
+            _mm256_storeu_pd(sums[q].as_mut_ptr(), sum);
+        }
+        for row in 0..4.min(n - i) {
+            *out.get_unchecked_mut(i + row) = [sums[0][row], sums[1][row], sums[2][row]];
+        }
+        i += 4;
+    }
+}
+
 /// The banded right-hand side z = M·w₁ + C·w₂ four rows at a time: the same multiply–adds
 /// in the same order as the scalar loop of `rhs` (so the same bits), written with vectors
 /// because the compiler left that loop scalar. `m`, `c`: (B+1)·(n+B) diagonal storage;
@@ -443,8 +499,8 @@ struct Observations {
     dense: Vec<f64>,
     stride: usize,
     dense_index: Vec<usize>,
-    /// The dense rows' products with one of u, v, a.
-    products: Vec<f64>,
+    /// The dense rows' products with u, v and a.
+    products: Vec<[f64; 3]>,
     /// Short rows as (observation, pairs).
     sparse: Vec<(usize, Vec<(usize, f64)>)>,
     /// (gᵀu, gᵀv, gᵀa) per observation.
@@ -684,7 +740,7 @@ impl FusedNewmark {
             }
         }
         o.dense.resize(o.dense_index.len().next_multiple_of(4) * stride, 0.0);
-        o.products = vec![0.0; o.dense_index.len()];
+        o.products = vec![[0.0; 3]; o.dense_index.len()];
         self.observations = o;
         self.observe_dispatch();
     }
@@ -718,11 +774,9 @@ impl FusedNewmark {
         }
         if !o.dense_index.is_empty() {
             // u, v, a carry zero padding up to `stride`.
-            for (q, x) in [&self.u, &self.v, &self.a].into_iter().enumerate() {
-                gemv::<FMA>(&o.dense, o.stride, x, &mut o.products);
-                for (&r, &p) in o.dense_index.iter().zip(&o.products) {
-                    o.values[r][q] = p;
-                }
+            gemv3::<FMA>(&o.dense, o.stride, &self.u, &self.v, &self.a, &mut o.products);
+            for (&r, &p) in o.dense_index.iter().zip(&o.products) {
+                o.values[r] = p;
             }
         }
         let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
@@ -1206,6 +1260,50 @@ mod tests {
                     assert!((got - want).abs() <= 1e-14 * scale, "rows {rows}, fma {fma}, row {i}: {got} vs {want}");
                 }
                 assert_eq!(out[rows], 42.0, "rows {rows}, fma {fma}: wrote past the end");
+            }
+        }
+    }
+
+    /// `gemv3` gives, for every row count and both builds, the bits of three `gemv`s (the
+    /// same lanes in the same order) and writes nothing past `out`.
+    #[test]
+    fn gemv3_is_three_gemvs_for_every_row_count() {
+        let stride = 12;
+        let x: Vec<Vec<f64>> =
+            (0..3).map(|q| (0..stride).map(|k| ((k * 7 + q * 3) % 5) as f64 * 0.37 - 0.6).collect()).collect();
+        for rows in 1..=9usize {
+            let a: Vec<f64> = (0..rows.next_multiple_of(4) * stride)
+                .map(|p| if p < rows * stride { ((p * 13 % 11) as f64 - 5.0) / 3.0 } else { 0.0 })
+                .collect();
+            let mut builds = vec![false];
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+                builds.push(true);
+            }
+            for fma in builds {
+                let mut out = vec![[f64::NAN; 3]; rows + 1];
+                out[rows] = [42.0; 3];
+                let mut one = vec![0.0; rows];
+                if fma {
+                    gemv3::<true>(&a, stride, &x[0], &x[1], &x[2], &mut out[..rows]);
+                } else {
+                    gemv3::<false>(&a, stride, &x[0], &x[1], &x[2], &mut out[..rows]);
+                }
+                for q in 0..3 {
+                    if fma {
+                        gemv::<true>(&a, stride, &x[q], &mut one);
+                    } else {
+                        gemv::<false>(&a, stride, &x[q], &mut one);
+                    }
+                    for i in 0..rows {
+                        assert_eq!(
+                            out[i][q].to_bits(),
+                            one[i].to_bits(),
+                            "rows {rows}, fma {fma}, row {i}, vector {q}"
+                        );
+                    }
+                }
+                assert_eq!(out[rows], [42.0; 3], "rows {rows}, fma {fma}: wrote past the end");
             }
         }
     }
