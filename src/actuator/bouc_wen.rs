@@ -294,30 +294,44 @@ impl BoucWen {
     /// # Panics
     /// If `times` decreases somewhere.
     pub fn history(&self, input: &VoltageInput, times: &[f64], h0: f64) -> Vec<f64> {
+        let (mut h, mut v) = (Vec::new(), Vec::new());
+        self.history_into(input, times, h0, &mut h, &mut v);
+        h
+    }
+
+    /// [`history`](Self::history) into `h`, and the input voltage at each of `times` into
+    /// `v` (both cleared first): the voltages are evaluated anyway, and a transient run needs
+    /// them too.
+    ///
+    /// # Panics
+    /// If `times` decreases somewhere.
+    pub fn history_into(&self, input: &VoltageInput, times: &[f64], h0: f64, h: &mut Vec<f64>, v: &mut Vec<f64>) {
+        h.clear();
+        v.clear();
         let Some((&first, rest)) = times.split_first() else {
-            return Vec::new();
+            return;
         };
         assert!(times.windows(2).all(|w| w[0] <= w[1]), "BoucWen::history: times must be nondecreasing");
         let last = *times.last().unwrap_or(&first);
         let tps = input.turning_points(first, last);
-        let mut out = Vec::with_capacity(times.len());
         let mut acc = Accumulator::new(h0);
-        let mut v = input.value(first);
-        out.push(h0);
+        let mut v_now = input.value(first);
+        h.push(h0);
+        v.push(v_now);
         let mut k = 0;
         for &t in rest {
             while k < tps.len() && tps[k] < t {
                 let vt = input.value(tps[k]);
-                acc.add(self.increment(acc.value(), v, vt));
-                v = vt;
+                acc.add(self.increment(acc.value(), v_now, vt));
+                v_now = vt;
                 k += 1;
             }
             let vt = input.value(t);
-            acc.add(self.increment(acc.value(), v, vt));
-            v = vt;
-            out.push(acc.value());
+            acc.add(self.increment(acc.value(), v_now, vt));
+            v_now = vt;
+            h.push(acc.value());
+            v.push(vt);
         }
-        out
     }
 
     /// The periodic state under a periodic input: runs whole periods from `h = 0` at t = 0,
@@ -577,6 +591,11 @@ mod tests {
             let times = linspace(0.0, 0.3, 60);
             let h0 = -0.4 * scale;
             let exact = bw.history(input, &times, h0);
+            // The buffered form gives the same h and the input at each time (buffers reused).
+            let (mut h, mut v) = (vec![9.0; 3], vec![9.0; 100]);
+            bw.history_into(input, &times, h0, &mut h, &mut v);
+            assert_eq!(h, exact, "{name}: history_into");
+            assert!(v.len() == times.len() && times.iter().zip(&v).all(|(&t, &x)| x == input.value(t)), "{name}: v");
             let fine = bw.rk4_reference(input, &times, h0, 400);
             let err_fine = max_rel_diff(&exact, &fine, scale);
             let errs: Vec<f64> = [2usize, 4, 8, 16]

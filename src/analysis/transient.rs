@@ -214,6 +214,32 @@ impl PeriodRecord {
         }
     }
 
+    fn channels_mut(&mut self) -> [&mut Vec<Vec<f64>>; 13] {
+        [
+            &mut self.u,
+            &mut self.ud,
+            &mut self.fv,
+            &mut self.fa,
+            &mut self.q,
+            &mut self.qd,
+            &mut self.qdd,
+            &mut self.v,
+            &mut self.h,
+            &mut self.fp,
+            &mut self.sw,
+            &mut self.sv,
+            &mut self.sa,
+        ]
+    }
+
+    /// Empties every series, keeping the buffers.
+    fn clear(&mut self) {
+        self.t.clear();
+        for ch in self.channels_mut() {
+            ch.iter_mut().for_each(Vec::clear);
+        }
+    }
+
     fn append(&mut self, o: &PeriodRecord) {
         self.t.extend(&o.t);
         for (a, b) in [
@@ -373,6 +399,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         (eb, es)
     };
     let (eb_start, es_start) = stored(&nm);
+    // Stored energies at the latest period boundary (the end of one period starts the next).
+    let mut e_boundary = (eb_start, es_start);
     // Each link's state (stretch, its rate, foot velocity and acceleration, interface
     // force) is evaluated once per step, after the step: it is both the record of the next
     // sample and the end point of this step's energy terms.
@@ -411,16 +439,26 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             *t = t0 + j as f64 * dt;
         }
         for (a, st) in stacks.iter().enumerate() {
-            hist_v[a] = times.iter().map(|&t| st.voltage.value(t)).collect();
-            hist_h[a] = if st.hysteresis_on {
-                st.hysteresis.history(&st.voltage, &times, h_now[a])
+            let (hv, hh) = (&mut hist_v[a], &mut hist_h[a]);
+            if st.hysteresis_on {
+                st.hysteresis.history_into(&st.voltage, &times, h_now[a], hh, hv);
             } else {
-                vec![0.0; times.len()]
-            };
-            h_now[a] = hist_h[a][n_per];
+                hv.clear();
+                hv.extend(times.iter().map(|&t| st.voltage.value(t)));
+                hh.clear();
+                hh.resize(times.len(), 0.0);
+            }
+            h_now[a] = hh[n_per];
         }
-        let mut rec = PeriodRecord::new(nl, body_dofs.len(), na, model.sensors.len(), n_per);
-        let (eb0, es0) = stored(&nm);
+        // The oldest period of a full window is recycled (its buffers keep their capacity).
+        let mut rec = if window.len() >= keep {
+            let mut old = window.pop_front().expect("a full window");
+            old.clear();
+            old
+        } else {
+            PeriodRecord::new(nl, body_dofs.len(), na, model.sensors.len(), n_per)
+        };
+        let (eb0, es0) = e_boundary;
         let d_sys0 = nm.dissipated();
         let mut pb = Balances::default();
         for j in 0..n_per {
@@ -485,6 +523,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             rec.h[a].extend_from_slice(&hist_h[a][..n_per]);
         }
         let (eb1, es1) = stored(&nm);
+        e_boundary = (eb1, es1);
         pb.beam.stored_change = eb1 - eb0;
         pb.system.stored_change = es1 - es0;
         for (acc, x) in [(&mut run_bal.beam, &pb.beam), (&mut run_bal.system, &pb.system)] {
@@ -507,9 +546,6 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             metrics.push((mean_product(&ft, &ft)).sqrt());
         }
         window.push_back(rec);
-        if window.len() > keep {
-            window.pop_front();
-        }
         if let Some(prev) = &prev_metrics {
             let pscale = metrics.iter().step_by(2).fold(0.0f64, |m, x| m.max(x.abs()));
             let fscale = metrics.iter().skip(1).step_by(2).fold(0.0f64, |m, x| m.max(x.abs()));
@@ -530,7 +566,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         }
         prev_metrics = Some(metrics);
     }
-    let (eb_end, es_end) = stored(&nm);
+    let (eb_end, es_end) = e_boundary;
     run_bal.beam.stored_change = eb_end - eb_start;
     run_bal.system.stored_change = es_end - es_start;
 
