@@ -267,10 +267,8 @@ impl PeriodRecord {
 /// A link's state at one instant (SI units).
 #[derive(Clone, Copy, Debug)]
 struct LinkState {
-    u: f64,
     ud: f64,
     fv: f64,
-    fa: f64,
     /// Interface force on the beam, F_T − m_foot·ẅ (N).
     fi: f64,
 }
@@ -421,7 +419,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         let (stretch, foot) = (nm.observed()[2 * l], nm.observed()[2 * l + 1]);
         let (su, sud, fv, fa) = (stretch[0], stretch[1], foot[1], foot[2]);
         let ft = lk.k * su + lk.c * sud - if lk.active { fp[lk.actuator] } else { 0.0 };
-        LinkState { u: su, ud: sud, fv, fa, fi: ft - lk.foot_mass * fa }
+        LinkState { ud: sud, fv, fi: ft - lk.foot_mass * fa }
     };
     let drive_rate = |nm: &FusedNewmark, a: usize| -> f64 { nm.observed()[drive_row + a][1] };
     let mut links_now: Vec<LinkState> =
@@ -433,6 +431,9 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let mut hist_h: Vec<Vec<f64>> = vec![Vec::new(); na];
     let mut hist_v: Vec<Vec<f64>> = vec![Vec::new(); na];
     let mut fp_step = vec![0.0; na];
+    let n_obs = nm.observed().len();
+    let mut snap: Vec<[f64; 3]> = Vec::with_capacity(n_per * n_obs);
+    let mut fp_snap: Vec<f64> = Vec::with_capacity(n_per * na);
     for p in 0..total_periods {
         let t0 = p as f64 * period;
         for (j, t) in times.iter_mut().enumerate() {
@@ -461,31 +462,14 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         let (eb0, es0) = e_boundary;
         let d_sys0 = nm.dissipated();
         let mut pb = Balances::default();
+        snap.clear();
+        fp_snap.clear();
         for j in 0..n_per {
-            // Record the state at t_j.
-            rec.t.push(times[j]);
-            for (l, st) in links_now.iter().enumerate() {
-                rec.u[l].push(st.u);
-                rec.ud[l].push(st.ud);
-                rec.fv[l].push(st.fv);
-                rec.fa[l].push(st.fa);
-            }
-            let obs = nm.observed();
-            for b in 0..body_dofs.len() {
-                let [q, qd, qdd] = obs[body_row + b];
-                rec.q[b].push(q);
-                rec.qd[b].push(qd);
-                rec.qdd[b].push(qdd);
-            }
-            for (series, &fp) in rec.fp.iter_mut().zip(&fp_prev) {
-                series.push(fp);
-            }
-            for si in 0..sensor_dofs.len() {
-                let [w, wd, wdd] = obs[sensor_row + si];
-                rec.sw[si].push(w);
-                rec.sv[si].push(wd);
-                rec.sa[si].push(wdd);
-            }
+            // Record the state at t_j: the read-outs as they stand (each link's stretch and
+            // foot, drives, sensors, bodies) and the stack forces, sorted into series once
+            // the period is over.
+            snap.extend_from_slice(nm.observed());
+            fp_snap.extend_from_slice(&fp_prev);
             // Step to t_{j+1}.
             for a in 0..na {
                 fp_step[a] = stacks[a].active_force(hist_v[a][j + 1], hist_h[a][j + 1]);
@@ -521,6 +505,32 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         for a in 0..na {
             rec.v[a].extend_from_slice(&hist_v[a][..n_per]);
             rec.h[a].extend_from_slice(&hist_h[a][..n_per]);
+        }
+        rec.t.extend_from_slice(&times[..n_per]);
+        if n_obs > 0 {
+            let samples = || snap.chunks_exact(n_obs);
+            for l in 0..nl {
+                let (s, f) = (2 * l, 2 * l + 1);
+                rec.u[l].extend(samples().map(|o| o[s][0]));
+                rec.ud[l].extend(samples().map(|o| o[s][1]));
+                rec.fv[l].extend(samples().map(|o| o[f][1]));
+                rec.fa[l].extend(samples().map(|o| o[f][2]));
+            }
+            for b in 0..body_dofs.len() {
+                for (q, series) in [&mut rec.q[b], &mut rec.qd[b], &mut rec.qdd[b]].into_iter().enumerate() {
+                    series.extend(samples().map(|o| o[body_row + b][q]));
+                }
+            }
+            for si in 0..sensor_dofs.len() {
+                for (q, series) in [&mut rec.sw[si], &mut rec.sv[si], &mut rec.sa[si]].into_iter().enumerate() {
+                    series.extend(samples().map(|o| o[sensor_row + si][q]));
+                }
+            }
+        }
+        if na > 0 {
+            for (a, series) in rec.fp.iter_mut().enumerate() {
+                series.extend(fp_snap.chunks_exact(na).map(|f| f[a]));
+            }
         }
         let (eb1, es1) = stored(&nm);
         e_boundary = (eb1, es1);

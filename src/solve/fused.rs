@@ -206,6 +206,24 @@ fn dot_lanes<const FMA: bool>(a: &[f64], b: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
+/// Σ aᵢ·bᵢ for slices of any (equal) length, in four partial sums.
+#[inline(always)]
+fn dot_any<const FMA: bool>(a: &[f64], b: &[f64]) -> f64 {
+    let b = &b[..a.len()];
+    let mut acc = [0.0f64; 4];
+    let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
+    let (ar, br) = (ac.remainder(), bc.remainder());
+    for (x, y) in ac.zip(bc) {
+        for l in 0..4 {
+            acc[l] = madd::<FMA>(x[l], y[l], acc[l]);
+        }
+    }
+    for (l, (x, y)) in ar.iter().zip(br).enumerate() {
+        acc[l] = madd::<FMA>(*x, *y, acc[l]);
+    }
+    (acc[0] + acc[1]) + (acc[2] + acc[3])
+}
+
 /// out = A·w for a row-major A with `stride` numbers per row (a multiple of four), at least
 /// out.len() rounded up to four rows (zero rows past the end), and w of length ≥ stride. Each
 /// row is `dot_lanes` of the row and w, so every build rounds the same way up to fused
@@ -1093,10 +1111,11 @@ impl FusedNewmark {
             let mut y = z[i + b];
             if lp < self.long.len() && self.long[lp].row == i {
                 let lr = self.long[lp];
-                let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
-                for (t, &lv) in tail.iter().enumerate() {
-                    y = madd::<FMA>(-lv, z[lr.first + t + b], y);
-                }
+                let len = i - b - lr.first;
+                let tail = &self.l_tail[lr.offset..lr.offset + len];
+                // Four partial sums: one running sum would make the row a chain of `len`
+                // dependent multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
+                y -= dot_any::<FMA>(tail, &z[lr.first + b..lr.first + b + len]);
                 lp += 1;
             }
             if b > 0 {
