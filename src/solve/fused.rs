@@ -355,6 +355,7 @@ unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 
 #[target_feature(enable = "avx2,fma")]
 #[allow(clippy::too_many_arguments)]
 unsafe fn rhs_band_avx2<const DISS: bool>(
+    from: usize,
     n: usize,
     b: usize,
     m: &[f64],
@@ -373,7 +374,7 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
     let (pm, pc, p1, p2, pv) = (m.as_ptr(), c.as_ptr(), w1.as_ptr(), w2.as_ptr(), vb.as_ptr());
     let mut acc = _mm256_loadu_pd(part.as_ptr());
     let (half, two) = (_mm256_set1_pd(0.5), _mm256_set1_pd(2.0));
-    let mut i = 0;
+    let mut i = from;
     while i + 4 <= n {
         let c0 = _mm256_loadu_pd(pc.add(i));
         let mut sm = _mm256_mul_pd(_mm256_loadu_pd(pm.add(i)), _mm256_loadu_pd(p1.add(b + i)));
@@ -414,6 +415,75 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
         _mm256_storeu_pd(part.as_mut_ptr(), acc);
     }
     start
+}
+
+/// `rhs_band_avx2` eight rows at a time with 512-bit vectors, over whole groups of eight;
+/// returns the first row left. Each row's sums are the same multiply–adds in the same order
+/// (the same bits); the dissipation's eight lanes are added pairwise into `part`'s four.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[allow(clippy::too_many_arguments)]
+unsafe fn rhs_band_avx512<const DISS: bool>(
+    n: usize,
+    b: usize,
+    m: &[f64],
+    c: &[f64],
+    w1: &[f64],
+    w2: &[f64],
+    z: &mut [f64],
+    vb: &[f64],
+    part: &mut [f64; 4],
+) -> usize {
+    use std::arch::x86_64::*;
+    let stride = n + b;
+    assert!(m.len() >= (b + 1) * stride && c.len() >= (b + 1) * stride);
+    assert!(w1.len() >= n + 2 * b && w2.len() >= n + 2 * b && z.len() >= n);
+    assert!(!DISS || vb.len() >= n + 2 * b);
+    let (pm, pc, p1, p2, pv) = (m.as_ptr(), c.as_ptr(), w1.as_ptr(), w2.as_ptr(), vb.as_ptr());
+    let mut acc = _mm512_setzero_pd();
+    let (half, two) = (_mm512_set1_pd(0.5), _mm512_set1_pd(2.0));
+    let mut i = 0;
+    while i + 8 <= n {
+        let c0 = _mm512_loadu_pd(pc.add(i));
+        let mut sm = _mm512_mul_pd(_mm512_loadu_pd(pm.add(i)), _mm512_loadu_pd(p1.add(b + i)));
+        let mut sc = _mm512_mul_pd(c0, _mm512_loadu_pd(p2.add(b + i)));
+        let vi = if DISS { _mm512_loadu_pd(pv.add(b + i)) } else { _mm512_setzero_pd() };
+        let mut sd = if DISS { _mm512_mul_pd(_mm512_mul_pd(half, c0), vi) } else { _mm512_setzero_pd() };
+        for t in 1..=b {
+            let (lo, up) = (t * stride + i, t * stride + i + t);
+            let c_lo = _mm512_loadu_pd(pc.add(lo));
+            sm = _mm512_fmadd_pd(_mm512_loadu_pd(pm.add(lo)), _mm512_loadu_pd(p1.add(b + i - t)), sm);
+            sm = _mm512_fmadd_pd(_mm512_loadu_pd(pm.add(up)), _mm512_loadu_pd(p1.add(b + i + t)), sm);
+            sc = _mm512_fmadd_pd(c_lo, _mm512_loadu_pd(p2.add(b + i - t)), sc);
+            sc = _mm512_fmadd_pd(_mm512_loadu_pd(pc.add(up)), _mm512_loadu_pd(p2.add(b + i + t)), sc);
+            if DISS {
+                sd = _mm512_fmadd_pd(c_lo, _mm512_loadu_pd(pv.add(b + i - t)), sd);
+            }
+        }
+        _mm512_storeu_pd(z.as_mut_ptr().add(i), _mm512_add_pd(sm, sc));
+        if DISS {
+            acc = _mm512_fmadd_pd(_mm512_mul_pd(two, sd), vi, acc);
+        }
+        i += 8;
+    }
+    if DISS {
+        let mut lanes = [0.0f64; 8];
+        _mm512_storeu_pd(lanes.as_mut_ptr(), acc);
+        for l in 0..4 {
+            part[l] += lanes[l] + lanes[l + 4];
+        }
+    }
+    i
+}
+
+/// Whether the processor has AVX-512F.
+fn wide_vectors() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx512f")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    false
 }
 
 /// The banded dissipation's four partial sums (lane l takes the rows i ≡ l mod 4, as the
@@ -479,6 +549,8 @@ pub struct FusedNewmark {
     /// F_n, kept for α_f ≠ 0.
     f_prev: Vec<(usize, f64)>,
     fma: bool,
+    /// 512-bit vectors for the band right-hand side (within the AVX2 build).
+    avx512: bool,
     /// For small dense systems (modal-reduced models), the step as dense products.
     dense: Option<DenseStep>,
     /// Registered load patterns b_a (see `set_load_patterns`), K_eff⁻¹·b_a for the dense
@@ -656,6 +728,7 @@ impl FusedNewmark {
             touched: Vec::new(),
             f_prev: Vec::new(),
             fma,
+            avx512: fma && wide_vectors(),
             dense,
             patterns: Vec::new(),
             patterns_solved: Vec::new(),
@@ -711,6 +784,17 @@ impl FusedNewmark {
     /// Uses the baseline build of the step even where FMA is available (to compare them).
     pub fn disable_fma(&mut self) {
         self.fma = false;
+        self.avx512 = false;
+    }
+
+    /// Keeps the AVX2 build to 256-bit vectors even where AVX-512 is available.
+    pub fn disable_avx512(&mut self) {
+        self.avx512 = false;
+    }
+
+    /// Whether the band right-hand side uses 512-bit vectors.
+    pub fn uses_avx512(&self) -> bool {
+        self.avx512
     }
 
     /// Displacement, velocity and acceleration at the current time.
@@ -1013,10 +1097,15 @@ impl FusedNewmark {
             #[cfg(target_arch = "x86_64")]
             unsafe {
                 let vb = &self.vbar[..n + 2 * b];
+                let from = match (self.avx512, fold) {
+                    (false, _) => 0,
+                    (true, true) => rhs_band_avx512::<true>(n, b, m, c, w1, w2, z, vb, &mut lanes.1),
+                    (true, false) => rhs_band_avx512::<false>(n, b, m, c, w1, w2, z, vb, &mut lanes.1),
+                };
                 lanes.0 = if fold {
-                    rhs_band_avx2::<true>(n, b, m, c, w1, w2, z, vb, &mut lanes.1)
+                    rhs_band_avx2::<true>(from, n, b, m, c, w1, w2, z, vb, &mut lanes.1)
                 } else {
-                    rhs_band_avx2::<false>(n, b, m, c, w1, w2, z, vb, &mut lanes.1)
+                    rhs_band_avx2::<false>(from, n, b, m, c, w1, w2, z, vb, &mut lanes.1)
                 };
             }
         } else if b <= MAX_SLICED {
