@@ -215,3 +215,15 @@ fn unsupported_fine_beam_is_still_reported_by_the_profile_solver() {
     let err = modes::run(&beam_case(1000, "[[beam.support]]\nx = 0.0\nkind = \"free\""), 6).unwrap_err().to_string();
     assert!(err.contains("LDLᵀ pivot") && err.contains("singular"), "{err}");
 }
+
+/// Asking the sparse solver for no modes is reported as such, before any factorisation:
+/// on a free–free beam (singular K) the error used to be the factorisation's.
+#[test]
+fn zero_modes_is_an_argument_error_even_with_a_singular_stiffness() {
+    let beam = beam_case(20, "[[beam.support]]\nx = 0.0\nkind = \"free\"\n[[beam.support]]\nx = 0.73\nkind = \"free\"");
+    let model = Model { beam: Some(beam), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let sys = System::assemble(&model).unwrap();
+    let err =
+        beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 0, 0.0).unwrap_err().to_string();
+    assert!(err.contains("at least one mode"), "{err}");
+}

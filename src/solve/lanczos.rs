@@ -20,6 +20,9 @@ use faer::{Mat, Side};
 /// Factorises K − σM as assembled: for σ = 0 on a very fine mesh that loses ~ε·(elements)⁴
 /// of the lowest eigenvalues; [`lowest_modes_from_root`] keeps ~ε·(elements)².
 pub fn modes_shift_invert(k: &Csr, m: &Csr, envelope: &[usize], count: usize, sigma: f64) -> Result<Modes> {
+    // The argument error first: with count 0 and a singular K − σM the user would otherwise
+    // see the factorisation's error instead.
+    check_sizes(m, count)?;
     let mut a = Skyline::zeros(envelope.to_vec());
     k.add_into_skyline(1.0, &mut a);
     m.add_into_skyline(-sigma, &mut a);
@@ -41,11 +44,16 @@ pub fn lowest_modes_from_root(root: &BandedR, m: &Csr, count: usize) -> Result<M
 /// Lanczos on x ↦ (K − σM)⁻¹·M·x, `solve` applying (K − σM)⁻¹ in place, with more vectors
 /// until the wanted Ritz pairs converge.
 /// `from_root` only labels the result (see [`Modes::from_root`]).
-fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64]), from_root: bool) -> Result<Modes> {
-    let n = m.dim();
-    if count == 0 || n == 0 {
+fn check_sizes(m: &Csr, count: usize) -> Result<()> {
+    if count == 0 || m.dim() == 0 {
         return Err(Error::Numerical("shift-invert Lanczos needs at least one mode and one DOF".into()));
     }
+    Ok(())
+}
+
+fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64]), from_root: bool) -> Result<Modes> {
+    let n = m.dim();
+    check_sizes(m, count)?;
     let count = count.min(n);
     let mut steps = (2 * count + 20).max(40).min(n);
     loop {
