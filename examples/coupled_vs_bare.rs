@@ -1,0 +1,78 @@
+//! The issue-7 ratio "coupled run against the bare step, per DOF", measured in pairs.
+//!
+//! On a shared VM the same binary runs ≈ 1.6× slower for minutes at a time, so two criterion
+//! runs taken minutes apart cannot give a ratio to a few per cent. This alternates the two
+//! workloads (each ≈ 0.1 s) and reports the median of the per-pair ratios, which both halves
+//! of a pair see at the same machine state:
+//!
+//! * bare: the OpenSees anchor of `benches/scaling.rs` — the bare 200-element beam, fused
+//!   integrator built and factorised, 20,000 steps at Δt = 1e-4 s, recording w under the load;
+//! * coupled: `transient::run` as in `benches/core.rs` — the same beam with the frame
+//!   actuator (Bouc–Wen hysteresis), 20,000 steps, every link, body and drive series
+//!   recorded, both energy balances kept.
+//!
+//! `cargo run --release --example coupled_vs_bare [-- <pairs>]` (default 30 pairs).
+
+use beamflow::analysis::transient::{self, TransientSettings};
+use beamflow::assembly::System;
+use beamflow::case::{build_model, LoadedCase};
+use beamflow::solve::fused::FusedNewmark;
+use beamflow::solve::newmark::Scheme;
+use std::path::PathBuf;
+use std::time::Instant;
+
+const FRAME: &str =
+    "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
+const BARE: &str = "[beam.mesh]\nelements = 200\n[damping]\nkind = \"rayleigh\"\na0 = 5.29\na1 = 9.96e-6\n\
+                    [[sensor]]\nname = \"load\"\nx = 0.15\n";
+const STEPS: usize = 20_000;
+
+/// (min, lower quartile, median, upper quartile).
+fn quartiles(mut v: Vec<f64>) -> [f64; 4] {
+    v.sort_by(f64::total_cmp);
+    [v[0], v[v.len() / 4], v[v.len() / 2], v[3 * v.len() / 4]]
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let pairs: usize = std::env::args().nth(1).map(|s| s.parse()).transpose()?.unwrap_or(30).max(1);
+    let cases = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases");
+    let bare_model = build_model(&LoadedCase::from_str(BARE, "bare.toml", cases.clone())?)?.model;
+    let bare = System::assemble(&bare_model)?;
+    let load = bare.w_at(&bare_model, 0.15, "sensor")?[0].0;
+    let model = build_model(&LoadedCase::from_str(FRAME, "frame.toml", cases)?)?.model;
+    let coupled = System::assemble(&model)?;
+    let settings = TransientSettings {
+        dt: Some(1e-4 / 1.2),
+        periods: Some(100),
+        steady_state: false,
+        record_periods: 1,
+        ..Default::default()
+    };
+    let (mut tb, mut tc, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..pairs {
+        let t0 = Instant::now();
+        let mut nm =
+            FusedNewmark::new(&bare.m, &bare.c, &bare.k, &bare.envelope, Scheme::average_acceleration(), 1e-4)?;
+        let mut w = Vec::with_capacity(STEPS);
+        for k in 1..=STEPS {
+            let t = k as f64 * 1e-4;
+            nm.step(&[(load, (2.0 * std::f64::consts::PI * 60.0 * t).sin())]);
+            w.push(nm.u()[load]);
+        }
+        std::hint::black_box(w);
+        let b = t0.elapsed().as_secs_f64() * 1e9 / (STEPS * bare.n()) as f64;
+        let t0 = Instant::now();
+        let result = transient::run(&model, &coupled, &settings)?;
+        assert_eq!(result.steps_run, STEPS);
+        std::hint::black_box(result);
+        let c = t0.elapsed().as_secs_f64() * 1e9 / (STEPS * coupled.n()) as f64;
+        tb.push(b);
+        tc.push(c);
+        ratio.push(c / b);
+    }
+    println!("{pairs} pairs; ns per DOF-step as (min, lower quartile, median, upper quartile)");
+    println!("bare anchor ({} DOFs):   {:.2?}", bare.n(), quartiles(tb));
+    println!("coupled run ({} DOFs):   {:.2?}", coupled.n(), quartiles(tc));
+    println!("coupled / bare, per pair: {:.3?}", quartiles(ratio));
+    Ok(())
+}
