@@ -399,9 +399,9 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let (eb_start, es_start) = stored(&nm);
     // Stored energies at the latest period boundary (the end of one period starts the next).
     let mut e_boundary = (eb_start, es_start);
-    // Each link's state (stretch, its rate, foot velocity and acceleration, interface
-    // force) is evaluated once per step, after the step: it is both the record of the next
-    // sample and the end point of this step's energy terms.
+    // Each link's state (stretch rate, foot velocity, interface force) is evaluated once per
+    // step, after the step, as the end point of this step's energy terms (the records come
+    // from the read-outs themselves).
     // Read-outs the integrator evaluates after every step: each link's stretch and foot,
     // each drive, each sensor and each body DOF, in that order.
     let mut rows: Vec<Vec<(usize, f64)>> = Vec::new();
