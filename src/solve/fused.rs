@@ -17,10 +17,12 @@
 //! * The few rows that reach beyond the band (an actuator's body rows reach back to its
 //!   feet) keep their extra entries in short side lists.
 //! * Loads are sparse (actuators load a handful of DOFs), the dissipation v̄ᵀ·C·v̄ of the
-//!   step is optional, and nothing in a step allocates.
+//!   step is optional (and counted in the next step's right-hand side pass, which reads C
+//!   anyway), and nothing in a step allocates.
 //!
 //! On x86-64 the step is compiled twice, for the baseline target and for AVX2 + FMA, and the
-//! faster one is chosen at run time when the processor supports it. The FMA version rounds
+//! faster one is chosen at run time when the processor supports it (with AVX-512F, the band
+//! right-hand side then takes eight rows at a time). The FMA version rounds
 //! differently (a fused multiply–add rounds once), so the two agree to round-off, as does
 //! this integrator with `Newmark` (`tests/newmark.rs`).
 
@@ -487,7 +489,7 @@ fn wide_vectors() -> bool {
 }
 
 /// The banded dissipation's four partial sums (lane l takes the rows i ≡ l mod 4, as the
-/// scalar loop of `dissipation` does) over whole groups of four rows; returns the first row
+/// scalar loop of `band_dissipation_rows` does) over whole groups of four rows; returns the first row
 /// left for the scalar loop.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
@@ -535,7 +537,7 @@ pub struct FusedNewmark {
     u: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
-    /// w₁, w₂ and (α_f ≠ 0) u, padded with B zeros at both ends; w₁ then holds v̄.
+    /// w₁, w₂ and (α_f ≠ 0) u, padded with B zeros at both ends.
     w1: Vec<f64>,
     w2: Vec<f64>,
     up: Vec<f64>,
