@@ -399,9 +399,6 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let (eb_start, es_start) = stored(&nm);
     // Stored energies at the latest period boundary (the end of one period starts the next).
     let mut e_boundary = (eb_start, es_start);
-    // Each link's state (stretch rate, foot velocity, interface force) is evaluated once per
-    // step, after the step, as the end point of this step's energy terms (the records come
-    // from the read-outs themselves).
     // Read-outs the integrator evaluates after every step: each link's stretch and foot,
     // each drive, each sensor and each body DOF, in that order.
     let mut rows: Vec<Vec<(usize, f64)>> = Vec::new();
@@ -415,6 +412,9 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     rows.extend(sensor_dofs.iter().cloned());
     rows.extend(body_dofs.iter().map(|&(_, _, d)| vec![(d, 1.0)]));
     nm.set_observations(&rows);
+    // Each link's state (stretch rate, foot velocity, interface force) is evaluated once per
+    // step, after the step, as the end point of this step's energy terms (the records come
+    // from the read-outs themselves).
     let link_state = |nm: &FusedNewmark, l: usize, lk: &crate::assembly::LinkDofs, fp: &[f64]| -> LinkState {
         let (stretch, foot) = (nm.observed()[2 * l], nm.observed()[2 * l + 1]);
         let (su, sud, fv, fa) = (stretch[0], stretch[1], foot[1], foot[2]);

@@ -59,7 +59,6 @@ pub enum Command {
     Synth(identify::SynthArgs),
 }
 
-/// Entry point of the binary.
 /// The body of [`say!`](crate::say).
 pub fn say_line(args: std::fmt::Arguments) {
     use std::io::Write;
@@ -71,6 +70,7 @@ pub fn say_line(args: std::fmt::Arguments) {
     }
 }
 
+/// Entry point of the binary.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
     match dispatch(&cli.command) {

@@ -38,12 +38,11 @@ pub fn lowest_modes_from_root(root: &BandedR, m: &Csr, count: usize) -> Result<M
     if root.dim() != m.dim() {
         return Err(Error::Numerical(format!("stiffness factor has {} DOFs, M {}", root.dim(), m.dim())));
     }
+    check_sizes(m, count)?;
     run(m, count, 0.0, &|x| root.solve_normal_in_place(x), true)
 }
 
-/// Lanczos on x ↦ (K − σM)⁻¹·M·x, `solve` applying (K − σM)⁻¹ in place, with more vectors
-/// until the wanted Ritz pairs converge.
-/// `from_root` only labels the result (see [`Modes::from_root`]).
+/// At least one mode and one DOF: each entry point checks before any factorisation.
 fn check_sizes(m: &Csr, count: usize) -> Result<()> {
     if count == 0 || m.dim() == 0 {
         return Err(Error::Numerical("shift-invert Lanczos needs at least one mode and one DOF".into()));
@@ -51,9 +50,11 @@ fn check_sizes(m: &Csr, count: usize) -> Result<()> {
     Ok(())
 }
 
+/// Lanczos on x ↦ (K − σM)⁻¹·M·x, `solve` applying (K − σM)⁻¹ in place, with more vectors
+/// until the wanted Ritz pairs converge (sizes already checked by `check_sizes`).
+/// `from_root` only labels the result (see [`Modes::from_root`]).
 fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64]), from_root: bool) -> Result<Modes> {
     let n = m.dim();
-    check_sizes(m, count)?;
     let count = count.min(n);
     let mut steps = (2 * count + 20).max(40).min(n);
     loop {
