@@ -194,23 +194,11 @@ struct DenseStep {
     a: Vec<f64>,
 }
 
-/// Σ aᵢ·bᵢ over slices whose length is a multiple of four, in four lanes (lane l takes the
-/// terms i ≡ l mod 4), summed as (l₀ + l₁) + (l₂ + l₃): the rounding of `gemv_avx2`.
+/// Σ aᵢ·bᵢ over a (b at least as long) in four lanes (lane l takes the terms i ≡ l mod 4),
+/// summed as (l₀ + l₁) + (l₂ + l₃): the rounding of `gemv_avx2` when the length is a
+/// multiple of four; four independent chains rather than one for a long row of the factor.
 #[inline(always)]
 fn dot_lanes<const FMA: bool>(a: &[f64], b: &[f64]) -> f64 {
-    debug_assert!(a.len() % 4 == 0 && b.len() >= a.len());
-    let mut acc = [0.0f64; 4];
-    for (x, y) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
-        for l in 0..4 {
-            acc[l] = madd::<FMA>(x[l], y[l], acc[l]);
-        }
-    }
-    (acc[0] + acc[1]) + (acc[2] + acc[3])
-}
-
-/// Σ aᵢ·bᵢ for slices of any (equal) length, in four partial sums.
-#[inline(always)]
-fn dot_any<const FMA: bool>(a: &[f64], b: &[f64]) -> f64 {
     let b = &b[..a.len()];
     let mut acc = [0.0f64; 4];
     let (ac, bc) = (a.chunks_exact(4), b.chunks_exact(4));
@@ -232,7 +220,7 @@ fn dot_any<const FMA: bool>(a: &[f64], b: &[f64]) -> f64 {
 /// multiply–adds.
 #[inline(always)]
 fn gemv<const FMA: bool>(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
-    assert!(stride % 4 == 0 && w.len() >= stride && a.len() >= out.len().next_multiple_of(4) * stride);
+    assert!(stride.is_multiple_of(4) && w.len() >= stride && a.len() >= out.len().next_multiple_of(4) * stride);
     #[cfg(target_arch = "x86_64")]
     if FMA {
         // SAFETY: the FMA build of the step runs only inside `step_avx2`, which is called
@@ -266,10 +254,7 @@ unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
             a3 = _mm256_fmadd_pd(_mm256_loadu_pd(r.add(3 * stride + k)), x, a3);
             k += 4;
         }
-        // [l0+l1, l2+l3] of each accumulator, then (l0+l1)+(l2+l3) for four rows at once.
-        let h01 = _mm256_hadd_pd(a0, a1);
-        let h23 = _mm256_hadd_pd(a2, a3);
-        let sum = _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31));
+        let sum = row_sums4([a0, a1, a2, a3]);
         if i + 4 <= n {
             _mm256_storeu_pd(out.as_mut_ptr().add(i), sum);
         } else {
@@ -289,11 +274,24 @@ unsafe fn gemv_avx2(a: &[f64], stride: usize, w: &[f64], out: &mut [f64]) {
     }
 }
 
+/// The four lanes of each of four accumulators summed as (l₀ + l₁) + (l₂ + l₃), for four
+/// rows at once: lane r of the result is accumulator r's sum.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn row_sums4(acc: [std::arch::x86_64::__m256d; 4]) -> std::arch::x86_64::__m256d {
+    use std::arch::x86_64::*;
+    // [l0+l1, l2+l3] of each accumulator, interleaved by pairs, then the two halves added.
+    let h01 = _mm256_hadd_pd(acc[0], acc[1]);
+    let h23 = _mm256_hadd_pd(acc[2], acc[3]);
+    _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31))
+}
+
 /// out[i] = (rowᵢ·u, rowᵢ·v, rowᵢ·a) for a row-major A as in `gemv` (zero rows up to a
 /// multiple of four) and u, v, a of length ≥ stride: the three products of each row in one
 /// pass over A, each rounded as `dot_lanes`.
 fn gemv3<const FMA: bool>(a: &[f64], stride: usize, u: &[f64], v: &[f64], acc: &[f64], out: &mut [[f64; 3]]) {
-    assert!(stride % 4 == 0 && a.len() >= out.len().next_multiple_of(4) * stride);
+    assert!(stride.is_multiple_of(4) && a.len() >= out.len().next_multiple_of(4) * stride);
     assert!(u.len() >= stride && v.len() >= stride && acc.len() >= stride);
     #[cfg(target_arch = "x86_64")]
     if FMA {
@@ -332,17 +330,57 @@ unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 
         }
         let mut sums = [[0.0f64; 4]; 3];
         for q in 0..3 {
-            // As in `gemv_avx2`: (l0 + l1) + (l2 + l3) for four rows at once.
-            let h01 = _mm256_hadd_pd(acc[q][0], acc[q][1]);
-            let h23 = _mm256_hadd_pd(acc[q][2], acc[q][3]);
-            let sum = _mm256_add_pd(_mm256_permute2f128_pd(h01, h23, 0x20), _mm256_permute2f128_pd(h01, h23, 0x31));
-            _mm256_storeu_pd(sums[q].as_mut_ptr(), sum);
+            _mm256_storeu_pd(sums[q].as_mut_ptr(), row_sums4(acc[q]));
         }
         for row in 0..4.min(n - i) {
             *out.get_unchecked_mut(i + row) = [sums[0][row], sums[1][row], sums[2][row]];
         }
         i += 4;
     }
+}
+
+/// The row loop of the band right-hand side (and, with `$diss`, of the last step's
+/// dissipation) over whole groups of `$lanes` rows, written once for the 256- and 512-bit
+/// kernels. Each kernel brings its vector operations into scope as `load`, `store`, `mul`,
+/// `fmadd`, `add`, `zero` and `splat` (a macro_rules body resolves such names where it is
+/// invoked). Row i: z = M_ii·w₁ᵢ + Σ_t (M_{i,i−t}·w₁ᵢ₋ₜ + M_{i+t,i}·w₁ᵢ₊ₜ), the same for C
+/// and w₂, then sm + sc; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ) to
+/// `$acc`. Advances `$i` past the last whole group.
+macro_rules! rhs_band_groups {
+    ($diss:expr, $lanes:expr, $i:ident, $n:expr, $b:expr, [$m:expr, $c:expr, $w1:expr, $w2:expr, $vb:expr, $z:expr], $acc:ident) => {{
+        let (n, b) = ($n, $b);
+        let stride = n + b;
+        assert!($m.len() >= (b + 1) * stride && $c.len() >= (b + 1) * stride);
+        assert!($w1.len() >= n + 2 * b && $w2.len() >= n + 2 * b && $z.len() >= n);
+        assert!(!$diss || $vb.len() >= n + 2 * b);
+        let (pm, pc, p1, p2, pv, pz) =
+            ($m.as_ptr(), $c.as_ptr(), $w1.as_ptr(), $w2.as_ptr(), $vb.as_ptr(), $z.as_mut_ptr());
+        let (half, two) = (splat(0.5), splat(2.0));
+        while $i + $lanes <= n {
+            let i = $i;
+            let c0 = load(pc.add(i));
+            let mut sm = mul(load(pm.add(i)), load(p1.add(b + i)));
+            let mut sc = mul(c0, load(p2.add(b + i)));
+            let vi = if $diss { load(pv.add(b + i)) } else { zero() };
+            let mut sd = if $diss { mul(mul(half, c0), vi) } else { zero() };
+            for t in 1..=b {
+                let (lo, up) = (t * stride + i, t * stride + i + t);
+                let c_lo = load(pc.add(lo));
+                sm = fmadd(load(pm.add(lo)), load(p1.add(b + i - t)), sm);
+                sm = fmadd(load(pm.add(up)), load(p1.add(b + i + t)), sm);
+                sc = fmadd(c_lo, load(p2.add(b + i - t)), sc);
+                sc = fmadd(load(pc.add(up)), load(p2.add(b + i + t)), sc);
+                if $diss {
+                    sd = fmadd(c_lo, load(pv.add(b + i - t)), sd);
+                }
+            }
+            store(pz.add(i), add(sm, sc));
+            if $diss {
+                $acc = fmadd(mul(two, sd), vi, $acc);
+            }
+            $i += $lanes;
+        }
+    }};
 }
 
 /// The banded right-hand side z = M·w₁ + C·w₂ four rows at a time: the same multiply–adds
@@ -368,39 +406,14 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
     vb: &[f64],
     part: &mut [f64; 4],
 ) -> usize {
-    use std::arch::x86_64::*;
-    let stride = n + b;
-    assert!(m.len() >= (b + 1) * stride && c.len() >= (b + 1) * stride);
-    assert!(w1.len() >= n + 2 * b && w2.len() >= n + 2 * b && z.len() >= n);
-    assert!(!DISS || vb.len() >= n + 2 * b);
-    let (pm, pc, p1, p2, pv) = (m.as_ptr(), c.as_ptr(), w1.as_ptr(), w2.as_ptr(), vb.as_ptr());
-    let mut acc = _mm256_loadu_pd(part.as_ptr());
-    let (half, two) = (_mm256_set1_pd(0.5), _mm256_set1_pd(2.0));
+    use std::arch::x86_64::{
+        _mm256_add_pd as add, _mm256_fmadd_pd as fmadd, _mm256_loadu_pd as load, _mm256_mul_pd as mul,
+        _mm256_set1_pd as splat, _mm256_setzero_pd as zero, _mm256_storeu_pd as store,
+    };
+    let mut acc = load(part.as_ptr());
     let mut i = from;
-    while i + 4 <= n {
-        let c0 = _mm256_loadu_pd(pc.add(i));
-        let mut sm = _mm256_mul_pd(_mm256_loadu_pd(pm.add(i)), _mm256_loadu_pd(p1.add(b + i)));
-        let mut sc = _mm256_mul_pd(c0, _mm256_loadu_pd(p2.add(b + i)));
-        let vi = if DISS { _mm256_loadu_pd(pv.add(b + i)) } else { _mm256_setzero_pd() };
-        let mut sd = if DISS { _mm256_mul_pd(_mm256_mul_pd(half, c0), vi) } else { _mm256_setzero_pd() };
-        for t in 1..=b {
-            let (lo, up) = (t * stride + i, t * stride + i + t);
-            let c_lo = _mm256_loadu_pd(pc.add(lo));
-            sm = _mm256_fmadd_pd(_mm256_loadu_pd(pm.add(lo)), _mm256_loadu_pd(p1.add(b + i - t)), sm);
-            sm = _mm256_fmadd_pd(_mm256_loadu_pd(pm.add(up)), _mm256_loadu_pd(p1.add(b + i + t)), sm);
-            sc = _mm256_fmadd_pd(c_lo, _mm256_loadu_pd(p2.add(b + i - t)), sc);
-            sc = _mm256_fmadd_pd(_mm256_loadu_pd(pc.add(up)), _mm256_loadu_pd(p2.add(b + i + t)), sc);
-            if DISS {
-                sd = _mm256_fmadd_pd(c_lo, _mm256_loadu_pd(pv.add(b + i - t)), sd);
-            }
-        }
-        _mm256_storeu_pd(z.as_mut_ptr().add(i), _mm256_add_pd(sm, sc));
-        if DISS {
-            acc = _mm256_fmadd_pd(_mm256_mul_pd(two, sd), vi, acc);
-        }
-        i += 4;
-    }
-    let start = i;
+    rhs_band_groups!(DISS, 4, i, n, b, [m, c, w1, w2, vb, z], acc);
+    let (start, stride) = (i, n + b);
     for i in i..n {
         let mut sm = m[i] * w1[b + i];
         let mut sc = c[i] * w2[b + i];
@@ -414,7 +427,7 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
         z[i] = sm + sc;
     }
     if DISS {
-        _mm256_storeu_pd(part.as_mut_ptr(), acc);
+        store(part.as_mut_ptr(), acc);
     }
     start
 }
@@ -436,41 +449,16 @@ unsafe fn rhs_band_avx512<const DISS: bool>(
     vb: &[f64],
     part: &mut [f64; 4],
 ) -> usize {
-    use std::arch::x86_64::*;
-    let stride = n + b;
-    assert!(m.len() >= (b + 1) * stride && c.len() >= (b + 1) * stride);
-    assert!(w1.len() >= n + 2 * b && w2.len() >= n + 2 * b && z.len() >= n);
-    assert!(!DISS || vb.len() >= n + 2 * b);
-    let (pm, pc, p1, p2, pv) = (m.as_ptr(), c.as_ptr(), w1.as_ptr(), w2.as_ptr(), vb.as_ptr());
-    let mut acc = _mm512_setzero_pd();
-    let (half, two) = (_mm512_set1_pd(0.5), _mm512_set1_pd(2.0));
+    use std::arch::x86_64::{
+        _mm512_add_pd as add, _mm512_fmadd_pd as fmadd, _mm512_loadu_pd as load, _mm512_mul_pd as mul,
+        _mm512_set1_pd as splat, _mm512_setzero_pd as zero, _mm512_storeu_pd as store,
+    };
+    let mut acc = zero();
     let mut i = 0;
-    while i + 8 <= n {
-        let c0 = _mm512_loadu_pd(pc.add(i));
-        let mut sm = _mm512_mul_pd(_mm512_loadu_pd(pm.add(i)), _mm512_loadu_pd(p1.add(b + i)));
-        let mut sc = _mm512_mul_pd(c0, _mm512_loadu_pd(p2.add(b + i)));
-        let vi = if DISS { _mm512_loadu_pd(pv.add(b + i)) } else { _mm512_setzero_pd() };
-        let mut sd = if DISS { _mm512_mul_pd(_mm512_mul_pd(half, c0), vi) } else { _mm512_setzero_pd() };
-        for t in 1..=b {
-            let (lo, up) = (t * stride + i, t * stride + i + t);
-            let c_lo = _mm512_loadu_pd(pc.add(lo));
-            sm = _mm512_fmadd_pd(_mm512_loadu_pd(pm.add(lo)), _mm512_loadu_pd(p1.add(b + i - t)), sm);
-            sm = _mm512_fmadd_pd(_mm512_loadu_pd(pm.add(up)), _mm512_loadu_pd(p1.add(b + i + t)), sm);
-            sc = _mm512_fmadd_pd(c_lo, _mm512_loadu_pd(p2.add(b + i - t)), sc);
-            sc = _mm512_fmadd_pd(_mm512_loadu_pd(pc.add(up)), _mm512_loadu_pd(p2.add(b + i + t)), sc);
-            if DISS {
-                sd = _mm512_fmadd_pd(c_lo, _mm512_loadu_pd(pv.add(b + i - t)), sd);
-            }
-        }
-        _mm512_storeu_pd(z.as_mut_ptr().add(i), _mm512_add_pd(sm, sc));
-        if DISS {
-            acc = _mm512_fmadd_pd(_mm512_mul_pd(two, sd), vi, acc);
-        }
-        i += 8;
-    }
+    rhs_band_groups!(DISS, 8, i, n, b, [m, c, w1, w2, vb, z], acc);
     if DISS {
         let mut lanes = [0.0f64; 8];
-        _mm512_storeu_pd(lanes.as_mut_ptr(), acc);
+        store(lanes.as_mut_ptr(), acc);
         for l in 0..4 {
             part[l] += lanes[l] + lanes[l + 4];
         }
@@ -1206,7 +1194,7 @@ impl FusedNewmark {
                 let tail = &self.l_tail[lr.offset..lr.offset + len];
                 // Four partial sums: one running sum would make the row a chain of `len`
                 // dependent multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
-                y -= dot_any::<FMA>(tail, &z[lr.first + b..lr.first + b + len]);
+                y -= dot_lanes::<FMA>(tail, &z[lr.first + b..lr.first + b + len]);
                 lp += 1;
             }
             if b > 0 {
@@ -1338,6 +1326,16 @@ impl FusedNewmark {
 mod tests {
     use super::*;
 
+    /// The builds of the dense products this processor can run (FMA or not).
+    fn builds() -> Vec<bool> {
+        let mut b = vec![false];
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
+            b.push(true);
+        }
+        b
+    }
+
     /// Every row count (whole groups of four and each partial last group), both builds:
     /// the product equals plain sums to round-off and writes nothing past `out`.
     #[test]
@@ -1348,12 +1346,7 @@ mod tests {
             let a: Vec<f64> = (0..rows.next_multiple_of(4) * stride)
                 .map(|q| if q < rows * stride { ((q * 13 % 11) as f64 - 5.0) / 3.0 } else { 0.0 })
                 .collect();
-            let mut builds = vec![false];
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-                builds.push(true);
-            }
-            for fma in builds {
+            for fma in builds() {
                 // A sentinel past the rows checks that the last group stores only its rows.
                 let mut out = vec![f64::NAN; rows + 1];
                 let (head, tail) = out.split_at_mut(rows);
@@ -1385,12 +1378,7 @@ mod tests {
             let a: Vec<f64> = (0..rows.next_multiple_of(4) * stride)
                 .map(|p| if p < rows * stride { ((p * 13 % 11) as f64 - 5.0) / 3.0 } else { 0.0 })
                 .collect();
-            let mut builds = vec![false];
-            #[cfg(target_arch = "x86_64")]
-            if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma") {
-                builds.push(true);
-            }
-            for fma in builds {
+            for fma in builds() {
                 let mut out = vec![[f64::NAN; 3]; rows + 1];
                 out[rows] = [42.0; 3];
                 let mut one = vec![0.0; rows];
