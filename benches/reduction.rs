@@ -20,7 +20,12 @@ fn bench(c: &mut Criterion) {
     let model = build_model(&lc).unwrap().model;
     let full = System::assemble(&model).unwrap();
     let settings = TransientSettings { harmonics: 9, ..Default::default() };
-    let rs = ReductionSettings { cutoff: Cutoff::HarmonicFactor(5.0), static_correction: true, error_estimate: false };
+    let rs = ReductionSettings {
+        cutoff: Cutoff::HarmonicFactor(5.0),
+        static_correction: true,
+        error_estimate: false,
+        modal_damping: None,
+    };
     let hz = reduction::cutoff_hz(&model, &rs, 9).unwrap();
     let (red, report) = reduction::reduce(&model, &full, &rs, hz).unwrap();
     let r = transient::run(&model, &red, &settings).unwrap();

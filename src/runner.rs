@@ -9,6 +9,7 @@ use crate::assembly::{Model, System};
 use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::solve::newmark::Scheme;
+use std::borrow::Cow;
 
 /// Modes in the mode-resolved tables of a run (the residual of the truncated sum is reported).
 pub const MODAL_TABLE_MODES: usize = 30;
@@ -71,17 +72,19 @@ pub fn transient_settings(spec: &AnalysisSpec) -> Option<TransientSettings> {
 /// Builds the model and runs the case's analyses in order.
 pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     let built = build_model(lc)?;
-    // Before anything runs: the time-domain and steady-state analyses cannot apply modal damping.
+    // Before anything runs: modal damping is a matrix only in modal coordinates, so a
+    // time-domain run needs the modal reduction (the frequency domain uses the complete
+    // modal basis by itself).
     for spec in &lc.case.analysis {
-        match spec {
-            AnalysisSpec::Transient { .. } => built.require_viscous_damping(&lc.file, "transient analysis")?,
-            AnalysisSpec::SteadyState { .. } => built.require_viscous_damping(&lc.file, "steady-state analysis")?,
-            _ => {}
+        if let AnalysisSpec::Transient { reduction: None, .. } = spec {
+            built.require_viscous_damping(&lc.file, "transient analysis without `reduction`")?;
         }
     }
+    let modal_ratios = built.modal_ratios.clone();
     let model = built.model;
     let system = System::assemble(&model)?;
     let mut reduced = ReducedCache::default();
+    let reference = |system| frequency_domain_model(system, modal_ratios.as_deref());
     let mut results = Vec::new();
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
@@ -121,13 +124,13 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 let r = match reduction {
                     None => transient::run(&model, &system, &s),
                     Some(rs) => (|| {
-                        let rs = reduction_settings(rs);
+                        let rs = reduction_settings(rs, modal_ratios.as_deref());
                         let (red, mut report) = reduced.get(&model, &system, &rs, s.harmonics)?;
                         let mut r = transient::run(&model, &red, &s)?;
                         if rs.error_estimate {
                             report.error = Some(reduction::estimate_error(
                                 &model,
-                                &system,
+                                &*reference(&system)?,
                                 &red,
                                 s.harmonics,
                                 ESTIMATE_SAMPLES.max(4 * s.harmonics + 2),
@@ -142,16 +145,19 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
             AnalysisSpec::SteadyState { harmonics, samples_per_period, reduction } => {
                 let (h, n) = (*harmonics, *samples_per_period);
                 let r = match reduction {
-                    None => steady_state::run(&model, &system, h, n).and_then(|mut s| {
-                        s.decompose_modes(&model, &system, MODAL_TABLE_MODES)?;
+                    None => (|| {
+                        let complete = reference(&system)?;
+                        let mut s = steady_state::run(&model, &complete, h, n)?;
+                        s.expand(&complete);
+                        s.decompose_modes(&model, &system, MODAL_TABLE_MODES, modal_ratios.as_deref())?;
                         Ok(s)
-                    }),
+                    })(),
                     Some(rs) => (|| {
-                        let rs = reduction_settings(rs);
+                        let rs = reduction_settings(rs, modal_ratios.as_deref());
                         let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
                         let mut r = steady_state::run(&model, &red, h, n)?;
                         if rs.error_estimate {
-                            let full = steady_state::run(&model, &system, h, n)?;
+                            let full = steady_state::run(&model, &*reference(&system)?, h, n)?;
                             report.error = Some(reduction::compare(&full, &r));
                         }
                         r.reduction = Some(report);
@@ -166,11 +172,21 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     Ok(CaseRun { model, system, results })
 }
 
+/// The full model as the frequency domain solves it: the assembled system, or with modal
+/// damping the same model in the complete modal basis (where that damping is a matrix).
+fn frequency_domain_model<'s>(system: &'s System, modal_ratios: Option<&[f64]>) -> Result<Cow<'s, System>> {
+    Ok(match modal_ratios {
+        None => Cow::Borrowed(system),
+        Some(r) => Cow::Owned(reduction::complete_modal_basis(system, r)?),
+    })
+}
+
 /// Samples per period of the frequency-domain runs behind a reduction's error estimate.
 const ESTIMATE_SAMPLES: usize = 1024;
 
-/// The solver-side settings of a case's `reduction` entry.
-pub fn reduction_settings(spec: &ReductionSpec) -> ReductionSettings {
+/// The solver-side settings of a case's `reduction` entry, for a case with the given modal
+/// damping ratios (None: Rayleigh or no damping).
+pub fn reduction_settings(spec: &ReductionSpec, modal_damping: Option<&[f64]>) -> ReductionSettings {
     ReductionSettings {
         cutoff: match (spec.modes_up_to_hz, spec.factor) {
             (Some(f), _) => Cutoff::Hz(f),
@@ -178,6 +194,7 @@ pub fn reduction_settings(spec: &ReductionSpec) -> ReductionSettings {
         },
         static_correction: spec.static_correction,
         error_estimate: spec.error_estimate,
+        modal_damping: modal_damping.map(<[f64]>::to_vec),
     }
 }
 

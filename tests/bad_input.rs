@@ -146,28 +146,39 @@ fn closed_standard_output_is_not_a_panic() {
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
-/// Modal damping exists only as the harmonic analysis's modal sum: a transient or
-/// steady-state analysis of such a case is refused (naming the file and the field) instead of
-/// running undamped; the harmonic analysis still runs.
+/// Modal damping is a matrix only in modal coordinates: a transient without a modal
+/// reduction is refused (naming the file and the field and pointing to `reduction`) instead
+/// of running undamped; with a reduction it runs, as do the steady-state and harmonic
+/// analyses.
 #[test]
-fn modal_damping_is_refused_by_time_domain_and_steady_state_analyses() {
+fn modal_damping_needs_a_reduction_in_the_time_domain() {
     const BASE: &str = "[damping]\nkind = \"modal\"\nratios = [0.01]\n\
         [[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
-    for analysis in ["type = \"transient\"\nperiods = 2", "type = \"steady_state\""] {
+    let text = format!("{BASE}[[analysis]]\ntype = \"transient\"\nperiods = 2\n");
+    let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(".")).unwrap();
+    let msg = match beamflow::runner::run_case(&lc) {
+        Ok(_) => panic!("a modal-damped transient without reduction ran"),
+        Err(e) => e.to_string(),
+    };
+    for needle in ["bad.toml", "damping.kind", "modal", "reduction"] {
+        assert!(msg.contains(needle), "message must mention `{needle}`: {msg}");
+    }
+    for analysis in [
+        "type = \"transient\"\nperiods = 2\nreduction = \"auto\"",
+        "type = \"steady_state\"",
+        "type = \"harmonic\"\n[analysis.frequencies]\nvalues = [60.0]\n[[analysis.force]]\nx = 0.15",
+    ] {
         let text = format!("{BASE}[[analysis]]\n{analysis}\n");
-        let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(".")).unwrap();
-        let msg = match beamflow::runner::run_case(&lc) {
-            Ok(_) => panic!("a modal-damped {analysis} ran"),
-            Err(e) => e.to_string(),
-        };
-        for needle in ["bad.toml", "damping.kind", "modal", "harmonic"] {
-            assert!(msg.contains(needle), "message must mention `{needle}`: {msg}");
+        let lc = LoadedCase::from_str(&text, "ok.toml", PathBuf::from(".")).unwrap();
+        if let Err(e) = beamflow::runner::run_case(&lc) {
+            panic!("modal damping in `{analysis}`: {e}");
         }
     }
-    let text = format!(
-        "{BASE}[[analysis]]\ntype = \"harmonic\"\n[analysis.frequencies]\nvalues = [60.0]\n\
-         [[analysis.force]]\nx = 0.15\n"
-    );
-    let lc = LoadedCase::from_str(&text, "ok.toml", PathBuf::from(".")).unwrap();
-    beamflow::runner::run_case(&lc).expect("modal damping in a harmonic analysis");
+    // Unreduced, the steady state needs every mode of the beam: a fine mesh is told to reduce.
+    let text = format!("[beam.mesh]\nelements = 600\n{BASE}[[analysis]]\ntype = \"steady_state\"\n");
+    let lc = LoadedCase::from_str(&text, "fine.toml", PathBuf::from(".")).unwrap();
+    let msg = beamflow::runner::run_case(&lc).expect_err("a complete modal basis of ≈ 1200 DOFs").to_string();
+    for needle in ["fine.toml", "analysis[0].reduction", "modes of the beam"] {
+        assert!(msg.contains(needle), "message must mention `{needle}`: {msg}");
+    }
 }

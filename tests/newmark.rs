@@ -193,7 +193,12 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
     let lc = LoadedCase::from_str(text, "fused.toml", std::env::temp_dir()).unwrap();
     let model = build_model(&lc).unwrap().model;
     let full = System::assemble(&model).unwrap();
-    let rs = ReductionSettings { cutoff: Cutoff::HarmonicFactor(5.0), static_correction: true, error_estimate: false };
+    let rs = ReductionSettings {
+        cutoff: Cutoff::HarmonicFactor(5.0),
+        static_correction: true,
+        error_estimate: false,
+        modal_damping: None,
+    };
     let hz = reduction::cutoff_hz(&model, &rs, 9).unwrap();
     let (red, _) = reduction::reduce(&model, &full, &rs, hz).unwrap();
     let odd = LoadedCase::from_str(&format!("[beam.mesh]\nelements = 204\n{text}"), "odd.toml", std::env::temp_dir())

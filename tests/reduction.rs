@@ -41,7 +41,7 @@ fn model_and_system(name: &str) -> (Model, System) {
 /// Max relative error of the point powers (frequency-domain steady state, 9 harmonics)
 /// of a reduction with the given cut-off.
 fn error_at(model: &Model, full: &System, hz: f64, static_correction: bool) -> f64 {
-    let rs = ReductionSettings { cutoff: Cutoff::Hz(hz), static_correction, error_estimate: true };
+    let rs = ReductionSettings { cutoff: Cutoff::Hz(hz), static_correction, error_estimate: true, modal_damping: None };
     let (red, _) = reduction::reduce(model, full, &rs, hz).unwrap();
     reduction::estimate_error(model, full, &red, 9, 1024).unwrap().max_relative_error
 }
@@ -135,7 +135,12 @@ fn reduced_model_is_exact_in_statics_only_with_the_correction() {
     };
     let exact = static_stretches(&full);
     for (sc, bound_ok) in [(true, true), (false, false)] {
-        let rs = ReductionSettings { cutoff: Cutoff::Hz(2700.0), static_correction: sc, error_estimate: false };
+        let rs = ReductionSettings {
+            cutoff: Cutoff::Hz(2700.0),
+            static_correction: sc,
+            error_estimate: false,
+            modal_damping: None,
+        };
         let (red, _) = reduction::reduce(&model, &full, &rs, 2700.0).unwrap();
         let e = max_rel(&static_stretches(&red), &exact);
         eprintln!("static stretches, static_correction = {sc}: {e:.2e}");

@@ -2,7 +2,7 @@
 
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
-use crate::solve::eigen::Modes;
+use crate::solve::eigen::{ratio_of, Modes};
 use crate::solve::harmonic::{dissipated_power, mean_power, DynamicStiffness};
 use num_complex::Complex64;
 use serde::Serialize;
@@ -124,11 +124,6 @@ pub fn run(
         res.dissipated_power.push(diss);
     }
     Ok(res)
-}
-
-/// Damping ratio of mode r from a list whose last entry repeats.
-pub fn ratio_of(ratios: &[f64], r: usize) -> f64 {
-    ratios.get(r).or(ratios.last()).copied().unwrap_or(0.0)
 }
 
 /// Q = Σ_r φ_r·(φ_rᵀF)/(ω_r² − ω² + 2iζ_r·ω_r·ω).

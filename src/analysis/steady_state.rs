@@ -276,10 +276,26 @@ pub fn solve_at(sys: &System, w: f64, fp: &[Complex64]) -> Result<Vec<Complex64>
 }
 
 impl SteadyStateResult {
-    /// Adds the mode-resolved decomposition with the first `count` bare-beam modes.
-    pub fn decompose_modes(&mut self, model: &Model, sys: &System, count: usize) -> Result<()> {
+    /// Moves the amplitudes Q_k of a run on a reduced system to the full model's DOFs.
+    pub fn expand(&mut self, reduced: &System) {
+        if let Some(p) = &reduced.projection {
+            self.q = self.q.iter().map(|qk| p.expand(qk)).collect();
+        }
+    }
+
+    /// Adds the mode-resolved decomposition with the first `count` bare-beam modes
+    /// (`sys` is the full system the amplitudes Q_k belong to; `modal_ratios` the case's
+    /// modal damping ratios, if any).
+    pub fn decompose_modes(
+        &mut self,
+        model: &Model,
+        sys: &System,
+        count: usize,
+        modal_ratios: Option<&[f64]>,
+    ) -> Result<()> {
         let interface: Vec<Vec<Complex64>> = self.spectra.iter().map(|s| s.interface.clone()).collect();
-        self.modal = crate::post::modal::decompose(model, sys, &self.q, 2.0 * PI / self.period, &interface, count)?;
+        let w0 = 2.0 * PI / self.period;
+        self.modal = crate::post::modal::decompose(model, sys, &self.q, w0, &interface, count, modal_ratios)?;
         Ok(())
     }
 }

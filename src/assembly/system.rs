@@ -5,6 +5,7 @@ use crate::actuator::{Actuator, Component, FootBase};
 use crate::beam::{element_mass, element_stiffness, element_stiffness_rows, Beam, SupportKind};
 use crate::error::{Error, Result};
 use crate::linalg::{BandedR, Csr, Skyline};
+use num_complex::Complex64;
 use std::sync::Arc;
 
 /// Rayleigh damping of the beam, C_beam = a₀·M_beam + a₁·K_beam.
@@ -108,6 +109,12 @@ impl Projection {
     pub fn row(&self, i: usize) -> Vec<(usize, f64)> {
         let r = &self.t[i * self.n_reduced..(i + 1) * self.n_reduced];
         r.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(j, &v)| (j, v)).collect()
+    }
+
+    /// Full-model amplitudes T·q of reduced ones (complex, e.g. one harmonic's Q_k).
+    pub fn expand(&self, q: &[Complex64]) -> Vec<Complex64> {
+        assert_eq!(q.len(), self.n_reduced, "reduced vector length");
+        self.t.chunks_exact(self.n_reduced).map(|row| row.iter().zip(q).map(|(&t, &x)| x * t).sum()).collect()
     }
 }
 

@@ -18,17 +18,20 @@ pub struct BuiltModel {
 }
 
 impl BuiltModel {
-    /// Analyses that integrate M, C, K directly (transient, periodic steady state, sweeps)
-    /// have no modal damping: it exists only as the harmonic analysis's modal sum. They
-    /// refuse such a case rather than run it undamped.
+    /// Modal damping is a matrix only in the bare beam's modal coordinates (over the beam
+    /// DOFs it is dense). The harmonic analysis applies it as a modal sum, the steady state
+    /// in the complete modal basis and a transient on its modal reduction; an analysis that
+    /// integrates the assembled M, C, K (a transient without `reduction`, a sweep) refuses
+    /// such a case rather than run it undamped.
     pub fn require_viscous_damping(&self, file: &str, analysis: &str) -> Result<()> {
         if self.modal_ratios.is_some() {
             return Err(Error::input(
                 file,
                 "damping.kind",
                 format!(
-                    "\"modal\" damping is applied only by harmonic analyses (as a modal sum); a {analysis} \
-                     needs \"rayleigh_ratio\", \"rayleigh\" or \"none\""
+                    "\"modal\" damping is applied by harmonic and steady-state analyses and by transients with a \
+                     modal `reduction` (e.g. reduction = \"auto\"); a {analysis} needs \"rayleigh_ratio\", \
+                     \"rayleigh\" or \"none\""
                 ),
             ));
         }

@@ -6,11 +6,13 @@
 //! Σ_r iω·φ_r(x)·η_r. So the power at point i splits exactly into modal shares
 //! P_{i,r} = ½·Re(F̂_i·conj(iω·φ_r(x_i)·η_r)), whose sum over all modes is P_i; a truncated
 //! sum leaves a residual that is reported. With Rayleigh damping the modes also diagonalise
-//! C_beam, so the beam dissipation splits into P_r = ½ω²·(a₀ + a₁ω_r²)·|η_r|².
+//! C_beam, so the beam dissipation splits into P_r = ½ω²·(a₀ + a₁ω_r²)·|η_r|²; with modal
+//! damping (ratios ζ_r) into P_r = ½ω²·2ζ_r·ω_r·|η_r|².
 
 use crate::assembly::{Model, System};
 use crate::case::build::bare_modes;
 use crate::error::Result;
+use crate::solve::eigen::ratio_of;
 use num_complex::Complex64;
 use serde::Serialize;
 
@@ -41,7 +43,8 @@ pub struct ModalDecomposition {
 }
 
 /// Decomposes harmonic amplitudes `q[k]` at frequencies `k·omega0` with `count` modes.
-/// `interface[l][k]` are the links' interface-force amplitudes (N).
+/// `interface[l][k]` are the links' interface-force amplitudes (N); `modal_ratios` the
+/// case's modal damping ratios, if it has modal rather than Rayleigh damping.
 pub fn decompose(
     model: &Model,
     sys: &System,
@@ -49,6 +52,7 @@ pub fn decompose(
     omega0: f64,
     interface: &[Vec<Complex64>],
     count: usize,
+    modal_ratios: Option<&[f64]>,
 ) -> Result<Option<ModalDecomposition>> {
     let Some(beam) = model.beam.as_ref() else { return Ok(None) };
     let modes = bare_modes(beam, count)?;
@@ -126,7 +130,11 @@ pub fn decompose(
         for r in 0..nm {
             let wr = modes.omega[r];
             let e2 = eta[r].norm_sqr();
-            out.dissipation[r] += 0.5 * w * w * (a0 + a1 * wr * wr) * e2;
+            let c_r = match modal_ratios {
+                Some(z) => 2.0 * ratio_of(z, r) * wr,
+                None => a0 + a1 * wr * wr,
+            };
+            out.dissipation[r] += 0.5 * w * w * c_r * e2;
             out.kinetic_energy[r] += 0.25 * w * w * e2;
             out.strain_energy[r] += 0.25 * wr * wr * e2;
         }

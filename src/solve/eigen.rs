@@ -161,3 +161,9 @@ fn reduce(
     }
     Ok(Modes { omega, shapes: x, dofs: dofs.to_vec(), from_root })
 }
+
+/// Damping ratio ζ of mode r (0-based) from a case's modal damping list, whose last entry
+/// repeats for every higher mode.
+pub fn ratio_of(ratios: &[f64], r: usize) -> f64 {
+    ratios.get(r).or(ratios.last()).copied().unwrap_or(0.0)
+}

@@ -38,7 +38,8 @@
 //! are 80 % off without it (stiff legs on a beam whose local flexibility the modes miss).
 //! It keeps the bare-beam modes themselves as coordinates (the η_r of §11, so modal
 //! quantities read straight off the reduced state) and leaves M_beam, K_beam and, with
-//! Rayleigh damping, C_beam diagonal. The price is that a foot's w is a combination of all
+//! Rayleigh damping, C_beam diagonal; that is also what makes modal damping (ζ_r per
+//! mode) a diagonal 2ζ_r·ω_r here, added from the formula like K_beam. The price is that a foot's w is a combination of all
 //! reduced beam coordinates (a dense row of T), which links and drives carry as coefficient
 //! lists anyway. A Craig–Bampton form of the same subspace (feet kept physical, constraint
 //! modes plus fixed-interface modes) was tried: same results to 1e-8, but the mass coupling
@@ -63,8 +64,8 @@
 use crate::assembly::{DofMap, LinkDofs, Projection, System};
 use crate::error::{Error, Result};
 use crate::linalg::{dot, Csr, Skyline};
-use crate::solve::eigen::Modes;
-use faer::{Mat, Side};
+use crate::solve::eigen::{ratio_of, Modes};
+use faer::{Mat, MatRef, Side};
 use std::sync::Arc;
 
 /// Relative size below which a projected entry counts as round-off.
@@ -75,12 +76,15 @@ const DROP: f64 = 1e-12;
 const RESIDUAL_FLOOR: f64 = 1e-10;
 
 /// What to keep.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct ReductionOptions {
     /// Keep the bare-beam modes with ω_r ≤ this (rad/s).
     pub cutoff: f64,
     /// Add the residual-flexibility vectors at the attachment DOFs.
     pub static_correction: bool,
+    /// Modal damping ratios ζ_r per bare-beam mode (the last repeats), added to the beam's
+    /// damping as 2ζ_r·ω_r on the diagonal of the reduced coordinates; see [`reduce`].
+    pub modal_damping: Option<Vec<f64>>,
 }
 
 /// A reduced system and what went into it.
@@ -242,8 +246,10 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     }
     drop((phi, residual));
 
+    let t_ref = MatRef::from_row_major_slice(&t, n, nr);
     let project = |a: &Csr| -> Vec<f64> {
-        // AT = A·T (n × nr), then Tᵀ·AT, symmetrised.
+        // AT = A·T (n × nr) by A's entries, then Tᵀ·AT as one dense product (with every
+        // mode kept, nr ≈ n and this is the reduction's main cost), symmetrised.
         let mut at = vec![0.0; n * nr];
         for (i, j, v) in a.triplets() {
             let (src, dst) = (&t[j * nr..(j + 1) * nr], i * nr);
@@ -251,20 +257,11 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
                 at[dst + c] += v * src[c];
             }
         }
+        let prod = t_ref.transpose() * MatRef::from_row_major_slice(&at, n, nr);
         let mut r = vec![0.0; nr * nr];
-        for i in 0..n {
-            let (ti, ai) = (&t[i * nr..(i + 1) * nr], &at[i * nr..(i + 1) * nr]);
-            for a in 0..nr {
-                if ti[a] != 0.0 {
-                    for b in 0..nr {
-                        r[a * nr + b] += ti[a] * ai[b];
-                    }
-                }
-            }
-        }
         for a in 0..nr {
-            for b in 0..a {
-                let s = 0.5 * (r[a * nr + b] + r[b * nr + a]);
+            for b in 0..=a {
+                let s = 0.5 * (prod[(a, b)] + prod[(b, a)]);
                 r[a * nr + b] = s;
                 r[b * nr + a] = s;
             }
@@ -284,7 +281,22 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
         }
         Csr::from_triplets(nr, &trip)
     };
-    let [m, c, m_beam, c_beam] = [&full.m, &full.c, &full.m_beam, &full.c_beam].map(|a| to_csr(&project(a)));
+    let [m, mut c, m_beam, mut c_beam] = [&full.m, &full.c, &full.m_beam, &full.c_beam].map(|a| to_csr(&project(a)));
+    if let Some(ratios) = &opts.modal_damping {
+        // Modal damping lives in the bare beam's modal coordinates, which the beam block of
+        // the basis is: M-orthonormal and K-diagonal, so C_beam = diag(2ζ_r·ω_r) there. The
+        // residual vectors stand in for the discarded modes, so they take the next ratios
+        // in order (the last repeating) at their pseudo-frequencies.
+        let diag: Vec<(usize, usize, f64)> = mode_omega
+            .iter()
+            .chain(&residual_omega)
+            .enumerate()
+            .map(|(r, &w)| (r, r, 2.0 * ratio_of(ratios, r) * w))
+            .collect();
+        let modal = Csr::from_triplets(nr, &diag);
+        c = Csr::combine(&[(1.0, &c), (1.0, &modal)]);
+        c_beam = Csr::combine(&[(1.0, &c_beam), (1.0, &modal)]);
+    }
     let k_beam = Csr::from_triplets(nr, &k_diag.iter().enumerate().map(|(r, &v)| (r, r, v)).collect::<Vec<_>>());
     // The actuators' stiffness (links), projected.
     let k_links = to_csr(&project(&Csr::combine(&[(1.0, &full.k), (-1.0, &full.k_beam)])));
