@@ -31,8 +31,9 @@ pub struct CaseRun {
     pub results: Vec<AnalysisResult>,
 }
 
-/// The transient settings a case's analysis entry describes.
-pub fn transient_settings(spec: &AnalysisSpec) -> Option<TransientSettings> {
+/// The transient settings a case's analysis entry describes (`full_history`: the case's
+/// `[output] full_history`, every period kept rather than the last three).
+pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<TransientSettings> {
     if let AnalysisSpec::Transient {
         dt,
         periods,
@@ -63,6 +64,7 @@ pub fn transient_settings(spec: &AnalysisSpec) -> Option<TransientSettings> {
             max_periods: *max_periods,
             harmonics: *harmonics,
             record_periods: 3,
+            full_history,
         })
     } else {
         None
@@ -120,7 +122,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 )?)
             }
             AnalysisSpec::Transient { reduction, .. } => {
-                let s = transient_settings(spec).expect("transient");
+                let s = transient_settings(spec, lc.case.output.full_history).expect("transient");
                 let r = match reduction {
                     None => transient::run(&model, &system, &s),
                     Some(rs) => (|| {

@@ -28,8 +28,11 @@ pub struct TransientSettings {
     pub max_periods: usize,
     /// Highest harmonic of the drive analysed (sets the Δt limit and the spectra length).
     pub harmonics: usize,
-    /// Periods kept at the end of the run for output.
+    /// Periods kept at the end of the run for output (and run at least before the
+    /// steady-state criterion may stop it).
     pub record_periods: usize,
+    /// Keep every period of the run for output instead (`[output] full_history`).
+    pub full_history: bool,
 }
 
 impl Default for TransientSettings {
@@ -44,6 +47,7 @@ impl Default for TransientSettings {
             max_periods: 400,
             harmonics: 9,
             record_periods: 3,
+            full_history: false,
         }
     }
 }
@@ -73,6 +77,28 @@ pub struct LinkSeries {
     pub power: Vec<f64>,
 }
 
+impl LinkSeries {
+    /// The last `n` samples of every series.
+    pub fn tail(&self, n: usize) -> LinkSeries {
+        let t = |v: &Vec<f64>| v[v.len().saturating_sub(n)..].to_vec();
+        LinkSeries {
+            actuator: self.actuator,
+            name: self.name.clone(),
+            foot_x: self.foot_x,
+            stretch: t(&self.stretch),
+            stretch_rate: t(&self.stretch_rate),
+            f_stiffness: t(&self.f_stiffness),
+            f_damping: t(&self.f_damping),
+            f_pzt: t(&self.f_pzt),
+            transmitted: t(&self.transmitted),
+            interface: t(&self.interface),
+            base_velocity: t(&self.base_velocity),
+            base_acceleration: t(&self.base_acceleration),
+            power: t(&self.power),
+        }
+    }
+}
+
 /// History of one body DOF (m or rad, and rates).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct BodySeries {
@@ -92,6 +118,20 @@ pub struct DriveSeries {
     pub h: Vec<f64>,
     pub stroke: Vec<f64>,
     pub f_p: Vec<f64>,
+}
+
+impl DriveSeries {
+    /// The last `n` samples of every series.
+    pub fn tail(&self, n: usize) -> DriveSeries {
+        let t = |v: &Vec<f64>| v[v.len().saturating_sub(n)..].to_vec();
+        DriveSeries {
+            actuator: self.actuator,
+            voltage: t(&self.voltage),
+            h: t(&self.h),
+            stroke: t(&self.stroke),
+            f_p: t(&self.f_p),
+        }
+    }
 }
 
 /// Beam motion at a sensor: w (m), ẇ (m/s), ẅ (m/s²).
@@ -383,7 +423,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     } else {
         1
     };
-    let keep = if periodic { s.record_periods.max(1) } else { 1 };
+    let min_periods = if periodic { s.record_periods.max(1) } else { 1 };
+    let keep = if s.full_history { total_periods.max(1) } else { min_periods };
     let mut window: VecDeque<PeriodRecord> = VecDeque::new();
     let mut prev_metrics: Option<Vec<f64>> = None;
     let mut converged = false;
@@ -567,7 +608,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
                 }
             }
             final_change = change;
-            if periodic && s.steady_state && change < s.tolerance && periods_run >= keep {
+            if periodic && s.steady_state && change < s.tolerance && periods_run >= min_periods {
                 converged = true;
                 if s.periods.is_none() {
                     break;
@@ -581,7 +622,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     run_bal.system.stored_change = es_end - es_start;
 
     // Assemble the recorded window.
-    let mut all = PeriodRecord::new(nl, body_dofs.len(), na, model.sensors.len(), keep * n_per);
+    let mut all = PeriodRecord::new(nl, body_dofs.len(), na, model.sensors.len(), window.len() * n_per);
     for r in &window {
         all.append(r);
     }

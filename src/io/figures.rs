@@ -182,7 +182,13 @@ pub fn plot_run(dir: &Path, stem: &str, _lc: &LoadedCase, run: &CaseRun) -> Resu
             AnalysisResult::Modes(m) => out.extend(save(&modes_figure(m), dir, &format!("{tag}_modes"))?),
             AnalysisResult::Harmonic(h) => out.extend(save(&harmonic_figure(h), dir, &format!("{tag}_harmonic"))?),
             AnalysisResult::Transient(t) => {
-                out.extend(periodic_figures(dir, &tag, run, &t.t, &t.links, &t.spectra, &t.mean_power, &t.drives)?)
+                // Figures show the last periods (a whole history, `[output] full_history`,
+                // is in the HDF5 file; drawn it would be hundreds of periods per panel).
+                let n = (PLOTTED_PERIODS * t.steps_per_period).min(t.t.len());
+                let links: Vec<LinkSeries> = t.links.iter().map(|l| l.tail(n)).collect();
+                let drives: Vec<DriveSeries> = t.drives.iter().map(|d| d.tail(n)).collect();
+                let time = &t.t[t.t.len() - n..];
+                out.extend(periodic_figures(dir, &tag, run, time, &links, &t.spectra, &t.mean_power, &drives)?)
             }
             AnalysisResult::SteadyState(s) => {
                 out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?);
@@ -194,6 +200,9 @@ pub fn plot_run(dir: &Path, stem: &str, _lc: &LoadedCase, run: &CaseRun) -> Resu
     }
     Ok(out)
 }
+
+/// Periods of a transient's time histories drawn in its figures (the last ones).
+const PLOTTED_PERIODS: usize = 3;
 
 #[allow(clippy::too_many_arguments)]
 fn periodic_figures(
