@@ -54,10 +54,12 @@ struct Extra {
 }
 
 /// The Newmark update of one row from its new displacement x: a, v, u, the step's mean
-/// velocity v̄ and the next step's history terms w₁, w₂.
+/// velocity v̄ (with `VBAR`: only the dissipation reads it, and at 10⁶ DOFs its store is
+/// 16 of the step's ≈ 300 bytes of memory traffic per DOF) and the next step's history
+/// terms w₁, w₂.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-fn update_row<const FMA: bool>(
+fn update_row<const FMA: bool, const VBAR: bool>(
     k: Coeffs,
     i: usize,
     x: f64,
@@ -74,7 +76,9 @@ fn update_row<const FMA: bool>(
     u[i] = x;
     v[i] = v_new;
     a[i] = a_new;
-    vbar[i] = 0.5 * (vi + v_new);
+    if VBAR {
+        vbar[i] = 0.5 * (vi + v_new);
+    }
     (w1[i], w2[i]) = k.history::<FMA>(x, v_new, a_new);
 }
 
@@ -1013,7 +1017,11 @@ impl FusedNewmark {
     fn step_impl<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
         self.rhs::<W, FMA>(w, k);
         self.forward::<W, FMA>(w);
-        self.backward::<W, FMA>(w, k);
+        if self.track_dissipation {
+            self.backward::<W, FMA, true>(w, k);
+        } else {
+            self.backward::<W, FMA, false>(w, k);
+        }
         self.w_ready = true;
         self.diss_pending = self.track_dissipation;
     }
@@ -1216,7 +1224,7 @@ impl FusedNewmark {
     /// sits in row i+s at slot B−s), the newest xᵢ₊₁ last and from a register; the entries
     /// of long rows, which reach far back, are scattered as soon as their xₖ is known.
     #[inline(always)]
-    fn backward<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
+    fn backward<W: Width, const FMA: bool, const VBAR: bool>(&mut self, w: W, k: Coeffs) {
         let (n, b) = (self.n, w.b());
         let l = &self.l[..(n + b) * b];
         let x = &mut self.x[..n + 2 * b];
@@ -1240,7 +1248,7 @@ impl FusedNewmark {
             prev = xi;
             // Row i's new state is final: update it here, off the sweep's critical path,
             // so the processor overlaps it with the recurrence's latency.
-            update_row::<FMA>(k, i, xi, u, v, a, vbar, w1, w2);
+            update_row::<FMA, VBAR>(k, i, xi, u, v, a, vbar, w1, w2);
             if lp > 0 && self.long[lp - 1].row == i {
                 lp -= 1;
                 let lr = self.long[lp];
@@ -1264,7 +1272,7 @@ impl FusedNewmark {
         let (w1, rest) = ops.w.split_at_mut(n);
         let w2 = &mut rest[..n];
         for i in 0..n {
-            update_row::<FMA>(k, i, x[i], u, v, a, vbar, w1, w2);
+            update_row::<FMA, true>(k, i, x[i], u, v, a, vbar, w1, w2);
         }
         self.w_ready = true;
     }
