@@ -785,8 +785,14 @@ where
         let marker = s.style != SeriesStyle::Line;
         let anno = match s.style {
             SeriesStyle::Line | SeriesStyle::LineMarkers => {
-                let pieces = clip_polyline(&s.x, &s.y, bx).into_iter().map(|pc| decimate(pc, columns, bx));
-                c.draw_series(pieces.map(|pc| PathElement::new(pc, color.stroke_width(LINE_W)))).map_err(de)?
+                // A decimated piece is a per-column envelope whose strokes reverse within a
+                // pixel column; a thick stroke's joins at such turns spike far outside the
+                // plot area, so it is drawn 1 px wide (at that density it reads the same).
+                let pieces = clip_polyline(&s.x, &s.y, bx).into_iter().map(|pc| {
+                    let dense = pc.len() > 4 * columns;
+                    (decimate(pc, columns, bx), if dense { 1 } else { LINE_W })
+                });
+                c.draw_series(pieces.map(|(pc, w)| PathElement::new(pc, color.stroke_width(w)))).map_err(de)?
             }
             SeriesStyle::Markers => c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>()).map_err(de)?,
             SeriesStyle::Stems => {
@@ -1206,6 +1212,43 @@ mod tests {
         s.render(&path).unwrap();
         check_file(&path, 3_000);
         keep(&path);
+    }
+
+    /// A dense zig-zag (hundreds of periods of a signal per pixel column, as a whole run's
+    /// history) is drawn as its per-column envelope; none of it may land outside the
+    /// plot area (thick strokes joined at such sharp turns spike far past their points).
+    #[test]
+    fn dense_lines_stay_inside_the_plot_area() {
+        let t: Vec<f64> = (0..36_000).map(|i| i as f64 * 1e-4).collect();
+        // Like a power history: a squared 60 Hz signal with a 7th harmonic and a decaying
+        // start-up, 200 samples a period.
+        let w = 2.0 * std::f64::consts::PI * 60.0;
+        let y: Vec<f64> = t
+            .iter()
+            .map(|t| (w * t).sin() * (w * t + 0.4).sin() * (1.0 + (-5.0 * t).exp()) + 0.1 * (7.0 * w * t).sin())
+            .collect();
+        let mut p = LinePlot::new("", "time (s)", "power (W)");
+        p.series.push(Series::line("", t, y));
+        let (w, h) = (1000u32, 600u32);
+        let mut buf = vec![255u8; (w * h * 3) as usize];
+        ensure_font().unwrap();
+        {
+            let area = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+            p.draw_in(&area, None).unwrap();
+            area.present().unwrap();
+        }
+        let blue = palette_color(0);
+        let is_blue = |x: u32, y: u32| {
+            let i = ((y * w + x) * 3) as usize;
+            (buf[i], buf[i + 1], buf[i + 2]) == (blue.0, blue.1, blue.2)
+        };
+        // Rows that hold the series' colour: they must form one band, the plot area.
+        let rows: Vec<u32> = (0..h).filter(|&y| (0..w).any(|x| is_blue(x, y))).collect();
+        assert!(!rows.is_empty(), "the series was drawn");
+        let (top, bottom) = (rows[0], *rows.last().unwrap());
+        // The plot area is inside the 12-px margin and above the x labels.
+        assert!(top >= 12, "series drawn at row {top}, above the plot area");
+        assert!(bottom < h - (TICK_PX + DESC_PX + 30), "series drawn at row {bottom}, below the plot area");
     }
 
     #[test]
