@@ -87,12 +87,23 @@ pub fn body_panel(title: &str, t: &[f64], b: &BodySeries) -> LinePlot {
     p
 }
 
-/// Force spectrum in dB re 1 N at the harmonics.
+/// Lines more than this far below the panel's largest (as an amplitude ratio, 120 dB) are
+/// left out of a force spectrum: they are round-off, e.g. the exactly zero even harmonics
+/// of a symmetric drive in the frequency domain, which would otherwise set the axis at
+/// thousands of dB below the lines that matter.
+const SPECTRUM_FLOOR: f64 = 1e-6;
+
+/// Force spectrum in dB re 1 N at the harmonics (lines within 120 dB of the largest).
 pub fn spectrum_panel(title: &str, spectra: &[(&str, &LinkSpectrum)]) -> LinePlot {
     let mut p = LinePlot::new(title, "frequency (Hz)", "force level (dB re 1 N)");
+    let top = spectra.iter().flat_map(|(_, s)| s.transmitted[1..].iter()).fold(0.0f64, |m, c| m.max(c.norm()));
     for (label, s) in spectra {
-        let f: Vec<f64> = s.frequency[1..].to_vec();
-        let l: Vec<f64> = s.transmitted[1..].iter().map(|c| db(c.norm(), 1.0)).collect();
+        let (f, l): (Vec<f64>, Vec<f64>) = s.frequency[1..]
+            .iter()
+            .zip(&s.transmitted[1..])
+            .filter(|(_, c)| c.norm() > SPECTRUM_FLOOR * top)
+            .map(|(&f, c)| (f, db(c.norm(), 1.0)))
+            .unzip();
         p.series.push(Series::line(*label, f, l).with_style(SeriesStyle::LineMarkers));
     }
     p
@@ -289,4 +300,25 @@ pub fn modal_power_figure(m: &crate::post::modal::ModalDecomposition, run: &Case
         bar.groups.push((act.name().to_string(), v));
     }
     bar
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use num_complex::Complex64;
+
+    #[test]
+    fn force_spectra_leave_out_round_off_lines() {
+        let c = |re: f64| Complex64::new(re, 0.0);
+        let s = LinkSpectrum {
+            frequency: vec![0.0, 60.0, 120.0, 180.0, 240.0],
+            transmitted: vec![c(1.0), c(10.0), c(0.0), c(0.01), c(1e-300)],
+            ..Default::default()
+        };
+        let p = spectrum_panel("t", &[("stack", &s)]);
+        let series = &p.series[0];
+        // 60 Hz at 20 dB, 180 Hz at −40 dB; the zero and the 1e-300 line are not drawn.
+        assert_eq!(series.x, vec![60.0, 180.0]);
+        assert!((series.y[0] - 20.0).abs() < 1e-12 && (series.y[1] + 40.0).abs() < 1e-12, "{:?}", series.y);
+    }
 }

@@ -766,6 +766,41 @@ fn decimate(pts: Vec<(f64, f64)>, columns: usize, bx: &Box2) -> Vec<(f64, f64)> 
     out
 }
 
+/// The corner of the plot area whose legend box would cover the fewest data points
+/// (upper right on a tie, then upper left, lower right, lower left). The box's size is
+/// estimated from the labels (`area_px`: the plot area in pixels).
+fn legend_corner(p: &LinePlot, bx: &Box2, area_px: (u32, u32)) -> SeriesLabelPosition {
+    let labels: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).filter(|l| !l.is_empty()).collect();
+    let chars = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
+    // Sample line, gap, text at ≈ 0.55 em a character, padding; a row per label.
+    let (w_px, h_px) = (40.0 + 0.55 * TICK_PX as f64 * chars as f64 + 20.0, 10.0 + labels.len() as f64 * 20.0);
+    let (fx, fy) = ((w_px / area_px.0.max(1) as f64).min(1.0), (h_px / area_px.1.max(1) as f64).min(1.0));
+    let ((x0, y0), (x1, y1)) = bx.lin_bounds();
+    let (sx, sy) = (x1 - x0, y1 - y0);
+    // Points as fractions of the plot area (0..1 across, 0..1 up).
+    let points = p.series.iter().flat_map(|s| s.x.iter().zip(&s.y)).filter_map(|(&x, &y)| {
+        let q = bx.fwd((x, y));
+        let u = ((q.0 - x0) / sx, (q.1 - y0) / sy);
+        (u.0.is_finite() && u.1.is_finite() && (0.0..=1.0).contains(&u.0) && (0.0..=1.0).contains(&u.1)).then_some(u)
+    });
+    let corners = [
+        (SeriesLabelPosition::UpperRight, true, true),
+        (SeriesLabelPosition::UpperLeft, false, true),
+        (SeriesLabelPosition::LowerRight, true, false),
+        (SeriesLabelPosition::LowerLeft, false, false),
+    ];
+    let mut counts = [0usize; 4];
+    for (u, v) in points {
+        for (k, &(_, right, upper)) in corners.iter().enumerate() {
+            let in_x = if right { u >= 1.0 - fx } else { u <= fx };
+            let in_y = if upper { v >= 1.0 - fy } else { v <= fy };
+            counts[k] += usize::from(in_x && in_y);
+        }
+    }
+    let best = (0..4).min_by_key(|&k| (counts[k], k)).unwrap_or(0);
+    corners[best].0.clone()
+}
+
 fn draw_series<'a, DB, X, Y>(c: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>, p: &LinePlot, bx: &Box2) -> DrawResult
 where
     DB: DrawingBackend + 'a,
@@ -817,8 +852,9 @@ where
         }
     }
     if p.series.iter().any(|s| !s.label.is_empty()) {
+        let (w, h) = c.plotting_area().dim_in_pixel();
         c.configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
+            .position(legend_corner(p, bx, (w, h)))
             .label_font(font(TICK_PX))
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK.mix(0.5))
@@ -1249,6 +1285,28 @@ mod tests {
         // The plot area is inside the 12-px margin and above the x labels.
         assert!(top >= 12, "series drawn at row {top}, above the plot area");
         assert!(bottom < h - (TICK_PX + DESC_PX + 30), "series drawn at row {bottom}, below the plot area");
+    }
+
+    #[test]
+    fn the_legend_goes_where_the_data_is_not() {
+        let corner = |x: Vec<f64>, y: Vec<f64>| {
+            let mut p = LinePlot::new("", "x", "y");
+            p.series.push(Series::line("a series", x, y));
+            let ((x0, x1), (y0, y1)) = p.ranges();
+            let bx = Box2 { x: (x0, x1), y: (y0, y1), log_x: false, log_y: false };
+            legend_corner(&p, &bx, (900, 500))
+        };
+        let x: Vec<f64> = (0..=100).map(f64::from).collect();
+        let pos = |p: SeriesLabelPosition| format!("{p:?}");
+        // Flat along the bottom: the usual upper right is free.
+        assert_eq!(pos(corner(x.clone(), x.iter().map(|_| 0.0).collect())), pos(SeriesLabelPosition::UpperRight));
+        // A rising diagonal fills the upper right and the lower left.
+        assert_eq!(pos(corner(x.clone(), x.clone())), pos(SeriesLabelPosition::UpperLeft));
+        // A falling one fills the upper left and the lower right.
+        assert_eq!(pos(corner(x.clone(), x.iter().map(|v| 100.0 - v).collect())), pos(SeriesLabelPosition::UpperRight));
+        // Up at both ends (a cosine over one period): lower corners are free.
+        let c: Vec<f64> = x.iter().map(|v| (v / 100.0 * 2.0 * std::f64::consts::PI).cos()).collect();
+        assert_eq!(pos(corner(x.clone(), c)), pos(SeriesLabelPosition::LowerRight));
     }
 
     #[test]
