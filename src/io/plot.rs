@@ -801,6 +801,29 @@ fn legend_corner(p: &LinePlot, bx: &Box2, area_px: (u32, u32)) -> SeriesLabelPos
     corners[best].0.clone()
 }
 
+/// Splits a polyline where it turns back in y; consecutive runs share that point.
+fn monotone_runs(pts: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
+    let mut runs = Vec::new();
+    let mut run: Vec<(f64, f64)> = Vec::new();
+    let mut dir = 0.0f64;
+    for &p in pts {
+        if let Some(&q) = run.last() {
+            let d = (p.1 - q.1).signum() * f64::from(u8::from(p.1 != q.1));
+            if d != 0.0 && dir != 0.0 && d != dir {
+                runs.push(std::mem::replace(&mut run, vec![q]));
+            }
+            if d != 0.0 {
+                dir = d;
+            }
+        }
+        run.push(p);
+    }
+    if run.len() > 1 || runs.is_empty() {
+        runs.push(run);
+    }
+    runs
+}
+
 fn draw_series<'a, DB, X, Y>(c: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>, p: &LinePlot, bx: &Box2) -> DrawResult
 where
     DB: DrawingBackend + 'a,
@@ -821,13 +844,19 @@ where
         let anno = match s.style {
             SeriesStyle::Line | SeriesStyle::LineMarkers => {
                 // A decimated piece is a per-column envelope whose strokes reverse within a
-                // pixel column; a thick stroke's joins at such turns spike far outside the
-                // plot area, so it is drawn 1 px wide (at that density it reads the same).
-                let pieces = clip_polyline(&s.x, &s.y, bx).into_iter().map(|pc| {
-                    let dense = pc.len() > 4 * columns;
-                    (decimate(pc, columns, bx), if dense { 1 } else { LINE_W })
-                });
-                c.draw_series(pieces.map(|(pc, w)| PathElement::new(pc, color.stroke_width(w)))).map_err(de)?
+                // pixel column; the bitmap backend's joins of a thick polyline at such turns
+                // spike far outside the plot area, so it is drawn as runs that are monotone
+                // in y, joined only where they do not turn back.
+                let mut paths = Vec::new();
+                for pc in clip_polyline(&s.x, &s.y, bx) {
+                    if pc.len() > 4 * columns {
+                        paths.extend(monotone_runs(&decimate(pc, columns, bx)));
+                    } else {
+                        paths.push(pc);
+                    }
+                }
+                c.draw_series(paths.into_iter().map(|pc| PathElement::new(pc, color.stroke_width(LINE_W))))
+                    .map_err(de)?
             }
             SeriesStyle::Markers => c.draw_series(std::iter::empty::<PathElement<(f64, f64)>>()).map_err(de)?,
             SeriesStyle::Stems => {
@@ -1285,6 +1314,14 @@ mod tests {
         // The plot area is inside the 12-px margin and above the x labels.
         assert!(top >= 12, "series drawn at row {top}, above the plot area");
         assert!(bottom < h - (TICK_PX + DESC_PX + 30), "series drawn at row {bottom}, below the plot area");
+    }
+
+    #[test]
+    fn polylines_split_where_they_turn_back() {
+        let p = [(0.0, 0.0), (1.0, 2.0), (2.0, 2.0), (3.0, 5.0), (4.0, 1.0), (5.0, 0.0), (6.0, 3.0)];
+        let runs = monotone_runs(&p);
+        assert_eq!(runs, vec![p[..4].to_vec(), p[3..6].to_vec(), p[5..].to_vec()]);
+        assert_eq!(monotone_runs(&p[..1]), vec![p[..1].to_vec()]);
     }
 
     #[test]
