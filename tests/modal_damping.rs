@@ -167,3 +167,43 @@ fn a_modal_damped_reduced_transient_settles_onto_its_steady_state_and_balances()
     let [AnalysisResult::SteadyState(o)] = &other.results[..] else { panic!("one steady state") };
     assert!(max_rel(&o.mean_power, &ss.mean_power) > 1e-3);
 }
+
+/// A steady-state sweep of a modal-damped case runs in the complete modal basis, grouped or
+/// case by case, and with Rayleigh-equivalent ratios it reproduces the Rayleigh sweep.
+#[test]
+fn a_steady_state_sweep_applies_modal_damping() {
+    use beamflow::sweep::{self, RunOptions};
+    let dir = tempfile::tempdir().unwrap();
+    let rayleigh_text = frame_case("", STEADY);
+    let rayleigh = run_text(&rayleigh_text);
+    let (a0, a1) = (rayleigh.model.rayleigh.a0, rayleigh.model.rayleigh.a1);
+    let modes = beamflow::case::build::bare_modes(rayleigh.model.beam.as_ref().unwrap(), usize::MAX).unwrap();
+    let ratios: Vec<f64> = modes.omega.iter().map(|w| a0 / (2.0 * w) + a1 * w / 2.0).collect();
+    let modal_text = frame_case(&format!("[damping]\nkind = \"modal\"\nratios = {}\n", list(&ratios)), STEADY);
+    std::fs::write(dir.path().join("rayleigh.toml"), &rayleigh_text).unwrap();
+    std::fs::write(dir.path().join("modal.toml"), &modal_text).unwrap();
+    // One placement (the mesh, hence the modes, stays that of the ratios), two frequencies.
+    let spec = |base: &str| {
+        format!("base = \"{base}\"\n[[parameter]]\npath = \"actuator[0].voltage.frequency\"\nvalues = [45.0, 60.0]\n")
+    };
+    let load = |name: &str, base: &str| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, spec(base)).unwrap();
+        sweep::load(&path).unwrap()
+    };
+    let opts = RunOptions { threads: Some(1), ..Default::default() };
+    let r = sweep::run(&load("r.sweep.toml", "rayleigh.toml"), &opts).unwrap();
+    let m = sweep::run(&load("m.sweep.toml", "modal.toml"), &opts).unwrap();
+    let m_ref = sweep::run(&load("m.sweep.toml", "modal.toml"), &RunOptions { reference: true, ..opts }).unwrap();
+    for ((a, b), c) in m.rows.iter().zip(&r.rows).zip(&m_ref.rows) {
+        let e = max_rel(&a.mean_power, &b.mean_power);
+        eprintln!("{} Hz: modal vs Rayleigh sweep, point powers {e:.2e}", a.inputs[0]);
+        assert!(e < 1e-6, "{e:e}");
+        assert!(rel(a.beam_dissipation, b.beam_dissipation) < 1e-6);
+        // The grouped fast path and steady_state::run on the same basis agree.
+        assert!(max_rel(&a.mean_power, &c.mean_power) < 1e-12);
+    }
+    // The 60 Hz row is the case run directly.
+    let [AnalysisResult::SteadyState(direct)] = &run_text(&modal_text).results[..] else { panic!("one steady state") };
+    assert!(max_rel(&m.rows[1].mean_power, &direct.mean_power) < 1e-12);
+}

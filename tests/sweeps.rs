@@ -356,10 +356,13 @@ fn bad_sweep_files_give_clear_errors() {
     let e = sweep::run(&s, &threads(1)).unwrap_err().to_string();
     assert!(e.contains("f.sweep.toml") && e.contains("case 1") && e.contains("actuator[0].e = 0.02"), "{e}");
     assert!(e.contains("left leg"), "{e}");
-    // Modal damping is refused rather than swept undamped.
+    // Modal damping in a transient sweep is refused rather than swept undamped (a
+    // steady-state sweep applies it in the complete modal basis: tests/modal_damping.rs).
     d.write("modal.toml", &format!("[damping]\nkind = \"modal\"\nratios = [0.01]\n{FRAME_BASE}"));
-    let s =
-        d.sweep("m.sweep.toml", "base = \"modal.toml\"\n[[parameter]]\npath = \"actuator[0].x_e\"\nvalues = [0.3]\n");
+    let s = d.sweep(
+        "m.sweep.toml",
+        "base = \"modal.toml\"\nanalysis = \"transient\"\n[[parameter]]\npath = \"actuator[0].x_e\"\nvalues = [0.3]\n",
+    );
     let e = sweep::run(&s, &threads(1)).unwrap_err().to_string();
     assert!(e.contains("m.sweep.toml") && e.contains("damping.kind") && e.contains("modal"), "{e}");
 

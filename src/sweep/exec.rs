@@ -4,9 +4,11 @@
 use super::fast::{self, ForceCache, Headline};
 use super::spec::{Sweep, SweepAnalysis};
 use super::table::{decode_part, encode_part, Row, Shard, SweepTable};
+use crate::analysis::reduction::complete_modal_basis;
 use crate::analysis::steady_state::{self, HarmonicSolver};
 use crate::analysis::transient;
 use crate::assembly::System;
+use crate::case::build::BuiltModel;
 use crate::case::build_model;
 use crate::error::{Error, Result};
 use rayon::prelude::*;
@@ -72,9 +74,8 @@ impl<'a> Evaluator<'a> {
         let lc = sweep.case(i)?;
         let wrap = |e: Error| Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string());
         let built = build_model(&lc).map_err(wrap)?;
-        built.require_viscous_damping(&lc.file, "sweep").map_err(wrap)?;
+        let sys = frequency_domain_system(&built, &lc.file, sweep.analysis).map_err(wrap)?;
         let model = built.model;
-        let sys = System::assemble(&model).map_err(wrap)?;
         let amp = |c: &[num_complex::Complex64]| c.get(1).map_or(0.0, |c| c.norm());
         let (h, n) = (sweep.harmonics, sweep.samples_per_period);
         let head = match (sweep.analysis, self.reference) {
@@ -148,9 +149,8 @@ impl<'a> Evaluator<'a> {
         debug_assert!(indices.iter().all(|&i| sweep.model_key(i) == sweep.model_key(first)));
         let lc = sweep.case(first)?;
         let built = build_model(&lc).map_err(wrap(first))?;
-        built.require_viscous_damping(&lc.file, "sweep").map_err(wrap(first))?;
+        let sys = frequency_domain_system(&built, &lc.file, sweep.analysis).map_err(wrap(first))?;
         let mut model = built.model;
-        let sys = System::assemble(&model).map_err(wrap(first))?;
         let mut solver = HarmonicSolver::new(&sys);
         let driven = sweep.driven_actuators();
         for &i in indices {
@@ -189,6 +189,21 @@ impl<'a> Evaluator<'a> {
             beam_dissipation: head.beam_dissipation,
             balance_error: head.balance_error,
         })
+    }
+}
+
+/// A case's system as the sweep solves it: assembled, or with modal damping (steady-state
+/// sweeps only) the same model in the bare beam's complete modal basis, where that damping
+/// is a matrix. A transient sweep of a modal-damped case is refused.
+fn frequency_domain_system(built: &BuiltModel, file: &str, analysis: SweepAnalysis) -> Result<System> {
+    let sys = System::assemble(&built.model)?;
+    match (&built.modal_ratios, analysis) {
+        (None, _) => Ok(sys),
+        (Some(r), SweepAnalysis::SteadyState) => complete_modal_basis(&sys, r),
+        (Some(_), SweepAnalysis::Transient) => {
+            built.require_viscous_damping(file, "transient sweep")?;
+            Ok(sys)
+        }
     }
 }
 
