@@ -9,7 +9,7 @@ use crate::assembly::{Model, System};
 use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::solve::newmark::Scheme;
-use std::borrow::Cow;
+use std::cell::OnceCell;
 
 /// Modes in the mode-resolved tables of a run (the residual of the truncated sum is reported).
 pub const MODAL_TABLE_MODES: usize = 30;
@@ -86,7 +86,19 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     let model = built.model;
     let system = System::assemble(&model)?;
     let mut reduced = ReducedCache::default();
-    let reference = |system| frequency_domain_model(system, modal_ratios.as_deref());
+    // Built at most once per case run (an eigen-analysis and a dense basis).
+    let complete: OnceCell<System> = OnceCell::new();
+    let reference = || -> Result<&System> {
+        match &modal_ratios {
+            None => Ok(&system),
+            Some(r) => {
+                if complete.get().is_none() {
+                    let _ = complete.set(reduction::complete_modal_basis(&system, r)?);
+                }
+                Ok(complete.get().expect("set above"))
+            }
+        }
+    };
     let mut results = Vec::new();
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
@@ -132,7 +144,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                         if rs.error_estimate {
                             report.error = Some(reduction::estimate_error(
                                 &model,
-                                &*reference(&system)?,
+                                reference()?,
                                 &red,
                                 s.harmonics,
                                 ESTIMATE_SAMPLES.max(4 * s.harmonics + 2),
@@ -148,9 +160,9 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 let (h, n) = (*harmonics, *samples_per_period);
                 let r = match reduction {
                     None => (|| {
-                        let complete = reference(&system)?;
-                        let mut s = steady_state::run(&model, &complete, h, n)?;
-                        s.expand(&complete);
+                        let fd = reference()?;
+                        let mut s = steady_state::run(&model, fd, h, n)?;
+                        s.expand(fd);
                         s.decompose_modes(&model, &system, MODAL_TABLE_MODES, modal_ratios.as_deref())?;
                         Ok(s)
                     })(),
@@ -159,7 +171,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                         let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
                         let mut r = steady_state::run(&model, &red, h, n)?;
                         if rs.error_estimate {
-                            let full = steady_state::run(&model, &*reference(&system)?, h, n)?;
+                            let full = steady_state::run(&model, reference()?, h, n)?;
                             report.error = Some(reduction::compare(&full, &r));
                         }
                         r.reduction = Some(report);
@@ -172,15 +184,6 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
         results.push(r);
     }
     Ok(CaseRun { model, system, results })
-}
-
-/// The full model as the frequency domain solves it: the assembled system, or with modal
-/// damping the same model in the complete modal basis (where that damping is a matrix).
-fn frequency_domain_model<'s>(system: &'s System, modal_ratios: Option<&[f64]>) -> Result<Cow<'s, System>> {
-    Ok(match modal_ratios {
-        None => Cow::Borrowed(system),
-        Some(r) => Cow::Owned(reduction::complete_modal_basis(system, r)?),
-    })
 }
 
 /// Samples per period of the frequency-domain runs behind a reduction's error estimate.
