@@ -771,18 +771,26 @@ fn decimate(pts: Vec<(f64, f64)>, columns: usize, bx: &Box2) -> Vec<(f64, f64)> 
 /// estimated from the labels (`area_px`: the plot area in pixels).
 fn legend_corner(p: &LinePlot, bx: &Box2, area_px: (u32, u32)) -> SeriesLabelPosition {
     let labels: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).filter(|l| !l.is_empty()).collect();
+    let ((x0, y0), (x1, y1)) = bx.lin_bounds();
+    let (sx, sy) = (x1 - x0, y1 - y0);
+    // Points as fractions of the plot area (0..1 across, 0..1 up).
+    let points = p.series.iter().flat_map(|s| s.x.iter().zip(&s.y)).map(|(&x, &y)| {
+        let q = bx.fwd((x, y));
+        ((q.0 - x0) / sx, (q.1 - y0) / sy)
+    });
+    emptiest_corner(points, &labels, area_px)
+}
+
+/// The legend corner for points given as fractions of the plot area (see `legend_corner`).
+fn emptiest_corner(
+    points: impl Iterator<Item = (f64, f64)>,
+    labels: &[&str],
+    area_px: (u32, u32),
+) -> SeriesLabelPosition {
     let chars = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0);
     // Sample line, gap, text at ≈ 0.55 em a character, padding; a row per label.
     let (w_px, h_px) = (40.0 + 0.55 * TICK_PX as f64 * chars as f64 + 20.0, 10.0 + labels.len() as f64 * 20.0);
     let (fx, fy) = ((w_px / area_px.0.max(1) as f64).min(1.0), (h_px / area_px.1.max(1) as f64).min(1.0));
-    let ((x0, y0), (x1, y1)) = bx.lin_bounds();
-    let (sx, sy) = (x1 - x0, y1 - y0);
-    // Points as fractions of the plot area (0..1 across, 0..1 up).
-    let points = p.series.iter().flat_map(|s| s.x.iter().zip(&s.y)).filter_map(|(&x, &y)| {
-        let q = bx.fwd((x, y));
-        let u = ((q.0 - x0) / sx, (q.1 - y0) / sy);
-        (u.0.is_finite() && u.1.is_finite() && (0.0..=1.0).contains(&u.0) && (0.0..=1.0).contains(&u.1)).then_some(u)
-    });
     let corners = [
         (SeriesLabelPosition::UpperRight, true, true),
         (SeriesLabelPosition::UpperLeft, false, true),
@@ -791,6 +799,9 @@ fn legend_corner(p: &LinePlot, bx: &Box2, area_px: (u32, u32)) -> SeriesLabelPos
     ];
     let mut counts = [0usize; 4];
     for (u, v) in points {
+        if !(u.is_finite() && v.is_finite() && (0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v)) {
+            continue;
+        }
         for (k, &(_, right, upper)) in corners.iter().enumerate() {
             let in_x = if right { u >= 1.0 - fx } else { u <= fx };
             let in_y = if upper { v >= 1.0 - fy } else { v <= fy };
@@ -1009,8 +1020,24 @@ impl Figure for BarChart {
         c.draw_series(std::iter::once(PathElement::new(vec![(xlo, 0.0), (xhi, 0.0)], BLACK.stroke_width(1))))
             .map_err(de)?;
         if self.groups.iter().any(|(n, _)| !n.is_empty()) {
+            // The bars as a grid of points, for the legend to avoid them.
+            let (sx, sy) = (xhi - xlo, yhi - ylo);
+            let mut points = Vec::new();
+            for (g, (_, values)) in self.groups.iter().enumerate() {
+                for (i, &v) in values.iter().enumerate() {
+                    let x0 = i as f64 - 0.4 + g as f64 * w;
+                    for a in 0..=4 {
+                        for b in 0..=10 {
+                            let (x, y) = (x0 + w * a as f64 / 4.0, v * b as f64 / 10.0);
+                            points.push(((x - xlo) / sx, (y - ylo) / sy));
+                        }
+                    }
+                }
+            }
+            let labels: Vec<&str> = self.groups.iter().map(|(n, _)| n.as_str()).filter(|n| !n.is_empty()).collect();
+            let corner = emptiest_corner(points.into_iter(), &labels, c.plotting_area().dim_in_pixel());
             c.configure_series_labels()
-                .position(SeriesLabelPosition::UpperRight)
+                .position(corner)
                 .label_font(font(TICK_PX))
                 .background_style(WHITE.mix(0.85))
                 .border_style(BLACK.mix(0.5))
