@@ -816,14 +816,15 @@ fn emptiest_corner(
 fn monotone_runs(pts: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
     let mut runs = Vec::new();
     let mut run: Vec<(f64, f64)> = Vec::new();
-    let mut dir = 0.0f64;
+    let mut dir = 0i8;
     for &p in pts {
         if let Some(&q) = run.last() {
-            let d = (p.1 - q.1).signum() * f64::from(u8::from(p.1 != q.1));
-            if d != 0.0 && dir != 0.0 && d != dir {
+            // Direction of this step in y: up, down, or flat (which continues any run).
+            let d = (p.1 > q.1) as i8 - (p.1 < q.1) as i8;
+            if d != 0 && dir != 0 && d != dir {
                 runs.push(std::mem::replace(&mut run, vec![q]));
             }
-            if d != 0.0 {
+            if d != 0 {
                 dir = d;
             }
         }

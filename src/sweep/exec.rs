@@ -196,14 +196,13 @@ impl<'a> Evaluator<'a> {
 /// sweeps only) the same model in the bare beam's complete modal basis, where that damping
 /// is a matrix. A transient sweep of a modal-damped case is refused.
 fn frequency_domain_system(built: &BuiltModel, file: &str, analysis: SweepAnalysis) -> Result<System> {
+    if analysis == SweepAnalysis::Transient {
+        built.require_viscous_damping(file, "transient sweep")?;
+    }
     let sys = System::assemble(&built.model)?;
-    match (&built.modal_ratios, analysis) {
-        (None, _) => Ok(sys),
-        (Some(r), SweepAnalysis::SteadyState) => complete_modal_basis(&sys, r),
-        (Some(_), SweepAnalysis::Transient) => {
-            built.require_viscous_damping(file, "transient sweep")?;
-            Ok(sys)
-        }
+    match &built.modal_ratios {
+        None => Ok(sys),
+        Some(r) => complete_modal_basis(&sys, r),
     }
 }
 
