@@ -54,9 +54,9 @@ struct Extra {
 }
 
 /// The Newmark update of one row from its new displacement x: a, v, u, the step's mean
-/// velocity v̄ (with `VBAR`: only the dissipation reads it, and at 10⁶ DOFs its store is
-/// 16 of the step's ≈ 300 bytes of memory traffic per DOF) and the next step's history
-/// terms w₁, w₂.
+/// velocity v̄ (with `VBAR`: only the dissipation reads it) and the next step's history
+/// terms w₁, w₂. The caller passes the solution vector itself as `vbar`: once u holds the
+/// new displacement, x is a second copy of it, so v̄ stored there costs no stream of its own.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn update_row<const FMA: bool, const VBAR: bool>(
@@ -535,7 +535,9 @@ pub struct FusedNewmark {
     up: Vec<f64>,
     /// Right-hand side then y (forward sweep), padded with B leading zeros.
     z: Vec<f64>,
-    /// y/d then x (backward sweep), padded with B zeros at both ends.
+    /// y/d then, row by row as the backward sweep finishes them, the step's mean velocity
+    /// v̄ (the new displacement itself goes to u); padded with B zeros before and B + 4
+    /// after, so that the dense step's dissipation reads zeros past n.
     x: Vec<f64>,
     /// Dense load of the step in progress, zero except at the DOFs just loaded.
     load: Vec<f64>,
@@ -557,14 +559,12 @@ pub struct FusedNewmark {
     /// w₁, w₂ already hold the next step's history terms (the update writes them while it
     /// has u, v, a in registers); false after `set_state`.
     w_ready: bool,
-    /// v̄ of the last step, padded like w₁, for the dissipation.
-    vbar: Vec<f64>,
     /// Accumulate the dissipated energy Σ Δt·v̄ᵀ·C·v̄ (v̄ each step's mean velocity), read
     /// by `dissipated`.
     pub track_dissipation: bool,
     /// Σ v̄ᵀ·C·v̄ over the steps counted so far (without the factor Δt).
     diss_sum: f64,
-    /// `vbar` holds a step not yet in `diss_sum`: the band step counts it in the next
+    /// `x` holds the v̄ of a step not yet in `diss_sum`: the band step counts it in the next
     /// step's right-hand side pass, which reads C's diagonals anyway, or in `dissipated`.
     diss_pending: bool,
     /// Registered read-outs (see `set_observations`) and their latest values.
@@ -709,15 +709,16 @@ impl FusedNewmark {
             long,
             l_tail,
             d_inv: d.iter().map(|x| 1.0 / x).collect(),
-            // Zero padding to a multiple of four, so dense read-outs run over whole lanes.
-            u: vec![0.0; n.next_multiple_of(4)],
+            // Zero padding to a multiple of four, so dense read-outs run over whole lanes, and
+            // B past n, where the backward sweep gathers finished rows from u.
+            u: vec![0.0; (n + b).next_multiple_of(4)],
             v: vec![0.0; n.next_multiple_of(4)],
             a: vec![0.0; n.next_multiple_of(4)],
             w1: vec![0.0; n + 2 * b],
             w2: vec![0.0; n + 2 * b],
             up: vec![0.0; n + 2 * b],
             z: vec![0.0; n + b],
-            x: vec![0.0; n + 2 * b],
+            x: vec![0.0; n + 2 * b + 4],
             load: vec![0.0; n],
             touched: Vec::new(),
             f_prev: Vec::new(),
@@ -730,7 +731,6 @@ impl FusedNewmark {
             weights_prev: Vec::new(),
             use_weights: false,
             w_ready: false,
-            vbar: vec![0.0; n + 2 * b + 4],
             track_dissipation: false,
             diss_sum: 0.0,
             diss_pending: false,
@@ -758,7 +758,7 @@ impl FusedNewmark {
         let f = std::mem::size_of::<f64>();
         let vecs = [&self.m, &self.c, &self.l, &self.l_tail, &self.d_inv, &self.u, &self.v, &self.a]
             .iter()
-            .chain([&self.w1, &self.w2, &self.vbar, &self.up, &self.z, &self.x, &self.load].iter())
+            .chain([&self.w1, &self.w2, &self.up, &self.z, &self.x, &self.load].iter())
             .map(|v| v.len())
             .sum::<usize>()
             + self.k.as_ref().map_or(0, |k| k.len());
@@ -1094,7 +1094,7 @@ impl FusedNewmark {
             // kernel checks the slice lengths it relies on.
             #[cfg(target_arch = "x86_64")]
             unsafe {
-                let vb = &self.vbar[..n + 2 * b];
+                let vb = &self.x[..n + 2 * b];
                 let from = match (self.avx512, fold) {
                     (false, _) => 0,
                     (true, true) => rhs_band_avx512::<true>(n, b, m, c, w1, w2, z, vb, &mut lanes.1),
@@ -1220,41 +1220,41 @@ impl FusedNewmark {
         }
     }
 
-    /// Lᵀ·x = y/d in place in x. Band entries are gathered down column i (entry l_{i+s,i}
-    /// sits in row i+s at slot B−s), the newest xᵢ₊₁ last and from a register; the entries
-    /// of long rows, which reach far back, are scattered as soon as their xₖ is known.
+    /// Lᵀ·x = y/d. Band entries are gathered down column i (entry l_{i+s,i} sits in row i+s
+    /// at slot B−s) from u, where each finished row's displacement already is, the newest
+    /// xᵢ₊₁ last and from a register; the entries of long rows, which reach far back, are
+    /// scattered into x as soon as their xₖ is known. x keeps only what the dissipation
+    /// needs (v̄, with `VBAR`): one stream fewer than keeping the solution there too.
     #[inline(always)]
     fn backward<W: Width, const FMA: bool, const VBAR: bool>(&mut self, w: W, k: Coeffs) {
         let (n, b) = (self.n, w.b());
         let l = &self.l[..(n + b) * b];
-        let x = &mut self.x[..n + 2 * b];
-        let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
-        let vbar = &mut self.vbar[b..b + n];
+        let x = &mut self.x[b..b + n];
+        let (u, v, a) = (&mut self.u[..n + b], &mut self.v[..n], &mut self.a[..n]);
         let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         let mut lp = self.long.len();
         let mut prev = 0.0; // x_{i+1}
         for i in (0..n).rev() {
-            let mut xi = x[i + b];
+            let mut xi = x[i];
             if b > 0 {
                 for s in (2..=b).rev() {
-                    // SAFETY: (i+s)·B + B − s < (n+B)·B and i + s + B < n + 2B.
+                    // SAFETY: (i+s)·B + B − s < (n+B)·B and i + s < n + B (u's zero padding).
                     unsafe {
-                        xi = madd::<FMA>(-*l.get_unchecked((i + s) * b + b - s), *x.get_unchecked(i + s + b), xi);
+                        xi = madd::<FMA>(-*l.get_unchecked((i + s) * b + b - s), *u.get_unchecked(i + s), xi);
                     }
                 }
                 xi = madd::<FMA>(-l[(i + 1) * b + b - 1], prev, xi);
             }
-            x[i + b] = xi;
             prev = xi;
             // Row i's new state is final: update it here, off the sweep's critical path,
             // so the processor overlaps it with the recurrence's latency.
-            update_row::<FMA, VBAR>(k, i, xi, u, v, a, vbar, w1, w2);
+            update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
             if lp > 0 && self.long[lp - 1].row == i {
                 lp -= 1;
                 let lr = self.long[lp];
                 let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
                 for (t, &lv) in tail.iter().enumerate() {
-                    x[lr.first + t + b] -= lv * xi;
+                    x[lr.first + t] -= lv * xi;
                 }
             }
         }
@@ -1264,32 +1264,31 @@ impl FusedNewmark {
     #[inline(always)]
     fn update<const FMA: bool>(&mut self, k: Coeffs) {
         let (n, b) = (self.n, self.b);
-        let x = &self.x[b..b + n];
+        let x = &mut self.x[b..b + n];
         let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
-        let vbar = &mut self.vbar[b..b + n];
         // The next step's w₁, w₂ go straight into the dense step's w.
         let ops = self.dense.as_mut().expect("dense step");
         let (w1, rest) = ops.w.split_at_mut(n);
         let w2 = &mut rest[..n];
         for i in 0..n {
-            update_row::<FMA, true>(k, i, x[i], u, v, a, vbar, w1, w2);
+            update_row::<FMA, true>(k, i, x[i], u, v, a, x, w1, w2);
         }
         self.w_ready = true;
     }
 
     /// v̄ᵀ·C·v̄ of the step just taken by the dense step, with C by rows; v̄ is padded with
-    /// zeros past n (`vbar` has 2B ≥ n spare entries, and the padding of a row of `c` is zero).
+    /// zeros past n (`x` has B + 4 spare entries, and the padding of a row of `c` is zero).
     #[inline(always)]
     fn dense_dissipation<const FMA: bool>(&mut self) -> f64 {
         let (n, b) = (self.n, self.b);
         let ops = self.dense.as_ref().expect("dense step");
-        let vb = &self.vbar[b..b + ops.c_stride];
+        let vb = &self.x[b..b + ops.c_stride];
         let cv = &mut self.z[..n];
         gemv::<FMA>(&ops.c, ops.c_stride, vb, cv);
         vb.iter().zip(cv.iter()).map(|(v, c)| v * c).sum()
     }
 
-    /// The banded v̄ᵀ·C·v̄ of `vbar` over whole groups of four rows in the AVX2 build, as
+    /// The banded v̄ᵀ·C·v̄ of the v̄ in `x` over whole groups of four rows in the AVX2 build, as
     /// (first row left, four partial sums); nothing in the baseline build.
     fn band_dissipation_lanes(&self) -> (usize, [f64; 4]) {
         let mut part = [0.0f64; 4];
@@ -1299,8 +1298,7 @@ impl FusedNewmark {
             let stride = n + b;
             // SAFETY: `fma` is set only when the processor reports AVX2 and FMA; the lengths
             // are the ones `dissipation_avx2` checks.
-            let start =
-                unsafe { dissipation_avx2(n, b, &self.c[..(b + 1) * stride], &self.vbar[..n + 2 * b], &mut part) };
+            let start = unsafe { dissipation_avx2(n, b, &self.c[..(b + 1) * stride], &self.x[..n + 2 * b], &mut part) };
             return (start, part);
         }
         (0, part)
@@ -1313,7 +1311,7 @@ impl FusedNewmark {
         let (n, b) = (self.n, self.b);
         let stride = n + b;
         let c = &self.c[..(b + 1) * stride];
-        let vb = &self.vbar[..n + 2 * b];
+        let vb = &self.x[..n + 2 * b];
         let madd = |x: f64, y: f64, acc: f64| if self.fma { x.mul_add(y, acc) } else { x * y + acc };
         for i in start..n {
             let mut s = 0.5 * c[i] * vb[i + b];
