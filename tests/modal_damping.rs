@@ -103,8 +103,11 @@ fn reduced_modal_damping_is_the_rayleigh_matrix_in_modal_coordinates() {
     assert_eq!(with_modal.n(), n);
     // The Rayleigh side is projected, a₁·Tᵀ·K·T, and for the residual vectors K·ψ is a
     // difference of large numbers (the reason the reduction takes K_beam from the formula):
-    // its round-off shows there at ~1e-7 of the diagonal; in the modes' block only the
-    // eigenvectors' orthogonality round-off (~1e-12) is left.
+    // its round-off shows there at a few cond(K)·ε (cond(K) ≈ 2e9 for 200 elements, so
+    // ≈ 1e-6 of the diagonal: 2e-7 and 1.1e-6 for two meshes that differ only in the last
+    // bit of the element lengths); in the modes' block only the eigenvectors'
+    // orthogonality round-off is left, relative to the small damping of the lowest modes
+    // (1e-11 to 6e-10 for those two meshes).
     let modes = report.modes_kept;
     for (name, a, b) in [("C", &with_modal.c, &with_rayleigh.c), ("C_beam", &with_modal.c_beam, &with_rayleigh.c_beam)]
     {
@@ -120,7 +123,7 @@ fn reduced_modal_damping_is_the_rayleigh_matrix_in_modal_coordinates() {
             }
         }
         eprintln!("{name}: largest difference {worst:.2e} (modes' block {worst_modes:.2e}) of the diagonal");
-        assert!(worst_modes <= 1e-10 && worst <= 1e-6, "{name} differs by {worst:e} ({worst_modes:e} in the modes)");
+        assert!(worst_modes <= 1e-8 && worst <= 1e-5, "{name} differs by {worst:e} ({worst_modes:e} in the modes)");
     }
     // A ratio list that differs changes the damping: the comparison can fail.
     let (other, _) = reduction::reduce(&undamped, &bare_c, &settings(Some(vec![0.02])), hz).unwrap();

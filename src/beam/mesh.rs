@@ -95,16 +95,24 @@ impl Mesh {
         let tol = 1e-9 * length;
         cuts.dedup_by(|a, b| (*a - *b).abs() <= tol);
         let h = length / n_elements.max(1) as f64;
+        let (ei, rho_a) = section.properties(&material);
         let mut x = vec![0.0];
+        let mut elements = Vec::new();
         for w in cuts.windows(2) {
             let seg = w[1] - w[0];
             let n = ((seg / h).round() as usize).max(1);
+            // Every element of a segment gets the segment's nominal length seg/n, not the
+            // difference of two rounded node coordinates (which is off by up to an ulp of x,
+            // ≈ 1e-14 of h): more accurate, and it makes the segment's element matrices, and so
+            // its rows of M, C, K, bitwise periodic, which the transient step exploits.
+            let le = seg / n as f64;
             for k in 1..=n {
+                let i = x.len() - 1;
                 x.push(if k == n { w[1] } else { w[0] + seg * k as f64 / n as f64 });
+                elements.push(MeshElement { nodes: [i, i + 1], length: le, ei, rho_a });
             }
         }
-        let (ei, rho_a) = section.properties(&material);
-        Mesh::from_nodes(x, |_| (ei, rho_a))
+        Mesh { x, elements }
     }
 
     /// Elements between consecutive nodes with properties from `props(element midpoint)`.
@@ -288,8 +296,18 @@ mod tests {
         let mesh = Mesh::uniform(0.73, 200, &pts, s, m);
         assert!(mesh.node_at(0.15).is_some() && mesh.node_at(0.109).is_some());
         assert!((mesh.elements.len() as i64 - 200).abs() <= 3);
+        // Each element's length is its segment's nominal length: its node span up to the
+        // rounding of the coordinates, and equal to the bit within a segment (three segments
+        // here, cut at 0.109 and 0.15).
+        for e in &mesh.elements {
+            let span = mesh.x[e.nodes[1]] - mesh.x[e.nodes[0]];
+            assert!((e.length - span).abs() <= 4.0 * f64::EPSILON * 0.73, "{} vs {span}", e.length);
+        }
+        let mut lengths: Vec<u64> = mesh.elements.iter().map(|e| e.length.to_bits()).collect();
+        lengths.dedup();
+        assert_eq!(lengths.len(), 3);
         let total: f64 = mesh.elements.iter().map(|e| e.length).sum();
-        assert!((total - 0.73).abs() < 1e-15);
+        assert!((total - 0.73).abs() < 1e-13);
         let h = 0.73 / 200.0;
         assert!(mesh.elements.iter().all(|e| e.length > 0.5 * h && e.length < 2.0 * h));
     }

@@ -344,31 +344,29 @@ unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 
 }
 
 /// The row loop of the band right-hand side (and, with `$diss`, of the last step's
-/// dissipation) over whole groups of `$lanes` rows, written once for the 256- and 512-bit
-/// kernels. Each kernel brings its vector operations into scope as `load`, `store`, `mul`,
-/// `fmadd`, `add`, `zero` and `splat` (a macro_rules body resolves such names where it is
-/// invoked). Row i: z = M_ii·w₁ᵢ + Σ_t (M_{i,i−t}·w₁ᵢ₋ₜ + M_{i+t,i}·w₁ᵢ₊ₜ), the same for C
-/// and w₂, then sm + sc; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ) to
-/// `$acc`. Advances `$i` past the last whole group.
-macro_rules! rhs_band_groups {
-    ($diss:expr, $lanes:expr, $i:ident, $n:expr, $b:expr, [$m:expr, $c:expr, $w1:expr, $w2:expr, $vb:expr, $z:expr], $acc:ident) => {{
-        let (n, b) = ($n, $b);
-        let stride = n + b;
-        assert!($m.len() >= (b + 1) * stride && $c.len() >= (b + 1) * stride);
-        assert!($w1.len() >= n + 2 * b && $w2.len() >= n + 2 * b && $z.len() >= n);
-        assert!(!$diss || $vb.len() >= n + 2 * b);
-        let (pm, pc, p1, p2, pv, pz) =
-            ($m.as_ptr(), $c.as_ptr(), $w1.as_ptr(), $w2.as_ptr(), $vb.as_ptr(), $z.as_mut_ptr());
+/// dissipation) over whole groups of `$lanes` rows up to `$end`, written once for the 256-
+/// and 512-bit kernels and for both sources of the matrix values. Each kernel brings its
+/// vector operations into scope as `load`, `store`, `mul`, `fmadd`, `add`, `zero` and
+/// `splat` (a macro_rules body resolves such names where it is invoked). Row i:
+/// z = M_ii·w₁ᵢ + Σ_t (M_{i,i−t}·w₁ᵢ₋ₜ + M_{i+t,i}·w₁ᵢ₊ₜ), the same for C and w₂, then
+/// sm + sc; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ) to `$acc`.
+/// `$at(t, i)` gives the offsets of diagonal t's lower and upper values for the group at row
+/// i in `$pm`, `$pc`: the band storage itself, or a periodic run's one group of values
+/// (see [`PeriodicRun`]). Advances `$i` past the last whole group before `$end`.
+macro_rules! rhs_groups {
+    ($diss:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, [$pm:expr, $pc:expr, $at:expr], [$p1:expr, $p2:expr, $pv:expr, $pz:expr], $acc:ident) => {{
+        let (pm, pc, p1, p2, pv, pz, b, at) = ($pm, $pc, $p1, $p2, $pv, $pz, $b, $at);
         let (half, two) = (splat(0.5), splat(2.0));
-        while $i + $lanes <= n {
+        while $i + $lanes <= $end {
             let i = $i;
-            let c0 = load(pc.add(i));
-            let mut sm = mul(load(pm.add(i)), load(p1.add(b + i)));
+            let (d0, _) = at(0, i);
+            let c0 = load(pc.add(d0));
+            let mut sm = mul(load(pm.add(d0)), load(p1.add(b + i)));
             let mut sc = mul(c0, load(p2.add(b + i)));
             let vi = if $diss { load(pv.add(b + i)) } else { zero() };
             let mut sd = if $diss { mul(mul(half, c0), vi) } else { zero() };
             for t in 1..=b {
-                let (lo, up) = (t * stride + i, t * stride + i + t);
+                let (lo, up) = at(t, i);
                 let c_lo = load(pc.add(lo));
                 sm = fmadd(load(pm.add(lo)), load(p1.add(b + i - t)), sm);
                 sm = fmadd(load(pm.add(up)), load(p1.add(b + i + t)), sm);
@@ -387,10 +385,115 @@ macro_rules! rhs_band_groups {
     }};
 }
 
+/// The band right-hand side over rows `$i..$end` in groups of `$lanes`, taking each
+/// periodic run's values from the run (no matrix streams there) and the band storage
+/// elsewhere: the same loads of the same values in the same order either way.
+macro_rules! rhs_band_and_runs {
+    ($diss:expr, $lanes:expr, $i:ident, $end:expr, $n:expr, $b:expr, $runs:expr, [$m:expr, $c:expr, $w1:expr, $w2:expr, $vb:expr, $z:expr], $acc:ident) => {{
+        let (n, b, end) = ($n, $b, $end);
+        let stride = n + b;
+        assert!($m.len() >= (b + 1) * stride && $c.len() >= (b + 1) * stride);
+        assert!($w1.len() >= n + 2 * b && $w2.len() >= n + 2 * b && $z.len() >= n && end <= n);
+        assert!(!$diss || $vb.len() >= n + 2 * b);
+        let (p1, p2, pv, pz) = ($w1.as_ptr(), $w2.as_ptr(), $vb.as_ptr(), $z.as_mut_ptr());
+        let band = |t: usize, i: usize| (t * stride + i, t * stride + i + t);
+        let pattern = |t: usize, _: usize| PeriodicRun::offsets(t);
+        for run in $runs.iter() {
+            assert!(run.start % $lanes == 0 && run.end % $lanes == 0 && run.end <= n);
+            assert!(run.m.len() >= (2 * b + 1) * RUN_LANES && run.c.len() >= (2 * b + 1) * RUN_LANES);
+            if run.start >= $i && run.end <= end {
+                rhs_groups!($diss, $lanes, $i, run.start, b, [$m.as_ptr(), $c.as_ptr(), band], [p1, p2, pv, pz], $acc);
+                rhs_groups!(
+                    $diss,
+                    $lanes,
+                    $i,
+                    run.end,
+                    b,
+                    [run.m.as_ptr(), run.c.as_ptr(), pattern],
+                    [p1, p2, pv, pz],
+                    $acc
+                );
+            }
+        }
+        rhs_groups!($diss, $lanes, $i, end, b, [$m.as_ptr(), $c.as_ptr(), band], [p1, p2, pv, pz], $acc);
+    }};
+}
+
+/// Lanes of a periodic run's stored group: the widest kernel's.
+const RUN_LANES: usize = 8;
+
+/// Shortest periodic run worth its own loop, in groups.
+const MIN_RUN_GROUPS: usize = 4;
+
+/// Rows `start..end` (whole groups of a kernel's lanes) in which every group of the band
+/// right-hand side loads the same values of M and C as the first. A segment of equal
+/// elements makes its rows of M and C repeat with period two (w and θ rows), so there the
+/// step reads one group's copy, which stays in L1, instead of streaming the 2·(B+1)
+/// diagonals. The values are exactly those of the band storage, so the result is the same
+/// to the bit (`tests/newmark.rs`).
+#[derive(Clone, Debug)]
+struct PeriodicRun {
+    start: usize,
+    end: usize,
+    /// The first group's values, `RUN_LANES` per position: 0 the diagonal, 2t − 1 the
+    /// lower and 2t the upper value of diagonal t.
+    m: Vec<f64>,
+    c: Vec<f64>,
+}
+
+impl PeriodicRun {
+    /// Offsets of diagonal t's lower and upper values in `m`, `c` (t = 0: the diagonal).
+    #[inline(always)]
+    fn offsets(t: usize) -> (usize, usize) {
+        ((2 * t * RUN_LANES).saturating_sub(RUN_LANES), 2 * t * RUN_LANES)
+    }
+
+    /// The runs of groups of `lanes` (4 or 8) rows in band storage `m`, `c` of n rows and
+    /// half-width b: maximal sequences of at least `MIN_RUN_GROUPS` groups whose values
+    /// equal the first group's bit for bit (so −0 and +0 differ).
+    fn find(n: usize, b: usize, m: &[f64], c: &[f64], lanes: usize) -> Vec<PeriodicRun> {
+        let stride = n + b;
+        let group = |a: &[f64], i: usize| -> Vec<u64> {
+            let mut g = vec![0u64; (2 * b + 1) * RUN_LANES];
+            for l in 0..lanes {
+                g[l] = a[i + l].to_bits();
+                for t in 1..=b {
+                    let (lo, up) = Self::offsets(t);
+                    g[lo + l] = a[t * stride + i + l].to_bits();
+                    g[up + l] = a[t * stride + i + l + t].to_bits();
+                }
+            }
+            g
+        };
+        let mut runs = Vec::new();
+        let mut close = |open: Option<(usize, Vec<u64>, Vec<u64>)>, end: usize| {
+            if let Some((start, gm, gc)) = open {
+                if end - start >= MIN_RUN_GROUPS * lanes {
+                    let f = |g: Vec<u64>| g.into_iter().map(f64::from_bits).collect();
+                    runs.push(PeriodicRun { start, end, m: f(gm), c: f(gc) });
+                }
+            }
+        };
+        let mut open: Option<(usize, Vec<u64>, Vec<u64>)> = None;
+        let mut i = 0;
+        while i + lanes <= n {
+            let (gm, gc) = (group(m, i), group(c, i));
+            if !matches!(&open, Some((_, pm, pc)) if *pm == gm && *pc == gc) {
+                close(open.take(), i);
+                open = Some((i, gm, gc));
+            }
+            i += lanes;
+        }
+        close(open, i);
+        runs
+    }
+}
+
 /// The banded right-hand side z = M·w₁ + C·w₂ four rows at a time: the same multiply–adds
 /// in the same order as the scalar loop of `rhs` (so the same bits), written with vectors
 /// because the compiler left that loop scalar. `m`, `c`: (B+1)·(n+B) diagonal storage;
-/// `w1`, `w2`: n + 2B, padded; `z`: n.
+/// `w1`, `w2`: n + 2B, padded; `z`: n; `runs`: periodic runs of groups of four, whose
+/// values come from the run instead of the band.
 ///
 /// With `DISS`, the same pass also adds the last step's v̄ᵀ·C·v̄ over whole groups of four
 /// rows to `part` (`vb`: v̄, padded like w₁), reusing the loads of C's lower diagonals, with
@@ -409,6 +512,7 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
     z: &mut [f64],
     vb: &[f64],
     part: &mut [f64; 4],
+    runs: &[PeriodicRun],
 ) -> usize {
     use std::arch::x86_64::{
         _mm256_add_pd as add, _mm256_fmadd_pd as fmadd, _mm256_loadu_pd as load, _mm256_mul_pd as mul,
@@ -416,7 +520,7 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
     };
     let mut acc = load(part.as_ptr());
     let mut i = from;
-    rhs_band_groups!(DISS, 4, i, n, b, [m, c, w1, w2, vb, z], acc);
+    rhs_band_and_runs!(DISS, 4, i, n, n, b, runs, [m, c, w1, w2, vb, z], acc);
     let (start, stride) = (i, n + b);
     for i in i..n {
         let mut sm = m[i] * w1[b + i];
@@ -452,6 +556,7 @@ unsafe fn rhs_band_avx512<const DISS: bool>(
     z: &mut [f64],
     vb: &[f64],
     part: &mut [f64; 4],
+    runs: &[PeriodicRun],
 ) -> usize {
     use std::arch::x86_64::{
         _mm512_add_pd as add, _mm512_fmadd_pd as fmadd, _mm512_loadu_pd as load, _mm512_mul_pd as mul,
@@ -459,7 +564,7 @@ unsafe fn rhs_band_avx512<const DISS: bool>(
     };
     let mut acc = zero();
     let mut i = 0;
-    rhs_band_groups!(DISS, 8, i, n, b, [m, c, w1, w2, vb, z], acc);
+    rhs_band_and_runs!(DISS, 8, i, n, n, b, runs, [m, c, w1, w2, vb, z], acc);
     if DISS {
         let mut lanes = [0.0f64; 8];
         store(lanes.as_mut_ptr(), acc);
@@ -547,6 +652,11 @@ pub struct FusedNewmark {
     fma: bool,
     /// 512-bit vectors for the band right-hand side (within the AVX2 build).
     avx512: bool,
+    /// Periodic runs of the band right-hand side for groups of four and of eight rows, and
+    /// whether the step uses them (see [`PeriodicRun`]).
+    runs4: Vec<PeriodicRun>,
+    runs8: Vec<PeriodicRun>,
+    use_runs: bool,
     /// For small dense systems (modal-reduced models), the step as dense products.
     dense: Option<DenseStep>,
     /// Registered load patterns b_a (see `set_load_patterns`), K_eff⁻¹·b_a for the dense
@@ -653,6 +763,7 @@ impl FusedNewmark {
             out
         };
         let (mm, cc) = (dia(m, 0), dia(c, 1));
+        let (runs4, runs8) = (PeriodicRun::find(n, b, &mm, &cc, 4), PeriodicRun::find(n, b, &mm, &cc, 8));
         let kk = dia(k, 2);
         extra.sort_by_key(|e| (e.i, e.j));
         let dense = (n <= DENSE_LIMIT && 2 * b >= n).then(|| {
@@ -724,6 +835,9 @@ impl FusedNewmark {
             f_prev: Vec::new(),
             fma,
             avx512: fma && wide_vectors(),
+            runs4,
+            runs8,
+            use_runs: true,
             dense,
             patterns: Vec::new(),
             patterns_solved: Vec::new(),
@@ -779,6 +893,23 @@ impl FusedNewmark {
     pub fn disable_fma(&mut self) {
         self.fma = false;
         self.avx512 = false;
+    }
+
+    /// Streams M and C from the band storage even in periodic runs (the reference the runs
+    /// are tested against).
+    pub fn disable_periodic_runs(&mut self) {
+        self.use_runs = false;
+    }
+
+    /// Rows whose right-hand side reads M and C from a periodic run rather than the band
+    /// (for the widest kernel this processor runs); zero in the baseline build.
+    pub fn periodic_rows(&self) -> usize {
+        let runs = if self.avx512 { &self.runs8 } else { &self.runs4 };
+        if self.use_runs && self.fma && self.dense.is_none() {
+            runs.iter().map(|r| r.end - r.start).sum()
+        } else {
+            0
+        }
     }
 
     /// Keeps the AVX2 build to 256-bit vectors even where AVX-512 is available.
@@ -1095,15 +1226,17 @@ impl FusedNewmark {
             #[cfg(target_arch = "x86_64")]
             unsafe {
                 let vb = &self.x[..n + 2 * b];
-                let from = match (self.avx512, fold) {
-                    (false, _) => 0,
-                    (true, true) => rhs_band_avx512::<true>(n, b, m, c, w1, w2, z, vb, &mut lanes.1),
-                    (true, false) => rhs_band_avx512::<false>(n, b, m, c, w1, w2, z, vb, &mut lanes.1),
+                let none: &[PeriodicRun] = &[];
+                let (r4, r8) = if self.use_runs { (&self.runs4[..], &self.runs8[..]) } else { (none, none) };
+                let (from, r4) = match (self.avx512, fold) {
+                    (false, _) => (0, r4),
+                    (true, true) => (rhs_band_avx512::<true>(n, b, m, c, w1, w2, z, vb, &mut lanes.1, r8), none),
+                    (true, false) => (rhs_band_avx512::<false>(n, b, m, c, w1, w2, z, vb, &mut lanes.1, r8), none),
                 };
                 lanes.0 = if fold {
-                    rhs_band_avx2::<true>(from, n, b, m, c, w1, w2, z, vb, &mut lanes.1)
+                    rhs_band_avx2::<true>(from, n, b, m, c, w1, w2, z, vb, &mut lanes.1, r4)
                 } else {
-                    rhs_band_avx2::<false>(from, n, b, m, c, w1, w2, z, vb, &mut lanes.1)
+                    rhs_band_avx2::<false>(from, n, b, m, c, w1, w2, z, vb, &mut lanes.1, r4)
                 };
             }
         } else if b <= MAX_SLICED {
