@@ -489,6 +489,88 @@ impl PeriodicRun {
     }
 }
 
+/// Widest band whose factor rows can form a [`FactorRun`].
+const MAX_RUN_WIDTH: usize = 8;
+
+/// Rows `start..end` of the factor whose rows (B entries of L and 1/d) repeat with period
+/// two, bit for bit: the factorisation of a segment of equal elements converges to such a
+/// pattern after a transient of a few hundred to some ten thousand rows (longer the finer
+/// the mesh), and there the sweeps read the pattern instead of streaming L and 1/d.
+#[derive(Clone, Debug)]
+struct FactorRun {
+    start: usize,
+    end: usize,
+    /// Row r's entries L(r, r − B + s), s ∈ 0..B, negated, and 1/d_r, for r even and odd.
+    l_neg: [[f64; MAX_RUN_WIDTH]; 2],
+    d_inv: [f64; 2],
+    /// For the backward sweep at a row of each parity: −L(i + s, i) for s ∈ 1..=B.
+    up_neg: [[f64; MAX_RUN_WIDTH + 1]; 2],
+}
+
+impl FactorRun {
+    /// The runs of at least `MIN_FACTOR_RUN` rows in factor rows `l` (B per row) and `d_inv`,
+    /// none of them a long row.
+    fn find(n: usize, b: usize, l: &[f64], d_inv: &[f64], long: &[LongRow]) -> Vec<FactorRun> {
+        if b == 0 || b > MAX_RUN_WIDTH {
+            return Vec::new();
+        }
+        let same = |r: usize| {
+            r >= 2
+                && d_inv[r].to_bits() == d_inv[r - 2].to_bits()
+                && (0..b).all(|s| l[r * b + s].to_bits() == l[(r - 2) * b + s].to_bits())
+        };
+        let is_long: Vec<bool> = {
+            let mut v = vec![false; n];
+            long.iter().for_each(|lr| v[lr.row] = true);
+            v
+        };
+        let mut runs = Vec::new();
+        let mut r = 0;
+        while r < n {
+            // A run starts at two rows (its pattern) and goes on while each row repeats the
+            // one two before.
+            if is_long[r] || r + 1 >= n || is_long[r + 1] {
+                r += 1;
+                continue;
+            }
+            let start = r;
+            let mut end = r + 2;
+            while end < n && !is_long[end] && same(end) {
+                end += 1;
+            }
+            if end - start >= MIN_FACTOR_RUN {
+                let mut run = FactorRun {
+                    start,
+                    end,
+                    l_neg: [[0.0; MAX_RUN_WIDTH]; 2],
+                    d_inv: [0.0; 2],
+                    up_neg: [[0.0; MAX_RUN_WIDTH + 1]; 2],
+                };
+                for row in [start, start + 1] {
+                    let p = row % 2;
+                    for s in 0..b {
+                        run.l_neg[p][s] = -l[row * b + s];
+                    }
+                    run.d_inv[p] = d_inv[row];
+                }
+                for p in 0..2 {
+                    for s in 1..=b {
+                        run.up_neg[p][s] = run.l_neg[(p + s) % 2][b - s];
+                    }
+                }
+                runs.push(run);
+                r = end;
+            } else {
+                r = start + 1;
+            }
+        }
+        runs
+    }
+}
+
+/// Shortest factor run worth its own loop, in rows.
+const MIN_FACTOR_RUN: usize = 32;
+
 /// The banded right-hand side z = M·w₁ + C·w₂ four rows at a time: the same multiply–adds
 /// in the same order as the scalar loop of `rhs` (so the same bits), written with vectors
 /// because the compiler left that loop scalar. `m`, `c`: (B+1)·(n+B) diagonal storage;
@@ -652,10 +734,12 @@ pub struct FusedNewmark {
     fma: bool,
     /// 512-bit vectors for the band right-hand side (within the AVX2 build).
     avx512: bool,
-    /// Periodic runs of the band right-hand side for groups of four and of eight rows, and
-    /// whether the step uses them (see [`PeriodicRun`]).
+    /// Periodic runs of the band right-hand side for groups of four and of eight rows, of
+    /// the factor's rows, and whether the step uses them (see [`PeriodicRun`],
+    /// [`FactorRun`]).
     runs4: Vec<PeriodicRun>,
     runs8: Vec<PeriodicRun>,
+    factor_runs: Vec<FactorRun>,
     use_runs: bool,
     /// For small dense systems (modal-reduced models), the step as dense products.
     dense: Option<DenseStep>,
@@ -764,6 +848,8 @@ impl FusedNewmark {
         };
         let (mm, cc) = (dia(m, 0), dia(c, 1));
         let (runs4, runs8) = (PeriodicRun::find(n, b, &mm, &cc, 4), PeriodicRun::find(n, b, &mm, &cc, 8));
+        let d_inv: Vec<f64> = d.iter().map(|x| 1.0 / x).collect();
+        let factor_runs = FactorRun::find(n, b, &l, &d_inv, &long);
         let kk = dia(k, 2);
         extra.sort_by_key(|e| (e.i, e.j));
         let dense = (n <= DENSE_LIMIT && 2 * b >= n).then(|| {
@@ -819,7 +905,7 @@ impl FusedNewmark {
             l,
             long,
             l_tail,
-            d_inv: d.iter().map(|x| 1.0 / x).collect(),
+            d_inv,
             // Zero padding to a multiple of four, so dense read-outs run over whole lanes, and
             // B past n, where the backward sweep gathers finished rows from u.
             u: vec![0.0; (n + b).next_multiple_of(4)],
@@ -837,6 +923,7 @@ impl FusedNewmark {
             avx512: fma && wide_vectors(),
             runs4,
             runs8,
+            factor_runs,
             use_runs: true,
             dense,
             patterns: Vec::new(),
@@ -907,6 +994,16 @@ impl FusedNewmark {
         let runs = if self.avx512 { &self.runs8 } else { &self.runs4 };
         if self.use_runs && self.fma && self.dense.is_none() {
             runs.iter().map(|r| r.end - r.start).sum()
+        } else {
+            0
+        }
+    }
+
+    /// Rows whose forward sweep reads the factor from a periodic run rather than the band
+    /// (every build).
+    pub fn periodic_factor_rows(&self) -> usize {
+        if self.use_runs && self.dense.is_none() {
+            self.factor_runs.iter().map(|r| r.end - r.start).sum()
         } else {
             0
         }
@@ -1326,30 +1423,55 @@ impl FusedNewmark {
         let x = &mut self.x[..n + b];
         let mut lp = 0;
         let mut prev = 0.0; // y_{i−1}
-        for i in 0..n {
-            // Padded index of column i − B + s is i + s.
-            let mut y = z[i + b];
-            if lp < self.long.len() && self.long[lp].row == i {
-                let lr = self.long[lp];
-                let len = i - b - lr.first;
-                let tail = &self.l_tail[lr.offset..lr.offset + len];
-                // Four partial sums: one running sum would make the row a chain of `len`
-                // dependent multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
-                y -= dot_lanes::<FMA>(tail, &z[lr.first + b..lr.first + b + len]);
-                lp += 1;
-            }
-            if b > 0 {
-                for t in 0..b - 1 {
-                    // SAFETY: i·B + t < n·B and i + t < n + B.
-                    unsafe {
-                        y = madd::<FMA>(-*l.get_unchecked(i * b + t), *z.get_unchecked(i + t), y);
-                    }
+                            // Row i with its entries −L(i, i − B + s) and 1/d_i.
+        macro_rules! row {
+            ($i:expr, $l_neg:expr, $d_inv:expr) => {{
+                let (i, l_neg) = ($i, $l_neg);
+                // Padded index of column i − B + s is i + s.
+                let mut y = z[i + b];
+                if lp < self.long.len() && self.long[lp].row == i {
+                    let lr = self.long[lp];
+                    let len = i - b - lr.first;
+                    let tail = &self.l_tail[lr.offset..lr.offset + len];
+                    // Four partial sums: one running sum would make the row a chain of `len`
+                    // dependent multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
+                    y -= dot_lanes::<FMA>(tail, &z[lr.first + b..lr.first + b + len]);
+                    lp += 1;
                 }
-                y = madd::<FMA>(-l[i * b + b - 1], prev, y);
+                if b > 0 {
+                    for t in 0..b - 1 {
+                        // SAFETY: i + t < n + B.
+                        unsafe {
+                            y = madd::<FMA>(l_neg(t), *z.get_unchecked(i + t), y);
+                        }
+                    }
+                    y = madd::<FMA>(l_neg(b - 1), prev, y);
+                }
+                z[i + b] = y;
+                x[i + b] = y * $d_inv;
+                prev = y;
+            }};
+        }
+        let mut i = 0;
+        let none: &[FactorRun] = &[];
+        for run in if self.use_runs { &self.factor_runs[..] } else { none } {
+            while i < run.start {
+                // SAFETY: i·B + t < n·B.
+                row!(i, |t: usize| unsafe { -*l.get_unchecked(i * b + t) }, d_inv[i]);
+                i += 1;
             }
-            z[i + b] = y;
-            x[i + b] = y * d_inv[i];
-            prev = y;
+            let (even, odd) = (&run.l_neg[i % 2], &run.l_neg[1 - i % 2]);
+            let (d_even, d_odd) = (run.d_inv[i % 2], run.d_inv[1 - i % 2]);
+            while i + 2 <= run.end {
+                row!(i, |t: usize| even[t], d_even);
+                row!(i + 1, |t: usize| odd[t], d_odd);
+                i += 2;
+            }
+        }
+        while i < n {
+            // SAFETY: i·B + t < n·B.
+            row!(i, |t: usize| unsafe { -*l.get_unchecked(i * b + t) }, d_inv[i]);
+            i += 1;
         }
     }
 
@@ -1367,29 +1489,55 @@ impl FusedNewmark {
         let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         let mut lp = self.long.len();
         let mut prev = 0.0; // x_{i+1}
-        for i in (0..n).rev() {
-            let mut xi = x[i];
-            if b > 0 {
-                for s in (2..=b).rev() {
-                    // SAFETY: (i+s)·B + B − s < (n+B)·B and i + s < n + B (u's zero padding).
-                    unsafe {
-                        xi = madd::<FMA>(-*l.get_unchecked((i + s) * b + b - s), *u.get_unchecked(i + s), xi);
+                            // Row i with −L(i + s, i) for s ∈ 1..=B.
+        macro_rules! row {
+            ($i:expr, $up_neg:expr) => {{
+                let (i, up_neg) = ($i, $up_neg);
+                let mut xi = x[i];
+                if b > 0 {
+                    for s in (2..=b).rev() {
+                        // SAFETY: i + s < n + B (u's zero padding).
+                        unsafe {
+                            xi = madd::<FMA>(up_neg(s), *u.get_unchecked(i + s), xi);
+                        }
+                    }
+                    xi = madd::<FMA>(up_neg(1), prev, xi);
+                }
+                prev = xi;
+                // Row i's new state is final: update it here, off the sweep's critical path,
+                // so the processor overlaps it with the recurrence's latency.
+                update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
+                if lp > 0 && self.long[lp - 1].row == i {
+                    lp -= 1;
+                    let lr = self.long[lp];
+                    let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
+                    for (t, &lv) in tail.iter().enumerate() {
+                        x[lr.first + t] -= lv * xi;
                     }
                 }
-                xi = madd::<FMA>(-l[(i + 1) * b + b - 1], prev, xi);
+            }};
+        }
+        // SAFETY (band rows): (i+s)·B + B − s < (n+B)·B.
+        let band = |i: usize, s: usize| unsafe { -*l.get_unchecked((i + s) * b + b - s) };
+        // Rows i whose rows i + 1..=i + B all lie in a run take the run's pattern.
+        let mut i = n;
+        let none: &[FactorRun] = &[];
+        for run in (if self.use_runs { &self.factor_runs[..] } else { none }).iter().rev() {
+            let top = run.end.saturating_sub(b).max(run.start);
+            while i > top {
+                i -= 1;
+                row!(i, |s: usize| band(i, s));
             }
-            prev = xi;
-            // Row i's new state is final: update it here, off the sweep's critical path,
-            // so the processor overlaps it with the recurrence's latency.
-            update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
-            if lp > 0 && self.long[lp - 1].row == i {
-                lp -= 1;
-                let lr = self.long[lp];
-                let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
-                for (t, &lv) in tail.iter().enumerate() {
-                    x[lr.first + t] -= lv * xi;
-                }
+            let (p_hi, p_lo) = (&run.up_neg[(i + 1) % 2], &run.up_neg[i % 2]);
+            while i >= run.start + 2 {
+                row!(i - 1, |s: usize| p_hi[s]);
+                row!(i - 2, |s: usize| p_lo[s]);
+                i -= 2;
             }
+        }
+        while i > 0 {
+            i -= 1;
+            row!(i, |s: usize| band(i, s));
         }
     }
 
