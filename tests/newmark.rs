@@ -217,33 +217,27 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                 let fma = build < 2;
                 let dt = 1.0 / 60.0 / 200.0;
                 let mut slow = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
-                let mut fast = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
+                // An integrator of this build: 0 the best the processor has, 1 AVX2 + FMA
+                // only, 2 the baseline.
+                let integrator = || {
+                    let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
+                    if build == 1 {
+                        nm.disable_avx512();
+                    }
+                    if !fma {
+                        nm.disable_fma();
+                    }
+                    nm
+                };
+                let mut fast = integrator();
                 assert_eq!(fast.is_dense(), dense, "{n} DOFs");
-                if build == 1 {
-                    fast.disable_avx512();
-                }
-                if !fma {
-                    fast.disable_fma();
-                }
                 fast.track_dissipation = true;
                 // The same build without the dissipation (which then skips v̄): the state must
                 // come out bit for bit the same.
-                let mut plain = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
-                if build == 1 {
-                    plain.disable_avx512();
-                }
-                if !fma {
-                    plain.disable_fma();
-                }
+                let mut plain = integrator();
                 // The same build streaming M and C from the band in every row: a uniform
                 // mesh's periodic runs must give the same bits, dissipation included.
-                let mut banded = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
-                if build == 1 {
-                    banded.disable_avx512();
-                }
-                if !fma {
-                    banded.disable_fma();
-                }
+                let mut banded = integrator();
                 banded.disable_periodic_runs();
                 banded.track_dissipation = true;
                 if fma && !dense {

@@ -1000,7 +1000,7 @@ impl FusedNewmark {
     }
 
     /// Rows whose forward sweep reads the factor from a periodic run rather than the band
-    /// (every build).
+    /// (every build; the backward sweep, which also needs the B rows below, a few fewer).
     pub fn periodic_factor_rows(&self) -> usize {
         if self.use_runs && self.dense.is_none() {
             self.factor_runs.iter().map(|r| r.end - r.start).sum()
@@ -1423,7 +1423,8 @@ impl FusedNewmark {
         let x = &mut self.x[..n + b];
         let mut lp = 0;
         let mut prev = 0.0; // y_{i−1}
-                            // Row i with its entries −L(i, i − B + s) and 1/d_i.
+
+        // Row i with its entries −L(i, i − B + s) and 1/d_i.
         macro_rules! row {
             ($i:expr, $l_neg:expr, $d_inv:expr) => {{
                 let (i, l_neg) = ($i, $l_neg);
@@ -1452,12 +1453,13 @@ impl FusedNewmark {
                 prev = y;
             }};
         }
+        // SAFETY (band rows): i·B + t < n·B.
+        let band = |i: usize, t: usize| unsafe { -*l.get_unchecked(i * b + t) };
         let mut i = 0;
         let none: &[FactorRun] = &[];
         for run in if self.use_runs { &self.factor_runs[..] } else { none } {
             while i < run.start {
-                // SAFETY: i·B + t < n·B.
-                row!(i, |t: usize| unsafe { -*l.get_unchecked(i * b + t) }, d_inv[i]);
+                row!(i, |t: usize| band(i, t), d_inv[i]);
                 i += 1;
             }
             let (even, odd) = (&run.l_neg[i % 2], &run.l_neg[1 - i % 2]);
@@ -1469,8 +1471,7 @@ impl FusedNewmark {
             }
         }
         while i < n {
-            // SAFETY: i·B + t < n·B.
-            row!(i, |t: usize| unsafe { -*l.get_unchecked(i * b + t) }, d_inv[i]);
+            row!(i, |t: usize| band(i, t), d_inv[i]);
             i += 1;
         }
     }
@@ -1489,7 +1490,8 @@ impl FusedNewmark {
         let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         let mut lp = self.long.len();
         let mut prev = 0.0; // x_{i+1}
-                            // Row i with −L(i + s, i) for s ∈ 1..=B.
+
+        // Row i with −L(i + s, i) for s ∈ 1..=B.
         macro_rules! row {
             ($i:expr, $up_neg:expr) => {{
                 let (i, up_neg) = ($i, $up_neg);
