@@ -13,7 +13,9 @@
 //!   1/D; the forward and backward sweeps, which are recurrences and cannot be vectorised,
 //!   are fully unrolled for B known at compile time, ordered so the newest unknown enters
 //!   last (the critical path per row is one multiply–add), and use fused multiply–add where
-//!   the processor has it.
+//!   the processor has it. For B = 3 and 4 (every beam) they carry the last B unknowns in
+//!   registers and finish four rows at a time, the Newmark update of those rows as vectors
+//!   (`groups.rs`).
 //! * The few rows that reach beyond the band (an actuator's body rows reach back to its
 //!   feet) keep their extra entries in short side lists.
 //! * Loads are sparse (actuators load a handful of DOFs), the dissipation v̄ᵀ·C·v̄ of the
@@ -33,6 +35,8 @@
 use super::newmark::Scheme;
 use crate::error::{Error, Result};
 use crate::linalg::{Csr, Skyline};
+
+mod groups;
 
 /// A row of the factor that reaches back beyond the band: its columns `first..row − B`
 /// are `tail[offset..]`.
@@ -741,6 +745,8 @@ pub struct FusedNewmark {
     runs8: Vec<PeriodicRun>,
     factor_runs: Vec<FactorRun>,
     use_runs: bool,
+    /// Whether the sweeps run in groups of four rows (`groups.rs`) where the band allows.
+    use_groups: bool,
     /// For small dense systems (modal-reduced models), the step as dense products.
     dense: Option<DenseStep>,
     /// Registered load patterns b_a (see `set_load_patterns`), K_eff⁻¹·b_a for the dense
@@ -925,6 +931,7 @@ impl FusedNewmark {
             runs8,
             factor_runs,
             use_runs: true,
+            use_groups: true,
             dense,
             patterns: Vec::new(),
             patterns_solved: Vec::new(),
@@ -986,6 +993,12 @@ impl FusedNewmark {
     /// are tested against).
     pub fn disable_periodic_runs(&mut self) {
         self.use_runs = false;
+    }
+
+    /// Sweeps row by row even where the band allows groups of four rows (the reference the
+    /// grouped sweeps are tested against).
+    pub fn disable_grouped_sweeps(&mut self) {
+        self.use_groups = false;
     }
 
     /// Rows whose right-hand side reads M and C from a periodic run rather than the band
@@ -1244,11 +1257,20 @@ impl FusedNewmark {
     #[inline(always)]
     fn step_impl<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
         self.rhs::<W, FMA>(w, k);
-        self.forward::<W, FMA>(w);
-        if self.track_dissipation {
-            self.backward::<W, FMA, true>(w, k);
+        if Self::groups_apply(w.b()) && self.use_groups {
+            self.forward_groups::<W, FMA>(w);
+            if self.track_dissipation {
+                self.backward_groups::<W, FMA, true>(w, k);
+            } else {
+                self.backward_groups::<W, FMA, false>(w, k);
+            }
         } else {
-            self.backward::<W, FMA, false>(w, k);
+            self.forward::<W, FMA>(w);
+            if self.track_dissipation {
+                self.backward::<W, FMA, true>(w, k);
+            } else {
+                self.backward::<W, FMA, false>(w, k);
+            }
         }
         self.w_ready = true;
         self.diss_pending = self.track_dissipation;

@@ -1,0 +1,235 @@
+//! The triangular sweeps in groups of four rows, for band half-widths 3 and 4 (every beam).
+//!
+//! A sweep is a recurrence, but most of its work is not: the forward sweep stores y and
+//! x = y/d, and the backward sweep updates a, v, u, v̄, w₁ and w₂ of each finished row
+//! (three loads, six stores and thirteen flops besides the recurrence's three multiply–adds).
+//! Row by row all of that is scalar, and a profile of the step showed it, not the
+//! recurrence's latency, setting the pace. Here each sweep carries the last B unknowns in
+//! registers, so the recurrence reads no stored unknowns, and finishes four rows at a time:
+//! the backward sweep updates them with one AVX2 vector per quantity. Every row does the
+//! same operations in the same order as the row-by-row sweeps in `fused.rs`, so the bits
+//! are the same (`tests/newmark.rs`).
+//!
+//! Four rows form a group only if B ≥ 3: a long row of the factor reaches columns below
+//! row − B, which in the forward sweep must already be stored and in the backward sweep
+//! must not be swept yet; with B ≥ 3 those columns lie below the group of the row.
+
+use super::{dot_lanes, madd, update_row, Coeffs, FactorRun, FusedNewmark, Width};
+
+/// Rows per group.
+const G: usize = 4;
+
+impl FusedNewmark {
+    /// Whether the grouped sweeps apply to half-width `b`.
+    #[inline(always)]
+    pub(super) fn groups_apply(b: usize) -> bool {
+        (3..=4).contains(&b)
+    }
+
+    /// L·y = z in place in z, and x = y/d, in groups of four rows (see the module).
+    #[inline(always)]
+    pub(super) fn forward_groups<W: Width, const FMA: bool>(&mut self, w: W) {
+        let (n, b) = (self.n, w.b());
+        debug_assert!(Self::groups_apply(b));
+        let l = &self.l[..n * b];
+        let d_inv = &self.d_inv[..n];
+        let z = &mut self.z[..n + b];
+        let x = &mut self.x[..n + b];
+        let (long, l_tail) = (&self.long[..], &self.l_tail[..]);
+        let mut lp = 0;
+        // win.s = y_{i−1−s}: the unknowns row i reads, newest first (zero before row 0). A
+        // tuple, not an array: an array indexed in a loop stayed in memory.
+        let mut win = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+
+        // Row i's y, with entries −L(i, i − B + t) = l_neg(t).
+        macro_rules! row {
+            ($i:expr, $l_neg:expr) => {{
+                let (i, l_neg) = ($i, $l_neg);
+                let mut y = z[i + b];
+                if lp < long.len() && long[lp].row == i {
+                    let lr = long[lp];
+                    let len = i - b - lr.first;
+                    // Columns below i − B: rows of earlier groups, already stored in z.
+                    y -= dot_lanes::<FMA>(&l_tail[lr.offset..lr.offset + len], &z[lr.first + b..lr.first + b + len]);
+                    lp += 1;
+                }
+                // Column i − B + t holds y_{i−B+t}, i.e. win[B − 1 − t].
+                if b == 4 {
+                    y = madd::<FMA>(l_neg(0), win.3, y);
+                }
+                y = madd::<FMA>(l_neg(b - 3), win.2, y);
+                y = madd::<FMA>(l_neg(b - 2), win.1, y);
+                y = madd::<FMA>(l_neg(b - 1), win.0, y);
+                win = (y, win.0, win.1, win.2);
+                y
+            }};
+        }
+        // SAFETY (band rows): i·B + t < n·B.
+        let band = |i: usize, t: usize| unsafe { -*l.get_unchecked(i * b + t) };
+        let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
+        let mut r = 0;
+        let mut i = 0;
+        while i + G <= n {
+            while r < runs.len() && runs[r].end < i + G {
+                r += 1;
+            }
+            let (ys, dv) = if r < runs.len() && runs[r].start <= i {
+                // i is even, so rows i, i + 2 take the even pattern.
+                let run = &runs[r];
+                let (even, odd) = (&run.l_neg[0], &run.l_neg[1]);
+                let ys =
+                    [row!(i, |t| even[t]), row!(i + 1, |t| odd[t]), row!(i + 2, |t| even[t]), row!(i + 3, |t| odd[t])];
+                (ys, [run.d_inv[0], run.d_inv[1], run.d_inv[0], run.d_inv[1]])
+            } else {
+                let ys = [
+                    row!(i, |t| band(i, t)),
+                    row!(i + 1, |t| band(i + 1, t)),
+                    row!(i + 2, |t| band(i + 2, t)),
+                    row!(i + 3, |t| band(i + 3, t)),
+                ];
+                (ys, [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]])
+            };
+            for j in 0..G {
+                z[i + b + j] = ys[j];
+                x[i + b + j] = ys[j] * dv[j];
+            }
+            i += G;
+        }
+        while i < n {
+            let y = row!(i, |t| band(i, t));
+            z[i + b] = y;
+            x[i + b] = y * d_inv[i];
+            i += 1;
+        }
+    }
+
+    /// Lᵀ·x = y/d and each row's Newmark update, in groups of four rows (see the module).
+    /// With `VBAR` the step's mean velocity is stored in x, as `backward` does.
+    #[inline(always)]
+    pub(super) fn backward_groups<W: Width, const FMA: bool, const VBAR: bool>(&mut self, w: W, k: Coeffs) {
+        let (n, b) = (self.n, w.b());
+        debug_assert!(Self::groups_apply(b));
+        let l = &self.l[..(n + b) * b];
+        let x = &mut self.x[b..b + n];
+        let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
+        let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
+        let (long, l_tail) = (&self.long[..], &self.l_tail[..]);
+        let mut lp = long.len();
+        // win.s = x_{i+1+s}: the unknowns row i reads, newest first (zero past row n − 1).
+        let mut win = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+
+        // Row i's x, with entries −L(i + s, i) = up_neg(s), s ∈ 1..=B.
+        macro_rules! row {
+            ($i:expr, $up_neg:expr) => {{
+                let (i, up_neg) = ($i, $up_neg);
+                let mut xi = x[i];
+                if b == 4 {
+                    xi = madd::<FMA>(up_neg(4), win.3, xi);
+                }
+                xi = madd::<FMA>(up_neg(3), win.2, xi);
+                xi = madd::<FMA>(up_neg(2), win.1, xi);
+                xi = madd::<FMA>(up_neg(1), win.0, xi);
+                win = (xi, win.0, win.1, win.2);
+                if lp > 0 && long[lp - 1].row == i {
+                    lp -= 1;
+                    let lr = long[lp];
+                    // Columns below i − B: rows of later (lower) groups, not yet swept.
+                    for (t, &lv) in l_tail[lr.offset..lr.offset + (i - b - lr.first)].iter().enumerate() {
+                        x[lr.first + t] -= lv * xi;
+                    }
+                }
+                xi
+            }};
+        }
+        // SAFETY (band rows): (i+s)·B + B − s < (n+B)·B.
+        let band = |i: usize, s: usize| unsafe { -*l.get_unchecked((i + s) * b + b - s) };
+        let top = n / G * G;
+        let mut i = n;
+        while i > top {
+            i -= 1;
+            let xi = row!(i, |s| band(i, s));
+            update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
+        }
+        // Rows g..g + 4 read the pattern if rows g + 1..=g + 3 + B all lie in one run.
+        let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
+        let mut r = runs.len();
+        while i >= G {
+            let g = i - G;
+            while r > 0 && runs[r - 1].start > g {
+                r -= 1;
+            }
+            let xs = if r > 0 && g + 3 + b < runs[r - 1].end {
+                // g is even, so rows g, g + 2 take the even pattern.
+                let (even, odd) = (&runs[r - 1].up_neg[0], &runs[r - 1].up_neg[1]);
+                let x3 = row!(g + 3, |s| odd[s]);
+                let x2 = row!(g + 2, |s| even[s]);
+                let x1 = row!(g + 1, |s| odd[s]);
+                [row!(g, |s| even[s]), x1, x2, x3]
+            } else {
+                let x3 = row!(g + 3, |s| band(g + 3, s));
+                let x2 = row!(g + 2, |s| band(g + 2, s));
+                let x1 = row!(g + 1, |s| band(g + 1, s));
+                [row!(g, |s| band(g, s)), x1, x2, x3]
+            };
+            update_group::<FMA, VBAR>(k, g, xs, [u, v, a], x, [w1, w2]);
+            i = g;
+        }
+    }
+}
+
+/// `update_row` of rows g..g + 4 from their new displacements `xs`; one AVX2 vector per
+/// quantity in the FMA build, with the same operations per lane (so the same bits).
+#[inline(always)]
+fn update_group<const FMA: bool, const VBAR: bool>(
+    k: Coeffs,
+    g: usize,
+    xs: [f64; 4],
+    [u, v, a]: [&mut [f64]; 3],
+    vbar: &mut [f64],
+    [w1, w2]: [&mut [f64]; 2],
+) {
+    #[cfg(target_arch = "x86_64")]
+    if FMA {
+        assert!(g + G <= u.len().min(v.len()).min(a.len()).min(vbar.len()).min(w1.len()).min(w2.len()));
+        // SAFETY: the FMA build runs only where AVX2 and FMA were detected (`dispatch`); the
+        // bounds are checked above.
+        unsafe { update_group_avx2::<VBAR>(k, g, xs, [u, v, a], vbar, [w1, w2]) };
+        return;
+    }
+    for j in 0..G {
+        update_row::<FMA, VBAR>(k, g + j, xs[j], u, v, a, vbar, w1, w2);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn update_group_avx2<const VBAR: bool>(
+    k: Coeffs,
+    g: usize,
+    xs: [f64; 4],
+    [u, v, a]: [&mut [f64]; 3],
+    vbar: &mut [f64],
+    [w1, w2]: [&mut [f64]; 2],
+) {
+    use std::arch::x86_64::{
+        _mm256_add_pd as add, _mm256_fmadd_pd as fmadd, _mm256_loadu_pd as load, _mm256_mul_pd as mul,
+        _mm256_set1_pd as splat, _mm256_set_pd as set, _mm256_storeu_pd as store, _mm256_sub_pd as sub,
+    };
+    let x = set(xs[3], xs[2], xs[1], xs[0]);
+    let (ui, vi, ai) = (load(u.as_ptr().add(g)), load(v.as_ptr().add(g)), load(a.as_ptr().add(g)));
+    // As update_row: a = (x − u − Δt·v)·ab − a_old·a, v = va_new·a_new + (va_old·a + v).
+    let a_new = fmadd(sub(sub(x, ui), mul(splat(k.dt), vi)), splat(k.ab), mul(splat(-k.a_old), ai));
+    let v_new = fmadd(splat(k.va_new), a_new, fmadd(splat(k.va_old), ai, vi));
+    store(u.as_mut_ptr().add(g), x);
+    store(v.as_mut_ptr().add(g), v_new);
+    store(a.as_mut_ptr().add(g), a_new);
+    if VBAR {
+        store(vbar.as_mut_ptr().add(g), mul(splat(0.5), add(vi, v_new)));
+    }
+    // As Coeffs::history.
+    let h1 = fmadd(splat(k.cu), x, fmadd(splat(k.cv), v_new, mul(splat(k.ca), a_new)));
+    let h2 = fmadd(splat(k.eu), x, fmadd(splat(k.ev), v_new, mul(splat(k.ea), a_new)));
+    store(w1.as_mut_ptr().add(g), h1);
+    store(w2.as_mut_ptr().add(g), h2);
+}
