@@ -89,10 +89,7 @@ impl FusedNewmark {
                 ];
                 (ys, [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]])
             };
-            for j in 0..G {
-                z[i + b + j] = ys[j];
-                x[i + b + j] = ys[j] * dv[j];
-            }
+            store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, dv);
             i += G;
         }
         while i < n {
@@ -175,6 +172,32 @@ impl FusedNewmark {
             i = g;
         }
     }
+}
+
+/// A group's y into `z` and y/d (as y·(1/d)) into `x`; one vector each in the FMA build.
+#[inline(always)]
+fn store_group<const FMA: bool>(z: &mut [f64], x: &mut [f64], ys: [f64; 4], d_inv: [f64; 4]) {
+    assert!(z.len() == G && x.len() == G);
+    #[cfg(target_arch = "x86_64")]
+    if FMA {
+        // SAFETY: as in `update_group`; both slices hold four numbers.
+        unsafe { store_group_avx2(z, x, ys, d_inv) };
+        return;
+    }
+    for j in 0..G {
+        z[j] = ys[j];
+        x[j] = ys[j] * d_inv[j];
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+#[inline]
+unsafe fn store_group_avx2(z: &mut [f64], x: &mut [f64], ys: [f64; 4], d_inv: [f64; 4]) {
+    use std::arch::x86_64::{_mm256_loadu_pd as load, _mm256_mul_pd as mul, _mm256_set_pd as set, _mm256_storeu_pd as store};
+    let y = set(ys[3], ys[2], ys[1], ys[0]);
+    store(z.as_mut_ptr(), y);
+    store(x.as_mut_ptr(), mul(y, load(d_inv.as_ptr())));
 }
 
 /// `update_row` of rows g..g + 4 from their new displacements `xs`; one AVX2 vector per
