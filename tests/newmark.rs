@@ -300,7 +300,7 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                     for (other, what) in [
                         (&banded, "the periodic runs"),
                         (&rowwise, "the grouped sweeps"),
-                        (&rowwise_banded, "the grouped sweeps with the runs"),
+                        (&rowwise_banded, "the grouped sweeps and the runs together"),
                     ] {
                         assert!(
                             fast.u() == other.u() && fast.v() == other.v() && fast.a() == other.a(),

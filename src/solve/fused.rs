@@ -13,7 +13,7 @@
 //!   1/D; the forward and backward sweeps, which are recurrences and cannot be vectorised,
 //!   are fully unrolled for B known at compile time, ordered so the newest unknown enters
 //!   last (the critical path per row is one multiply–add), and use fused multiply–add where
-//!   the processor has it. For B = 3 and 4 (every beam) they carry the last B unknowns in
+//!   the processor has it. For B = 3 (every beam) they carry the last three unknowns in
 //!   registers and finish four rows at a time, the Newmark update of those rows as vectors
 //!   (`groups.rs`).
 //! * The few rows that reach beyond the band (an actuator's body rows reach back to its

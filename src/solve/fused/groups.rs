@@ -1,4 +1,4 @@
-//! The triangular sweeps in groups of four rows, for band half-widths 3 and 4 (every beam).
+//! The triangular sweeps in groups of four rows, for band half-width 3 (every beam).
 //!
 //! A sweep is a recurrence, but most of its work is not: the forward sweep stores y and
 //! x = y/d, and the backward sweep updates a, v, u, v̄, w₁ and w₂ of each finished row
@@ -10,9 +10,10 @@
 //! same operations in the same order as the row-by-row sweeps in `fused.rs`, so the bits
 //! are the same (`tests/newmark.rs`).
 //!
-//! Four rows form a group only if B ≥ 3: a long row of the factor reaches columns below
+//! Four rows can form a group because B ≥ 3: a long row of the factor reaches columns below
 //! row − B, which in the forward sweep must already be stored and in the backward sweep
-//! must not be swept yet; with B ≥ 3 those columns lie below the group of the row.
+//! must not be swept yet; with B ≥ 3 those columns lie below the group of the row. Other
+//! widths (no beam has them) sweep row by row.
 
 use super::{dot_lanes, madd, update_row, Coeffs, FactorRun, FusedNewmark, Width};
 
@@ -23,7 +24,7 @@ impl FusedNewmark {
     /// Whether the grouped sweeps apply to half-width `b`.
     #[inline(always)]
     pub(super) fn groups_apply(b: usize) -> bool {
-        (3..=4).contains(&b)
+        b == 3
     }
 
     /// L·y = z in place in z, and x = y/d, in groups of four rows (see the module).
@@ -39,7 +40,7 @@ impl FusedNewmark {
         let mut lp = 0;
         // win.s = y_{i−1−s}: the unknowns row i reads, newest first (zero before row 0). A
         // tuple, not an array: an array indexed in a loop stayed in memory.
-        let mut win = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        let mut win = (0.0f64, 0.0f64, 0.0f64);
 
         // Row i's y, with entries −L(i, i − B + t) = l_neg(t).
         macro_rules! row {
@@ -53,14 +54,11 @@ impl FusedNewmark {
                     y -= dot_lanes::<FMA>(&l_tail[lr.offset..lr.offset + len], &z[lr.first + b..lr.first + b + len]);
                     lp += 1;
                 }
-                // Column i − B + t holds y_{i−B+t}, i.e. win[B − 1 − t].
-                if b == 4 {
-                    y = madd::<FMA>(l_neg(0), win.3, y);
-                }
-                y = madd::<FMA>(l_neg(b - 3), win.2, y);
-                y = madd::<FMA>(l_neg(b - 2), win.1, y);
-                y = madd::<FMA>(l_neg(b - 1), win.0, y);
-                win = (y, win.0, win.1, win.2);
+                // Column i − 3 + t holds y_{i−3+t}, i.e. win.(2 − t).
+                y = madd::<FMA>(l_neg(0), win.2, y);
+                y = madd::<FMA>(l_neg(1), win.1, y);
+                y = madd::<FMA>(l_neg(2), win.0, y);
+                win = (y, win.0, win.1);
                 y
             }};
         }
@@ -113,20 +111,17 @@ impl FusedNewmark {
         let (long, l_tail) = (&self.long[..], &self.l_tail[..]);
         let mut lp = long.len();
         // win.s = x_{i+1+s}: the unknowns row i reads, newest first (zero past row n − 1).
-        let mut win = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+        let mut win = (0.0f64, 0.0f64, 0.0f64);
 
         // Row i's x, with entries −L(i + s, i) = up_neg(s), s ∈ 1..=B.
         macro_rules! row {
             ($i:expr, $up_neg:expr) => {{
                 let (i, up_neg) = ($i, $up_neg);
                 let mut xi = x[i];
-                if b == 4 {
-                    xi = madd::<FMA>(up_neg(4), win.3, xi);
-                }
                 xi = madd::<FMA>(up_neg(3), win.2, xi);
                 xi = madd::<FMA>(up_neg(2), win.1, xi);
                 xi = madd::<FMA>(up_neg(1), win.0, xi);
-                win = (xi, win.0, win.1, win.2);
+                win = (xi, win.0, win.1);
                 if lp > 0 && long[lp - 1].row == i {
                     lp -= 1;
                     let lr = long[lp];
@@ -194,7 +189,9 @@ fn store_group<const FMA: bool>(z: &mut [f64], x: &mut [f64], ys: [f64; 4], d_in
 #[target_feature(enable = "avx2,fma")]
 #[inline]
 unsafe fn store_group_avx2(z: &mut [f64], x: &mut [f64], ys: [f64; 4], d_inv: [f64; 4]) {
-    use std::arch::x86_64::{_mm256_loadu_pd as load, _mm256_mul_pd as mul, _mm256_set_pd as set, _mm256_storeu_pd as store};
+    use std::arch::x86_64::{
+        _mm256_loadu_pd as load, _mm256_mul_pd as mul, _mm256_set_pd as set, _mm256_storeu_pd as store,
+    };
     let y = set(ys[3], ys[2], ys[1], ys[0]);
     store(z.as_mut_ptr(), y);
     store(x.as_mut_ptr(), mul(y, load(d_inv.as_ptr())));
