@@ -389,6 +389,48 @@ macro_rules! rhs_groups {
     }};
 }
 
+/// `rhs_groups!` over a periodic run when B = 3: the run's fourteen vectors of M and C are
+/// loaded once, before the row loop, and stay in registers (the compiler cannot hoist them
+/// itself, since it cannot prove the stores to z leave them alone). The same operations in
+/// the same order as `rhs_groups!`, so the same bits.
+macro_rules! rhs_run_b3 {
+    ($diss:expr, $lanes:expr, $i:ident, $end:expr, [$pm:expr, $pc:expr], [$p1:expr, $p2:expr, $pv:expr, $pz:expr], $acc:ident) => {{
+        const B: usize = 3;
+        let (pm, pc, p1, p2, pv, pz) = ($pm, $pc, $p1, $p2, $pv, $pz);
+        let two = splat(2.0);
+        let (d0, _) = PeriodicRun::offsets(0);
+        let (m0, c0) = (load(pm.add(d0)), load(pc.add(d0)));
+        let half_c0 = mul(splat(0.5), c0);
+        // Diagonal t's lower and upper values of M and C.
+        let diag = |t: usize| {
+            let (lo, up) = PeriodicRun::offsets(t);
+            (load(pm.add(lo)), load(pm.add(up)), load(pc.add(lo)), load(pc.add(up)))
+        };
+        let (d1, d2, d3) = (diag(1), diag(2), diag(3));
+        while $i + $lanes <= $end {
+            let i = $i;
+            let mut sm = mul(m0, load(p1.add(B + i)));
+            let mut sc = mul(c0, load(p2.add(B + i)));
+            let vi = if $diss { load(pv.add(B + i)) } else { zero() };
+            let mut sd = if $diss { mul(half_c0, vi) } else { zero() };
+            for (t, (m_lo, m_up, c_lo, c_up)) in [(1, d1), (2, d2), (3, d3)] {
+                sm = fmadd(m_lo, load(p1.add(B + i - t)), sm);
+                sm = fmadd(m_up, load(p1.add(B + i + t)), sm);
+                sc = fmadd(c_lo, load(p2.add(B + i - t)), sc);
+                sc = fmadd(c_up, load(p2.add(B + i + t)), sc);
+                if $diss {
+                    sd = fmadd(c_lo, load(pv.add(B + i - t)), sd);
+                }
+            }
+            store(pz.add(i), add(sm, sc));
+            if $diss {
+                $acc = fmadd(mul(two, sd), vi, $acc);
+            }
+            $i += $lanes;
+        }
+    }};
+}
+
 /// The band right-hand side over rows `$i..$end` in groups of `$lanes`, taking each
 /// periodic run's values from the run (no matrix streams there) and the band storage
 /// elsewhere: the same loads of the same values in the same order either way.
@@ -407,16 +449,20 @@ macro_rules! rhs_band_and_runs {
             assert!(run.m.len() >= (2 * b + 1) * RUN_LANES && run.c.len() >= (2 * b + 1) * RUN_LANES);
             if run.start >= $i && run.end <= end {
                 rhs_groups!($diss, $lanes, $i, run.start, b, [$m.as_ptr(), $c.as_ptr(), band], [p1, p2, pv, pz], $acc);
-                rhs_groups!(
-                    $diss,
-                    $lanes,
-                    $i,
-                    run.end,
-                    b,
-                    [run.m.as_ptr(), run.c.as_ptr(), pattern],
-                    [p1, p2, pv, pz],
-                    $acc
-                );
+                if b == 3 {
+                    rhs_run_b3!($diss, $lanes, $i, run.end, [run.m.as_ptr(), run.c.as_ptr()], [p1, p2, pv, pz], $acc);
+                } else {
+                    rhs_groups!(
+                        $diss,
+                        $lanes,
+                        $i,
+                        run.end,
+                        b,
+                        [run.m.as_ptr(), run.c.as_ptr(), pattern],
+                        [p1, p2, pv, pz],
+                        $acc
+                    );
+                }
             }
         }
         rhs_groups!($diss, $lanes, $i, end, b, [$m.as_ptr(), $c.as_ptr(), band], [p1, p2, pv, pz], $acc);
