@@ -348,15 +348,14 @@ unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 
 }
 
 /// The row loop of the band right-hand side (and, with `$diss`, of the last step's
-/// dissipation) over whole groups of `$lanes` rows up to `$end`, written once for the 256-
-/// and 512-bit kernels and for both sources of the matrix values. Each kernel brings its
+/// dissipation) over whole groups of `$lanes` rows up to `$end` of the band storage, written
+/// once for the 256- and 512-bit kernels. Each kernel brings its
 /// vector operations into scope as `load`, `store`, `mul`, `fmadd`, `add`, `zero` and
 /// `splat` (a macro_rules body resolves such names where it is invoked). Row i:
 /// z = M_ii·w₁ᵢ + Σ_t (M_{i,i−t}·w₁ᵢ₋ₜ + M_{i+t,i}·w₁ᵢ₊ₜ), the same for C and w₂, then
 /// sm + sc; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ) to `$acc`.
 /// `$at(t, i)` gives the offsets of diagonal t's lower and upper values for the group at row
-/// i in `$pm`, `$pc`: the band storage itself, or a periodic run's one group of values
-/// (see [`PeriodicRun`]). Advances `$i` past the last whole group before `$end`.
+/// i in `$pm`, `$pc`. Advances `$i` past the last whole group before `$end`.
 macro_rules! rhs_groups {
     ($diss:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, [$pm:expr, $pc:expr, $at:expr], [$p1:expr, $p2:expr, $pv:expr, $pz:expr], $acc:ident) => {{
         let (pm, pc, p1, p2, pv, pz, b, at) = ($pm, $pc, $p1, $p2, $pv, $pz, $b, $at);
@@ -443,26 +442,12 @@ macro_rules! rhs_band_and_runs {
         assert!(!$diss || $vb.len() >= n + 2 * b);
         let (p1, p2, pv, pz) = ($w1.as_ptr(), $w2.as_ptr(), $vb.as_ptr(), $z.as_mut_ptr());
         let band = |t: usize, i: usize| (t * stride + i, t * stride + i + t);
-        let pattern = |t: usize, _: usize| PeriodicRun::offsets(t);
         for run in $runs.iter() {
-            assert!(run.start % $lanes == 0 && run.end % $lanes == 0 && run.end <= n);
+            assert!(b == 3 && run.start % $lanes == 0 && run.end % $lanes == 0 && run.end <= n);
             assert!(run.m.len() >= (2 * b + 1) * RUN_LANES && run.c.len() >= (2 * b + 1) * RUN_LANES);
             if run.start >= $i && run.end <= end {
                 rhs_groups!($diss, $lanes, $i, run.start, b, [$m.as_ptr(), $c.as_ptr(), band], [p1, p2, pv, pz], $acc);
-                if b == 3 {
-                    rhs_run_b3!($diss, $lanes, $i, run.end, [run.m.as_ptr(), run.c.as_ptr()], [p1, p2, pv, pz], $acc);
-                } else {
-                    rhs_groups!(
-                        $diss,
-                        $lanes,
-                        $i,
-                        run.end,
-                        b,
-                        [run.m.as_ptr(), run.c.as_ptr(), pattern],
-                        [p1, p2, pv, pz],
-                        $acc
-                    );
-                }
+                rhs_run_b3!($diss, $lanes, $i, run.end, [run.m.as_ptr(), run.c.as_ptr()], [p1, p2, pv, pz], $acc);
             }
         }
         rhs_groups!($diss, $lanes, $i, end, b, [$m.as_ptr(), $c.as_ptr(), band], [p1, p2, pv, pz], $acc);
@@ -500,8 +485,12 @@ impl PeriodicRun {
 
     /// The runs of groups of `lanes` (4 or 8) rows in band storage `m`, `c` of n rows and
     /// half-width b: maximal sequences of at least `MIN_RUN_GROUPS` groups whose values
-    /// equal the first group's bit for bit (so −0 and +0 differ).
+    /// equal the first group's bit for bit (so −0 and +0 differ). Only for B = 3, the beam's
+    /// width, whose kernel (`rhs_run_b3!`) keeps the run's values in registers.
     fn find(n: usize, b: usize, m: &[f64], c: &[f64], lanes: usize) -> Vec<PeriodicRun> {
+        if b != 3 {
+            return Vec::new();
+        }
         let stride = n + b;
         let group = |a: &[f64], i: usize| -> Vec<u64> {
             let mut g = vec![0u64; (2 * b + 1) * RUN_LANES];
