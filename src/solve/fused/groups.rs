@@ -65,30 +65,37 @@ impl FusedNewmark {
         // SAFETY (band rows): i·B + t < n·B.
         let band = |i: usize, t: usize| unsafe { -*l.get_unchecked(i * b + t) };
         let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
-        let mut r = 0;
         let mut i = 0;
-        while i + G <= n {
-            while r < runs.len() && runs[r].end < i + G {
-                r += 1;
-            }
-            let (ys, dv) = if r < runs.len() && runs[r].start <= i {
-                // i is even, so rows i, i + 2 take the even pattern.
-                let run = &runs[r];
-                let (even, odd) = (&run.l_neg[0], &run.l_neg[1]);
-                let ys =
-                    [row!(i, |t| even[t]), row!(i + 1, |t| odd[t]), row!(i + 2, |t| even[t]), row!(i + 3, |t| odd[t])];
-                (ys, [run.d_inv[0], run.d_inv[1], run.d_inv[0], run.d_inv[1]])
-            } else {
+        macro_rules! band_group {
+            () => {{
                 let ys = [
                     row!(i, |t| band(i, t)),
                     row!(i + 1, |t| band(i + 1, t)),
                     row!(i + 2, |t| band(i + 2, t)),
                     row!(i + 3, |t| band(i + 3, t)),
                 ];
-                (ys, [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]])
-            };
-            store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, dv);
-            i += G;
+                let dv = [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]];
+                store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, dv);
+                i += G;
+            }};
+        }
+        // Groups wholly inside a run read its pattern, held in registers for the whole run.
+        for run in runs {
+            while i + G <= n && i < run.start {
+                band_group!();
+            }
+            let [even, odd] = run.l_neg.map(|p| [p[0], p[1], p[2]]);
+            let (even, odd) = (|t: usize| even[t], |t: usize| odd[t]);
+            let dv = [run.d_inv[0], run.d_inv[1], run.d_inv[0], run.d_inv[1]];
+            while i + G <= run.end {
+                // i is even, so rows i, i + 2 take the even pattern.
+                let ys = [row!(i, even), row!(i + 1, odd), row!(i + 2, even), row!(i + 3, odd)];
+                store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, dv);
+                i += G;
+            }
+        }
+        while i + G <= n {
+            band_group!();
         }
         while i < n {
             let y = row!(i, |t| band(i, t));
@@ -142,29 +149,34 @@ impl FusedNewmark {
             let xi = row!(i, |s| band(i, s));
             update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
         }
-        // Rows g..g + 4 read the pattern if rows g + 1..=g + 3 + B all lie in one run.
+        // Rows g..g + 4 read the pattern, held in registers for the whole run, if rows
+        // g + 1..=g + 3 + B all lie in the run.
         let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
-        let mut r = runs.len();
-        while i >= G {
-            let g = i - G;
-            while r > 0 && runs[r - 1].start > g {
-                r -= 1;
+        // Rows g..g + 4 and their update, with −L(i + s, i) = even(i, s) for rows i of g's
+        // parity and odd(i, s) for the others (g is even).
+        macro_rules! group {
+            ($g:expr, $even:expr, $odd:expr) => {{
+                let (g, even, odd) = ($g, $even, $odd);
+                let x3 = row!(g + 3, |s| odd(g + 3, s));
+                let x2 = row!(g + 2, |s| even(g + 2, s));
+                let x1 = row!(g + 1, |s| odd(g + 1, s));
+                let xs = [row!(g, |s| even(g, s)), x1, x2, x3];
+                update_group::<FMA, VBAR>(k, g, xs, [&mut *u, &mut *v, &mut *a], x, [&mut *w1, &mut *w2]);
+                i = g;
+            }};
+        }
+        for run in runs.iter().rev() {
+            while i >= G && i - G + 3 + b >= run.end {
+                group!(i - G, band, band);
             }
-            let xs = if r > 0 && g + 3 + b < runs[r - 1].end {
-                // g is even, so rows g, g + 2 take the even pattern.
-                let (even, odd) = (&runs[r - 1].up_neg[0], &runs[r - 1].up_neg[1]);
-                let x3 = row!(g + 3, |s| odd[s]);
-                let x2 = row!(g + 2, |s| even[s]);
-                let x1 = row!(g + 1, |s| odd[s]);
-                [row!(g, |s| even[s]), x1, x2, x3]
-            } else {
-                let x3 = row!(g + 3, |s| band(g + 3, s));
-                let x2 = row!(g + 2, |s| band(g + 2, s));
-                let x1 = row!(g + 1, |s| band(g + 1, s));
-                [row!(g, |s| band(g, s)), x1, x2, x3]
-            };
-            update_group::<FMA, VBAR>(k, g, xs, [u, v, a], x, [w1, w2]);
-            i = g;
+            let [even, odd] = run.up_neg.map(|p| [p[0], p[1], p[2], p[3]]);
+            let (even, odd) = (|_: usize, s: usize| even[s], |_: usize, s: usize| odd[s]);
+            while i >= G && i - G >= run.start {
+                group!(i - G, even, odd);
+            }
+        }
+        while i >= G {
+            group!(i - G, band, band);
         }
     }
 }
