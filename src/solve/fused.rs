@@ -354,22 +354,21 @@ unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 
 /// `splat` (a macro_rules body resolves such names where it is invoked). Row i:
 /// z = M_ii·w₁ᵢ + Σ_t (M_{i,i−t}·w₁ᵢ₋ₜ + M_{i+t,i}·w₁ᵢ₊ₜ), the same for C and w₂, then
 /// sm + sc; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ) to `$acc`.
-/// `$at(t, i)` gives the offsets of diagonal t's lower and upper values for the group at row
-/// i in `$pm`, `$pc`. Advances `$i` past the last whole group before `$end`.
+/// Diagonal t of `$pm`, `$pc` starts at t·`$stride`. Advances `$i` past the last whole group
+/// before `$end`.
 macro_rules! rhs_groups {
-    ($diss:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, [$pm:expr, $pc:expr, $at:expr], [$p1:expr, $p2:expr, $pv:expr, $pz:expr], $acc:ident) => {{
-        let (pm, pc, p1, p2, pv, pz, b, at) = ($pm, $pc, $p1, $p2, $pv, $pz, $b, $at);
+    ($diss:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, $stride:expr, [$pm:expr, $pc:expr], [$p1:expr, $p2:expr, $pv:expr, $pz:expr], $acc:ident) => {{
+        let (pm, pc, p1, p2, pv, pz, b, stride) = ($pm, $pc, $p1, $p2, $pv, $pz, $b, $stride);
         let (half, two) = (splat(0.5), splat(2.0));
         while $i + $lanes <= $end {
             let i = $i;
-            let (d0, _) = at(0, i);
-            let c0 = load(pc.add(d0));
-            let mut sm = mul(load(pm.add(d0)), load(p1.add(b + i)));
+            let c0 = load(pc.add(i));
+            let mut sm = mul(load(pm.add(i)), load(p1.add(b + i)));
             let mut sc = mul(c0, load(p2.add(b + i)));
             let vi = if $diss { load(pv.add(b + i)) } else { zero() };
             let mut sd = if $diss { mul(mul(half, c0), vi) } else { zero() };
             for t in 1..=b {
-                let (lo, up) = at(t, i);
+                let (lo, up) = (t * stride + i, t * stride + i + t);
                 let c_lo = load(pc.add(lo));
                 sm = fmadd(load(pm.add(lo)), load(p1.add(b + i - t)), sm);
                 sm = fmadd(load(pm.add(up)), load(p1.add(b + i + t)), sm);
@@ -430,27 +429,36 @@ macro_rules! rhs_run_b3 {
     }};
 }
 
-/// The band right-hand side over rows `$i..$end` in groups of `$lanes`, taking each
+/// The band right-hand side over rows `$i..n` in groups of `$lanes`, taking each
 /// periodic run's values from the run (no matrix streams there) and the band storage
 /// elsewhere: the same loads of the same values in the same order either way.
 macro_rules! rhs_band_and_runs {
-    ($diss:expr, $lanes:expr, $i:ident, $end:expr, $n:expr, $b:expr, $runs:expr, [$m:expr, $c:expr, $w1:expr, $w2:expr, $vb:expr, $z:expr], $acc:ident) => {{
-        let (n, b, end) = ($n, $b, $end);
+    ($diss:expr, $lanes:expr, $i:ident, $n:expr, $b:expr, $runs:expr, [$m:expr, $c:expr, $w1:expr, $w2:expr, $vb:expr, $z:expr], $acc:ident) => {{
+        let (n, b) = ($n, $b);
         let stride = n + b;
         assert!($m.len() >= (b + 1) * stride && $c.len() >= (b + 1) * stride);
-        assert!($w1.len() >= n + 2 * b && $w2.len() >= n + 2 * b && $z.len() >= n && end <= n);
+        assert!($w1.len() >= n + 2 * b && $w2.len() >= n + 2 * b && $z.len() >= n);
         assert!(!$diss || $vb.len() >= n + 2 * b);
         let (p1, p2, pv, pz) = ($w1.as_ptr(), $w2.as_ptr(), $vb.as_ptr(), $z.as_mut_ptr());
-        let band = |t: usize, i: usize| (t * stride + i, t * stride + i + t);
         for run in $runs.iter() {
             assert!(b == 3 && run.start % $lanes == 0 && run.end % $lanes == 0 && run.end <= n);
             assert!(run.m.len() >= (2 * b + 1) * RUN_LANES && run.c.len() >= (2 * b + 1) * RUN_LANES);
-            if run.start >= $i && run.end <= end {
-                rhs_groups!($diss, $lanes, $i, run.start, b, [$m.as_ptr(), $c.as_ptr(), band], [p1, p2, pv, pz], $acc);
+            if run.start >= $i {
+                rhs_groups!(
+                    $diss,
+                    $lanes,
+                    $i,
+                    run.start,
+                    b,
+                    stride,
+                    [$m.as_ptr(), $c.as_ptr()],
+                    [p1, p2, pv, pz],
+                    $acc
+                );
                 rhs_run_b3!($diss, $lanes, $i, run.end, [run.m.as_ptr(), run.c.as_ptr()], [p1, p2, pv, pz], $acc);
             }
         }
-        rhs_groups!($diss, $lanes, $i, end, b, [$m.as_ptr(), $c.as_ptr(), band], [p1, p2, pv, pz], $acc);
+        rhs_groups!($diss, $lanes, $i, n, b, stride, [$m.as_ptr(), $c.as_ptr()], [p1, p2, pv, pz], $acc);
     }};
 }
 
@@ -528,9 +536,6 @@ impl PeriodicRun {
     }
 }
 
-/// Widest band whose factor rows can form a [`FactorRun`].
-const MAX_RUN_WIDTH: usize = 8;
-
 /// Rows `start..end` of the factor whose rows (B entries of L and 1/d) repeat with period
 /// two, bit for bit: the factorisation of a segment of equal elements converges to such a
 /// pattern after a transient of a few hundred to some ten thousand rows (longer the finer
@@ -539,18 +544,19 @@ const MAX_RUN_WIDTH: usize = 8;
 struct FactorRun {
     start: usize,
     end: usize,
-    /// Row r's entries L(r, r − B + s), s ∈ 0..B, negated, and 1/d_r, for r even and odd.
-    l_neg: [[f64; MAX_RUN_WIDTH]; 2],
+    /// Row r's entries L(r, r − 3 + s), s ∈ 0..3, negated, and 1/d_r, for r even and odd.
+    l_neg: [[f64; 3]; 2],
     d_inv: [f64; 2],
-    /// For the backward sweep at a row of each parity: −L(i + s, i) for s ∈ 1..=B.
-    up_neg: [[f64; MAX_RUN_WIDTH + 1]; 2],
+    /// For the backward sweep at a row of each parity: −L(i + s, i) at s ∈ 1..=3 (0 unused).
+    up_neg: [[f64; 4]; 2],
 }
 
 impl FactorRun {
     /// The runs of at least `MIN_FACTOR_RUN` rows in factor rows `l` (B per row) and `d_inv`,
-    /// none of them a long row.
+    /// none of them a long row. Only for B = 3, the beam's width, which the grouped sweeps
+    /// (`groups.rs`), the only readers of the runs, handle.
     fn find(n: usize, b: usize, l: &[f64], d_inv: &[f64], long: &[LongRow]) -> Vec<FactorRun> {
-        if b == 0 || b > MAX_RUN_WIDTH {
+        if b != 3 {
             return Vec::new();
         }
         let same = |r: usize| {
@@ -578,13 +584,7 @@ impl FactorRun {
                 end += 1;
             }
             if end - start >= MIN_FACTOR_RUN {
-                let mut run = FactorRun {
-                    start,
-                    end,
-                    l_neg: [[0.0; MAX_RUN_WIDTH]; 2],
-                    d_inv: [0.0; 2],
-                    up_neg: [[0.0; MAX_RUN_WIDTH + 1]; 2],
-                };
+                let mut run = FactorRun { start, end, l_neg: [[0.0; 3]; 2], d_inv: [0.0; 2], up_neg: [[0.0; 4]; 2] };
                 for row in [start, start + 1] {
                     let p = row % 2;
                     for s in 0..b {
@@ -641,7 +641,7 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
     };
     let mut acc = load(part.as_ptr());
     let mut i = from;
-    rhs_band_and_runs!(DISS, 4, i, n, n, b, runs, [m, c, w1, w2, vb, z], acc);
+    rhs_band_and_runs!(DISS, 4, i, n, b, runs, [m, c, w1, w2, vb, z], acc);
     let (start, stride) = (i, n + b);
     for i in i..n {
         let mut sm = m[i] * w1[b + i];
@@ -685,7 +685,7 @@ unsafe fn rhs_band_avx512<const DISS: bool>(
     };
     let mut acc = zero();
     let mut i = 0;
-    rhs_band_and_runs!(DISS, 8, i, n, n, b, runs, [m, c, w1, w2, vb, z], acc);
+    rhs_band_and_runs!(DISS, 8, i, n, b, runs, [m, c, w1, w2, vb, z], acc);
     if DISS {
         let mut lanes = [0.0f64; 8];
         store(lanes.as_mut_ptr(), acc);
@@ -1048,9 +1048,10 @@ impl FusedNewmark {
     }
 
     /// Rows whose forward sweep reads the factor from a periodic run rather than the band
-    /// (every build; the backward sweep, which also needs the B rows below, a few fewer).
+    /// (every build, in the grouped sweeps; the backward sweep, which also needs the B rows
+    /// below, a few fewer).
     pub fn periodic_factor_rows(&self) -> usize {
-        if self.use_runs && self.dense.is_none() {
+        if self.use_runs && self.use_groups && self.dense.is_none() {
             self.factor_runs.iter().map(|r| r.end - r.start).sum()
         } else {
             0
@@ -1480,56 +1481,30 @@ impl FusedNewmark {
         let x = &mut self.x[..n + b];
         let mut lp = 0;
         let mut prev = 0.0; // y_{i−1}
-
-        // Row i with its entries −L(i, i − B + s) and 1/d_i.
-        macro_rules! row {
-            ($i:expr, $l_neg:expr, $d_inv:expr) => {{
-                let (i, l_neg) = ($i, $l_neg);
-                // Padded index of column i − B + s is i + s.
-                let mut y = z[i + b];
-                if lp < self.long.len() && self.long[lp].row == i {
-                    let lr = self.long[lp];
-                    let len = i - b - lr.first;
-                    let tail = &self.l_tail[lr.offset..lr.offset + len];
-                    // Four partial sums: one running sum would make the row a chain of `len`
-                    // dependent multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
-                    y -= dot_lanes::<FMA>(tail, &z[lr.first + b..lr.first + b + len]);
-                    lp += 1;
-                }
-                if b > 0 {
-                    for t in 0..b - 1 {
-                        // SAFETY: i + t < n + B.
-                        unsafe {
-                            y = madd::<FMA>(l_neg(t), *z.get_unchecked(i + t), y);
-                        }
+        for i in 0..n {
+            // Padded index of column i − B + s is i + s.
+            let mut y = z[i + b];
+            if lp < self.long.len() && self.long[lp].row == i {
+                let lr = self.long[lp];
+                let len = i - b - lr.first;
+                let tail = &self.l_tail[lr.offset..lr.offset + len];
+                // Four partial sums: one running sum would make the row a chain of `len`
+                // dependent multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
+                y -= dot_lanes::<FMA>(tail, &z[lr.first + b..lr.first + b + len]);
+                lp += 1;
+            }
+            if b > 0 {
+                for t in 0..b - 1 {
+                    // SAFETY: i·B + t < n·B and i + t < n + B.
+                    unsafe {
+                        y = madd::<FMA>(-*l.get_unchecked(i * b + t), *z.get_unchecked(i + t), y);
                     }
-                    y = madd::<FMA>(l_neg(b - 1), prev, y);
                 }
-                z[i + b] = y;
-                x[i + b] = y * $d_inv;
-                prev = y;
-            }};
-        }
-        // SAFETY (band rows): i·B + t < n·B.
-        let band = |i: usize, t: usize| unsafe { -*l.get_unchecked(i * b + t) };
-        let mut i = 0;
-        let none: &[FactorRun] = &[];
-        for run in if self.use_runs { &self.factor_runs[..] } else { none } {
-            while i < run.start {
-                row!(i, |t: usize| band(i, t), d_inv[i]);
-                i += 1;
+                y = madd::<FMA>(-l[i * b + b - 1], prev, y);
             }
-            let (even, odd) = (&run.l_neg[i % 2], &run.l_neg[1 - i % 2]);
-            let (d_even, d_odd) = (run.d_inv[i % 2], run.d_inv[1 - i % 2]);
-            while i + 2 <= run.end {
-                row!(i, |t: usize| even[t], d_even);
-                row!(i + 1, |t: usize| odd[t], d_odd);
-                i += 2;
-            }
-        }
-        while i < n {
-            row!(i, |t: usize| band(i, t), d_inv[i]);
-            i += 1;
+            z[i + b] = y;
+            x[i + b] = y * d_inv[i];
+            prev = y;
         }
     }
 
@@ -1547,56 +1522,29 @@ impl FusedNewmark {
         let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         let mut lp = self.long.len();
         let mut prev = 0.0; // x_{i+1}
-
-        // Row i with −L(i + s, i) for s ∈ 1..=B.
-        macro_rules! row {
-            ($i:expr, $up_neg:expr) => {{
-                let (i, up_neg) = ($i, $up_neg);
-                let mut xi = x[i];
-                if b > 0 {
-                    for s in (2..=b).rev() {
-                        // SAFETY: i + s < n + B (u's zero padding).
-                        unsafe {
-                            xi = madd::<FMA>(up_neg(s), *u.get_unchecked(i + s), xi);
-                        }
-                    }
-                    xi = madd::<FMA>(up_neg(1), prev, xi);
-                }
-                prev = xi;
-                // Row i's new state is final: update it here, off the sweep's critical path,
-                // so the processor overlaps it with the recurrence's latency.
-                update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
-                if lp > 0 && self.long[lp - 1].row == i {
-                    lp -= 1;
-                    let lr = self.long[lp];
-                    let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
-                    for (t, &lv) in tail.iter().enumerate() {
-                        x[lr.first + t] -= lv * xi;
+        for i in (0..n).rev() {
+            let mut xi = x[i];
+            if b > 0 {
+                for s in (2..=b).rev() {
+                    // SAFETY: (i+s)·B + B − s < (n+B)·B and i + s < n + B (u's zero padding).
+                    unsafe {
+                        xi = madd::<FMA>(-*l.get_unchecked((i + s) * b + b - s), *u.get_unchecked(i + s), xi);
                     }
                 }
-            }};
-        }
-        // SAFETY (band rows): (i+s)·B + B − s < (n+B)·B.
-        let band = |i: usize, s: usize| unsafe { -*l.get_unchecked((i + s) * b + b - s) };
-        // Rows i whose rows i + 1..=i + B all lie in a run take the run's pattern.
-        let mut i = n;
-        let none: &[FactorRun] = &[];
-        for run in (if self.use_runs { &self.factor_runs[..] } else { none }).iter().rev() {
-            let top = run.end.saturating_sub(b).max(run.start);
-            while i > top {
-                i -= 1;
-                row!(i, |s: usize| band(i, s));
+                xi = madd::<FMA>(-l[(i + 1) * b + b - 1], prev, xi);
             }
-            let (p_hi, p_lo) = (&run.up_neg[(i + 1) % 2], &run.up_neg[i % 2]);
-            while i >= run.start + 2 {
-                row!(i - 1, |s: usize| p_hi[s]);
-                row!(i - 2, |s: usize| p_lo[s]);
-                i -= 2;
+            prev = xi;
+            // Row i's new state is final: update it here, off the sweep's critical path,
+            // so the processor overlaps it with the recurrence's latency.
+            update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
+            if lp > 0 && self.long[lp - 1].row == i {
+                lp -= 1;
+                let lr = self.long[lp];
+                let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
+                for (t, &lv) in tail.iter().enumerate() {
+                    x[lr.first + t] -= lv * xi;
+                }
             }
-        }
-        while i > 0 {
-            i -= 1;
-            row!(i, |s: usize| band(i, s));
         }
     }
 

@@ -66,36 +66,35 @@ impl FusedNewmark {
         let band = |i: usize, t: usize| unsafe { -*l.get_unchecked(i * b + t) };
         let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
         let mut i = 0;
-        macro_rules! band_group {
-            () => {{
+        // Rows i..i + 4, with −L(r, r − B + t) = even(r, t) for rows r of i's parity and
+        // odd(r, t) for the others (i is even), and their 1/d.
+        macro_rules! group {
+            ($even:expr, $odd:expr, $d_inv:expr) => {{
+                let (even, odd) = ($even, $odd);
                 let ys = [
-                    row!(i, |t| band(i, t)),
-                    row!(i + 1, |t| band(i + 1, t)),
-                    row!(i + 2, |t| band(i + 2, t)),
-                    row!(i + 3, |t| band(i + 3, t)),
+                    row!(i, |t| even(i, t)),
+                    row!(i + 1, |t| odd(i + 1, t)),
+                    row!(i + 2, |t| even(i + 2, t)),
+                    row!(i + 3, |t| odd(i + 3, t)),
                 ];
-                let dv = [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]];
-                store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, dv);
+                store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, $d_inv);
                 i += G;
             }};
         }
         // Groups wholly inside a run read its pattern, held in registers for the whole run.
         for run in runs {
             while i + G <= n && i < run.start {
-                band_group!();
+                group!(band, band, [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]]);
             }
-            let [even, odd] = run.l_neg.map(|p| [p[0], p[1], p[2]]);
-            let (even, odd) = (|t: usize| even[t], |t: usize| odd[t]);
+            let [even, odd] = run.l_neg;
+            let (even, odd) = (|_: usize, t: usize| even[t], |_: usize, t: usize| odd[t]);
             let dv = [run.d_inv[0], run.d_inv[1], run.d_inv[0], run.d_inv[1]];
             while i + G <= run.end {
-                // i is even, so rows i, i + 2 take the even pattern.
-                let ys = [row!(i, even), row!(i + 1, odd), row!(i + 2, even), row!(i + 3, odd)];
-                store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, dv);
-                i += G;
+                group!(even, odd, dv);
             }
         }
         while i + G <= n {
-            band_group!();
+            group!(band, band, [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]]);
         }
         while i < n {
             let y = row!(i, |t| band(i, t));
@@ -149,8 +148,6 @@ impl FusedNewmark {
             let xi = row!(i, |s| band(i, s));
             update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
         }
-        // Rows g..g + 4 read the pattern, held in registers for the whole run, if rows
-        // g + 1..=g + 3 + B all lie in the run.
         let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
         // Rows g..g + 4 and their update, with −L(i + s, i) = even(i, s) for rows i of g's
         // parity and odd(i, s) for the others (g is even).
@@ -165,11 +162,13 @@ impl FusedNewmark {
                 i = g;
             }};
         }
+        // Rows g..g + 4 read the pattern, held in registers for the whole run, if rows
+        // g + 1..=g + 3 + B all lie in the run.
         for run in runs.iter().rev() {
             while i >= G && i - G + 3 + b >= run.end {
                 group!(i - G, band, band);
             }
-            let [even, odd] = run.up_neg.map(|p| [p[0], p[1], p[2], p[3]]);
+            let [even, odd] = run.up_neg;
             let (even, odd) = (|_: usize, s: usize| even[s], |_: usize, s: usize| odd[s]);
             while i >= G && i - G >= run.start {
                 group!(i - G, even, odd);
