@@ -6,7 +6,7 @@
 //! interface point and the RMS of every transmitted force are compared with the previous
 //! period; the run is in steady state when both change by less than the tolerance.
 
-use crate::assembly::{Model, System};
+use crate::assembly::{Model, StoredEnergy, System};
 use crate::error::{Error, Result};
 use crate::post::power::{mean_product, EnergyBalance};
 use crate::post::spectra::{harmonics, power_from_acceleration, power_per_harmonic};
@@ -432,11 +432,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let mut periods_run = 0;
     let mut run_bal = Balances::default();
     let mut per_bal = Balances::default();
-    let stored = |nm: &FusedNewmark| -> (f64, f64) {
-        let eb = 0.5 * sys.m_beam.bilinear(nm.v(), nm.v()) + 0.5 * sys.k_beam.bilinear(nm.u(), nm.u());
-        let es = 0.5 * sys.m.bilinear(nm.v(), nm.v()) + 0.5 * sys.k.bilinear(nm.u(), nm.u());
-        (eb, es)
-    };
+    let energy = StoredEnergy::new(sys);
+    let stored = |nm: &FusedNewmark| -> (f64, f64) { energy.beam_and_system(nm.u(), nm.v()) };
     let (eb_start, es_start) = stored(&nm);
     // Stored energies at the latest period boundary (the end of one period starts the next).
     let mut e_boundary = (eb_start, es_start);

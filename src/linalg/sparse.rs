@@ -114,8 +114,9 @@ impl Csr {
         }
     }
 
-    /// xᵀ·A·y, row by row without storing A·y (transient runs evaluate energies with it
-    /// once a period).
+    /// xᵀ·A·y, row by row without storing A·y. (Transient runs evaluate their stored
+    /// energies through `assembly::StoredEnergy` instead, whose flat lists avoid the branch
+    /// miss per short row that this loop pays.)
     pub fn bilinear(&self, x: &[f64], y: &[f64]) -> f64 {
         let ip = self.mat.indptr();
         let ip = ip.raw_storage();
