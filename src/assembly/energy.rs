@@ -3,7 +3,7 @@
 //!
 //! `Csr::bilinear` walks rows of five to seven entries whose varying lengths cost a branch
 //! miss per row, about 2 ns per stored entry: 19 µs for the four forms of the paper's frame
-//! case, ≈ 3 % of a run. Here each symmetric form is kept once, as its lower triangle in a
+//! case, ≈ 2 % of a run. Here each symmetric form is kept once, as its lower triangle in a
 //! flat list (i ≥ j, weight ½ on the diagonal, 1 below it), so ½·xᵀ·A·x is one loop without
 //! inner branches; and the system's energy is the beam's plus the actuators' part, the few
 //! entries where M, K differ from M_beam, K_beam (link springs, feet and body masses).
@@ -11,7 +11,9 @@
 use super::System;
 use crate::linalg::Csr;
 
-/// ½·xᵀ·A·x of a symmetric A as Σ w·x_i·x_j over A's lower triangle.
+/// ½·xᵀ·A·x of a symmetric A as Σ w·x_i·x_j over A's lower triangle. M and K are
+/// symmetric by assembly (element matrices and link terms g·gᵀ), so the upper triangle
+/// adds nothing the lower does not already count.
 #[derive(Clone, Debug, Default)]
 struct HalfForm {
     i: Vec<u32>,
@@ -68,6 +70,7 @@ pub struct StoredEnergy {
 
 impl StoredEnergy {
     pub fn new(sys: &System) -> Self {
+        assert!(sys.n() <= u32::MAX as usize, "{} DOFs do not fit the 32-bit indices", sys.n());
         let rest = |a: &Csr, beam: &Csr| {
             let mut d: Vec<(usize, usize, f64)> = HalfForm::lower(a).collect();
             d.extend(HalfForm::lower(beam).map(|(i, j, x)| (i, j, -x)));
