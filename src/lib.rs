@@ -8,6 +8,9 @@
 //! time integration) driven by [`analysis`] → [`post`] (power, spectra, modes) → I/O at
 //! the edge. There is no global state: two cases can run side by side in one process.
 
+// Input checks write `!(x > 0.0)` on purpose: unlike `x <= 0.0` it also rejects NaN.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
 /// Prints a line to standard output like `println!`, but a closed output (the reader of a
 /// pipe such as `beamflow modes case.toml | head` has gone) is not an error: the rest of
 /// the output is dropped and the command finishes its work (results are still written).

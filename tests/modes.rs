@@ -132,7 +132,7 @@ fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
     // 1000 elements (≈ 2000 DOFs) go through the sparse path and still match βL roots
     // (much finer meshes too: see `very_fine_meshes_keep_the_lowest_frequencies`).
     let big = beam_case(1000, "");
-    assert!(2 * 1000 > beamflow::case::build::DENSE_EIGEN_LIMIT);
+    const { assert!(2 * 1000 > beamflow::case::build::DENSE_EIGEN_LIMIT) };
     let r = modes::run(&big, 6).unwrap();
     let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 6).unwrap();
     for (f, a) in r.frequencies_hz.iter().zip(&exact) {

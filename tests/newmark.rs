@@ -158,7 +158,7 @@ fn cubic_run(dt: f64) -> (f64, usize, usize) {
 fn newton_converges_and_cubic_spring_energy_is_conserved() {
     let (e1, it1, commits) = cubic_run(2e-4);
     let (e2, _, _) = cubic_run(1e-4);
-    assert!(it1 >= 1 && it1 <= 8, "Newton took {it1} iterations in a step");
+    assert!((1..=8).contains(&it1), "Newton took {it1} iterations in a step");
     assert_eq!(commits, (0.5f64 / 2e-4).round() as usize + 1, "one commit per converged step (+ the initial state)");
     assert!(e1 < 1e-3, "energy error {e1:e}");
     // The trapezoidal rule's energy error for a nonlinear spring is O(Δt²) and does not drift.

@@ -33,9 +33,9 @@ fn dense_solve(mut a: Vec<Vec<Complex64>>, mut b: Vec<Complex64>) -> Vec<Complex
             if f.norm() == 0.0 {
                 continue;
             }
-            for k in c..n {
-                let v = a[c][k];
-                a[r][k] -= f * v;
+            let (upper, lower) = a.split_at_mut(r);
+            for (ark, &v) in lower[0][c..n].iter_mut().zip(&upper[c][c..n]) {
+                *ark -= f * v;
             }
             let v = b[c];
             b[r] -= f * v;

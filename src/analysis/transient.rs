@@ -695,8 +695,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
             q_ddot: all.qdd[b].clone(),
         });
     }
-    for a in 0..na {
-        let d_p = stacks[a].hysteresis.d_p;
+    for (a, stack) in stacks.iter().enumerate() {
+        let d_p = stack.hysteresis.d_p;
         result.drives.push(DriveSeries {
             actuator: a,
             voltage: all.v[a].clone(),

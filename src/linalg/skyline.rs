@@ -204,8 +204,8 @@ impl<T: Scalar> SkylineLdlt<T> {
             }
             x[i] -= s;
         }
-        for i in 0..n {
-            x[i] = x[i] / self.diag[i];
+        for (xi, &d) in x[..n].iter_mut().zip(&self.diag[..n]) {
+            *xi = *xi / d;
         }
         // Lᵀ·x = z (column-oriented sweep over the same rows).
         for i in (0..n).rev() {
@@ -244,9 +244,9 @@ mod tests {
             x.swap(c, p);
             for r in c + 1..n {
                 let f = m[r][c] / m[c][c];
-                for k in c..n {
-                    let v = m[c][k];
-                    m[r][k] -= f * v;
+                let (upper, lower) = m.split_at_mut(r);
+                for (mrk, &v) in lower[0][c..n].iter_mut().zip(&upper[c][c..n]) {
+                    *mrk -= f * v;
                 }
                 let v = x[c];
                 x[r] -= f * v;
@@ -268,6 +268,8 @@ mod tests {
     }
 
     #[test]
+    // Both triangles of `dense` are filled from one (i, j) loop.
+    #[allow(clippy::needless_range_loop)]
     fn complex_symmetric_solve_matches_dense_elimination() {
         let n: usize = 30;
         let mut seed = 7;

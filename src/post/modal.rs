@@ -127,9 +127,8 @@ pub fn decompose(
                 }
             }
         }
-        for r in 0..nm {
-            let wr = modes.omega[r];
-            let e2 = eta[r].norm_sqr();
+        for (r, (&wr, eta_r)) in modes.omega.iter().zip(&eta).enumerate().take(nm) {
+            let e2 = eta_r.norm_sqr();
             let c_r = match modal_ratios {
                 Some(z) => 2.0 * ratio_of(z, r) * wr,
                 None => a0 + a1 * wr * wr,

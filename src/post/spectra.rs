@@ -20,7 +20,7 @@ pub fn harmonics(samples: &[f64]) -> Vec<Complex64> {
     let half = n / 2;
     (0..=half)
         .map(|k| {
-            let s = if k == 0 || (n % 2 == 0 && k == half) { 1.0 } else { 2.0 };
+            let s = if k == 0 || (n.is_multiple_of(2) && k == half) { 1.0 } else { 2.0 };
             buf[k] * (s / n as f64)
         })
         .collect()
@@ -34,7 +34,7 @@ pub fn power_per_harmonic(f: &[Complex64], v: &[Complex64], n_samples: usize) ->
         .zip(v)
         .enumerate()
         .map(|(k, (a, b))| {
-            let s = if k == 0 || (n_samples % 2 == 0 && k == n_samples / 2) { 1.0 } else { 0.5 };
+            let s = if k == 0 || (n_samples.is_multiple_of(2) && k == n_samples / 2) { 1.0 } else { 0.5 };
             s * (a * b.conj()).re
         })
         .collect()
@@ -51,7 +51,7 @@ pub fn power_from_acceleration(f: &[Complex64], a: &[Complex64], omega0: f64, n_
             if k == 0 {
                 return 0.0;
             }
-            let s = if n_samples % 2 == 0 && k == n_samples / 2 { 2.0 } else { 1.0 };
+            let s = if n_samples.is_multiple_of(2) && k == n_samples / 2 { 2.0 } else { 1.0 };
             -0.5 * s * (fk * ak.conj()).im / (k as f64 * omega0)
         })
         .collect()
