@@ -47,6 +47,32 @@ struct LongRow {
     offset: usize,
 }
 
+impl LongRow {
+    /// Its entries in the columns `first..row − B`, from the side list `l_tail`.
+    #[inline(always)]
+    fn tail<'a>(&self, l_tail: &'a [f64], b: usize) -> &'a [f64] {
+        &l_tail[self.offset..self.offset + (self.row - b - self.first)]
+    }
+
+    /// Σ_j L(row, j)·y_j over those columns, for the forward sweep (`y` padded by B in
+    /// front). Four partial sums: one running sum would make the row a chain of dependent
+    /// multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
+    #[inline(always)]
+    fn dot<const FMA: bool>(&self, l_tail: &[f64], b: usize, y: &[f64]) -> f64 {
+        let tail = self.tail(l_tail, b);
+        dot_lanes::<FMA>(tail, &y[self.first + b..self.first + b + tail.len()])
+    }
+
+    /// x_j −= L(row, j)·x_row over those columns, for the backward sweep as soon as x_row
+    /// is known (`x` unpadded).
+    #[inline(always)]
+    fn scatter(&self, l_tail: &[f64], b: usize, x: &mut [f64], x_row: f64) {
+        for (t, &lv) in self.tail(l_tail, b).iter().enumerate() {
+            x[self.first + t] -= lv * x_row;
+        }
+    }
+}
+
 /// An entry of M, C, K outside the band (lower triangle, i > j); applied symmetrically.
 #[derive(Clone, Copy, Debug)]
 struct Extra {
@@ -1485,12 +1511,7 @@ impl FusedNewmark {
             // Padded index of column i − B + s is i + s.
             let mut y = z[i + b];
             if lp < self.long.len() && self.long[lp].row == i {
-                let lr = self.long[lp];
-                let len = i - b - lr.first;
-                let tail = &self.l_tail[lr.offset..lr.offset + len];
-                // Four partial sums: one running sum would make the row a chain of `len`
-                // dependent multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
-                y -= dot_lanes::<FMA>(tail, &z[lr.first + b..lr.first + b + len]);
+                y -= self.long[lp].dot::<FMA>(&self.l_tail, b, z);
                 lp += 1;
             }
             if b > 0 {
@@ -1539,11 +1560,7 @@ impl FusedNewmark {
             update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
             if lp > 0 && self.long[lp - 1].row == i {
                 lp -= 1;
-                let lr = self.long[lp];
-                let tail = &self.l_tail[lr.offset..lr.offset + (i - b - lr.first)];
-                for (t, &lv) in tail.iter().enumerate() {
-                    x[lr.first + t] -= lv * xi;
-                }
+                self.long[lp].scatter(&self.l_tail, b, x, xi);
             }
         }
     }

@@ -15,7 +15,7 @@
 //! must not be swept yet; with B ≥ 3 those columns lie below the group of the row. Other
 //! widths (no beam has them) sweep row by row.
 
-use super::{dot_lanes, madd, update_row, Coeffs, FactorRun, FusedNewmark, Width};
+use super::{madd, update_row, Coeffs, FactorRun, FusedNewmark, Width};
 
 /// Rows per group.
 const G: usize = 4;
@@ -48,10 +48,8 @@ impl FusedNewmark {
                 let (i, l_neg) = ($i, $l_neg);
                 let mut y = z[i + b];
                 if lp < long.len() && long[lp].row == i {
-                    let lr = long[lp];
-                    let len = i - b - lr.first;
                     // Columns below i − B: rows of earlier groups, already stored in z.
-                    y -= dot_lanes::<FMA>(&l_tail[lr.offset..lr.offset + len], &z[lr.first + b..lr.first + b + len]);
+                    y -= long[lp].dot::<FMA>(l_tail, b, z);
                     lp += 1;
                 }
                 // Column i − 3 + t holds y_{i−3+t}, i.e. win.(2 − t).
@@ -130,11 +128,8 @@ impl FusedNewmark {
                 win = (xi, win.0, win.1);
                 if lp > 0 && long[lp - 1].row == i {
                     lp -= 1;
-                    let lr = long[lp];
                     // Columns below i − B: rows of later (lower) groups, not yet swept.
-                    for (t, &lv) in l_tail[lr.offset..lr.offset + (i - b - lr.first)].iter().enumerate() {
-                        x[lr.first + t] -= lv * xi;
-                    }
+                    long[lp].scatter(l_tail, b, x, xi);
                 }
                 xi
             }};
