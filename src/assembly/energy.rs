@@ -152,7 +152,7 @@ mod tests {
         let u: Vec<f64> = (0..n).map(|i| (i as f64).sqrt() * 1e-5).collect();
         let v: Vec<f64> = (0..n).map(|i| 1.0 / (1.0 + i as f64)).collect();
         let (eb, es) = e.beam_and_system(&u, &v);
-        let want = sys.beam_energy(&u, &v);
+        let want = 0.5 * sys.m_beam.bilinear(&v, &v) + 0.5 * sys.k_beam.bilinear(&u, &u);
         assert_eq!(eb, es);
         assert!((eb - want).abs() <= 1e-13 * want, "{eb} vs {want}");
     }

@@ -354,11 +354,6 @@ impl System {
         fac.solve_in_place(&mut q);
         Ok(q)
     }
-
-    /// Kinetic plus strain energy of the beam part (J) at displacement q and velocity v.
-    pub fn beam_energy(&self, q: &[f64], v: &[f64]) -> f64 {
-        0.5 * self.m_beam.bilinear(v, v) + 0.5 * self.k_beam.bilinear(q, q)
-    }
 }
 
 #[cfg(test)]
