@@ -47,6 +47,11 @@ struct LongRow {
     offset: usize,
 }
 
+// The dot product and the scatter of a long row are called from every row of every sweep
+// variant but run for a handful of rows a step (four for a frame actuator). Inlined, they
+// grew the AVX2 step by 60 % (13,200 → 20,900 instructions) and slowed the rows that never
+// take them, by 9–13 % in alternating pairs on the bare beam and the frame system alike
+// (docs/performance.md, "Long rows out of line"). So they are cold calls.
 impl LongRow {
     /// Its entries in the columns `first..row − B`, from the side list `l_tail`.
     #[inline(always)]
@@ -59,13 +64,34 @@ impl LongRow {
     /// multiply–adds (a frame's leg-to-body rows span ≈ 45 columns).
     #[inline(always)]
     fn dot<const FMA: bool>(&self, l_tail: &[f64], b: usize, y: &[f64]) -> f64 {
+        #[cfg(target_arch = "x86_64")]
+        if FMA {
+            // SAFETY: the FMA build runs only where AVX2 and FMA were detected (`dispatch`).
+            return unsafe { self.dot_fma(l_tail, b, y) };
+        }
+        self.dot_plain(l_tail, b, y)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[cold]
+    #[inline(never)]
+    unsafe fn dot_fma(&self, l_tail: &[f64], b: usize, y: &[f64]) -> f64 {
         let tail = self.tail(l_tail, b);
-        dot_lanes::<FMA>(tail, &y[self.first + b..self.first + b + tail.len()])
+        dot_lanes::<true>(tail, &y[self.first + b..self.first + b + tail.len()])
+    }
+
+    #[cold]
+    #[inline(never)]
+    fn dot_plain(&self, l_tail: &[f64], b: usize, y: &[f64]) -> f64 {
+        let tail = self.tail(l_tail, b);
+        dot_lanes::<false>(tail, &y[self.first + b..self.first + b + tail.len()])
     }
 
     /// x_j −= L(row, j)·x_row over those columns, for the backward sweep as soon as x_row
-    /// is known (`x` unpadded).
-    #[inline(always)]
+    /// is known (`x` unpadded). No fused multiply–add here, so one build serves both.
+    #[cold]
+    #[inline(never)]
     fn scatter(&self, l_tail: &[f64], b: usize, x: &mut [f64], x_row: f64) {
         for (t, &lv) in self.tail(l_tail, b).iter().enumerate() {
             x[self.first + t] -= lv * x_row;
