@@ -201,20 +201,23 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
     };
     let hz = reduction::cutoff_hz(&model, &rs, 9).unwrap();
     let (red, _) = reduction::reduce(&model, &full, &rs, hz).unwrap();
-    let odd = LoadedCase::from_str(&format!("[beam.mesh]\nelements = 204\n{text}"), "odd.toml", std::env::temp_dir())
-        .unwrap();
-    let odd = System::assemble(&build_model(&odd).unwrap().model).unwrap();
+    // The frame case with more in its file, assembled.
+    let system = |before: &str, after: &str| {
+        let lc = LoadedCase::from_str(&format!("{before}{text}{after}"), "case.toml", std::env::temp_dir()).unwrap();
+        System::assemble(&build_model(&lc).unwrap().model).unwrap()
+    };
+    let odd = system("[beam.mesh]\nelements = 204\n", "");
     assert_eq!(odd.n() % 8, 6, "{}", odd.n());
     // A sensor near the far end makes a node there, so the elements past it are shorter and
     // the factor's periodic run ends inside the matrix rather than at its last row.
-    let ends = LoadedCase::from_str(
-        &format!("{text}[[sensor]]\nname = \"tip\"\nx = 0.68\n"),
-        "ends.toml",
-        std::env::temp_dir(),
-    )
-    .unwrap();
-    let ends = System::assemble(&build_model(&ends).unwrap().model).unwrap();
-    for (sys, dense) in [(&full, false), (&odd, false), (&ends, false), (&red, true)] {
+    let ends = system("", "[[sensor]]\nname = \"tip\"\nx = 0.68\n");
+    // An inertial actuator's one body DOF ahead of the frame shifts the frame's long rows
+    // by one: they then start and end inside groups of four rows, not on their bounds.
+    let inertial = "[[actuator]]\ntype = \"inertial\"\nx_e = 0.05\n[actuator.voltage]\nkind = \"sine\"\n\
+                    amplitude = 12.0\nfrequency = 60.0\n";
+    let two = system("", inertial);
+    assert_eq!(two.n(), 401);
+    for (sys, dense) in [(&full, false), (&odd, false), (&ends, false), (&two, false), (&red, true)] {
         let n = sys.n();
         let drive = sys.drives[0].clone();
         // (Linear acceleration is only conditionally stable: this mesh's top modes need

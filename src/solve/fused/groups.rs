@@ -42,12 +42,13 @@ impl FusedNewmark {
         // tuple, not an array: an array indexed in a loop stayed in memory.
         let mut win = (0.0f64, 0.0f64, 0.0f64);
 
-        // Row i's y, with entries −L(i, i − B + t) = l_neg(t).
+        // Row i's y, with entries −L(i, i − B + t) = l_neg(t); `$long`: whether row i may
+        // be a long row (false where the caller knows it is not, so the check is compiled out).
         macro_rules! row {
-            ($i:expr, $l_neg:expr) => {{
+            ($i:expr, $l_neg:expr, $long:expr) => {{
                 let (i, l_neg) = ($i, $l_neg);
                 let mut y = z[i + b];
-                if lp < long.len() && long[lp].row == i {
+                if $long && lp < long.len() && long[lp].row == i {
                     // Columns below i − B: rows of earlier groups, already stored in z.
                     y -= long[lp].dot::<FMA>(l_tail, b, z);
                     lp += 1;
@@ -67,35 +68,48 @@ impl FusedNewmark {
         // Rows i..i + 4, with −L(r, r − B + t) = even(r, t) for rows r of i's parity and
         // odd(r, t) for the others (i is even), and their 1/d.
         macro_rules! group {
-            ($even:expr, $odd:expr, $d_inv:expr) => {{
+            ($even:expr, $odd:expr, $d_inv:expr, $long:expr) => {{
                 let (even, odd) = ($even, $odd);
                 let ys = [
-                    row!(i, |t| even(i, t)),
-                    row!(i + 1, |t| odd(i + 1, t)),
-                    row!(i + 2, |t| even(i + 2, t)),
-                    row!(i + 3, |t| odd(i + 3, t)),
+                    row!(i, |t| even(i, t), $long),
+                    row!(i + 1, |t| odd(i + 1, t), $long),
+                    row!(i + 2, |t| even(i + 2, t), $long),
+                    row!(i + 3, |t| odd(i + 3, t), $long),
                 ];
                 store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, $d_inv);
                 i += G;
             }};
         }
-        // Groups wholly inside a run read its pattern, held in registers for the whole run.
+        // A band group, checking its rows for long ones only if the next long row is in it:
+        // one comparison a group instead of one a row.
+        macro_rules! band_group {
+            () => {{
+                let dv = [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]];
+                if lp < long.len() && long[lp].row < i + G {
+                    group!(band, band, dv, true);
+                } else {
+                    group!(band, band, dv, false);
+                }
+            }};
+        }
+        // Groups wholly inside a run read its pattern, held in registers for the whole run
+        // (a run has no long rows).
         for run in runs {
             while i + G <= n && i < run.start {
-                group!(band, band, [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]]);
+                band_group!();
             }
             let [even, odd] = run.l_neg;
             let (even, odd) = (|_: usize, t: usize| even[t], |_: usize, t: usize| odd[t]);
             let dv = [run.d_inv[0], run.d_inv[1], run.d_inv[0], run.d_inv[1]];
             while i + G <= run.end {
-                group!(even, odd, dv);
+                group!(even, odd, dv, false);
             }
         }
         while i + G <= n {
-            group!(band, band, [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]]);
+            band_group!();
         }
         while i < n {
-            let y = row!(i, |t| band(i, t));
+            let y = row!(i, |t| band(i, t), true);
             z[i + b] = y;
             x[i + b] = y * d_inv[i];
             i += 1;
@@ -117,16 +131,17 @@ impl FusedNewmark {
         // win.s = x_{i+1+s}: the unknowns row i reads, newest first (zero past row n − 1).
         let mut win = (0.0f64, 0.0f64, 0.0f64);
 
-        // Row i's x, with entries −L(i + s, i) = up_neg(s), s ∈ 1..=B.
+        // Row i's x, with entries −L(i + s, i) = up_neg(s), s ∈ 1..=B; `$long` as in the
+        // forward sweep.
         macro_rules! row {
-            ($i:expr, $up_neg:expr) => {{
+            ($i:expr, $up_neg:expr, $long:expr) => {{
                 let (i, up_neg) = ($i, $up_neg);
                 let mut xi = x[i];
                 xi = madd::<FMA>(up_neg(3), win.2, xi);
                 xi = madd::<FMA>(up_neg(2), win.1, xi);
                 xi = madd::<FMA>(up_neg(1), win.0, xi);
                 win = (xi, win.0, win.1);
-                if lp > 0 && long[lp - 1].row == i {
+                if $long && lp > 0 && long[lp - 1].row == i {
                     lp -= 1;
                     // Columns below i − B: rows of later (lower) groups, not yet swept.
                     long[lp].scatter(l_tail, b, x, xi);
@@ -140,37 +155,47 @@ impl FusedNewmark {
         let mut i = n;
         while i > top {
             i -= 1;
-            let xi = row!(i, |s| band(i, s));
+            let xi = row!(i, |s| band(i, s), true);
             update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
         }
         let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
         // Rows g..g + 4 and their update, with −L(i + s, i) = even(i, s) for rows i of g's
         // parity and odd(i, s) for the others (g is even).
         macro_rules! group {
-            ($g:expr, $even:expr, $odd:expr) => {{
+            ($g:expr, $even:expr, $odd:expr, $long:expr) => {{
                 let (g, even, odd) = ($g, $even, $odd);
-                let x3 = row!(g + 3, |s| odd(g + 3, s));
-                let x2 = row!(g + 2, |s| even(g + 2, s));
-                let x1 = row!(g + 1, |s| odd(g + 1, s));
-                let xs = [row!(g, |s| even(g, s)), x1, x2, x3];
+                let x3 = row!(g + 3, |s| odd(g + 3, s), $long);
+                let x2 = row!(g + 2, |s| even(g + 2, s), $long);
+                let x1 = row!(g + 1, |s| odd(g + 1, s), $long);
+                let xs = [row!(g, |s| even(g, s), $long), x1, x2, x3];
                 update_group::<FMA, VBAR>(k, g, xs, [&mut *u, &mut *v, &mut *a], x, [&mut *w1, &mut *w2]);
                 i = g;
             }};
         }
+        // A band group, checking for long rows only if the next one (going up) is in it.
+        macro_rules! band_group {
+            () => {{
+                if lp > 0 && long[lp - 1].row >= i - G {
+                    group!(i - G, band, band, true);
+                } else {
+                    group!(i - G, band, band, false);
+                }
+            }};
+        }
         // Rows g..g + 4 read the pattern, held in registers for the whole run, if rows
-        // g + 1..=g + 3 + B all lie in the run.
+        // g + 1..=g + 3 + B all lie in the run (a run has no long rows).
         for run in runs.iter().rev() {
             while i >= G && i - G + 3 + b >= run.end {
-                group!(i - G, band, band);
+                band_group!();
             }
             let [even, odd] = run.up_neg;
             let (even, odd) = (|_: usize, s: usize| even[s], |_: usize, s: usize| odd[s]);
             while i >= G && i - G >= run.start {
-                group!(i - G, even, odd);
+                group!(i - G, even, odd, false);
             }
         }
         while i >= G {
-            group!(i - G, band, band);
+            band_group!();
         }
     }
 }
