@@ -2,7 +2,10 @@
 //! DOF-steps each) on the default beam with `elements` elements and fixed Rayleigh damping,
 //! optionally with the frame actuator's coupling and the dissipation tracked.
 //!
-//! `cargo run --release --example step_cost -- <elements> [dissipation 0|1] [frame 0|1]`
+//! `cargo run --release --example step_cost -- <elements> [dissipation 0|1] [frame 0|1] [runs 1|0]`
+//!
+//! (`runs 0` switches the periodic runs off, so a bare beam and the frame system can be
+//! compared without the bare beam's longer periodic stretch.)
 //!
 //! It prints `best <ns>` so that `scripts/paired.sh` can alternate two builds of it and
 //! report the median ratio: on a shared VM whose speed drifts by tens of per cent over
@@ -20,6 +23,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let elements: usize = args.get(1).map(|s| s.parse()).transpose()?.unwrap_or(200);
     let dissipation = args.get(2).is_some_and(|s| s == "1");
     let frame = args.get(3).is_some_and(|s| s == "1");
+    let runs = args.get(4).is_none_or(|s| s != "0");
     let mut text =
         format!("[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = 5.29\na1 = 9.96e-6\n");
     if frame {
@@ -31,6 +35,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let n = sys.n();
     let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4)?;
     nm.track_dissipation = dissipation;
+    if !runs {
+        nm.disable_periodic_runs();
+    }
     let steps = (4_000_000 / n).max(20);
     let load = n / 3;
     let mut best = f64::INFINITY;
@@ -42,6 +49,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         best = best.min(t0.elapsed().as_secs_f64() * 1e9 / (steps * n) as f64);
     }
     std::hint::black_box((nm.u()[load], nm.dissipated()));
-    println!("{n} DOFs, dissipation {dissipation}, frame {frame}: best {best:.3} ns per DOF-step");
+    println!("{n} DOFs, dissipation {dissipation}, frame {frame}, runs {runs}: best {best:.3} ns per DOF-step");
     Ok(())
 }
