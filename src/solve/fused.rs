@@ -50,8 +50,9 @@ struct LongRow {
 // The dot product and the scatter of a long row are called from every row of every sweep
 // variant but run for a handful of rows a step (four for a frame actuator). Inlined, they
 // grew the AVX2 step by 60 % (13,200 → 20,900 instructions) and slowed the rows that never
-// take them, by 9–13 % in alternating pairs on the bare beam and the frame system alike
-// (docs/performance.md, "Long rows out of line"). So they are cold calls.
+// take them: out of line, the step took 0.87 (bare beam) and 0.89 (frame system) of the
+// time in alternating pairs in the host's slow state, the same in its fast state
+// (docs/performance.md, "Session 9: long rows out of line"). So they are cold calls.
 impl LongRow {
     /// Its entries in the columns `first..row − B`, from the side list `l_tail`.
     #[inline(always)]

@@ -101,6 +101,7 @@ impl FusedNewmark {
             let [even, odd] = run.l_neg;
             let (even, odd) = (|_: usize, t: usize| even[t], |_: usize, t: usize| odd[t]);
             let dv = [run.d_inv[0], run.d_inv[1], run.d_inv[0], run.d_inv[1]];
+            debug_assert!(long[lp..].first().is_none_or(|r| r.row >= run.end), "a long row in a factor run");
             while i + G <= run.end {
                 group!(even, odd, dv, false);
             }
@@ -190,6 +191,7 @@ impl FusedNewmark {
             }
             let [even, odd] = run.up_neg;
             let (even, odd) = (|_: usize, s: usize| even[s], |_: usize, s: usize| odd[s]);
+            debug_assert!(long[..lp].last().is_none_or(|r| r.row < run.start), "a long row in a factor run");
             while i >= G && i - G >= run.start {
                 group!(i - G, even, odd, false);
             }
