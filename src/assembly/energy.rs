@@ -71,20 +71,10 @@ pub struct StoredEnergy {
 impl StoredEnergy {
     pub fn new(sys: &System) -> Self {
         assert!(sys.n() <= u32::MAX as usize, "{} DOFs do not fit the 32-bit indices", sys.n());
-        let rest = |a: &Csr, beam: &Csr| {
-            let mut d: Vec<(usize, usize, f64)> = HalfForm::lower(a).collect();
-            d.extend(HalfForm::lower(beam).map(|(i, j, x)| (i, j, -x)));
-            d.sort_by_key(|e| (e.0, e.1));
-            // Sum the entries of each position (at most one from each matrix).
-            let mut merged: Vec<(usize, usize, f64)> = Vec::with_capacity(d.len());
-            for (i, j, x) in d {
-                match merged.last_mut() {
-                    Some(last) if (last.0, last.1) == (i, j) => last.2 += x,
-                    _ => merged.push((i, j, x)),
-                }
-            }
-            HalfForm::from_lower(merged.into_iter())
-        };
+        // M − M_beam (K − K_beam): exactly zero where only the beam contributes, so only
+        // the actuators' entries survive `from_lower`'s zero filter.
+        let rest =
+            |a: &Csr, beam: &Csr| HalfForm::from_lower(HalfForm::lower(&Csr::combine(&[(1.0, a), (-1.0, beam)])));
         StoredEnergy {
             n: sys.n(),
             m_beam: HalfForm::from_lower(HalfForm::lower(&sys.m_beam)),
