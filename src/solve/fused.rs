@@ -749,6 +749,14 @@ unsafe fn rhs_band_avx512<const DISS: bool>(
     i
 }
 
+/// Largest system whose band right-hand side runs on 512-bit vectors. Above it the state
+/// streams from main memory, where on the AMD EPYC (Zen 5) host the 512-bit kernel took
+/// twice the 256-bit one's time (the whole step 5 % slower at 4·10⁵ DOFs, 18 % at 2·10⁶,
+/// in alternating pairs; 5 % faster at 2·10⁵ and 4 % at 3·10⁵), and on the earlier Xeon
+/// the two were equal there. Software prefetching and 64-byte-aligned vectors did not
+/// change it (docs/performance.md, "512-bit vectors and main memory").
+const WIDE_RHS_MAX_DOFS: usize = 300_000;
+
 /// Whether the processor has AVX-512F.
 fn wide_vectors() -> bool {
     #[cfg(target_arch = "x86_64")]
@@ -824,7 +832,8 @@ pub struct FusedNewmark {
     /// F_n, kept for α_f ≠ 0.
     f_prev: Vec<(usize, f64)>,
     fma: bool,
-    /// 512-bit vectors for the band right-hand side (within the AVX2 build).
+    /// 512-bit vectors for the band right-hand side (within the AVX2 build; only up to
+    /// `WIDE_RHS_MAX_DOFS`).
     avx512: bool,
     /// Periodic runs of the band right-hand side for groups of four and of eight rows, of
     /// the factor's rows, and whether the step uses them (see [`PeriodicRun`],
@@ -1014,7 +1023,7 @@ impl FusedNewmark {
             touched: Vec::new(),
             f_prev: Vec::new(),
             fma,
-            avx512: fma && wide_vectors(),
+            avx512: fma && wide_vectors() && n <= WIDE_RHS_MAX_DOFS,
             runs4,
             runs8,
             factor_runs,
@@ -1116,7 +1125,8 @@ impl FusedNewmark {
         self.avx512 = false;
     }
 
-    /// Whether the band right-hand side uses 512-bit vectors.
+    /// Whether the band right-hand side uses 512-bit vectors (AVX-512F and at most
+    /// `WIDE_RHS_MAX_DOFS` rows).
     pub fn uses_avx512(&self) -> bool {
         self.avx512
     }
