@@ -364,3 +364,30 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
         }
     }
 }
+
+/// The 512-bit right-hand side is used where the processor has AVX-512F and the system
+/// is in-cache sized; above ≈ 3·10⁵ DOFs the state streams from memory, where the 256-bit
+/// kernel measured faster (docs/performance.md, "512-bit vectors and main memory").
+#[test]
+fn wide_kernel_only_for_systems_that_fit_in_cache() {
+    use beamflow::assembly::System;
+    use beamflow::case::{build_model, LoadedCase};
+    use beamflow::solve::fused::FusedNewmark;
+    let fused = |elements: usize| {
+        let text =
+            format!("[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = 5.29\na1 = 9.96e-6\n");
+        let lc = LoadedCase::from_str(&text, "case.toml", std::env::temp_dir()).unwrap();
+        let sys = System::assemble(&build_model(&lc).unwrap().model).unwrap();
+        FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap()
+    };
+    #[cfg(target_arch = "x86_64")]
+    let wide = std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("avx2")
+        && std::arch::is_x86_feature_detected!("fma");
+    #[cfg(not(target_arch = "x86_64"))]
+    let wide = false;
+    assert_eq!(fused(200).uses_avx512(), wide);
+    let large = fused(160_000);
+    assert_eq!(large.dim(), 319_998);
+    assert!(!large.uses_avx512());
+}
