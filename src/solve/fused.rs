@@ -6,9 +6,14 @@
 //! flops, so index arithmetic, bounds checks and loop overhead, not the flops, set its cost.
 //! This integrator does the same arithmetic on storage shaped for the beam:
 //!
-//! * M, C (and K when α_f ≠ 0) are stored by **diagonals** of a band of half-width B (3 for
-//!   Hermite beam elements): the right-hand side M·w₁ + C·w₂ is then one loop over rows whose
-//!   body reads 2·(2B+1) contiguous streams, which the compiler vectorises.
+//! * The step solves for the **increment** Δu = u_{n+1} − u_n, not for u_{n+1}: the same
+//!   arithmetic in exact terms, but the solver's relative round-off then falls on Δu, which
+//!   the acceleration (Δu − Δt·v)/(βΔt²) amplifies ≈ 1/(βΔtω) rather than 1/(βΔt²ω²) times
+//!   (≈ 30× more accurate on the paper beam, `tests/precision.rs`). Its right-hand side is
+//!   M·w₁ + C·w₂ − K·u with w₁, w₂ the v and a terms of the history.
+//! * M, C and K are stored by **diagonals** of a band of half-width B (3 for Hermite beam
+//!   elements): the right-hand side is then one loop over rows whose body reads
+//!   3·(2B+1) contiguous streams, which the compiler vectorises.
 //! * The factor L·D·Lᵀ of the effective stiffness is stored **by rows of width B** with
 //!   1/D; the forward and backward sweeps, which are recurrences and cannot be vectorised,
 //!   are fully unrolled for B known at compile time, ordered so the newest unknown enters
@@ -110,10 +115,10 @@ struct Extra {
     k: f64,
 }
 
-/// The Newmark update of one row from its new displacement x: a, v, u, the step's mean
+/// The Newmark update of one row from its increment x = Δu: a, v, u, the step's mean
 /// velocity v̄ (with `VBAR`: only the dissipation reads it) and the next step's history
-/// terms w₁, w₂. The caller passes the solution vector itself as `vbar`: once u holds the
-/// new displacement, x is a second copy of it, so v̄ stored there costs no stream of its own.
+/// terms w₁, w₂. The caller passes the solution vector itself as `vbar`: once the row is
+/// updated its Δu is read no more, so v̄ stored there costs no stream of its own.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn update_row<const FMA: bool, const VBAR: bool>(
@@ -128,22 +133,22 @@ fn update_row<const FMA: bool, const VBAR: bool>(
     w2: &mut [f64],
 ) {
     let (ui, vi, ai) = (u[i], v[i], a[i]);
-    let a_new = madd::<FMA>(x - ui - k.dt * vi, k.ab, -k.a_old * ai);
+    let a_new = madd::<FMA>(x - k.dt * vi, k.ab, -k.a_old * ai);
     let v_new = madd::<FMA>(k.va_new, a_new, madd::<FMA>(k.va_old, ai, vi));
-    u[i] = x;
+    u[i] = ui + x;
     v[i] = v_new;
     a[i] = a_new;
     if VBAR {
         vbar[i] = 0.5 * (vi + v_new);
     }
-    (w1[i], w2[i]) = k.history::<FMA>(x, v_new, a_new);
+    (w1[i], w2[i]) = k.history::<FMA>(v_new, a_new);
 }
 
-/// w₁, w₂ of every DOF from u, v, a: after `set_state`, before an update has written them.
+/// w₁, w₂ of every DOF from v, a: after `set_state`, before an update has written them.
 #[inline(always)]
-fn fill_history<const FMA: bool>(k: Coeffs, u: &[f64], v: &[f64], a: &[f64], w1: &mut [f64], w2: &mut [f64]) {
-    for i in 0..u.len() {
-        (w1[i], w2[i]) = k.history::<FMA>(u[i], v[i], a[i]);
+fn fill_history<const FMA: bool>(k: Coeffs, v: &[f64], a: &[f64], w1: &mut [f64], w2: &mut [f64]) {
+    for i in 0..v.len() {
+        (w1[i], w2[i]) = k.history::<FMA>(v[i], a[i]);
     }
 }
 
@@ -182,13 +187,10 @@ fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
 /// update a_new = (x − u − Δt·v)·ab − a_old·a, v_new = v + va_old·a + va_new·a_new.
 #[derive(Clone, Copy)]
 struct Coeffs {
-    cu: f64,
     cv: f64,
     ca: f64,
-    eu: f64,
     ev: f64,
     ea: f64,
-    af: f64,
     dt: f64,
     ab: f64,
     a_old: f64,
@@ -197,13 +199,12 @@ struct Coeffs {
 }
 
 impl Coeffs {
-    /// The history terms (w₁, w₂) of one DOF with state (u, v, a).
+    /// The history terms (w₁, w₂) of one DOF with velocity v and acceleration a. They are
+    /// those of the whole displacement less K_eff·u_n's: u enters the increment's
+    /// right-hand side only through −K·u.
     #[inline(always)]
-    fn history<const FMA: bool>(self, u: f64, v: f64, a: f64) -> (f64, f64) {
-        (
-            madd::<FMA>(self.cu, u, madd::<FMA>(self.cv, v, self.ca * a)),
-            madd::<FMA>(self.eu, u, madd::<FMA>(self.ev, v, self.ea * a)),
-        )
+    fn history<const FMA: bool>(self, v: f64, a: f64) -> (f64, f64) {
+        (madd::<FMA>(self.cv, v, self.ca * a), madd::<FMA>(self.ev, v, self.ea * a))
     }
 
     /// The coefficients of a scheme at step Δt (s).
@@ -211,13 +212,10 @@ impl Coeffs {
         let (am, af, g, b) = (s.alpha_m, s.alpha_f, s.gamma, s.beta);
         let cu = (1.0 - am) / (b * dt * dt);
         Coeffs {
-            cu,
             cv: cu * dt,
             ca: (1.0 - am) * (0.5 / b - 1.0) - am,
-            eu: (1.0 - af) * g / (b * dt),
             ev: -(1.0 - af) * (1.0 - g / b) - af,
             ea: -(1.0 - af) * dt * (1.0 - 0.5 * g / b),
-            af,
             dt,
             ab: 1.0 / (b * dt * dt),
             a_old: 0.5 / b - 1.0,
@@ -233,12 +231,12 @@ const MAX_SLICED: usize = 5;
 /// Systems at most this large whose band covers half the matrix are stepped densely.
 const DENSE_LIMIT: usize = 48;
 
-/// The step of a small dense system as x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·F
-/// (− α_f·K_eff⁻¹K·u), each operator from solves with the factor. A modal-reduced model is
+/// The step of a small dense system as Δu = x = K_eff⁻¹·F + (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ −
+/// (K_eff⁻¹K)·u, each operator from solves with the factor. A modal-reduced model is
 /// dense by construction, and for it independent multiply–adds beat two triangular sweeps
 /// whose every row waits on the previous one. The operators are stored side by side by
 /// rows, [K_eff⁻¹M | K_eff⁻¹C | K_eff⁻¹K], each row padded to a multiple of four, so that
-/// row i of x is one dot product with w = [w₁ | w₂ | −α_f·u] over lanes of four and the n
+/// row i of x is one dot product with w = [w₁ | w₂ | −u] over lanes of four and the n
 /// rows are independent of each other.
 #[derive(Clone, Debug)]
 struct DenseStep {
@@ -246,10 +244,10 @@ struct DenseStep {
     c: Vec<f64>,
     /// Padded length of a row of `c` (n rounded up to four).
     c_stride: usize,
-    /// [K_eff⁻¹M | K_eff⁻¹C (| K_eff⁻¹K)] by rows, `stride` numbers per row.
+    /// [K_eff⁻¹M | K_eff⁻¹C | K_eff⁻¹K] by rows, `stride` numbers per row.
     ops: Vec<f64>,
     stride: usize,
-    /// w = [w₁ | w₂ (| −α_f·u)] of the step in progress, zero-padded to `stride`.
+    /// w = [w₁ | w₂ | −u] of the step in progress, zero-padded to `stride`.
     w: Vec<f64>,
     /// K_eff⁻¹ column-major, for loads given as sparse pairs.
     a: Vec<f64>,
@@ -403,21 +401,22 @@ unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 
 /// The row loop of the band right-hand side (and, with `$diss`, of the last step's
 /// dissipation) over whole groups of `$lanes` rows up to `$end` of the band storage, written
 /// once for the 256- and 512-bit kernels. Each kernel brings its
-/// vector operations into scope as `load`, `store`, `mul`, `fmadd`, `add`, `zero` and
-/// `splat` (a macro_rules body resolves such names where it is invoked). Row i:
-/// z = M_ii·w₁ᵢ + Σ_t (M_{i,i−t}·w₁ᵢ₋ₜ + M_{i+t,i}·w₁ᵢ₊ₜ), the same for C and w₂, then
-/// sm + sc; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ) to `$acc`.
+/// vector operations into scope as `load`, `store`, `mul`, `fmadd`, `add`, `sub`, `zero`
+/// and `splat` (a macro_rules body resolves such names where it is invoked). Row i:
+/// z = M_ii·w₁ᵢ + Σ_t (M_{i,i−t}·w₁ᵢ₋ₜ + M_{i+t,i}·w₁ᵢ₊ₜ), the same for C and w₂ and for K
+/// and u, then (sm + sc) − sk; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ) to `$acc`.
 /// Diagonal t of `$pm`, `$pc` starts at t·`$stride`. Advances `$i` past the last whole group
 /// before `$end`.
 macro_rules! rhs_groups {
-    ($diss:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, $stride:expr, [$pm:expr, $pc:expr], [$p1:expr, $p2:expr, $pv:expr, $pz:expr], $acc:ident) => {{
-        let (pm, pc, p1, p2, pv, pz, b, stride) = ($pm, $pc, $p1, $p2, $pv, $pz, $b, $stride);
+    ($diss:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, $stride:expr, [$pm:expr, $pc:expr, $pk:expr], [$p1:expr, $p2:expr, $pu:expr, $pv:expr, $pz:expr], $acc:ident) => {{
+        let (pm, pc, pk, p1, p2, pu, pv, pz, b, stride) = ($pm, $pc, $pk, $p1, $p2, $pu, $pv, $pz, $b, $stride);
         let (half, two) = (splat(0.5), splat(2.0));
         while $i + $lanes <= $end {
             let i = $i;
             let c0 = load(pc.add(i));
             let mut sm = mul(load(pm.add(i)), load(p1.add(b + i)));
             let mut sc = mul(c0, load(p2.add(b + i)));
+            let mut sk = mul(load(pk.add(i)), load(pu.add(b + i)));
             let vi = if $diss { load(pv.add(b + i)) } else { zero() };
             let mut sd = if $diss { mul(mul(half, c0), vi) } else { zero() };
             for t in 1..=b {
@@ -427,11 +426,13 @@ macro_rules! rhs_groups {
                 sm = fmadd(load(pm.add(up)), load(p1.add(b + i + t)), sm);
                 sc = fmadd(c_lo, load(p2.add(b + i - t)), sc);
                 sc = fmadd(load(pc.add(up)), load(p2.add(b + i + t)), sc);
+                sk = fmadd(load(pk.add(lo)), load(pu.add(b + i - t)), sk);
+                sk = fmadd(load(pk.add(up)), load(pu.add(b + i + t)), sk);
                 if $diss {
                     sd = fmadd(c_lo, load(pv.add(b + i - t)), sd);
                 }
             }
-            store(pz.add(i), add(sm, sc));
+            store(pz.add(i), sub(add(sm, sc), sk));
             if $diss {
                 $acc = fmadd(mul(two, sd), vi, $acc);
             }
@@ -440,40 +441,47 @@ macro_rules! rhs_groups {
     }};
 }
 
-/// `rhs_groups!` over a periodic run when B = 3: the run's fourteen vectors of M and C are
+/// `rhs_groups!` over a periodic run when B = 3: the run's 21 vectors of M, C and K are
 /// loaded once, before the row loop, and stay in registers (the compiler cannot hoist them
 /// itself, since it cannot prove the stores to z leave them alone). The same operations in
 /// the same order as `rhs_groups!`, so the same bits.
 macro_rules! rhs_run_b3 {
-    ($diss:expr, $lanes:expr, $i:ident, $end:expr, [$pm:expr, $pc:expr], [$p1:expr, $p2:expr, $pv:expr, $pz:expr], $acc:ident) => {{
+    ($diss:expr, $lanes:expr, $i:ident, $end:expr, [$pm:expr, $pc:expr, $pk:expr], [$p1:expr, $p2:expr, $pu:expr, $pv:expr, $pz:expr], $acc:ident) => {{
         const B: usize = 3;
-        let (pm, pc, p1, p2, pv, pz) = ($pm, $pc, $p1, $p2, $pv, $pz);
+        let (pm, pc, pk, p1, p2, pu, pv, pz) = ($pm, $pc, $pk, $p1, $p2, $pu, $pv, $pz);
         let two = splat(2.0);
         let (d0, _) = PeriodicRun::offsets(0);
-        let (m0, c0) = (load(pm.add(d0)), load(pc.add(d0)));
+        let (m0, c0, k0) = (load(pm.add(d0)), load(pc.add(d0)), load(pk.add(d0)));
         let half_c0 = mul(splat(0.5), c0);
-        // Diagonal t's lower and upper values of M and C.
+        // Diagonal t's lower and upper values of M, C and K.
         let diag = |t: usize| {
             let (lo, up) = PeriodicRun::offsets(t);
-            (load(pm.add(lo)), load(pm.add(up)), load(pc.add(lo)), load(pc.add(up)))
+            (
+                (load(pm.add(lo)), load(pm.add(up))),
+                (load(pc.add(lo)), load(pc.add(up))),
+                (load(pk.add(lo)), load(pk.add(up))),
+            )
         };
         let (d1, d2, d3) = (diag(1), diag(2), diag(3));
         while $i + $lanes <= $end {
             let i = $i;
             let mut sm = mul(m0, load(p1.add(B + i)));
             let mut sc = mul(c0, load(p2.add(B + i)));
+            let mut sk = mul(k0, load(pu.add(B + i)));
             let vi = if $diss { load(pv.add(B + i)) } else { zero() };
             let mut sd = if $diss { mul(half_c0, vi) } else { zero() };
-            for (t, (m_lo, m_up, c_lo, c_up)) in [(1, d1), (2, d2), (3, d3)] {
+            for (t, ((m_lo, m_up), (c_lo, c_up), (k_lo, k_up))) in [(1, d1), (2, d2), (3, d3)] {
                 sm = fmadd(m_lo, load(p1.add(B + i - t)), sm);
                 sm = fmadd(m_up, load(p1.add(B + i + t)), sm);
                 sc = fmadd(c_lo, load(p2.add(B + i - t)), sc);
                 sc = fmadd(c_up, load(p2.add(B + i + t)), sc);
+                sk = fmadd(k_lo, load(pu.add(B + i - t)), sk);
+                sk = fmadd(k_up, load(pu.add(B + i + t)), sk);
                 if $diss {
                     sd = fmadd(c_lo, load(pv.add(B + i - t)), sd);
                 }
             }
-            store(pz.add(i), add(sm, sc));
+            store(pz.add(i), sub(add(sm, sc), sk));
             if $diss {
                 $acc = fmadd(mul(two, sd), vi, $acc);
             }
@@ -486,16 +494,17 @@ macro_rules! rhs_run_b3 {
 /// periodic run's values from the run (no matrix streams there) and the band storage
 /// elsewhere: the same loads of the same values in the same order either way.
 macro_rules! rhs_band_and_runs {
-    ($diss:expr, $lanes:expr, $i:ident, $n:expr, $b:expr, $runs:expr, [$m:expr, $c:expr, $w1:expr, $w2:expr, $vb:expr, $z:expr], $acc:ident) => {{
+    ($diss:expr, $lanes:expr, $i:ident, $n:expr, $b:expr, $runs:expr, [$m:expr, $c:expr, $k:expr, $w1:expr, $w2:expr, $u:expr, $vb:expr, $z:expr], $acc:ident) => {{
         let (n, b) = ($n, $b);
         let stride = n + b;
-        assert!($m.len() >= (b + 1) * stride && $c.len() >= (b + 1) * stride);
-        assert!($w1.len() >= n + 2 * b && $w2.len() >= n + 2 * b && $z.len() >= n);
+        assert!($m.len() >= (b + 1) * stride && $c.len() >= (b + 1) * stride && $k.len() >= (b + 1) * stride);
+        assert!($w1.len() >= n + 2 * b && $w2.len() >= n + 2 * b && $u.len() >= n + 2 * b && $z.len() >= n);
         assert!(!$diss || $vb.len() >= n + 2 * b);
-        let (p1, p2, pv, pz) = ($w1.as_ptr(), $w2.as_ptr(), $vb.as_ptr(), $z.as_mut_ptr());
+        let (p1, p2, pu, pv, pz) = ($w1.as_ptr(), $w2.as_ptr(), $u.as_ptr(), $vb.as_ptr(), $z.as_mut_ptr());
+        let band = [$m.as_ptr(), $c.as_ptr(), $k.as_ptr()];
         for run in $runs.iter() {
             assert!(b == 3 && run.start % $lanes == 0 && run.end % $lanes == 0 && run.end <= n);
-            assert!(run.m.len() >= (2 * b + 1) * RUN_LANES && run.c.len() >= (2 * b + 1) * RUN_LANES);
+            assert!([&run.m, &run.c, &run.k].iter().all(|v| v.len() >= (2 * b + 1) * RUN_LANES));
             if run.start >= $i {
                 rhs_groups!(
                     $diss,
@@ -504,14 +513,15 @@ macro_rules! rhs_band_and_runs {
                     run.start,
                     b,
                     stride,
-                    [$m.as_ptr(), $c.as_ptr()],
-                    [p1, p2, pv, pz],
+                    [band[0], band[1], band[2]],
+                    [p1, p2, pu, pv, pz],
                     $acc
                 );
-                rhs_run_b3!($diss, $lanes, $i, run.end, [run.m.as_ptr(), run.c.as_ptr()], [p1, p2, pv, pz], $acc);
+                let (rm, rc, rk) = (run.m.as_ptr(), run.c.as_ptr(), run.k.as_ptr());
+                rhs_run_b3!($diss, $lanes, $i, run.end, [rm, rc, rk], [p1, p2, pu, pv, pz], $acc);
             }
         }
-        rhs_groups!($diss, $lanes, $i, n, b, stride, [$m.as_ptr(), $c.as_ptr()], [p1, p2, pv, pz], $acc);
+        rhs_groups!($diss, $lanes, $i, n, b, stride, [band[0], band[1], band[2]], [p1, p2, pu, pv, pz], $acc);
     }};
 }
 
@@ -522,8 +532,8 @@ const RUN_LANES: usize = 8;
 const MIN_RUN_GROUPS: usize = 4;
 
 /// Rows `start..end` (whole groups of a kernel's lanes) in which every group of the band
-/// right-hand side loads the same values of M and C as the first. A segment of equal
-/// elements makes its rows of M and C repeat with period two (w and θ rows), so there the
+/// right-hand side loads the same values of M, C and K as the first. A segment of equal
+/// elements makes its rows repeat with period two (w and θ rows), so there the
 /// step reads one group's copy, which stays in L1, instead of streaming the 2·(B+1)
 /// diagonals. The values are exactly those of the band storage, so the result is the same
 /// to the bit (`tests/newmark.rs`).
@@ -535,20 +545,21 @@ struct PeriodicRun {
     /// lower and 2t the upper value of diagonal t.
     m: Vec<f64>,
     c: Vec<f64>,
+    k: Vec<f64>,
 }
 
 impl PeriodicRun {
-    /// Offsets of diagonal t's lower and upper values in `m`, `c` (t = 0: the diagonal).
+    /// Offsets of diagonal t's lower and upper values in `m`, `c`, `k` (t = 0: the diagonal).
     #[inline(always)]
     fn offsets(t: usize) -> (usize, usize) {
         ((2 * t * RUN_LANES).saturating_sub(RUN_LANES), 2 * t * RUN_LANES)
     }
 
-    /// The runs of groups of `lanes` (4 or 8) rows in band storage `m`, `c` of n rows and
-    /// half-width b: maximal sequences of at least `MIN_RUN_GROUPS` groups whose values
+    /// The runs of groups of `lanes` (4 or 8) rows in band storage `m`, `c`, `k` of n rows
+    /// and half-width b: maximal sequences of at least `MIN_RUN_GROUPS` groups whose values
     /// equal the first group's bit for bit (so −0 and +0 differ). Only for B = 3, the beam's
     /// width, whose kernel (`rhs_run_b3!`) keeps the run's values in registers.
-    fn find(n: usize, b: usize, m: &[f64], c: &[f64], lanes: usize) -> Vec<PeriodicRun> {
+    fn find(n: usize, b: usize, [m, c, k]: [&[f64]; 3], lanes: usize) -> Vec<PeriodicRun> {
         if b != 3 {
             return Vec::new();
         }
@@ -566,21 +577,22 @@ impl PeriodicRun {
             g
         };
         let mut runs = Vec::new();
-        let mut close = |open: Option<(usize, Vec<u64>, Vec<u64>)>, end: usize| {
-            if let Some((start, gm, gc)) = open {
+        type Groups = [Vec<u64>; 3];
+        let mut close = |open: Option<(usize, Groups)>, end: usize| {
+            if let Some((start, [gm, gc, gk])) = open {
                 if end - start >= MIN_RUN_GROUPS * lanes {
                     let f = |g: Vec<u64>| g.into_iter().map(f64::from_bits).collect();
-                    runs.push(PeriodicRun { start, end, m: f(gm), c: f(gc) });
+                    runs.push(PeriodicRun { start, end, m: f(gm), c: f(gc), k: f(gk) });
                 }
             }
         };
-        let mut open: Option<(usize, Vec<u64>, Vec<u64>)> = None;
+        let mut open: Option<(usize, Groups)> = None;
         let mut i = 0;
         while i + lanes <= n {
-            let (gm, gc) = (group(m, i), group(c, i));
-            if !matches!(&open, Some((_, pm, pc)) if *pm == gm && *pc == gc) {
+            let g = [group(m, i), group(c, i), group(k, i)];
+            if !matches!(&open, Some((_, first)) if *first == g) {
                 close(open.take(), i);
-                open = Some((i, gm, gc));
+                open = Some((i, g));
             }
             i += lanes;
         }
@@ -663,11 +675,11 @@ impl FactorRun {
 /// Shortest factor run worth its own loop, in rows.
 const MIN_FACTOR_RUN: usize = 32;
 
-/// The banded right-hand side z = M·w₁ + C·w₂ four rows at a time: the same multiply–adds
-/// in the same order as the scalar loop of `rhs` (so the same bits), written with vectors
-/// because the compiler left that loop scalar. `m`, `c`: (B+1)·(n+B) diagonal storage;
-/// `w1`, `w2`: n + 2B, padded; `z`: n; `runs`: periodic runs of groups of four, whose
-/// values come from the run instead of the band.
+/// The banded right-hand side of the increment, z = M·w₁ + C·w₂ − K·u, four rows at a time:
+/// the same multiply–adds in the same order as the scalar loop of `rhs` (so the same bits),
+/// written with vectors because the compiler left that loop scalar. `m`, `c`, `k`:
+/// (B+1)·(n+B) diagonal storage; `w1`, `w2`, `u`: n + 2B, padded; `z`: n; `runs`: periodic
+/// runs of groups of four, whose values come from the run instead of the band.
 ///
 /// With `DISS`, the same pass also adds the last step's v̄ᵀ·C·v̄ over whole groups of four
 /// rows to `part` (`vb`: v̄, padded like w₁), reusing the loads of C's lower diagonals, with
@@ -679,10 +691,8 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
     from: usize,
     n: usize,
     b: usize,
-    m: &[f64],
-    c: &[f64],
-    w1: &[f64],
-    w2: &[f64],
+    [m, c, k]: [&[f64]; 3],
+    [w1, w2, u]: [&[f64]; 3],
     z: &mut [f64],
     vb: &[f64],
     part: &mut [f64; 4],
@@ -690,23 +700,26 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
 ) -> usize {
     use std::arch::x86_64::{
         _mm256_add_pd as add, _mm256_fmadd_pd as fmadd, _mm256_loadu_pd as load, _mm256_mul_pd as mul,
-        _mm256_set1_pd as splat, _mm256_setzero_pd as zero, _mm256_storeu_pd as store,
+        _mm256_set1_pd as splat, _mm256_setzero_pd as zero, _mm256_storeu_pd as store, _mm256_sub_pd as sub,
     };
     let mut acc = load(part.as_ptr());
     let mut i = from;
-    rhs_band_and_runs!(DISS, 4, i, n, b, runs, [m, c, w1, w2, vb, z], acc);
+    rhs_band_and_runs!(DISS, 4, i, n, b, runs, [m, c, k, w1, w2, u, vb, z], acc);
     let (start, stride) = (i, n + b);
     for i in i..n {
         let mut sm = m[i] * w1[b + i];
         let mut sc = c[i] * w2[b + i];
+        let mut sk = k[i] * u[b + i];
         for t in 1..=b {
             let (lo, up) = (t * stride + i, t * stride + i + t);
             sm = m[lo].mul_add(w1[b + i - t], sm);
             sm = m[up].mul_add(w1[b + i + t], sm);
             sc = c[lo].mul_add(w2[b + i - t], sc);
             sc = c[up].mul_add(w2[b + i + t], sc);
+            sk = k[lo].mul_add(u[b + i - t], sk);
+            sk = k[up].mul_add(u[b + i + t], sk);
         }
-        z[i] = sm + sc;
+        z[i] = (sm + sc) - sk;
     }
     if DISS {
         store(part.as_mut_ptr(), acc);
@@ -723,10 +736,8 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
 unsafe fn rhs_band_avx512<const DISS: bool>(
     n: usize,
     b: usize,
-    m: &[f64],
-    c: &[f64],
-    w1: &[f64],
-    w2: &[f64],
+    [m, c, k]: [&[f64]; 3],
+    [w1, w2, u]: [&[f64]; 3],
     z: &mut [f64],
     vb: &[f64],
     part: &mut [f64; 4],
@@ -734,11 +745,11 @@ unsafe fn rhs_band_avx512<const DISS: bool>(
 ) -> usize {
     use std::arch::x86_64::{
         _mm512_add_pd as add, _mm512_fmadd_pd as fmadd, _mm512_loadu_pd as load, _mm512_mul_pd as mul,
-        _mm512_set1_pd as splat, _mm512_setzero_pd as zero, _mm512_storeu_pd as store,
+        _mm512_set1_pd as splat, _mm512_setzero_pd as zero, _mm512_storeu_pd as store, _mm512_sub_pd as sub,
     };
     let mut acc = zero();
     let mut i = 0;
-    rhs_band_and_runs!(DISS, 8, i, n, b, runs, [m, c, w1, w2, vb, z], acc);
+    rhs_band_and_runs!(DISS, 8, i, n, b, runs, [m, c, k, w1, w2, u, vb, z], acc);
     if DISS {
         let mut lanes = [0.0f64; 8];
         store(lanes.as_mut_ptr(), acc);
@@ -804,8 +815,8 @@ pub struct FusedNewmark {
     /// i < t and for the B padding entries past n); the upper half is the same numbers.
     m: Vec<f64>,
     c: Vec<f64>,
-    /// Only when α_f ≠ 0.
-    k: Option<Vec<f64>>,
+    /// K by diagonals, for the increment's −K·u_n.
+    k: Vec<f64>,
     extra: Vec<Extra>,
     /// Row i of L at `l[i·B + s]` = L(i, i − B + s) (zero before column 0; B zero rows
     /// follow the last).
@@ -813,18 +824,18 @@ pub struct FusedNewmark {
     long: Vec<LongRow>,
     l_tail: Vec<f64>,
     d_inv: Vec<f64>,
+    /// u_i at B + i, with B zeros before and padding after (see `new`).
     u: Vec<f64>,
     v: Vec<f64>,
     a: Vec<f64>,
-    /// w₁, w₂ and (α_f ≠ 0) u, padded with B zeros at both ends.
+    /// w₁, w₂, padded with B zeros at both ends.
     w1: Vec<f64>,
     w2: Vec<f64>,
-    up: Vec<f64>,
     /// Right-hand side then y (forward sweep), padded with B leading zeros.
     z: Vec<f64>,
-    /// y/d then, row by row as the backward sweep finishes them, the step's mean velocity
-    /// v̄ (the new displacement itself goes to u); padded with B zeros before and B + 4
-    /// after, so that the dense step's dissipation reads zeros past n.
+    /// y/d, then Δu as the backward sweep finishes each row, then, once a row is updated,
+    /// the step's mean velocity v̄ (u takes u + Δu); padded with B zeros before and B + 4
+    /// after, so that the sweep's and the dense step's dissipation's reads past n are zeros.
     x: Vec<f64>,
     /// Dense load of the step in progress, zero except at the DOFs just loaded.
     load: Vec<f64>,
@@ -949,11 +960,11 @@ impl FusedNewmark {
             }
             out
         };
-        let (mm, cc) = (dia(m, 0), dia(c, 1));
-        let (runs4, runs8) = (PeriodicRun::find(n, b, &mm, &cc, 4), PeriodicRun::find(n, b, &mm, &cc, 8));
+        let (mm, cc, kk) = (dia(m, 0), dia(c, 1), dia(k, 2));
+        let runs = |lanes| PeriodicRun::find(n, b, [&mm, &cc, &kk], lanes);
+        let (runs4, runs8) = (runs(4), runs(8));
         let d_inv: Vec<f64> = d.iter().map(|x| 1.0 / x).collect();
         let factor_runs = FactorRun::find(n, b, &l, &d_inv, &long);
-        let kk = dia(k, 2);
         extra.sort_by_key(|e| (e.i, e.j));
         let dense = (n <= DENSE_LIMIT && 2 * b >= n).then(|| {
             let column = |a: Option<&Csr>, j: usize| {
@@ -965,7 +976,7 @@ impl FusedNewmark {
                 factor.solve_in_place(&mut x);
                 x
             };
-            let blocks: Vec<&Csr> = if s.alpha_f != 0.0 { vec![m, c, k] } else { vec![m, c] };
+            let blocks: Vec<&Csr> = vec![m, c, k];
             let stride = (blocks.len() * n).next_multiple_of(4);
             let rows = n.next_multiple_of(4);
             let mut ops = vec![0.0; rows * stride];
@@ -1003,20 +1014,20 @@ impl FusedNewmark {
             b,
             m: mm,
             c: cc,
-            k: (s.alpha_f != 0.0).then_some(kk),
+            k: kk,
             extra,
             l,
             long,
             l_tail,
             d_inv,
-            // Zero padding to a multiple of four, so dense read-outs run over whole lanes, and
-            // B past n, where the backward sweep gathers finished rows from u.
-            u: vec![0.0; (n + b).next_multiple_of(4)],
+            // u_i at index B + i: B zeros before, where the right-hand side's −K·u reads
+            // them as the band's shifted copies, and after it zero padding to B past n and to
+            // a multiple of four, so dense read-outs run over whole lanes.
+            u: vec![0.0; b + (n + b).next_multiple_of(4)],
             v: vec![0.0; n.next_multiple_of(4)],
             a: vec![0.0; n.next_multiple_of(4)],
             w1: vec![0.0; n + 2 * b],
             w2: vec![0.0; n + 2 * b],
-            up: vec![0.0; n + 2 * b],
             z: vec![0.0; n + b],
             x: vec![0.0; n + 2 * b + 4],
             load: vec![0.0; n],
@@ -1063,10 +1074,10 @@ impl FusedNewmark {
         let f = std::mem::size_of::<f64>();
         let vecs = [&self.m, &self.c, &self.l, &self.l_tail, &self.d_inv, &self.u, &self.v, &self.a]
             .iter()
-            .chain([&self.w1, &self.w2, &self.up, &self.z, &self.x, &self.load].iter())
+            .chain([&self.w1, &self.w2, &self.z, &self.x, &self.load].iter())
             .map(|v| v.len())
             .sum::<usize>()
-            + self.k.as_ref().map_or(0, |k| k.len());
+            + self.k.len();
         vecs * f + self.extra.len() * std::mem::size_of::<Extra>() + self.long.len() * std::mem::size_of::<LongRow>()
     }
 
@@ -1133,7 +1144,7 @@ impl FusedNewmark {
 
     /// Displacement, velocity and acceleration at the current time.
     pub fn u(&self) -> &[f64] {
-        &self.u[..self.n]
+        &self.u[self.b..self.b + self.n]
     }
     pub fn v(&self) -> &[f64] {
         &self.v[..self.n]
@@ -1145,7 +1156,7 @@ impl FusedNewmark {
     /// Starts from displacement u₀, velocity v₀ and acceleration a₀ (which should be the
     /// consistent one, M⁻¹·(F₀ − C·v₀ − K·u₀)), with load F₀ as sparse pairs.
     pub fn set_state(&mut self, u0: &[f64], v0: &[f64], a0: &[f64], f0: &[(usize, f64)]) {
-        self.u[..self.n].copy_from_slice(u0);
+        self.u[self.b..self.b + self.n].copy_from_slice(u0);
         self.v[..self.n].copy_from_slice(v0);
         self.a[..self.n].copy_from_slice(a0);
         self.w_ready = false;
@@ -1210,12 +1221,12 @@ impl FusedNewmark {
         }
         if !o.dense_index.is_empty() {
             // u, v, a carry zero padding up to `stride`.
-            gemv3::<FMA>(&o.dense, o.stride, &self.u, &self.v, &self.a, &mut o.products);
+            gemv3::<FMA>(&o.dense, o.stride, &self.u[self.b..], &self.v, &self.a, &mut o.products);
             for (&r, &p) in o.dense_index.iter().zip(&o.products) {
                 o.values[r] = p;
             }
         }
-        let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
+        let (u, v, a) = (&self.u[self.b..self.b + n], &self.v[..n], &self.a[..n]);
         for (r, g) in &o.sparse {
             let mut val = [0.0; 3];
             for &(d, c) in g {
@@ -1375,21 +1386,19 @@ impl FusedNewmark {
         self.diss_pending = self.track_dissipation;
     }
 
-    /// x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ + K_eff⁻¹·load (− α_f·K_eff⁻¹K·u), row by row.
+    /// Δu = x = (K_eff⁻¹M)·w₁ + (K_eff⁻¹C)·w₂ − (K_eff⁻¹K)·u + K_eff⁻¹·load, row by row.
     #[inline(always)]
     fn dense_solve<const FMA: bool>(&mut self, k: Coeffs) {
         let (n, b) = (self.n, self.b);
         let ops = self.dense.as_mut().expect("dense step");
-        let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
+        let (u, v, a) = (&self.u[b..b + n], &self.v[..n], &self.a[..n]);
         let (w1, rest) = ops.w.split_at_mut(n);
         let (w2, rest) = rest.split_at_mut(n);
         if !self.w_ready {
-            fill_history::<FMA>(k, u, v, a, w1, w2);
+            fill_history::<FMA>(k, v, a, w1, w2);
         }
-        if k.af != 0.0 {
-            for j in 0..n {
-                rest[j] = -k.af * u[j];
-            }
+        for j in 0..n {
+            rest[j] = -u[j];
         }
         gemv::<FMA>(&ops.ops, ops.stride, &ops.w, &mut self.x[b..b + n]);
         let ops = self.dense.as_ref().expect("dense step");
@@ -1412,16 +1421,13 @@ impl FusedNewmark {
         }
     }
 
-    /// z = load + M·w₁ + C·w₂ (− α_f·K·u), by diagonals.
+    /// z = load + M·w₁ + C·w₂ − K·u, by diagonals.
     #[inline(always)]
     fn rhs<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
         let (n, b) = (self.n, w.b());
         if !self.w_ready {
-            let (u, v, a) = (&self.u[..n], &self.v[..n], &self.a[..n]);
-            fill_history::<FMA>(k, u, v, a, &mut self.w1[b..b + n], &mut self.w2[b..b + n]);
-        }
-        if self.k.is_some() {
-            self.up[b..b + n].copy_from_slice(&self.u[..n]);
+            let (v, a) = (&self.v[..n], &self.a[..n]);
+            fill_history::<FMA>(k, v, a, &mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         }
         // The last step's dissipation: folded into this pass in the AVX2 build (it reads C's
         // lower diagonals anyway, and v̄ is not overwritten before the backward sweep), a pass
@@ -1435,8 +1441,8 @@ impl FusedNewmark {
         // Row i: Σ_t D_t[i]·w[i−t] (lower half) + Σ_{t≥1} D_t[i+t]·w[i+t] (upper half, the
         // same diagonal read t entries further on). Padded index of column j is j + B.
         let stride = n + b;
-        let (m, c) = (&self.m[..(b + 1) * stride], &self.c[..(b + 1) * stride]);
-        let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
+        let (m, c, kk) = (&self.m[..(b + 1) * stride], &self.c[..(b + 1) * stride], &self.k[..(b + 1) * stride]);
+        let (w1, w2, up) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b], &self.u[..n + 2 * b]);
         let z = &mut self.z[b..b + n];
         if cfg!(target_arch = "x86_64") && FMA {
             // SAFETY: the FMA build runs only inside `step_avx2` (see `gemv`); the
@@ -1446,85 +1452,74 @@ impl FusedNewmark {
                 let vb = &self.x[..n + 2 * b];
                 let none: &[PeriodicRun] = &[];
                 let (r4, r8) = if self.use_runs { (&self.runs4[..], &self.runs8[..]) } else { (none, none) };
+                let (mck, ws) = ([m, c, kk], [w1, w2, up]);
                 let (from, r4) = match (self.avx512, fold) {
                     (false, _) => (0, r4),
-                    (true, true) => (rhs_band_avx512::<true>(n, b, m, c, w1, w2, z, vb, &mut lanes.1, r8), none),
-                    (true, false) => (rhs_band_avx512::<false>(n, b, m, c, w1, w2, z, vb, &mut lanes.1, r8), none),
+                    (true, true) => (rhs_band_avx512::<true>(n, b, mck, ws, z, vb, &mut lanes.1, r8), none),
+                    (true, false) => (rhs_band_avx512::<false>(n, b, mck, ws, z, vb, &mut lanes.1, r8), none),
                 };
                 lanes.0 = if fold {
-                    rhs_band_avx2::<true>(from, n, b, m, c, w1, w2, z, vb, &mut lanes.1, r4)
+                    rhs_band_avx2::<true>(from, n, b, mck, ws, z, vb, &mut lanes.1, r4)
                 } else {
-                    rhs_band_avx2::<false>(from, n, b, m, c, w1, w2, z, vb, &mut lanes.1, r4)
+                    rhs_band_avx2::<false>(from, n, b, mck, ws, z, vb, &mut lanes.1, r4)
                 };
             }
         } else if b <= MAX_SLICED {
             // Every diagonal and every shifted copy of w as a slice of length n, so that no
             // index in the row loop needs a bounds check (the baseline build; the compiler
             // kept even this loop scalar, hence `rhs_band_avx2`).
+            // Lower and upper diagonal t of M, C, K and the matching shifts of w₁, w₂, u.
             let empty: &[f64] = &[];
-            let (mut ml, mut mu, mut cl, mut cu) =
-                ([empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1]);
-            let (mut w1l, mut w1u, mut w2l, mut w2u) =
-                ([empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1], [empty; MAX_SLICED + 1]);
-            for t in 0..=b {
-                let o = t * stride;
-                (ml[t], mu[t]) = (&m[o..o + n], &m[o + t..o + t + n]);
-                (cl[t], cu[t]) = (&c[o..o + n], &c[o + t..o + t + n]);
-                (w1l[t], w1u[t]) = (&w1[b - t..b - t + n], &w1[b + t..b + t + n]);
-                (w2l[t], w2u[t]) = (&w2[b - t..b - t + n], &w2[b + t..b + t + n]);
+            let mut lo = [[empty; MAX_SLICED + 1]; 3];
+            let mut hi = [[empty; MAX_SLICED + 1]; 3];
+            let mut wl = [[empty; MAX_SLICED + 1]; 3];
+            let mut wu = [[empty; MAX_SLICED + 1]; 3];
+            for (q, (a, x)) in [(m, w1), (c, w2), (kk, up)].into_iter().enumerate() {
+                for t in 0..=b {
+                    let o = t * stride;
+                    (lo[q][t], hi[q][t]) = (&a[o..o + n], &a[o + t..o + t + n]);
+                    (wl[q][t], wu[q][t]) = (&x[b - t..b - t + n], &x[b + t..b + t + n]);
+                }
             }
             for i in 0..n {
-                let mut sm = ml[0][i] * w1l[0][i];
-                let mut sc = cl[0][i] * w2l[0][i];
-                for t in 1..=b {
-                    sm = madd::<FMA>(ml[t][i], w1l[t][i], sm);
-                    sm = madd::<FMA>(mu[t][i], w1u[t][i], sm);
-                    sc = madd::<FMA>(cl[t][i], w2l[t][i], sc);
-                    sc = madd::<FMA>(cu[t][i], w2u[t][i], sc);
+                let mut sums = [0.0; 3];
+                for q in 0..3 {
+                    let mut sq = lo[q][0][i] * wl[q][0][i];
+                    for t in 1..=b {
+                        sq = madd::<FMA>(lo[q][t][i], wl[q][t][i], sq);
+                        sq = madd::<FMA>(hi[q][t][i], wu[q][t][i], sq);
+                    }
+                    sums[q] = sq;
                 }
-                z[i] = sm + sc;
+                z[i] = (sums[0] + sums[1]) - sums[2];
             }
         } else {
             for i in 0..n {
-                let mut sm = m[i] * w1[i + b];
-                let mut sc = c[i] * w2[i + b];
-                for t in 1..=b {
-                    // SAFETY: t ≤ B and i < n, so t·(n+B) + i + t < (B+1)·(n+B), and
-                    // i + B ± t lies in 0..n + 2B.
-                    unsafe {
-                        let (lo, up) = (t * stride + i, t * stride + i + t);
-                        sm = madd::<FMA>(*m.get_unchecked(lo), *w1.get_unchecked(i + b - t), sm);
-                        sm = madd::<FMA>(*m.get_unchecked(up), *w1.get_unchecked(i + b + t), sm);
-                        sc = madd::<FMA>(*c.get_unchecked(lo), *w2.get_unchecked(i + b - t), sc);
-                        sc = madd::<FMA>(*c.get_unchecked(up), *w2.get_unchecked(i + b + t), sc);
+                let mut sums = [0.0; 3];
+                for (q, (a, x)) in [(m, w1), (c, w2), (kk, up)].into_iter().enumerate() {
+                    let mut sq = a[i] * x[i + b];
+                    for t in 1..=b {
+                        // SAFETY: t ≤ B and i < n, so t·(n+B) + i + t < (B+1)·(n+B), and
+                        // i + B ± t lies in 0..n + 2B.
+                        unsafe {
+                            let (lo, hi) = (t * stride + i, t * stride + i + t);
+                            sq = madd::<FMA>(*a.get_unchecked(lo), *x.get_unchecked(i + b - t), sq);
+                            sq = madd::<FMA>(*a.get_unchecked(hi), *x.get_unchecked(i + b + t), sq);
+                        }
                     }
+                    sums[q] = sq;
                 }
-                z[i] = sm + sc;
+                z[i] = (sums[0] + sums[1]) - sums[2];
             }
         }
         // The load touches a handful of DOFs: added here rather than streamed in the loop.
         for &d in &self.touched {
             z[d] += std::mem::take(&mut self.load[d]);
         }
-        if let Some(kk) = &self.k {
-            let kk = &kk[..(b + 1) * stride];
-            let up = &self.up[..n + 2 * b];
-            for i in 0..n {
-                let mut s = kk[i] * up[i + b];
-                for t in 1..=b {
-                    // SAFETY: as above.
-                    unsafe {
-                        s = madd::<FMA>(*kk.get_unchecked(t * stride + i), *up.get_unchecked(i + b - t), s);
-                        s = madd::<FMA>(*kk.get_unchecked(t * stride + i + t), *up.get_unchecked(i + b + t), s);
-                    }
-                }
-                z[i] -= k.af * s;
-            }
-        }
         for e in &self.extra {
             let (i, j) = (e.i, e.j);
-            z[i] += e.m * self.w1[j + b] + e.c * self.w2[j + b] - k.af * e.k * self.up[j + b];
-            z[j] += e.m * self.w1[i + b] + e.c * self.w2[i + b] - k.af * e.k * self.up[i + b];
+            z[i] += e.m * self.w1[j + b] + e.c * self.w2[j + b] - e.k * self.u[j + b];
+            z[j] += e.m * self.w1[i + b] + e.c * self.w2[i + b] - e.k * self.u[i + b];
         }
         if fold {
             self.diss_sum += self.band_dissipation_rows(lanes);
@@ -1575,8 +1570,11 @@ impl FusedNewmark {
     fn backward<W: Width, const FMA: bool, const VBAR: bool>(&mut self, w: W, k: Coeffs) {
         let (n, b) = (self.n, w.b());
         let l = &self.l[..(n + b) * b];
-        let x = &mut self.x[b..b + n];
-        let (u, v, a) = (&mut self.u[..n + b], &mut self.v[..n], &mut self.a[..n]);
+        // Δu of rows i + 1..=i + B, read by row i, stays in x (zero past row n − 1) until
+        // no later row reads it: row i + B is updated (and its v̄ stored over its Δu) only
+        // once row i is done.
+        let x = &mut self.x[b..b + n + b];
+        let (u, v, a) = (&mut self.u[b..b + n], &mut self.v[..n], &mut self.a[..n]);
         let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         let mut lp = self.long.len();
         let mut prev = 0.0; // x_{i+1}
@@ -1584,21 +1582,25 @@ impl FusedNewmark {
             let mut xi = x[i];
             if b > 0 {
                 for s in (2..=b).rev() {
-                    // SAFETY: (i+s)·B + B − s < (n+B)·B and i + s < n + B (u's zero padding).
+                    // SAFETY: (i+s)·B + B − s < (n+B)·B and i + s < n + B.
                     unsafe {
-                        xi = madd::<FMA>(-*l.get_unchecked((i + s) * b + b - s), *u.get_unchecked(i + s), xi);
+                        xi = madd::<FMA>(-*l.get_unchecked((i + s) * b + b - s), *x.get_unchecked(i + s), xi);
                     }
                 }
                 xi = madd::<FMA>(-l[(i + 1) * b + b - 1], prev, xi);
             }
             prev = xi;
-            // Row i's new state is final: update it here, off the sweep's critical path,
-            // so the processor overlaps it with the recurrence's latency.
-            update_row::<FMA, VBAR>(k, i, xi, u, v, a, x, w1, w2);
+            x[i] = xi;
+            if i + b < n {
+                update_row::<FMA, VBAR>(k, i + b, x[i + b], u, v, a, x, w1, w2);
+            }
             if lp > 0 && self.long[lp - 1].row == i {
                 lp -= 1;
                 self.long[lp].scatter(&self.l_tail, b, x, xi);
             }
+        }
+        for i in 0..b.min(n) {
+            update_row::<FMA, VBAR>(k, i, x[i], u, v, a, x, w1, w2);
         }
     }
 
@@ -1607,7 +1609,7 @@ impl FusedNewmark {
     fn update<const FMA: bool>(&mut self, k: Coeffs) {
         let (n, b) = (self.n, self.b);
         let x = &mut self.x[b..b + n];
-        let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
+        let (u, v, a) = (&mut self.u[b..b + n], &mut self.v[..n], &mut self.a[..n]);
         // The next step's w₁, w₂ go straight into the dense step's w.
         let ops = self.dense.as_mut().expect("dense step");
         let (w1, rest) = ops.w.split_at_mut(n);

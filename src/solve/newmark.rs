@@ -225,8 +225,13 @@ impl<'a> Newmark<'a> {
         Ok(())
     }
 
-    /// Builds the known part of the balance at t_{n+1−α_f} into `self.rhs` (everything but
-    /// K_eff·u_{n+1}), for load F_{n+1} = `f_next`.
+    /// Builds the known part of the balance at t_{n+1−α_f} for the increment Δu = u_{n+1} − u_n
+    /// into `self.rhs` (everything but K_eff·Δu), for load F_{n+1} = `f_next`: the right-hand
+    /// side of the whole displacement less K_eff·u_n, so M and C act on the v and a terms
+    /// only and −K·u_n stands in their u terms' place. The same step in exact arithmetic;
+    /// in floating point the solver's relative error then falls on Δu rather than on u,
+    /// which a_{n+1} = (Δu − Δt·v_n)/(βΔt²) − … amplifies ≈ 1/(βΔtω) rather than
+    /// 1/(βΔt²ω²) times (`tests/precision.rs`).
     // Eight arrays advance in lockstep: one row index reads as the textbook formula does.
     #[allow(clippy::needless_range_loop)]
     fn build_rhs(&mut self, f_next: &[f64]) {
@@ -237,30 +242,28 @@ impl<'a> Newmark<'a> {
         let ca = (1.0 - am) * (0.5 / b - 1.0) - am;
         for i in 0..self.u.len() {
             self.rhs[i] = (1.0 - af) * f_next[i] + af * self.f_prev[i];
-            // M-part: (1−α_m)·[(u_n + Δt·v_n)/(βΔt²) + (1/(2β) − 1)·a_n] − α_m·a_n
-            self.w1[i] = c0 * (self.u[i] + dt * self.v[i]) + ca * self.a[i];
-            // C-part: (1−α_f)·[γ/(βΔt)·u_n − (1 − γ/β)·v_n − Δt(1 − γ/(2β))·a_n] − α_f·v_n
-            self.w2[i] = (1.0 - af)
-                * (g / (b * dt) * self.u[i] - (1.0 - g / b) * self.v[i] - dt * (1.0 - 0.5 * g / b) * self.a[i])
-                - af * self.v[i];
+            // M-part: (1−α_m)·[Δt·v_n/(βΔt²) + (1/(2β) − 1)·a_n] − α_m·a_n
+            self.w1[i] = c0 * (dt * self.v[i]) + ca * self.a[i];
+            // C-part: (1−α_f)·[−(1 − γ/β)·v_n − Δt(1 − γ/(2β))·a_n] − α_f·v_n
+            self.w2[i] =
+                (1.0 - af) * (-(1.0 - g / b) * self.v[i] - dt * (1.0 - 0.5 * g / b) * self.a[i]) - af * self.v[i];
         }
         self.m.mul_vec_add(1.0, &self.w1, &mut self.rhs);
         self.c.mul_vec_add(1.0, &self.w2, &mut self.rhs);
-        if af != 0.0 {
-            self.k.mul_vec_add(-af, &self.u, &mut self.rhs);
-        }
+        // −α_f·K·u_n of the balance and −(1−α_f)·K·u_n of K_eff·u_n.
+        self.k.mul_vec_add(-1.0, &self.u, &mut self.rhs);
     }
 
-    /// Updates v and a from the new displacement held in `w1` and commits it.
+    /// Updates u, v and a from the increment Δu held in `w1` and commits them.
     fn update(&mut self, f_next: &[f64]) {
         let s = self.scheme;
         let dt = self.dt;
         for i in 0..self.u.len() {
-            let un = self.w1[i];
-            let a_new = (un - self.u[i] - dt * self.v[i]) / (s.beta * dt * dt) - (0.5 / s.beta - 1.0) * self.a[i];
+            let du = self.w1[i];
+            let a_new = (du - dt * self.v[i]) / (s.beta * dt * dt) - (0.5 / s.beta - 1.0) * self.a[i];
             self.v[i] += dt * ((1.0 - s.gamma) * self.a[i] + s.gamma * a_new);
             self.a[i] = a_new;
-            self.u[i] = un;
+            self.u[i] += du;
         }
         self.f_prev.copy_from_slice(f_next);
     }
@@ -273,7 +276,7 @@ impl<'a> Newmark<'a> {
         self.update(f_next);
     }
 
-    /// Advances one step with nonlinear elements, by Newton iterations on u_{n+1} with the
+    /// Advances one step with nonlinear elements, by Newton iterations on Δu with the
     /// consistent tangent K_eff + (1−α_f)·(K_t + γ/(βΔt)·C_t).
     pub fn step_nonlinear(
         &mut self,
@@ -297,21 +300,21 @@ impl<'a> Newmark<'a> {
         self.build_rhs(f_next);
         let rhs = self.rhs.clone();
         let scale = rhs.iter().map(|x| x * x).sum::<f64>().sqrt().max(f64::MIN_POSITIVE);
-        // Predictor: the linear step.
-        let mut u_new = rhs.clone();
-        self.factor.solve_in_place(&mut u_new);
+        // Predictor: the linear step's increment.
+        let mut du = rhs.clone();
+        self.factor.solve_in_place(&mut du);
         let mut iters = 0;
         loop {
-            // v_{n+1}(u_{n+1}) from the Newmark relations.
+            let u_new: Vec<f64> = (0..n).map(|i| self.u[i] + du[i]).collect();
+            // v_{n+1}(Δu) from the Newmark relations.
             let v_new: Vec<f64> = (0..n)
                 .map(|i| {
-                    let a_new =
-                        (u_new[i] - self.u[i] - dt * self.v[i]) / (s.beta * dt * dt) - (0.5 / s.beta - 1.0) * self.a[i];
+                    let a_new = (du[i] - dt * self.v[i]) / (s.beta * dt * dt) - (0.5 / s.beta - 1.0) * self.a[i];
                     self.v[i] + dt * ((1.0 - s.gamma) * self.a[i] + s.gamma * a_new)
                 })
                 .collect();
             let mut res = vec![0.0; n];
-            self.k_eff.mul_vec(&u_new, &mut res);
+            self.k_eff.mul_vec(&du, &mut res);
             for i in 0..n {
                 res[i] += s.alpha_f * f_old[i] - rhs[i];
             }
@@ -347,11 +350,11 @@ impl<'a> Newmark<'a> {
             let jf = jac.factorize()?;
             jf.solve_in_place(&mut res);
             for i in 0..n {
-                u_new[i] -= res[i];
+                du[i] -= res[i];
             }
             iters += 1;
         }
-        self.w1.copy_from_slice(&u_new);
+        self.w1.copy_from_slice(&du);
         self.update(f_next);
         for el in elements.iter_mut() {
             el.commit();

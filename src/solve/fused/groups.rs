@@ -125,7 +125,7 @@ impl FusedNewmark {
         debug_assert!(Self::groups_apply(b));
         let l = &self.l[..(n + b) * b];
         let x = &mut self.x[b..b + n];
-        let (u, v, a) = (&mut self.u[..n], &mut self.v[..n], &mut self.a[..n]);
+        let (u, v, a) = (&mut self.u[b..b + n], &mut self.v[..n], &mut self.a[..n]);
         let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         let (long, l_tail) = (&self.long[..], &self.l_tail[..]);
         let mut lp = long.len();
@@ -230,7 +230,7 @@ unsafe fn store_group_avx2(z: &mut [f64], x: &mut [f64], ys: [f64; 4], d_inv: [f
     store(x.as_mut_ptr(), mul(y, load(d_inv.as_ptr())));
 }
 
-/// `update_row` of rows g..g + 4 from their new displacements `xs`; one AVX2 vector per
+/// `update_row` of rows g..g + 4 from their increments `xs`; one AVX2 vector per
 /// quantity in the FMA build, with the same operations per lane (so the same bits).
 #[inline(always)]
 fn update_group<const FMA: bool, const VBAR: bool>(
@@ -271,18 +271,18 @@ unsafe fn update_group_avx2<const VBAR: bool>(
     };
     let x = set(xs[3], xs[2], xs[1], xs[0]);
     let (ui, vi, ai) = (load(u.as_ptr().add(g)), load(v.as_ptr().add(g)), load(a.as_ptr().add(g)));
-    // As update_row: a = (x − u − Δt·v)·ab − a_old·a, v = va_new·a_new + (va_old·a + v).
-    let a_new = fmadd(sub(sub(x, ui), mul(splat(k.dt), vi)), splat(k.ab), mul(splat(-k.a_old), ai));
+    // As update_row: a = (x − Δt·v)·ab − a_old·a, v = va_new·a_new + (va_old·a + v), u += x.
+    let a_new = fmadd(sub(x, mul(splat(k.dt), vi)), splat(k.ab), mul(splat(-k.a_old), ai));
     let v_new = fmadd(splat(k.va_new), a_new, fmadd(splat(k.va_old), ai, vi));
-    store(u.as_mut_ptr().add(g), x);
+    store(u.as_mut_ptr().add(g), add(ui, x));
     store(v.as_mut_ptr().add(g), v_new);
     store(a.as_mut_ptr().add(g), a_new);
     if VBAR {
         store(vbar.as_mut_ptr().add(g), mul(splat(0.5), add(vi, v_new)));
     }
     // As Coeffs::history.
-    let h1 = fmadd(splat(k.cu), x, fmadd(splat(k.cv), v_new, mul(splat(k.ca), a_new)));
-    let h2 = fmadd(splat(k.eu), x, fmadd(splat(k.ev), v_new, mul(splat(k.ea), a_new)));
+    let h1 = fmadd(splat(k.cv), v_new, mul(splat(k.ca), a_new));
+    let h2 = fmadd(splat(k.ev), v_new, mul(splat(k.ea), a_new));
     store(w1.as_mut_ptr().add(g), h1);
     store(w2.as_mut_ptr().add(g), h2);
 }
