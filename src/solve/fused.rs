@@ -404,8 +404,8 @@ unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 
 /// vector operations into scope as `load`, `store`, `mul`, `fmadd`, `add`, `sub`, `zero`
 /// and `splat` (a macro_rules body resolves such names where it is invoked). Row i:
 /// z = M_ii·w₁ᵢ + Σ_t (M_{i,i−t}·w₁ᵢ₋ₜ + M_{i+t,i}·w₁ᵢ₊ₜ), the same for C and w₂ and for K
-/// and u, then (sm + sc) − sk; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ) to `$acc`.
-/// Diagonal t of `$pm`, `$pc` starts at t·`$stride`. Advances `$i` past the last whole group
+/// and u, then (sm + sc) − sk; the dissipation adds 2·v̄ᵢ·(½·C_ii·v̄ᵢ + Σ_t C_{i,i−t}·v̄ᵢ₋ₜ)
+/// to `$acc`. Diagonal t of `$pm`, `$pc`, `$pk` starts at t·`$stride`. Advances `$i` past the last whole group
 /// before `$end`.
 macro_rules! rhs_groups {
     ($diss:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, $stride:expr, [$pm:expr, $pc:expr, $pk:expr], [$p1:expr, $p2:expr, $pu:expr, $pv:expr, $pz:expr], $acc:ident) => {{
@@ -534,7 +534,7 @@ const MIN_RUN_GROUPS: usize = 4;
 /// Rows `start..end` (whole groups of a kernel's lanes) in which every group of the band
 /// right-hand side loads the same values of M, C and K as the first. A segment of equal
 /// elements makes its rows repeat with period two (w and θ rows), so there the
-/// step reads one group's copy, which stays in L1, instead of streaming the 2·(B+1)
+/// step reads one group's copy, which stays in L1, instead of streaming the 3·(B+1)
 /// diagonals. The values are exactly those of the band storage, so the result is the same
 /// to the bit (`tests/newmark.rs`).
 #[derive(Clone, Debug)]
