@@ -4,6 +4,8 @@
 use beamflow::linalg::Csr;
 use beamflow::solve::newmark::{Newmark, NewtonSettings, NonlinearElement, Scheme};
 
+mod common;
+
 fn scalar(v: f64) -> Csr {
     Csr::from_triplets(1, &[(0, 0, v)])
 }
@@ -371,12 +373,10 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
 #[test]
 fn wide_kernel_only_for_systems_that_fit_in_cache() {
     use beamflow::assembly::System;
-    use beamflow::case::{build_model, LoadedCase};
+    use beamflow::case::build_model;
     use beamflow::solve::fused::FusedNewmark;
     let fused = |elements: usize| {
-        let text =
-            format!("[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = 5.29\na1 = 9.96e-6\n");
-        let lc = LoadedCase::from_str(&text, "case.toml", std::env::temp_dir()).unwrap();
+        let lc = common::bare_beam(elements, [5.29, 9.96e-6]);
         let sys = System::assemble(&build_model(&lc).unwrap().model).unwrap();
         FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap()
     };

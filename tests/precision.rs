@@ -9,9 +9,11 @@
 //! "Against OpenSees and an extended-precision reference").
 
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::build_model;
 use beamflow::solve::fused::FusedNewmark;
 use beamflow::solve::newmark::{Newmark, Scheme};
+
+mod common;
 
 /// A double-double number hi + lo, |lo| ≤ ½ ulp(hi).
 #[derive(Clone, Copy, Debug, Default)]
@@ -212,8 +214,7 @@ fn reference(
 fn transient_agrees_with_a_double_double_reference() {
     let (ne, load_node, f_hz, dt, steps) = (200, 41, 60.0, 1e-4, 4_000);
     let (a0, a1) = (5.29, 9.96e-6);
-    let text = format!("[beam.mesh]\nelements = {ne}\n[damping]\nkind = \"rayleigh\"\na0 = {a0}\na1 = {a1}\n");
-    let lc = LoadedCase::from_str(&text, "precision.toml", std::env::temp_dir()).unwrap();
+    let lc = common::bare_beam(ne, [a0, a1]);
     let model = build_model(&lc).unwrap().model;
     let sys = System::assemble(&model).unwrap();
     let beam = model.beam.as_ref().unwrap();

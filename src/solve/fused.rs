@@ -183,8 +183,8 @@ fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
     }
 }
 
-/// The step's coefficients: w₁ = c_u·u + c_v·v + c_a·a, w₂ = e_u·u + e_v·v + e_a·a, and the
-/// update a_new = (x − u − Δt·v)·ab − a_old·a, v_new = v + va_old·a + va_new·a_new.
+/// The step's coefficients: w₁ = c_v·v + c_a·a, w₂ = e_v·v + e_a·a, and the update from the
+/// increment x = Δu: a_new = (x − Δt·v)·ab − a_old·a, v_new = v + va_old·a + va_new·a_new.
 #[derive(Clone, Copy)]
 struct Coeffs {
     cv: f64,
@@ -976,7 +976,7 @@ impl FusedNewmark {
                 factor.solve_in_place(&mut x);
                 x
             };
-            let blocks: Vec<&Csr> = vec![m, c, k];
+            let blocks = [m, c, k];
             let stride = (blocks.len() * n).next_multiple_of(4);
             let rows = n.next_multiple_of(4);
             let mut ops = vec![0.0; rows * stride];
@@ -1072,12 +1072,11 @@ impl FusedNewmark {
     /// the number of DOFs, since everything is stored by band.
     pub fn memory_bytes(&self) -> usize {
         let f = std::mem::size_of::<f64>();
-        let vecs = [&self.m, &self.c, &self.l, &self.l_tail, &self.d_inv, &self.u, &self.v, &self.a]
+        let vecs = [&self.m, &self.c, &self.k, &self.l, &self.l_tail, &self.d_inv, &self.u, &self.v, &self.a]
             .iter()
             .chain([&self.w1, &self.w2, &self.z, &self.x, &self.load].iter())
             .map(|v| v.len())
-            .sum::<usize>()
-            + self.k.len();
+            .sum::<usize>();
         vecs * f + self.extra.len() * std::mem::size_of::<Extra>() + self.long.len() * std::mem::size_of::<LongRow>()
     }
 

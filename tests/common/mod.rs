@@ -10,6 +10,12 @@ pub fn case(text: &str) -> LoadedCase {
         .expect("test case must be valid")
 }
 
+/// The default (paper) beam, clamped at both ends, in `elements` equal elements with
+/// Rayleigh damping C = a₀·M + a₁·K given outright, so no modal analysis is run to set it.
+pub fn bare_beam(elements: usize, [a0, a1]: [f64; 2]) -> LoadedCase {
+    case(&format!("[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = {a0}\na1 = {a1}\n"))
+}
+
 /// The error message a bad case text produces.
 pub fn case_error(text: &str) -> String {
     match LoadedCase::from_str(text, "bad.toml", PathBuf::from(".")) {
