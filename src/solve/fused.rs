@@ -806,6 +806,7 @@ unsafe fn dissipation_avx2(n: usize, b: usize, c: &[f64], vb: &[f64], part: &mut
 }
 
 /// A linear system's Newmark integrator on band storage.
+#[derive(Clone)]
 pub struct FusedNewmark {
     scheme: Scheme,
     dt: f64,
@@ -852,6 +853,8 @@ pub struct FusedNewmark {
     runs4: Vec<PeriodicRun>,
     runs8: Vec<PeriodicRun>,
     factor_runs: Vec<FactorRun>,
+    /// The grouped sweeps' row pairs (`groups.rs`).
+    pairs: groups::PairRows,
     use_runs: bool,
     /// Whether the sweeps run in groups of four rows (`groups.rs`) where the band allows.
     use_groups: bool,
@@ -965,6 +968,7 @@ impl FusedNewmark {
         let (runs4, runs8) = (runs(4), runs(8));
         let d_inv: Vec<f64> = d.iter().map(|x| 1.0 / x).collect();
         let factor_runs = FactorRun::find(n, b, &l, &d_inv, &long);
+        let pairs = groups::PairRows::new(n, b, &l);
         extra.sort_by_key(|e| (e.i, e.j));
         let dense = (n <= DENSE_LIMIT && 2 * b >= n).then(|| {
             let column = |a: Option<&Csr>, j: usize| {
@@ -1038,6 +1042,7 @@ impl FusedNewmark {
             runs4,
             runs8,
             factor_runs,
+            pairs,
             use_runs: true,
             use_groups: true,
             dense,
@@ -1077,7 +1082,9 @@ impl FusedNewmark {
             .chain([&self.w1, &self.w2, &self.z, &self.x, &self.load].iter())
             .map(|v| v.len())
             .sum::<usize>();
-        vecs * f + self.extra.len() * std::mem::size_of::<Extra>() + self.long.len() * std::mem::size_of::<LongRow>()
+        (vecs + self.pairs.len()) * f
+            + self.extra.len() * std::mem::size_of::<Extra>()
+            + self.long.len() * std::mem::size_of::<LongRow>()
     }
 
     /// Whether the step runs as dense products (small dense systems).

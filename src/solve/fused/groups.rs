@@ -3,17 +3,30 @@
 //! A sweep is a recurrence, but most of its work is not: the forward sweep stores y and
 //! x = y/d, and the backward sweep updates a, v, u, v̄, w₁ and w₂ of each finished row
 //! (three loads, six stores and thirteen flops besides the recurrence's three multiply–adds).
-//! Row by row all of that is scalar, and a profile of the step showed it, not the
-//! recurrence's latency, setting the pace. Here each sweep carries the last B unknowns in
-//! registers, so the recurrence reads no stored unknowns, and finishes four rows at a time:
-//! the backward sweep updates them with one AVX2 vector per quantity. Every row does the
-//! same operations in the same order as the row-by-row sweeps in `fused.rs`, so the bits
-//! are the same (`tests/newmark.rs`).
+//! Row by row all of that is scalar, and a profile of the step showed it setting the pace.
+//! Here each sweep carries the last B unknowns in registers, so the recurrence reads no
+//! stored unknowns, and finishes four rows at a time: the backward sweep updates them with
+//! one AVX2 vector per quantity.
+//!
+//! Then the recurrence's latency set the pace: row i needs row i − 1 through one
+//! multiply–add, four cycles on the hosts measured, and one more dependent multiply–add per
+//! row made the step 39 % slower. So the rows go in **pairs** computed from the same three
+//! unknowns before the pair: the second row of a pair with the first substituted into it
+//! (`PairRows`: four multipliers instead of three, computed once from the factor). The
+//! chain is then one multiply–add per two rows; the step measured 0.91 (bare paper beam)
+//! to 0.94 (10⁴–10⁵ DOFs) of its time before, in alternating pairs (docs/performance.md,
+//! "Session 11"). The substitution rounds differently from the row-by-row sweeps in
+//! `fused.rs`, so the two agree to round-off, not to the bit (`tests/newmark.rs`); the
+//! error against an extended-precision reference is unchanged (`tests/precision.rs`).
+//! The substituted multipliers stay small: at most 1 in magnitude on meshes of 38 to 10⁵
+//! DOFs with or without the frame (where L itself reaches 5·10⁴, w and θ rows differing
+//! by 1/h), and the two terms each sums cancel by at most a factor 3.3 (11 at the frame's
+//! rows), i.e. two to four bits of one multiplier, not a growth through the sweep.
 //!
 //! Four rows can form a group because B ≥ 3: a long row of the factor reaches columns below
 //! row − B, which in the forward sweep must already be stored and in the backward sweep
-//! must not be swept yet; with B ≥ 3 those columns lie below the group of the row. Other
-//! widths (no beam has them) sweep row by row.
+//! must not be swept yet; with B ≥ 3 those columns lie below the group of the row. A group
+//! with a long row in it goes row by row. Other widths (no beam has them) sweep row by row.
 
 use super::{madd, update_row, Coeffs, FactorRun, FusedNewmark, Width};
 
@@ -63,19 +76,44 @@ impl FusedNewmark {
         }
         // SAFETY (band rows): i·B + t < n·B.
         let band = |i: usize, t: usize| unsafe { -*l.get_unchecked(i * b + t) };
+        let la_f = &self.pairs.fwd[..];
+        // Rows r (even) and r + 1 from the same window, y_{r+1} with y_r substituted
+        // (`la`: `PairRows::fwd`). The two chains interleave, each one multiply–add deep.
+        macro_rules! pair {
+            ($r:expr, $l_neg:expr, $la:expr) => {{
+                let (r, l_neg, la): (usize, _, [f64; 4]) = ($r, $l_neg, $la);
+                let zr = z[r + b];
+                let mut yo = madd::<FMA>(la[3], zr, z[r + 1 + b]);
+                let mut ye = zr;
+                ye = madd::<FMA>(l_neg(0), win.2, ye);
+                yo = madd::<FMA>(la[0], win.2, yo);
+                ye = madd::<FMA>(l_neg(1), win.1, ye);
+                yo = madd::<FMA>(la[1], win.1, yo);
+                ye = madd::<FMA>(l_neg(2), win.0, ye);
+                yo = madd::<FMA>(la[2], win.0, yo);
+                win = (yo, ye, win.0);
+                (ye, yo)
+            }};
+        }
         let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
         let mut i = 0;
         // Rows i..i + 4, with −L(r, r − B + t) = even(r, t) for rows r of i's parity and
         // odd(r, t) for the others (i is even), and their 1/d.
         macro_rules! group {
-            ($even:expr, $odd:expr, $d_inv:expr, $long:expr) => {{
+            ($even:expr, $odd:expr, $la:expr, $d_inv:expr, $long:expr) => {{
                 let (even, odd) = ($even, $odd);
-                let ys = [
-                    row!(i, |t| even(i, t), $long),
-                    row!(i + 1, |t| odd(i + 1, t), $long),
-                    row!(i + 2, |t| even(i + 2, t), $long),
-                    row!(i + 3, |t| odd(i + 3, t), $long),
-                ];
+                let ys = if $long {
+                    [
+                        row!(i, |t| even(i, t), $long),
+                        row!(i + 1, |t| odd(i + 1, t), $long),
+                        row!(i + 2, |t| even(i + 2, t), $long),
+                        row!(i + 3, |t| odd(i + 3, t), $long),
+                    ]
+                } else {
+                    let (y0, y1) = pair!(i, |t| even(i, t), $la(i / 2));
+                    let (y2, y3) = pair!(i + 2, |t| even(i + 2, t), $la(i / 2 + 1));
+                    [y0, y1, y2, y3]
+                };
                 store_group::<FMA>(&mut z[i + b..i + b + G], &mut x[i + b..i + b + G], ys, $d_inv);
                 i += G;
             }};
@@ -85,10 +123,12 @@ impl FusedNewmark {
         macro_rules! band_group {
             () => {{
                 let dv = [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]];
+                // SAFETY: pair p < n/2 = la_f.len() (the group's rows are below n).
+                let la = |p: usize| unsafe { *la_f.get_unchecked(p) };
                 if lp < long.len() && long[lp].row < i + G {
-                    group!(band, band, dv, true);
+                    group!(band, band, la, dv, true);
                 } else {
-                    group!(band, band, dv, false);
+                    group!(band, band, la, dv, false);
                 }
             }};
         }
@@ -99,11 +139,13 @@ impl FusedNewmark {
                 band_group!();
             }
             let [even, odd] = run.l_neg;
+            let la_run = PairRows::ahead_fwd(even, odd);
+            let la = |_: usize| la_run;
             let (even, odd) = (|_: usize, t: usize| even[t], |_: usize, t: usize| odd[t]);
             let dv = [run.d_inv[0], run.d_inv[1], run.d_inv[0], run.d_inv[1]];
             debug_assert!(long[lp..].first().is_none_or(|r| r.row >= run.end), "a long row in a factor run");
             while i + G <= run.end {
-                group!(even, odd, dv, false);
+                group!(even, odd, la, dv, false);
             }
         }
         while i + G <= n {
@@ -152,6 +194,25 @@ impl FusedNewmark {
         }
         // SAFETY (band rows): (i+s)·B + B − s < (n+B)·B.
         let band = |i: usize, s: usize| unsafe { -*l.get_unchecked((i + s) * b + b - s) };
+        let la_b = &self.pairs.bwd[..];
+        // Rows o = e + 1 and e (even) from the same window, x_e with x_o substituted
+        // (`la`: `PairRows::bwd`).
+        macro_rules! pair {
+            ($e:expr, $up_o:expr, $la:expr) => {{
+                let (e, up_o, la): (usize, _, [f64; 4]) = ($e, $up_o, $la);
+                let xo_hat = x[e + 1];
+                let mut xe = madd::<FMA>(la[3], xo_hat, x[e]);
+                let mut xo = xo_hat;
+                xo = madd::<FMA>(up_o(3), win.2, xo);
+                xe = madd::<FMA>(la[0], win.2, xe);
+                xo = madd::<FMA>(up_o(2), win.1, xo);
+                xe = madd::<FMA>(la[1], win.1, xe);
+                xo = madd::<FMA>(up_o(1), win.0, xo);
+                xe = madd::<FMA>(la[2], win.0, xe);
+                win = (xe, xo, win.0);
+                (xe, xo)
+            }};
+        }
         let top = n / G * G;
         let mut i = n;
         while i > top {
@@ -163,12 +224,18 @@ impl FusedNewmark {
         // Rows g..g + 4 and their update, with −L(i + s, i) = even(i, s) for rows i of g's
         // parity and odd(i, s) for the others (g is even).
         macro_rules! group {
-            ($g:expr, $even:expr, $odd:expr, $long:expr) => {{
+            ($g:expr, $even:expr, $odd:expr, $la:expr, $long:expr) => {{
                 let (g, even, odd) = ($g, $even, $odd);
-                let x3 = row!(g + 3, |s| odd(g + 3, s), $long);
-                let x2 = row!(g + 2, |s| even(g + 2, s), $long);
-                let x1 = row!(g + 1, |s| odd(g + 1, s), $long);
-                let xs = [row!(g, |s| even(g, s), $long), x1, x2, x3];
+                let xs = if $long {
+                    let x3 = row!(g + 3, |s| odd(g + 3, s), $long);
+                    let x2 = row!(g + 2, |s| even(g + 2, s), $long);
+                    let x1 = row!(g + 1, |s| odd(g + 1, s), $long);
+                    [row!(g, |s| even(g, s), $long), x1, x2, x3]
+                } else {
+                    let (x2, x3) = pair!(g + 2, |s| odd(g + 3, s), $la(g / 2 + 1));
+                    let (x0, x1) = pair!(g, |s| odd(g + 1, s), $la(g / 2));
+                    [x0, x1, x2, x3]
+                };
                 update_group::<FMA, VBAR>(k, g, xs, [&mut *u, &mut *v, &mut *a], x, [&mut *w1, &mut *w2]);
                 i = g;
             }};
@@ -176,10 +243,12 @@ impl FusedNewmark {
         // A band group, checking for long rows only if the next one (going up) is in it.
         macro_rules! band_group {
             () => {{
+                // SAFETY: as in the forward sweep.
+                let la = |p: usize| unsafe { *la_b.get_unchecked(p) };
                 if lp > 0 && long[lp - 1].row >= i - G {
-                    group!(i - G, band, band, true);
+                    group!(i - G, band, band, la, true);
                 } else {
-                    group!(i - G, band, band, false);
+                    group!(i - G, band, band, la, false);
                 }
             }};
         }
@@ -190,10 +259,12 @@ impl FusedNewmark {
                 band_group!();
             }
             let [even, odd] = run.up_neg;
+            let la_run = PairRows::ahead_bwd(even, odd);
+            let la = |_: usize| la_run;
             let (even, odd) = (|_: usize, s: usize| even[s], |_: usize, s: usize| odd[s]);
             debug_assert!(long[..lp].last().is_none_or(|r| r.row < run.start), "a long row in a factor run");
             while i >= G && i - G >= run.start {
-                group!(i - G, even, odd, false);
+                group!(i - G, even, odd, la, false);
             }
         }
         while i >= G {
@@ -285,4 +356,60 @@ unsafe fn update_group_avx2<const VBAR: bool>(
     let h2 = fmadd(splat(k.ev), v_new, mul(splat(k.ea), a_new));
     store(w1.as_mut_ptr().add(g), h1);
     store(w2.as_mut_ptr().add(g), h2);
+}
+
+/// The sweeps' row pairs (2p, 2p + 1) with one row substituted into the other, so that both
+/// rows of a pair are computed from the same three unknowns before it (see the module).
+#[derive(Clone, Debug, Default)]
+pub(super) struct PairRows {
+    /// Forward, pair p: the odd row r = 2p + 1 with y_{r−1} substituted, as the multipliers
+    /// of y_{r−4}, y_{r−3}, y_{r−2} and of z_{r−1}.
+    fwd: Vec<[f64; 4]>,
+    /// Backward, pair p: the even row e = 2p with x_{e+1} substituted, as the multipliers of
+    /// x_{e+4}, x_{e+3}, x_{e+2} and of the right-hand side of row e + 1.
+    bwd: Vec<[f64; 4]>,
+}
+
+impl PairRows {
+    /// From the factor rows `l` (B per row, B zero rows past n); empty unless the grouped
+    /// sweeps apply to `b`.
+    pub(super) fn new(n: usize, b: usize, l: &[f64]) -> Self {
+        if !FusedNewmark::groups_apply(b) {
+            return Self::default();
+        }
+        // −L(r, r − 3 + t), t ∈ 0..3, and −L(r + s, r), s ∈ 1..=3 (index 0 unused).
+        let left = |r: usize| [-l[r * b], -l[r * b + 1], -l[r * b + 2]];
+        let below = |r: usize| {
+            let mut v = [0.0; 4];
+            (1..=3).for_each(|s| v[s] = -l[(r + s) * b + b - s]);
+            v
+        };
+        let pairs = 0..n / 2;
+        PairRows {
+            fwd: pairs.clone().map(|p| Self::ahead_fwd(left(2 * p), left(2 * p + 1))).collect(),
+            bwd: pairs.map(|p| Self::ahead_bwd(below(2 * p), below(2 * p + 1))).collect(),
+        }
+    }
+
+    pub(super) fn len(&self) -> usize {
+        4 * (self.fwd.len() + self.bwd.len())
+    }
+
+    /// y_o = z_o + a_o·y_{o−3} + b_o·y_{o−2} + c_o·y_{o−1} (`odd` = [a_o, b_o, c_o]) with
+    /// y_{o−1} = z_{o−1} + a_e·y_{o−4} + b_e·y_{o−3} + c_e·y_{o−2} (`even`) substituted:
+    /// [c_o·a_e, a_o + c_o·b_e, b_o + c_o·c_e, c_o].
+    #[inline(always)]
+    pub(super) fn ahead_fwd(even: [f64; 3], odd: [f64; 3]) -> [f64; 4] {
+        let c = odd[2];
+        [c * even[0], odd[0] + c * even[1], odd[1] + c * even[2], c]
+    }
+
+    /// x_e = x̂_e + p_e·x_{e+1} + q_e·x_{e+2} + r_e·x_{e+3} (`even` = [_, p_e, q_e, r_e])
+    /// with x_{e+1} = x̂_{e+1} + p_o·x_{e+2} + q_o·x_{e+3} + r_o·x_{e+4} (`odd`) substituted:
+    /// [p_e·r_o, r_e + p_e·q_o, q_e + p_e·p_o, p_e].
+    #[inline(always)]
+    pub(super) fn ahead_bwd(even: [f64; 4], odd: [f64; 4]) -> [f64; 4] {
+        let p = even[1];
+        [p * odd[3], even[3] + p * odd[2], even[2] + p * odd[1], p]
+    }
 }
