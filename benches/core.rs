@@ -50,6 +50,7 @@ fn newmark(c: &mut Criterion) {
     c.bench_function(&format!("newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| nm.step(&f)));
     let mut fused =
         FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
+    assert!(fused.use_proportional_damping(model.rayleigh.a0, model.rayleigh.a1));
     let load: Vec<(usize, f64)> = sys.drives[0].clone();
     c.bench_function(&format!("fused newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| fused.step(&load)));
     fused.track_dissipation = true;

@@ -20,11 +20,15 @@ use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Through
 use std::path::PathBuf;
 use std::time::Duration;
 
+/// The Rayleigh coefficients of `bare_beam` (1/s, s).
+const A0: f64 = 5.29;
+const A1: f64 = 9.96e-6;
+
 /// The default beam with `elements` elements and fixed Rayleigh coefficients (no modal
 /// analysis at set-up), as an assembled system, and the w DOF under x = 0.15 m.
 pub fn bare_beam(elements: usize) -> (System, usize) {
     let text = format!(
-        "[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = 5.29\na1 = 9.96e-6\n\
+        "[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = {A0}\na1 = {A1}\n\
          [[sensor]]\nname = \"load\"\nx = 0.15\n"
     );
     let lc = LoadedCase::from_str(&text, "scaling.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR"))).unwrap();
@@ -42,6 +46,7 @@ fn scaling(c: &mut Criterion) {
         let n = sys.n();
         let mut nm =
             FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap();
+        assert!(nm.use_proportional_damping(A0, A1));
         eprintln!(
             "{n} DOFs: band half-width {}, integrator storage {:.1} bytes per DOF, FMA build: {}",
             nm.band_width(),
@@ -68,6 +73,7 @@ fn anchor(c: &mut Criterion) {
         b.iter(|| {
             let mut nm =
                 FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap();
+            assert!(nm.use_proportional_damping(A0, A1));
             let mut w = Vec::with_capacity(20_000);
             for k in 1..=20_000 {
                 let t = k as f64 * 1e-4;

@@ -40,6 +40,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let d = sys.w_at(&model, x_load, "sensor")?[0].0;
     let (dt, f_hz) = (1e-4, 60.0);
     let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt)?;
+    nm.use_proportional_damping(model.rayleigh.a0, model.rayleigh.a1);
     // The textbook step on CSR and profile storage, as a measure of beamflow's own round-off.
     let mut tb = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt)?;
     let zeros = vec![0.0; sys.n()];

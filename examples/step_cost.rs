@@ -2,11 +2,12 @@
 //! DOF-steps each) on the default beam with `elements` elements and fixed Rayleigh damping,
 //! optionally with the frame actuator's coupling and the dissipation tracked.
 //!
-//! `cargo run --release --example step_cost -- <elements> [dissipation 0|1] [frame 0|1] [runs 1|0] [avx512 1|0]`
+//! `cargo run --release --example step_cost -- <elements> [dissipation 0|1] [frame 0|1] [runs 1|0] [avx512 1|0] [proportional 1|0]`
 //!
 //! (`runs 0` switches the periodic runs off, so a bare beam and the frame system can be
 //! compared without the bare beam's longer periodic stretch; `avx512 0` keeps a processor
-//! with AVX-512 on the AVX2 kernels, to compare the two on the same machine.)
+//! with AVX-512 on the AVX2 kernels, to compare the two on the same machine; `proportional 0`
+//! keeps the three-product right-hand side instead of the Rayleigh form.)
 //!
 //! It prints `best <ns>` so that `scripts/paired.sh` can alternate two builds of it and
 //! report the median ratio: on a shared VM whose speed drifts by tens of per cent over
@@ -26,6 +27,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let frame = args.get(3).is_some_and(|s| s == "1");
     let runs = args.get(4).is_none_or(|s| s != "0");
     let wide = args.get(5).is_none_or(|s| s != "0");
+    let proportional = args.get(6).is_none_or(|s| s != "0");
     let mut text =
         format!("[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = 5.29\na1 = 9.96e-6\n");
     if frame {
@@ -43,6 +45,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     if !wide {
         nm.disable_avx512();
     }
+    if proportional {
+        assert!(nm.use_proportional_damping(5.29, 9.96e-6));
+    }
     let steps = (4_000_000 / n).max(20);
     let load = n / 3;
     let mut best = f64::INFINITY;
@@ -55,6 +60,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     std::hint::black_box((nm.u()[load], nm.dissipated()));
     let avx512 = nm.uses_avx512();
-    println!("{n} DOFs, dissipation {dissipation}, frame {frame}, runs {runs}, avx512 {avx512}: best {best:.3} ns per DOF-step");
+    println!("{n} DOFs, dissipation {dissipation}, frame {frame}, runs {runs}, avx512 {avx512}, proportional {proportional}: best {best:.3} ns per DOF-step");
     Ok(())
 }

@@ -39,8 +39,12 @@ const FRAME: &str =
 fn steps_allocate_nothing() {
     let _serial = SERIAL.lock().unwrap();
     let sys = system(FRAME);
+    let model = build_model(&LoadedCase::from_str(FRAME, "alloc.toml", std::env::temp_dir()).unwrap()).unwrap().model;
+    let rayleigh = (model.rayleigh.a0, model.rayleigh.a1);
     for scheme in [Scheme::average_acceleration(), Scheme::generalized_alpha(0.8)] {
         let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4).unwrap();
+        // The proportional form's R term (the frame's entries) must not allocate either.
+        assert!(nm.use_proportional_damping(rayleigh.0, rayleigh.1));
         nm.track_dissipation = true;
         nm.set_load_patterns(sys.drives.clone());
         let pairs: Vec<(usize, f64)> = sys.drives[0].clone();

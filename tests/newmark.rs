@@ -206,24 +206,33 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
     let hz = reduction::cutoff_hz(&model, &rs, 9).unwrap();
     let (red, _) = reduction::reduce(&model, &full, &rs, hz).unwrap();
     // The frame case with more in its file, assembled.
+    // With the Rayleigh coefficients the case chose for its own mesh (from that mesh's modes).
     let system = |before: &str, after: &str| {
         let lc = LoadedCase::from_str(&format!("{before}{text}{after}"), "case.toml", std::env::temp_dir()).unwrap();
-        System::assemble(&build_model(&lc).unwrap().model).unwrap()
+        let model = build_model(&lc).unwrap().model;
+        (System::assemble(&model).unwrap(), (model.rayleigh.a0, model.rayleigh.a1))
     };
-    let odd = system("[beam.mesh]\nelements = 204\n", "");
+    let (odd, odd_rayleigh) = system("[beam.mesh]\nelements = 204\n", "");
     assert_eq!(odd.n() % 8, 6, "{}", odd.n());
     // A sensor near the far end makes a node there, so the elements past it are shorter and
     // the factor's periodic run ends inside the matrix rather than at its last row.
-    let ends = system("", "[[sensor]]\nname = \"tip\"\nx = 0.68\n");
+    let (ends, ends_rayleigh) = system("", "[[sensor]]\nname = \"tip\"\nx = 0.68\n");
     // An inertial actuator's one body DOF ahead of the frame shifts the frame's long rows
     // by one: they then start and end inside groups of four rows, not on their bounds.
     let inertial = "[[actuator]]\ntype = \"inertial\"\nx_e = 0.05\n[actuator.voltage]\nkind = \"sine\"\n\
                     amplitude = 12.0\nfrequency = 60.0\n";
-    let two = system("", inertial);
+    let (two, two_rayleigh) = system("", inertial);
     let leg_rows = |sys: &System| (0..sys.n()).filter(|&i| i - sys.envelope[i] > 10).collect::<Vec<_>>();
     assert_eq!(leg_rows(&full), [104, 105]);
     assert_eq!(leg_rows(&two), [105, 106]);
-    for (sys, dense) in [(&full, false), (&odd, false), (&ends, false), (&two, false), (&red, true)] {
+    let full_rayleigh = (model.rayleigh.a0, model.rayleigh.a1);
+    for (sys, dense, (a0, a1)) in [
+        (&full, false, full_rayleigh),
+        (&odd, false, odd_rayleigh),
+        (&ends, false, ends_rayleigh),
+        (&two, false, two_rayleigh),
+        (&red, true, full_rayleigh),
+    ] {
         let n = sys.n();
         let drive = sys.drives[0].clone();
         // (Linear acceleration is only conditionally stable: this mesh's top modes need
@@ -237,6 +246,9 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                 let mut slow = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
                 // An integrator of this build: 0 the best the processor has, 1 AVX2 + FMA
                 // only, 2 the baseline.
+                // All of them in the proportional form of the right-hand side (the beam's
+                // Rayleigh damping; the frame's dashpots, masses and springs as R), which
+                // the band step takes and the dense step declines.
                 let integrator = || {
                     let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
                     if build == 1 {
@@ -245,6 +257,7 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                     if !fma {
                         nm.disable_fma();
                     }
+                    assert_eq!(nm.use_proportional_damping(a0, a1), !dense, "{n} DOFs");
                     nm
                 };
                 let mut fast = integrator();
@@ -272,6 +285,9 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                 };
                 let mut no_runs = reference(false, true);
                 let mut by_rows = [reference(true, false), reference(false, false)];
+                // And the three-product right-hand side, to round-off.
+                let mut three = reference(true, true);
+                three.disable_proportional_damping();
                 if fma && !dense {
                     assert!(fast.periodic_rows() > n / 2, "{n} DOFs: only {} periodic rows", fast.periodic_rows());
                 }
@@ -291,14 +307,15 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                 slow.initialize(&zeros, &zeros, &zeros, &mut []).unwrap();
                 fast.set_state(&zeros, &zeros, &zeros, &[]);
                 plain.set_state(&zeros, &zeros, &zeros, &[]);
-                for other in std::iter::once(&mut no_runs).chain(&mut by_rows) {
+                for other in [&mut no_runs, &mut three].into_iter().chain(&mut by_rows) {
                     other.set_state(&zeros, &zeros, &zeros, &[]);
                 }
                 let mut f = vec![0.0; n];
                 // Worst relative difference of u, v and a over the run.
                 let (mut worst, mut worst_diss, mut d_slow) = ([0.0f64; 3], 0.0f64, 0.0);
-                // The same for the grouped sweeps against the row-by-row ones.
-                let mut worst_rows = [0.0f64; 3];
+                // The same for the grouped sweeps against the row-by-row ones, and for the
+                // proportional form against the three-product one.
+                let (mut worst_rows, mut worst_three) = ([0.0f64; 3], [0.0f64; 3]);
                 for step in 1..=600 {
                     let fp = 46.8 * (2.0 * std::f64::consts::PI * 60.0 * step as f64 * dt).sin();
                     let sparse: Vec<(usize, f64)> = drive.iter().map(|&(d, c)| (d, c * fp)).collect();
@@ -310,24 +327,36 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                     slow.step(&f);
                     fast.step(&sparse);
                     plain.step(&sparse);
-                    // The grouped sweeps against the row-by-row ones for one step from the
-                    // same state, before round-off has had steps to grow: Δu to 1e-12 of
-                    // its largest entry (measured ≤ 2.3e-14, the largest where Δu is near a
-                    // turning point; one pair multiplier off by 1e-10 of itself fails it).
+                    // One step from the same state, before round-off has had steps to grow.
+                    // The grouped sweeps against the row-by-row ones: to 1e-12 of the largest
+                    // entry of Δu (measured ≤ 2.3e-14, the largest where Δu is near a turning
+                    // point; one pair multiplier off by 1e-10 of itself fails it). The
+                    // proportional form against the three-product one: to 1e-10 of the
+                    // largest |u|, since the right-hand side's round-off is relative to K·u
+                    // (measured ≤ 5.4e-12, against ≤ 1.4e-12 between the FMA and the baseline
+                    // build of either form; both forms are equally far from the
+                    // extended-precision reference, tests/precision.rs).
                     if step % 50 == 0 {
-                        let mut rows_once = fast.clone();
-                        rows_once.disable_grouped_sweeps();
                         let mut once = fast.clone();
                         let u0 = fast.u().to_vec();
                         once.step(&sparse);
-                        rows_once.step(&sparse);
                         let du: Vec<f64> = once.u().iter().zip(&u0).map(|(a, b)| a - b).collect();
                         let scale = du.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-                        let e = once.u().iter().zip(rows_once.u()).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
-                        assert!(
-                            scale > 0.0 && e <= 1e-12 * scale,
-                            "{n} DOFs, build {build}, step {step}: pairs vs rows {e:e} of Δu {scale:e}"
-                        );
+                        let (mut rows_once, mut three_once) = (fast.clone(), fast.clone());
+                        rows_once.disable_grouped_sweeps();
+                        three_once.disable_proportional_damping();
+                        let u_scale = once.u().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                        for (mut other, what, bound) in [
+                            (rows_once, "pairs vs rows", 1e-12 * scale),
+                            (three_once, "proportional vs three", 1e-10 * u_scale),
+                        ] {
+                            other.step(&sparse);
+                            let e = once.u().iter().zip(other.u()).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+                            assert!(
+                                scale > 0.0 && e <= bound,
+                                "{n} DOFs, build {build}, step {step}: {what} {e:e} (Δu {scale:e}, u {u_scale:e})"
+                            );
+                        }
                     }
                     no_runs.step(&sparse);
                     assert!(
@@ -345,12 +374,16 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                         "{n} DOFs, build {build}, step {step}: the periodic runs changed the row-by-row state"
                     );
                     assert_eq!(by_row.dissipated().to_bits(), by_row_no_runs.dissipated().to_bits());
-                    for (q, (x, y)) in
-                        [(by_row.u(), fast.u()), (by_row.v(), fast.v()), (by_row.a(), fast.a())].into_iter().enumerate()
-                    {
-                        let s = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                        let e = x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
-                        worst_rows[q] = worst_rows[q].max(e / s.max(f64::MIN_POSITIVE));
+                    three.step(&sparse);
+                    for (other, worst_other) in [(&*by_row, &mut worst_rows), (&three, &mut worst_three)] {
+                        for (q, (x, y)) in [(other.u(), fast.u()), (other.v(), fast.v()), (other.a(), fast.a())]
+                            .into_iter()
+                            .enumerate()
+                        {
+                            let s = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                            let e = x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+                            worst_other[q] = worst_other[q].max(e / s.max(f64::MIN_POSITIVE));
+                        }
                     }
                     assert!(
                         fast.u() == plain.u() && fast.v() == plain.v() && fast.a() == plain.a(),
@@ -390,10 +423,14 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                     worst[0] < 1e-8 && worst[1] < 1e-8 && worst[2] < 1e-6,
                     "{n} DOFs, {scheme:?}, build {build}: fast vs textbook {worst:?}"
                 );
-                assert!(
-                    worst_rows[0] < 1e-8 && worst_rows[1] < 1e-8 && worst_rows[2] < 1e-6,
-                    "{n} DOFs, {scheme:?}, build {build}: grouped vs row-by-row sweeps {worst_rows:?}"
-                );
+                for (worst_other, what) in
+                    [(worst_rows, "grouped vs row-by-row"), (worst_three, "proportional vs three")]
+                {
+                    assert!(
+                        worst_other[0] < 1e-8 && worst_other[1] < 1e-8 && worst_other[2] < 1e-6,
+                        "{n} DOFs, {scheme:?}, build {build}: {what} {worst_other:?}"
+                    );
+                }
                 let d_fast = fast.dissipated();
                 assert!(
                     (d_fast - d_slow).abs() < 1e-10 * d_slow.abs() && worst_diss < 1e-10,

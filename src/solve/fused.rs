@@ -135,20 +135,21 @@ fn update_row<const FMA: bool, const VBAR: bool>(
     let (ui, vi, ai) = (u[i], v[i], a[i]);
     let a_new = madd::<FMA>(x - k.dt * vi, k.ab, -k.a_old * ai);
     let v_new = madd::<FMA>(k.va_new, a_new, madd::<FMA>(k.va_old, ai, vi));
-    u[i] = ui + x;
+    let u_new = ui + x;
+    u[i] = u_new;
     v[i] = v_new;
     a[i] = a_new;
     if VBAR {
         vbar[i] = 0.5 * (vi + v_new);
     }
-    (w1[i], w2[i]) = k.history::<FMA>(v_new, a_new);
+    (w1[i], w2[i]) = k.history::<FMA>(u_new, v_new, a_new);
 }
 
-/// w₁, w₂ of every DOF from v, a: after `set_state`, before an update has written them.
+/// w₁, w₂ of every DOF from u, v, a: after `set_state`, before an update has written them.
 #[inline(always)]
-fn fill_history<const FMA: bool>(k: Coeffs, v: &[f64], a: &[f64], w1: &mut [f64], w2: &mut [f64]) {
+fn fill_history<const FMA: bool>(k: Coeffs, u: &[f64], v: &[f64], a: &[f64], w1: &mut [f64], w2: &mut [f64]) {
     for i in 0..v.len() {
-        (w1[i], w2[i]) = k.history::<FMA>(v[i], a[i]);
+        (w1[i], w2[i]) = k.history::<FMA>(u[i], v[i], a[i]);
     }
 }
 
@@ -183,14 +184,16 @@ fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
     }
 }
 
-/// The step's coefficients: w₁ = c_v·v + c_a·a, w₂ = e_v·v + e_a·a, and the update from the
-/// increment x = Δu: a_new = (x − Δt·v)·ab − a_old·a, v_new = v + va_old·a + va_new·a_new.
+/// The step's coefficients: w₁ = c_v·v + c_a·a, w₂ = e_v·v + e_a·a + e_u·u, and the update
+/// from the increment x = Δu: a_new = (x − Δt·v)·ab − a_old·a, v_new = v + va_old·a +
+/// va_new·a_new. e_u is 0 but in the proportional form (`Coeffs::proportional`).
 #[derive(Clone, Copy)]
 struct Coeffs {
     cv: f64,
     ca: f64,
     ev: f64,
     ea: f64,
+    eu: f64,
     dt: f64,
     ab: f64,
     a_old: f64,
@@ -203,8 +206,22 @@ impl Coeffs {
     /// those of the whole displacement less K_eff·u_n's: u enters the increment's
     /// right-hand side only through −K·u.
     #[inline(always)]
-    fn history<const FMA: bool>(self, v: f64, a: f64) -> (f64, f64) {
-        (madd::<FMA>(self.cv, v, self.ca * a), madd::<FMA>(self.ev, v, self.ea * a))
+    fn history<const FMA: bool>(self, u: f64, v: f64, a: f64) -> (f64, f64) {
+        (madd::<FMA>(self.cv, v, self.ca * a), madd::<FMA>(self.ev, v, madd::<FMA>(self.ea, a, self.eu * u)))
+    }
+
+    /// The history terms of the proportional form (see [`Proportional`]): with
+    /// C = a₀·M + a₁·K + R, M·w₁ + C·w₂ − K·u = M·(w₁ + a₀·w₂) − K·(u − a₁·w₂) + R·w₂, so the
+    /// update writes w₁' = w₁ + a₀·w₂ and w₂' = u − a₁·w₂ and the band sees no C.
+    fn proportional(self, a0: f64, a1: f64) -> Self {
+        Coeffs {
+            cv: self.cv + a0 * self.ev,
+            ca: self.ca + a0 * self.ea,
+            ev: -a1 * self.ev,
+            ea: -a1 * self.ea,
+            eu: 1.0,
+            ..self
+        }
     }
 
     /// The coefficients of a scheme at step Δt (s).
@@ -216,6 +233,7 @@ impl Coeffs {
             ca: (1.0 - am) * (0.5 / b - 1.0) - am,
             ev: -(1.0 - af) * (1.0 - g / b) - af,
             ea: -(1.0 - af) * dt * (1.0 - 0.5 * g / b),
+            eu: 0.0,
             dt,
             ab: 1.0 / (b * dt * dt),
             a_old: 0.5 / b - 1.0,
@@ -408,14 +426,14 @@ unsafe fn gemv3_avx2(a: &[f64], stride: usize, x: [&[f64]; 3], out: &mut [[f64; 
 /// to `$acc`. Diagonal t of `$pm`, `$pc`, `$pk` starts at t·`$stride`. Advances `$i` past the last whole group
 /// before `$end`.
 macro_rules! rhs_groups {
-    ($diss:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, $stride:expr, [$pm:expr, $pc:expr, $pk:expr], [$p1:expr, $p2:expr, $pu:expr, $pv:expr, $pz:expr], $acc:ident) => {{
+    ($diss:expr, $ray:expr, $lanes:expr, $i:ident, $end:expr, $b:expr, $stride:expr, [$pm:expr, $pc:expr, $pk:expr], [$p1:expr, $p2:expr, $pu:expr, $pv:expr, $pz:expr], $acc:ident) => {{
         let (pm, pc, pk, p1, p2, pu, pv, pz, b, stride) = ($pm, $pc, $pk, $p1, $p2, $pu, $pv, $pz, $b, $stride);
         let (half, two) = (splat(0.5), splat(2.0));
         while $i + $lanes <= $end {
             let i = $i;
             let c0 = load(pc.add(i));
             let mut sm = mul(load(pm.add(i)), load(p1.add(b + i)));
-            let mut sc = mul(c0, load(p2.add(b + i)));
+            let mut sc = if $ray { zero() } else { mul(c0, load(p2.add(b + i))) };
             let mut sk = mul(load(pk.add(i)), load(pu.add(b + i)));
             let vi = if $diss { load(pv.add(b + i)) } else { zero() };
             let mut sd = if $diss { mul(mul(half, c0), vi) } else { zero() };
@@ -424,15 +442,17 @@ macro_rules! rhs_groups {
                 let c_lo = load(pc.add(lo));
                 sm = fmadd(load(pm.add(lo)), load(p1.add(b + i - t)), sm);
                 sm = fmadd(load(pm.add(up)), load(p1.add(b + i + t)), sm);
-                sc = fmadd(c_lo, load(p2.add(b + i - t)), sc);
-                sc = fmadd(load(pc.add(up)), load(p2.add(b + i + t)), sc);
+                if !$ray {
+                    sc = fmadd(c_lo, load(p2.add(b + i - t)), sc);
+                    sc = fmadd(load(pc.add(up)), load(p2.add(b + i + t)), sc);
+                }
                 sk = fmadd(load(pk.add(lo)), load(pu.add(b + i - t)), sk);
                 sk = fmadd(load(pk.add(up)), load(pu.add(b + i + t)), sk);
                 if $diss {
                     sd = fmadd(c_lo, load(pv.add(b + i - t)), sd);
                 }
             }
-            store(pz.add(i), sub(add(sm, sc), sk));
+            store(pz.add(i), if $ray { sub(sm, sk) } else { sub(add(sm, sc), sk) });
             if $diss {
                 $acc = fmadd(mul(two, sd), vi, $acc);
             }
@@ -446,7 +466,7 @@ macro_rules! rhs_groups {
 /// itself, since it cannot prove the stores to z leave them alone). The same operations in
 /// the same order as `rhs_groups!`, so the same bits.
 macro_rules! rhs_run_b3 {
-    ($diss:expr, $lanes:expr, $i:ident, $end:expr, [$pm:expr, $pc:expr, $pk:expr], [$p1:expr, $p2:expr, $pu:expr, $pv:expr, $pz:expr], $acc:ident) => {{
+    ($diss:expr, $ray:expr, $lanes:expr, $i:ident, $end:expr, [$pm:expr, $pc:expr, $pk:expr], [$p1:expr, $p2:expr, $pu:expr, $pv:expr, $pz:expr], $acc:ident) => {{
         const B: usize = 3;
         let (pm, pc, pk, p1, p2, pu, pv, pz) = ($pm, $pc, $pk, $p1, $p2, $pu, $pv, $pz);
         let two = splat(2.0);
@@ -466,22 +486,24 @@ macro_rules! rhs_run_b3 {
         while $i + $lanes <= $end {
             let i = $i;
             let mut sm = mul(m0, load(p1.add(B + i)));
-            let mut sc = mul(c0, load(p2.add(B + i)));
+            let mut sc = if $ray { zero() } else { mul(c0, load(p2.add(B + i))) };
             let mut sk = mul(k0, load(pu.add(B + i)));
             let vi = if $diss { load(pv.add(B + i)) } else { zero() };
             let mut sd = if $diss { mul(half_c0, vi) } else { zero() };
             for (t, ((m_lo, m_up), (c_lo, c_up), (k_lo, k_up))) in [(1, d1), (2, d2), (3, d3)] {
                 sm = fmadd(m_lo, load(p1.add(B + i - t)), sm);
                 sm = fmadd(m_up, load(p1.add(B + i + t)), sm);
-                sc = fmadd(c_lo, load(p2.add(B + i - t)), sc);
-                sc = fmadd(c_up, load(p2.add(B + i + t)), sc);
+                if !$ray {
+                    sc = fmadd(c_lo, load(p2.add(B + i - t)), sc);
+                    sc = fmadd(c_up, load(p2.add(B + i + t)), sc);
+                }
                 sk = fmadd(k_lo, load(pu.add(B + i - t)), sk);
                 sk = fmadd(k_up, load(pu.add(B + i + t)), sk);
                 if $diss {
                     sd = fmadd(c_lo, load(pv.add(B + i - t)), sd);
                 }
             }
-            store(pz.add(i), sub(add(sm, sc), sk));
+            store(pz.add(i), if $ray { sub(sm, sk) } else { sub(add(sm, sc), sk) });
             if $diss {
                 $acc = fmadd(mul(two, sd), vi, $acc);
             }
@@ -494,7 +516,7 @@ macro_rules! rhs_run_b3 {
 /// periodic run's values from the run (no matrix streams there) and the band storage
 /// elsewhere: the same loads of the same values in the same order either way.
 macro_rules! rhs_band_and_runs {
-    ($diss:expr, $lanes:expr, $i:ident, $n:expr, $b:expr, $runs:expr, [$m:expr, $c:expr, $k:expr, $w1:expr, $w2:expr, $u:expr, $vb:expr, $z:expr], $acc:ident) => {{
+    ($diss:expr, $ray:expr, $lanes:expr, $i:ident, $n:expr, $b:expr, $runs:expr, [$m:expr, $c:expr, $k:expr, $w1:expr, $w2:expr, $u:expr, $vb:expr, $z:expr], $acc:ident) => {{
         let (n, b) = ($n, $b);
         let stride = n + b;
         assert!($m.len() >= (b + 1) * stride && $c.len() >= (b + 1) * stride && $k.len() >= (b + 1) * stride);
@@ -508,6 +530,7 @@ macro_rules! rhs_band_and_runs {
             if run.start >= $i {
                 rhs_groups!(
                     $diss,
+                    $ray,
                     $lanes,
                     $i,
                     run.start,
@@ -518,10 +541,10 @@ macro_rules! rhs_band_and_runs {
                     $acc
                 );
                 let (rm, rc, rk) = (run.m.as_ptr(), run.c.as_ptr(), run.k.as_ptr());
-                rhs_run_b3!($diss, $lanes, $i, run.end, [rm, rc, rk], [p1, p2, pu, pv, pz], $acc);
+                rhs_run_b3!($diss, $ray, $lanes, $i, run.end, [rm, rc, rk], [p1, p2, pu, pv, pz], $acc);
             }
         }
-        rhs_groups!($diss, $lanes, $i, n, b, stride, [band[0], band[1], band[2]], [p1, p2, pu, pv, pz], $acc);
+        rhs_groups!($diss, $ray, $lanes, $i, n, b, stride, [band[0], band[1], band[2]], [p1, p2, pu, pv, pz], $acc);
     }};
 }
 
@@ -684,10 +707,13 @@ const MIN_FACTOR_RUN: usize = 32;
 /// With `DISS`, the same pass also adds the last step's v̄ᵀ·C·v̄ over whole groups of four
 /// rows to `part` (`vb`: v̄, padded like w₁), reusing the loads of C's lower diagonals, with
 /// the rounding of `dissipation_avx2`; returns the first row it left to the scalar loop.
+///
+/// With `RAY` (the proportional form, [`Proportional`]) the right-hand side is M·w₁ − K·u
+/// with `u` the caller's w₂': no C term, C's diagonals read only for the dissipation.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn rhs_band_avx2<const DISS: bool>(
+unsafe fn rhs_band_avx2<const DISS: bool, const RAY: bool>(
     from: usize,
     n: usize,
     b: usize,
@@ -704,22 +730,24 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
     };
     let mut acc = load(part.as_ptr());
     let mut i = from;
-    rhs_band_and_runs!(DISS, 4, i, n, b, runs, [m, c, k, w1, w2, u, vb, z], acc);
+    rhs_band_and_runs!(DISS, RAY, 4, i, n, b, runs, [m, c, k, w1, w2, u, vb, z], acc);
     let (start, stride) = (i, n + b);
     for i in i..n {
         let mut sm = m[i] * w1[b + i];
-        let mut sc = c[i] * w2[b + i];
+        let mut sc = if RAY { 0.0 } else { c[i] * w2[b + i] };
         let mut sk = k[i] * u[b + i];
         for t in 1..=b {
             let (lo, up) = (t * stride + i, t * stride + i + t);
             sm = m[lo].mul_add(w1[b + i - t], sm);
             sm = m[up].mul_add(w1[b + i + t], sm);
-            sc = c[lo].mul_add(w2[b + i - t], sc);
-            sc = c[up].mul_add(w2[b + i + t], sc);
+            if !RAY {
+                sc = c[lo].mul_add(w2[b + i - t], sc);
+                sc = c[up].mul_add(w2[b + i + t], sc);
+            }
             sk = k[lo].mul_add(u[b + i - t], sk);
             sk = k[up].mul_add(u[b + i + t], sk);
         }
-        z[i] = (sm + sc) - sk;
+        z[i] = if RAY { sm - sk } else { (sm + sc) - sk };
     }
     if DISS {
         store(part.as_mut_ptr(), acc);
@@ -733,7 +761,7 @@ unsafe fn rhs_band_avx2<const DISS: bool>(
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 #[allow(clippy::too_many_arguments)]
-unsafe fn rhs_band_avx512<const DISS: bool>(
+unsafe fn rhs_band_avx512<const DISS: bool, const RAY: bool>(
     n: usize,
     b: usize,
     [m, c, k]: [&[f64]; 3],
@@ -749,7 +777,7 @@ unsafe fn rhs_band_avx512<const DISS: bool>(
     };
     let mut acc = zero();
     let mut i = 0;
-    rhs_band_and_runs!(DISS, 8, i, n, b, runs, [m, c, k, w1, w2, u, vb, z], acc);
+    rhs_band_and_runs!(DISS, RAY, 8, i, n, b, runs, [m, c, k, w1, w2, u, vb, z], acc);
     if DISS {
         let mut lanes = [0.0f64; 8];
         store(lanes.as_mut_ptr(), acc);
@@ -880,9 +908,33 @@ pub struct FusedNewmark {
     diss_pending: bool,
     /// Registered read-outs (see `set_observations`) and their latest values.
     observations: Observations,
-    /// The step's coefficients, fixed by the scheme and Δt.
+    /// The step's coefficients, fixed by the scheme and Δt (and the proportional form).
     coeffs: Coeffs,
+    /// The proportional form of the right-hand side, when switched on.
+    proportional: Option<Proportional>,
 }
+
+/// C = a₀·M + a₁·K + R with R sparse: Rayleigh damping of the structure, plus the dashpots,
+/// masses and springs it does not cover (an actuator's links and body, point masses,
+/// supports). Then M·w₁ + C·w₂ − K·u = M·(w₁ + a₀·w₂) − K·(u − a₁·w₂) + R·w₂: the update
+/// writes the two combined vectors instead of w₁ and w₂ (`Coeffs::proportional`), and the
+/// band right-hand side has two products instead of three, with R's few entries added
+/// after it. C's diagonals are then read only for the dissipation, which keeps using C
+/// itself.
+#[derive(Clone, Debug)]
+struct Proportional {
+    /// R's entries (i ≥ j; applied symmetrically).
+    residual: Vec<(usize, usize, f64)>,
+    /// The scheme's w₂ = e_v·v + e_a·a, which R multiplies.
+    ev: f64,
+    ea: f64,
+}
+
+/// An entry of C − a₀·M − a₁·K below this fraction of |C| + |a₀·M| + |a₁·K| is the
+/// round-off of assembling a Rayleigh-damped element (C's entries are sums of a₀·m + a₁·k
+/// over elements, not a₀·Σm + a₁·Σk) and is dropped: C then changes by less than this
+/// relatively, where a real residual (a dashpot, a point mass's a₀·m) is of order one.
+const PROPORTIONAL_ROUND_OFF: f64 = 1e-12;
 
 /// Read-outs gᵀ·(u, v, a) of the state evaluated after every step, while the state is in
 /// cache: the analyses' links, feet, drives and sensors. A row with many entries (every row
@@ -1057,6 +1109,7 @@ impl FusedNewmark {
             diss_pending: false,
             observations: Observations::default(),
             coeffs: Coeffs::new(scheme, dt),
+            proportional: None,
         })
     }
 
@@ -1134,6 +1187,57 @@ impl FusedNewmark {
             self.factor_runs.iter().map(|r| r.end - r.start).sum()
         } else {
             0
+        }
+    }
+
+    /// Uses the proportional form of the right-hand side (see [`Proportional`]) for
+    /// C = a₀·M + a₁·K + R, where R is what Rayleigh damping with a₀ (1/s) and a₁ (s) leaves
+    /// out: one band product fewer a step (the dissipation still reads C). Returns whether
+    /// it is in use: not for the dense step (small reduced models) nor where R would be
+    /// more than a few entries a row, and it only takes effect from the next step on.
+    pub fn use_proportional_damping(&mut self, a0: f64, a1: f64) -> bool {
+        if self.dense.is_some() || !(a0.is_finite() && a1.is_finite()) {
+            return false;
+        }
+        let (n, b) = (self.n, self.b);
+        let stride = n + b;
+        let mut residual = Vec::new();
+        let mut keep = |i: usize, j: usize, m: f64, c: f64, k: f64| {
+            let r = c - a0 * m - a1 * k;
+            if r.abs() > PROPORTIONAL_ROUND_OFF * (c.abs() + (a0 * m).abs() + (a1 * k).abs()) {
+                residual.push((i, j, r));
+            }
+        };
+        for t in 0..=b {
+            for i in t..n {
+                let o = t * stride + i;
+                keep(i, i - t, self.m[o], self.c[o], self.k[o]);
+            }
+        }
+        for e in &self.extra {
+            keep(e.i, e.j, e.m, e.c, e.k);
+        }
+        if residual.len() > n / 8 + 64 {
+            return false;
+        }
+        let k = Coeffs::new(self.scheme, self.dt);
+        self.proportional = Some(Proportional { residual, ev: k.ev, ea: k.ea });
+        self.coeffs = k.proportional(a0, a1);
+        self.w_ready = false;
+        true
+    }
+
+    /// Whether the right-hand side runs in the proportional form.
+    pub fn uses_proportional_damping(&self) -> bool {
+        self.proportional.is_some()
+    }
+
+    /// Back to the three-product right-hand side (the reference the proportional form is
+    /// tested against); from the next step on.
+    pub fn disable_proportional_damping(&mut self) {
+        if self.proportional.take().is_some() {
+            self.coeffs = Coeffs::new(self.scheme, self.dt);
+            self.w_ready = false;
         }
     }
 
@@ -1401,7 +1505,7 @@ impl FusedNewmark {
         let (w1, rest) = ops.w.split_at_mut(n);
         let (w2, rest) = rest.split_at_mut(n);
         if !self.w_ready {
-            fill_history::<FMA>(k, v, a, w1, w2);
+            fill_history::<FMA>(k, u, v, a, w1, w2);
         }
         for j in 0..n {
             rest[j] = -u[j];
@@ -1432,9 +1536,10 @@ impl FusedNewmark {
     fn rhs<W: Width, const FMA: bool>(&mut self, w: W, k: Coeffs) {
         let (n, b) = (self.n, w.b());
         if !self.w_ready {
-            let (v, a) = (&self.v[..n], &self.a[..n]);
-            fill_history::<FMA>(k, v, a, &mut self.w1[b..b + n], &mut self.w2[b..b + n]);
+            let (u, v, a) = (&self.u[b..b + n], &self.v[..n], &self.a[..n]);
+            fill_history::<FMA>(k, u, v, a, &mut self.w1[b..b + n], &mut self.w2[b..b + n]);
         }
+        let ray = self.proportional.is_some();
         // The last step's dissipation: folded into this pass in the AVX2 build (it reads C's
         // lower diagonals anyway, and v̄ is not overwritten before the backward sweep), a pass
         // of its own in the baseline build.
@@ -1448,7 +1553,9 @@ impl FusedNewmark {
         // same diagonal read t entries further on). Padded index of column j is j + B.
         let stride = n + b;
         let (m, c, kk) = (&self.m[..(b + 1) * stride], &self.c[..(b + 1) * stride], &self.k[..(b + 1) * stride]);
-        let (w1, w2, up) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b], &self.u[..n + 2 * b]);
+        // In the proportional form w₂ holds w₂' = u − a₁·w₂ and takes u's place against K.
+        let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
+        let up = if ray { w2 } else { &self.u[..n + 2 * b] };
         let z = &mut self.z[b..b + n];
         if cfg!(target_arch = "x86_64") && FMA {
             // SAFETY: the FMA build runs only inside `step_avx2` (see `gemv`); the
@@ -1459,15 +1566,19 @@ impl FusedNewmark {
                 let none: &[PeriodicRun] = &[];
                 let (r4, r8) = if self.use_runs { (&self.runs4[..], &self.runs8[..]) } else { (none, none) };
                 let (mck, ws) = ([m, c, kk], [w1, w2, up]);
-                let (from, r4) = match (self.avx512, fold) {
-                    (false, _) => (0, r4),
-                    (true, true) => (rhs_band_avx512::<true>(n, b, mck, ws, z, vb, &mut lanes.1, r8), none),
-                    (true, false) => (rhs_band_avx512::<false>(n, b, mck, ws, z, vb, &mut lanes.1, r8), none),
+                let part = &mut lanes.1;
+                let (from, r4) = match (self.avx512, fold, ray) {
+                    (false, _, _) => (0, r4),
+                    (true, true, true) => (rhs_band_avx512::<true, true>(n, b, mck, ws, z, vb, part, r8), none),
+                    (true, true, false) => (rhs_band_avx512::<true, false>(n, b, mck, ws, z, vb, part, r8), none),
+                    (true, false, true) => (rhs_band_avx512::<false, true>(n, b, mck, ws, z, vb, part, r8), none),
+                    (true, false, false) => (rhs_band_avx512::<false, false>(n, b, mck, ws, z, vb, part, r8), none),
                 };
-                lanes.0 = if fold {
-                    rhs_band_avx2::<true>(from, n, b, mck, ws, z, vb, &mut lanes.1, r4)
-                } else {
-                    rhs_band_avx2::<false>(from, n, b, mck, ws, z, vb, &mut lanes.1, r4)
+                lanes.0 = match (fold, ray) {
+                    (true, true) => rhs_band_avx2::<true, true>(from, n, b, mck, ws, z, vb, part, r4),
+                    (true, false) => rhs_band_avx2::<true, false>(from, n, b, mck, ws, z, vb, part, r4),
+                    (false, true) => rhs_band_avx2::<false, true>(from, n, b, mck, ws, z, vb, part, r4),
+                    (false, false) => rhs_band_avx2::<false, false>(from, n, b, mck, ws, z, vb, part, r4),
                 };
             }
         } else if b <= MAX_SLICED {
@@ -1487,9 +1598,11 @@ impl FusedNewmark {
                     (wl[q][t], wu[q][t]) = (&x[b - t..b - t + n], &x[b + t..b + t + n]);
                 }
             }
+            // The proportional form skips C (q = 1).
+            let terms: &[usize] = if ray { &[0, 2] } else { &[0, 1, 2] };
             for i in 0..n {
                 let mut sums = [0.0; 3];
-                for q in 0..3 {
+                for &q in terms {
                     let mut sq = lo[q][0][i] * wl[q][0][i];
                     for t in 1..=b {
                         sq = madd::<FMA>(lo[q][t][i], wl[q][t][i], sq);
@@ -1497,12 +1610,15 @@ impl FusedNewmark {
                     }
                     sums[q] = sq;
                 }
-                z[i] = (sums[0] + sums[1]) - sums[2];
+                z[i] = if ray { sums[0] - sums[2] } else { (sums[0] + sums[1]) - sums[2] };
             }
         } else {
             for i in 0..n {
                 let mut sums = [0.0; 3];
                 for (q, (a, x)) in [(m, w1), (c, w2), (kk, up)].into_iter().enumerate() {
+                    if ray && q == 1 {
+                        continue;
+                    }
                     let mut sq = a[i] * x[i + b];
                     for t in 1..=b {
                         // SAFETY: t ≤ B and i < n, so t·(n+B) + i + t < (B+1)·(n+B), and
@@ -1515,17 +1631,34 @@ impl FusedNewmark {
                     }
                     sums[q] = sq;
                 }
-                z[i] = (sums[0] + sums[1]) - sums[2];
+                z[i] = if ray { sums[0] - sums[2] } else { (sums[0] + sums[1]) - sums[2] };
             }
         }
         // The load touches a handful of DOFs: added here rather than streamed in the loop.
         for &d in &self.touched {
             z[d] += std::mem::take(&mut self.load[d]);
         }
-        for e in &self.extra {
-            let (i, j) = (e.i, e.j);
-            z[i] += e.m * self.w1[j + b] + e.c * self.w2[j + b] - e.k * self.u[j + b];
-            z[j] += e.m * self.w1[i + b] + e.c * self.w2[i + b] - e.k * self.u[i + b];
+        if let Some(p) = &self.proportional {
+            // Out of the band, M and K against w₁' and w₂'; C's part is in the residual.
+            for e in &self.extra {
+                let (i, j) = (e.i, e.j);
+                z[i] += e.m * self.w1[j + b] - e.k * self.w2[j + b];
+                z[j] += e.m * self.w1[i + b] - e.k * self.w2[i + b];
+            }
+            // R·w₂ with w₂ = e_v·v + e_a·a of the scheme, from v and a of the DOFs R touches.
+            let w2 = |d: usize| madd::<FMA>(p.ev, self.v[d], p.ea * self.a[d]);
+            for &(i, j, r) in &p.residual {
+                z[i] += r * w2(j);
+                if i != j {
+                    z[j] += r * w2(i);
+                }
+            }
+        } else {
+            for e in &self.extra {
+                let (i, j) = (e.i, e.j);
+                z[i] += e.m * self.w1[j + b] + e.c * self.w2[j + b] - e.k * self.u[j + b];
+                z[j] += e.m * self.w1[i + b] + e.c * self.w2[i + b] - e.k * self.u[i + b];
+            }
         }
         if fold {
             self.diss_sum += self.band_dissipation_rows(lanes);

@@ -345,7 +345,8 @@ unsafe fn update_group_avx2<const VBAR: bool>(
     // As update_row: a = (x − Δt·v)·ab − a_old·a, v = va_new·a_new + (va_old·a + v), u += x.
     let a_new = fmadd(sub(x, mul(splat(k.dt), vi)), splat(k.ab), mul(splat(-k.a_old), ai));
     let v_new = fmadd(splat(k.va_new), a_new, fmadd(splat(k.va_old), ai, vi));
-    store(u.as_mut_ptr().add(g), add(ui, x));
+    let u_new = add(ui, x);
+    store(u.as_mut_ptr().add(g), u_new);
     store(v.as_mut_ptr().add(g), v_new);
     store(a.as_mut_ptr().add(g), a_new);
     if VBAR {
@@ -353,7 +354,7 @@ unsafe fn update_group_avx2<const VBAR: bool>(
     }
     // As Coeffs::history.
     let h1 = fmadd(splat(k.cv), v_new, mul(splat(k.ca), a_new));
-    let h2 = fmadd(splat(k.ev), v_new, mul(splat(k.ea), a_new));
+    let h2 = fmadd(splat(k.ev), v_new, fmadd(splat(k.ea), a_new, mul(splat(k.eu), u_new)));
     store(w1.as_mut_ptr().add(g), h1);
     store(w2.as_mut_ptr().add(g), h2);
 }
