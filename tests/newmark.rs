@@ -465,3 +465,37 @@ fn wide_kernel_only_for_systems_that_fit_in_cache() {
     assert_eq!(large.dim(), 319_998);
     assert!(!large.uses_avx512());
 }
+
+/// The proportional form is taken only where C really is a₀·M + a₁·K plus a few entries:
+/// given coefficients that do not fit the damping (here a₀ off by 1e-6 of itself, so every
+/// entry of C leaves a remainder), the integrator declines it, and a decline after an
+/// acceptance restores the three-product step to the bit.
+#[test]
+fn proportional_form_declined_where_damping_does_not_fit() {
+    use beamflow::assembly::System;
+    use beamflow::case::build_model;
+    use beamflow::solve::fused::FusedNewmark;
+    let (a0, a1) = (5.29, 9.96e-6);
+    let sys = System::assemble(&build_model(&common::bare_beam(100, [a0, a1])).unwrap().model).unwrap();
+    let fused =
+        || FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap();
+    let (mut three, mut declined, mut switched) = (fused(), fused(), fused());
+    assert!(!declined.use_proportional_damping(a0 * (1.0 + 1e-6), a1));
+    assert!(!declined.uses_proportional_damping());
+    assert!(switched.use_proportional_damping(a0, a1) && switched.uses_proportional_damping());
+    assert!(!switched.use_proportional_damping(a0, a1 * 2.0));
+    assert!(!switched.uses_proportional_damping());
+    let mut accepted = fused();
+    assert!(accepted.use_proportional_damping(a0, a1));
+    let probe = sys.n() / 3;
+    for k in 1..=200 {
+        let f = [(probe, (k as f64 * 0.0377).sin())];
+        for nm in [&mut three, &mut declined, &mut switched, &mut accepted] {
+            nm.step(&f);
+        }
+        assert!(declined.u() == three.u() && switched.u() == three.u() && switched.a() == three.a(), "step {k}");
+        let scale = three.u().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let e = accepted.u().iter().zip(three.u()).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+        assert!(e <= 1e-9 * scale, "step {k}: proportional vs three {e:e} of {scale:e}");
+    }
+}
