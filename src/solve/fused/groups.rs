@@ -98,7 +98,8 @@ impl FusedNewmark {
         let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
         let mut i = 0;
         // Rows i..i + 4, with −L(r, r − B + t) = even(r, t) for rows r of i's parity and
-        // odd(r, t) for the others (i is even), and their 1/d.
+        // odd(r, t) for the others (i is even), `la(p)` the multipliers of pair p, and their
+        // 1/d. A group with a long row goes row by row; the others in two pairs.
         macro_rules! group {
             ($even:expr, $odd:expr, $la:expr, $d_inv:expr, $long:expr) => {{
                 let (even, odd) = ($even, $odd);
@@ -222,7 +223,8 @@ impl FusedNewmark {
         }
         let runs: &[FactorRun] = if self.use_runs { &self.factor_runs } else { &[] };
         // Rows g..g + 4 and their update, with −L(i + s, i) = even(i, s) for rows i of g's
-        // parity and odd(i, s) for the others (g is even).
+        // parity and odd(i, s) for the others (g is even) and `la(p)` the multipliers of
+        // pair p; row by row if a long row is in the group, else in two pairs.
         macro_rules! group {
             ($g:expr, $even:expr, $odd:expr, $la:expr, $long:expr) => {{
                 let (g, even, odd) = ($g, $even, $odd);
