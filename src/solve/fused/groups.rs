@@ -78,19 +78,12 @@ impl FusedNewmark {
         let band = |i: usize, t: usize| unsafe { -*l.get_unchecked(i * b + t) };
         let la_f = &self.pairs.fwd[..];
         // Rows r (even) and r + 1 from the same window, y_{r+1} with y_r substituted
-        // (`la`: `PairRows::fwd`). The two chains interleave, each one multiply–add deep.
+        // (`la`: `PairRows::fwd`).
         macro_rules! pair {
             ($r:expr, $l_neg:expr, $la:expr) => {{
-                let (r, l_neg, la): (usize, _, [f64; 4]) = ($r, $l_neg, $la);
-                let zr = z[r + b];
-                let mut yo = madd::<FMA>(la[3], zr, z[r + 1 + b]);
-                let mut ye = zr;
-                ye = madd::<FMA>(l_neg(0), win.2, ye);
-                yo = madd::<FMA>(la[0], win.2, yo);
-                ye = madd::<FMA>(l_neg(1), win.1, ye);
-                yo = madd::<FMA>(la[1], win.1, yo);
-                ye = madd::<FMA>(l_neg(2), win.0, ye);
-                yo = madd::<FMA>(la[2], win.0, yo);
+                let (r, l_neg) = ($r, $l_neg);
+                let plain = [l_neg(0), l_neg(1), l_neg(2)];
+                let (ye, yo) = pair_rows::<FMA>(z[r + b], z[r + 1 + b], plain, $la, win);
                 win = (yo, ye, win.0);
                 (ye, yo)
             }};
@@ -200,16 +193,9 @@ impl FusedNewmark {
         // (`la`: `PairRows::bwd`).
         macro_rules! pair {
             ($e:expr, $up_o:expr, $la:expr) => {{
-                let (e, up_o, la): (usize, _, [f64; 4]) = ($e, $up_o, $la);
-                let xo_hat = x[e + 1];
-                let mut xe = madd::<FMA>(la[3], xo_hat, x[e]);
-                let mut xo = xo_hat;
-                xo = madd::<FMA>(up_o(3), win.2, xo);
-                xe = madd::<FMA>(la[0], win.2, xe);
-                xo = madd::<FMA>(up_o(2), win.1, xo);
-                xe = madd::<FMA>(la[1], win.1, xe);
-                xo = madd::<FMA>(up_o(1), win.0, xo);
-                xe = madd::<FMA>(la[2], win.0, xe);
+                let (e, up_o) = ($e, $up_o);
+                let plain = [up_o(3), up_o(2), up_o(1)];
+                let (xo, xe) = pair_rows::<FMA>(x[e + 1], x[e], plain, $la, win);
                 win = (xe, xo, win.0);
                 (xe, xo)
             }};
@@ -273,6 +259,30 @@ impl FusedNewmark {
             band_group!();
         }
     }
+}
+
+/// Two rows of a sweep from the same window w = (newest, middle, oldest) of unknowns:
+/// the first as it stands, h_first + plain[0]·w.2 + plain[1]·w.1 + plain[2]·w.0, and the
+/// second with the first substituted into it, h_second + la[3]·h_first + la[0]·w.2 +
+/// la[1]·w.1 + la[2]·w.0 (`PairRows`). The two chains interleave, the newest unknown last
+/// in each, so each waits on the window through one multiply–add.
+#[inline(always)]
+fn pair_rows<const FMA: bool>(
+    h_first: f64,
+    h_second: f64,
+    plain: [f64; 3],
+    la: [f64; 4],
+    win: (f64, f64, f64),
+) -> (f64, f64) {
+    let mut second = madd::<FMA>(la[3], h_first, h_second);
+    let mut first = h_first;
+    first = madd::<FMA>(plain[0], win.2, first);
+    second = madd::<FMA>(la[0], win.2, second);
+    first = madd::<FMA>(plain[1], win.1, first);
+    second = madd::<FMA>(la[1], win.1, second);
+    first = madd::<FMA>(plain[2], win.0, first);
+    second = madd::<FMA>(la[2], win.0, second);
+    (first, second)
 }
 
 /// A group's y into `z` and y/d (as y·(1/d)) into `x`; one vector each in the FMA build.
