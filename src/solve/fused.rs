@@ -1562,6 +1562,9 @@ impl FusedNewmark {
         // In the proportional form w₂ holds w₂' = u − a₁·w₂ and takes u's place against K.
         let (w1, w2) = (&self.w1[..n + 2 * b], &self.w2[..n + 2 * b]);
         let up = if ray { w2 } else { &self.u[..n + 2 * b] };
+        // The products M·w₁, C·w₂, K·u (q = 0, 1, 2) the right-hand side takes: the
+        // proportional form skips C.
+        let terms: &[usize] = if ray { &[0, 2] } else { &[0, 1, 2] };
         let z = &mut self.z[b..b + n];
         if cfg!(target_arch = "x86_64") && FMA {
             // SAFETY: the FMA build runs only inside `step_avx2` (see `gemv`); the
@@ -1604,8 +1607,6 @@ impl FusedNewmark {
                     (wl[q][t], wu[q][t]) = (&x[b - t..b - t + n], &x[b + t..b + t + n]);
                 }
             }
-            // The proportional form skips C (q = 1).
-            let terms: &[usize] = if ray { &[0, 2] } else { &[0, 1, 2] };
             for i in 0..n {
                 let mut sums = [0.0; 3];
                 for &q in terms {
@@ -1621,10 +1622,8 @@ impl FusedNewmark {
         } else {
             for i in 0..n {
                 let mut sums = [0.0; 3];
-                for (q, (a, x)) in [(m, w1), (c, w2), (kk, up)].into_iter().enumerate() {
-                    if ray && q == 1 {
-                        continue;
-                    }
+                for &q in terms {
+                    let (a, x) = [(m, w1), (c, w2), (kk, up)][q];
                     let mut sq = a[i] * x[i + b];
                     for t in 1..=b {
                         // SAFETY: t ≤ B and i < n, so t·(n+B) + i + t < (B+1)·(n+B), and
@@ -1644,13 +1643,14 @@ impl FusedNewmark {
         for &d in &self.touched {
             z[d] += std::mem::take(&mut self.load[d]);
         }
+        // Out of the band as in it: K against `up`, and C only in the three-product form
+        // (in the proportional one C's part is in the residual).
+        for e in &self.extra {
+            let (i, j, c) = (e.i, e.j, if ray { 0.0 } else { e.c });
+            z[i] += e.m * w1[j + b] + c * w2[j + b] - e.k * up[j + b];
+            z[j] += e.m * w1[i + b] + c * w2[i + b] - e.k * up[i + b];
+        }
         if let Some(p) = &self.proportional {
-            // Out of the band, M and K against w₁' and w₂'; C's part is in the residual.
-            for e in &self.extra {
-                let (i, j) = (e.i, e.j);
-                z[i] += e.m * self.w1[j + b] - e.k * self.w2[j + b];
-                z[j] += e.m * self.w1[i + b] - e.k * self.w2[i + b];
-            }
             // R·w₂ with w₂ = e_v·v + e_a·a of the scheme, from v and a of the DOFs R touches.
             let w2 = |d: usize| madd::<FMA>(p.ev, self.v[d], p.ea * self.a[d]);
             for &(i, j, r) in &p.residual {
@@ -1658,12 +1658,6 @@ impl FusedNewmark {
                 if i != j {
                     z[j] += r * w2(i);
                 }
-            }
-        } else {
-            for e in &self.extra {
-                let (i, j) = (e.i, e.j);
-                z[i] += e.m * self.w1[j + b] + e.c * self.w2[j + b] - e.k * self.u[j + b];
-                z[j] += e.m * self.w1[i + b] + e.c * self.w2[i + b] - e.k * self.u[i + b];
             }
         }
         if fold {
