@@ -38,8 +38,8 @@ const FRAME: &str =
 #[test]
 fn steps_allocate_nothing() {
     let _serial = SERIAL.lock().unwrap();
-    let sys = system(FRAME);
     let model = build_model(&LoadedCase::from_str(FRAME, "alloc.toml", std::env::temp_dir()).unwrap()).unwrap().model;
+    let sys = System::assemble(&model).unwrap();
     let rayleigh = (model.rayleigh.a0, model.rayleigh.a1);
     for scheme in [Scheme::average_acceleration(), Scheme::generalized_alpha(0.8)] {
         let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4).unwrap();

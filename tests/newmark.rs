@@ -10,6 +10,16 @@ fn scalar(v: f64) -> Csr {
     Csr::from_triplets(1, &[(0, 0, v)])
 }
 
+/// max |xᵢ|.
+fn max_abs(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+}
+
+/// max |xᵢ − yᵢ|.
+fn max_diff(x: &[f64], y: &[f64]) -> f64 {
+    x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()))
+}
+
 /// Exact response of m·ẍ + c·ẋ + k·x = F₀·sin(Ωt) from rest.
 fn sdof_exact(m: f64, c: f64, k: f64, f0: f64, om: f64, t: f64) -> f64 {
     let wn = (k / m).sqrt();
@@ -341,17 +351,17 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                         let u0 = fast.u().to_vec();
                         once.step(&sparse);
                         let du: Vec<f64> = once.u().iter().zip(&u0).map(|(a, b)| a - b).collect();
-                        let scale = du.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                        let scale = max_abs(&du);
                         let (mut rows_once, mut three_once) = (fast.clone(), fast.clone());
                         rows_once.disable_grouped_sweeps();
                         three_once.disable_proportional_damping();
-                        let u_scale = once.u().iter().fold(0.0f64, |m, x| m.max(x.abs()));
+                        let u_scale = max_abs(once.u());
                         for (mut other, what, bound) in [
                             (rows_once, "pairs vs rows", 1e-12 * scale),
                             (three_once, "proportional vs three", 1e-10 * u_scale),
                         ] {
                             other.step(&sparse);
-                            let e = once.u().iter().zip(other.u()).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+                            let e = max_diff(once.u(), other.u());
                             assert!(
                                 scale > 0.0 && e <= bound,
                                 "{n} DOFs, build {build}, step {step}: {what} {e:e} (Δu {scale:e}, u {u_scale:e})"
@@ -380,8 +390,8 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                             .into_iter()
                             .enumerate()
                         {
-                            let s = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                            let e = x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+                            let s = max_abs(x);
+                            let e = max_diff(x, y);
                             worst_other[q] = worst_other[q].max(e / s.max(f64::MIN_POSITIVE));
                         }
                     }
@@ -399,8 +409,8 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                     for (q, (x, y)) in
                         [(&slow.u, fast.u()), (&slow.v, fast.v()), (&slow.a, fast.a())].into_iter().enumerate()
                     {
-                        let s = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-                        let e = x.iter().zip(y).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+                        let s = max_abs(x);
+                        let e = max_diff(x, y);
                         assert!(s > 0.0 || step == 1, "step {step}: zero or non-finite state");
                         worst[q] = worst[q].max(e / s.max(f64::MIN_POSITIVE));
                     }
@@ -494,8 +504,8 @@ fn proportional_form_declined_where_damping_does_not_fit() {
             nm.step(&f);
         }
         assert!(declined.u() == three.u() && switched.u() == three.u() && switched.a() == three.a(), "step {k}");
-        let scale = three.u().iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let e = accepted.u().iter().zip(three.u()).fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+        let scale = max_abs(three.u());
+        let e = max_diff(accepted.u(), three.u());
         assert!(e <= 1e-9 * scale, "step {k}: proportional vs three {e:e} of {scale:e}");
     }
 }
