@@ -47,10 +47,11 @@ if [ "$(id -u)" -ne 0 ]; then
 fi
 
 missing_tools() {
-    local t
+    local t missing=()
     for t in sbatch squeue scontrol sinfo scancel slurmctld slurmd munged mungekey munge unmunge; do
-        command -v "$t" >/dev/null 2>&1 || echo -n "$t "
+        command -v "$t" >/dev/null 2>&1 || missing+=("$t")
     done
+    echo "${missing[*]}"
 }
 if [ -n "$(missing_tools)" ]; then
     # shellcheck source=SCRIPTDIR/lib/apt-install.sh
@@ -58,7 +59,7 @@ if [ -n "$(missing_tools)" ]; then
     start=$SECONDS
     apt_install "Slurm ($(missing_tools))" slurm-wlm munge ||
         fail "Slurm could not be installed (reason above)"
-    [ -z "$(missing_tools)" ] || fail "apt-get installed slurm-wlm and munge, but $(missing_tools)are still missing"
+    [ -z "$(missing_tools)" ] || fail "apt-get installed slurm-wlm and munge, but these are still missing: $(missing_tools)"
     echo "installed slurm-wlm and munge in $((SECONDS - start)) s"
 fi
 
