@@ -148,9 +148,9 @@ compare_with_single() {
     for ext in h5 best.md net_power.png; do
         if ! cmp "$tmp/single/placement-frame.$ext" "$out.$ext"; then
             if [ "$ext" = h5 ]; then
-                echo "h5dump difference (single-process < > Slurm merge):" >&2
-                diff <(h5dump "$tmp/single/placement-frame.h5" | tail -n +2) \
-                    <(h5dump "$out.h5" | tail -n +2) | head -n 40 >&2 || true
+                echo "h5dump difference, 17 digits (single-process < > Slurm merge):" >&2
+                diff <(h5dump -m %.17g "$tmp/single/placement-frame.h5" | tail -n +2) \
+                    <(h5dump -m %.17g "$out.h5" | tail -n +2) | head -n 40 >&2 || true
             fi
             fail "$what: $out.$ext differs from the single-process run's"
         fi
