@@ -1,7 +1,8 @@
 # shellcheck shell=bash
 # apt_install WHAT PACKAGE...: installs Debian/Ubuntu packages with apt-get, as root or through
-# passwordless sudo. Source this file. Returns 1 with the reason on stderr (and the end of
-# apt-get's output) when it cannot install; WHAT names the missing thing in messages.
+# passwordless sudo, waiting up to 5 minutes for another apt to finish. Source this file.
+# Returns 1 with the reason on stderr (and the end of apt-get's output) when it cannot
+# install; WHAT names the missing thing in messages.
 apt_install() {
     local what=$1
     shift
@@ -25,7 +26,7 @@ apt_install() {
     {
         "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -qq &&
             "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
-                apt-get install -y -qq --no-install-recommends "$@"
+                apt-get install -y -qq --no-install-recommends -o DPkg::Lock::Timeout=300 "$@"
     } >"$log" 2>&1 || status=$?
     if [ "$status" -ne 0 ]; then
         echo "cannot install $what: apt-get failed (exit $status); its last lines:" >&2
