@@ -1,16 +1,23 @@
 # The two commands of the README. Both make sure the HDF5 C library is installed first
 # (scripts/ensure-hdf5.sh installs it with apt-get on Debian/Ubuntu, or says how).
-.PHONY: paper test deps
+.PHONY: paper test test-slurm deps
 
 # The main job: every experiment of the paper, figures, HDF5 files and a summary in out/paper.
 paper: deps
 	cargo run --release -- paper --out out/paper
 
 # The whole test suite in release mode (the physics tests run long time integrations),
-# then an outside HDF5 reader (h5dump) checks that a result file is standard HDF5.
+# then an outside HDF5 reader (h5dump) checks that a result file is standard HDF5, then the
+# Slurm job array of docs/sweeps.md runs on a one-node cluster on localhost (slurm-wlm and
+# munge are installed with apt-get if missing; needs root or passwordless sudo).
 test: deps
 	cargo test --release
 	bash scripts/check-results-with-h5dump.sh
+	bash scripts/test-slurm.sh
+
+# The Slurm test alone.
+test-slurm: deps
+	bash scripts/test-slurm.sh
 
 deps:
 	@bash scripts/ensure-hdf5.sh

@@ -21,25 +21,14 @@ have_dump || missing+=("h5dump")
 list="$(printf '%s, ' "${missing[@]}")"
 list="${list%, }"
 
-if command -v apt-get >/dev/null 2>&1; then
-    if [ "$(id -u)" -eq 0 ]; then
-        as_root=()
-    elif command -v sudo >/dev/null 2>&1 && sudo -n true 2>/dev/null; then
-        as_root=(sudo -n)
-    else
-        as_root=(none)
+# shellcheck source=SCRIPTDIR/lib/apt-install.sh
+source "$(dirname "${BASH_SOURCE[0]}")/lib/apt-install.sh"
+if command -v apt-get >/dev/null 2>&1 && apt_install "$list" libhdf5-dev pkg-config hdf5-tools; then
+    if have_lib && have_dump; then
+        exit 0
     fi
-    if [ "${as_root[0]:-}" != none ]; then
-        echo "ensure-hdf5: installing ${list} with apt-get" >&2
-        export DEBIAN_FRONTEND=noninteractive
-        "${as_root[@]}" apt-get update -qq >/dev/null
-        "${as_root[@]}" apt-get install -y -qq libhdf5-dev pkg-config hdf5-tools >/dev/null
-        if have_lib && have_dump; then
-            exit 0
-        fi
-        echo "ensure-hdf5: apt-get finished but HDF5 is still not found" >&2
-        exit 1
-    fi
+    echo "ensure-hdf5: apt-get finished but HDF5 is still not found" >&2
+    exit 1
 fi
 
 cat >&2 <<MSG
