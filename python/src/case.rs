@@ -181,7 +181,10 @@ impl NativeCase {
         d.set_item("actuators", built.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>())?;
         d.set_item(
             "links",
-            sys.links.iter().map(|l| format!("{}_{}", built.model.actuators[l.actuator].name(), l.name)).collect::<Vec<_>>(),
+            sys.links
+                .iter()
+                .map(|l| format!("{}_{}", built.model.actuators[l.actuator].name(), l.name))
+                .collect::<Vec<_>>(),
         )?;
         d.set_item("modal_damping", built.modal_ratios.is_some())?;
         Ok(d)

@@ -24,7 +24,8 @@ pub fn to_toml(v: &Bound<'_, PyAny>) -> PyResult<toml::Value> {
     if let Ok(d) = v.cast::<PyDict>() {
         let mut t = toml::map::Map::new();
         for (k, x) in d.iter() {
-            let key: String = k.extract().map_err(|_| PyTypeError::new_err(format!("table keys must be str, got {k}")))?;
+            let key: String =
+                k.extract().map_err(|_| PyTypeError::new_err(format!("table keys must be str, got {k}")))?;
             t.insert(key, to_toml(&x)?);
         }
         return Ok(toml::Value::Table(t));

@@ -8,11 +8,8 @@ use pyo3::prelude::*;
 
 /// An instance of `beamflow.errors.<class>` built from `args`.
 fn raise<'py>(py: Python<'py>, class: &str, args: impl PyCallArgs<'py>) -> PyErr {
-    let made = py
-        .import("beamflow.errors")
-        .and_then(|m| m.getattr(class))
-        .and_then(|c| c.call1(args))
-        .map(PyErr::from_value);
+    let made =
+        py.import("beamflow.errors").and_then(|m| m.getattr(class)).and_then(|c| c.call1(args)).map(PyErr::from_value);
     made.unwrap_or_else(|e| e)
 }
 

@@ -88,4 +88,3 @@ impl NativeRun {
         self.lc.file.clone()
     }
 }
-

@@ -23,8 +23,8 @@ use num_complex::Complex64;
 use super::atomic::PendingFile;
 use super::sink::{check_name, check_shape, GroupSink};
 use super::tree::{Attr, Data, Dataset, Group};
-use std::collections::BTreeMap;
 use crate::error::{Error, Result};
+use std::collections::BTreeMap;
 
 /// In-file layout of one complex number: the compound `{r: f64, i: f64}` that h5py reads
 /// as `complex128`. Kept private; callers use [`Complex64`].
@@ -510,7 +510,9 @@ impl ResultsReader {
     }
 
     fn has_attr(&self, obj: &str, name: &str) -> bool {
-        self.location(obj).and_then(|l| l.attr_names().map_err(h5err(&self.path, ""))).is_ok_and(|n| n.iter().any(|a| a == name))
+        self.location(obj)
+            .and_then(|l| l.attr_names().map_err(h5err(&self.path, "")))
+            .is_ok_and(|n| n.iter().any(|a| a == name))
     }
 
     /// Whether a group or dataset exists at `path`.

@@ -114,7 +114,8 @@ fn link_group_name(run: &CaseRun, l: &LinkSeries) -> String {
     format!("{}_{}", run.model.actuators[l.actuator].name(), l.name)
 }
 
-fn write_series<S: GroupSink>(g: &S,
+fn write_series<S: GroupSink>(
+    g: &S,
     t: &[f64],
     links: &[LinkSeries],
     bodies: &[BodySeries],

@@ -21,8 +21,7 @@ pub trait GroupSink: Sized {
     /// (`"1"` if dimensionless) and a description.
     fn write_f64(&self, name: &str, data: &[f64], shape: &[usize], unit: &str, description: &str) -> Result<()>;
     /// A complex array, shape and unit as in [`write_f64`](Self::write_f64).
-    fn write_c64(&self, name: &str, data: &[Complex64], shape: &[usize], unit: &str, description: &str)
-        -> Result<()>;
+    fn write_c64(&self, name: &str, data: &[Complex64], shape: &[usize], unit: &str, description: &str) -> Result<()>;
     /// An integer array (counts, indices), shape and unit as in [`write_f64`](Self::write_f64).
     fn write_i64(&self, name: &str, data: &[i64], shape: &[usize], unit: &str, description: &str) -> Result<()>;
     /// A scalar text dataset (no unit or description).

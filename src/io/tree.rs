@@ -134,7 +134,8 @@ impl TreeSink {
             if g.datasets.contains_key(name) || g.groups.contains_key(name) {
                 return Err(Error::Hdf5 { path: LABEL.into(), message: format!("`{full}` already exists") });
             }
-            g.datasets.insert(name.to_string(), Dataset { data, shape, unit: unit.into(), description: description.into() });
+            g.datasets
+                .insert(name.to_string(), Dataset { data, shape, unit: unit.into(), description: description.into() });
             Ok(())
         })
     }
