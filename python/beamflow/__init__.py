@@ -23,15 +23,7 @@ from ._native import __version__
 from ._results import Analysis, Group, Quantity, Results, read_results
 from ._sweep import SweepTable, read_sweep_table, sweep
 from ._system import DofMap, Modes, System
-from .errors import (
-    BeamflowError,
-    FieldNotFound,
-    Hdf5Error,
-    InputError,
-    IoError,
-    NumericalError,
-    ParseError,
-)
+from .errors import *  # noqa: F401,F403  (the exception classes, listed in errors.__all__)
 
 __all__ = [
     "__version__",
@@ -48,11 +40,5 @@ __all__ = [
     "DofMap",
     "Modes",
     "errors",
-    "BeamflowError",
-    "InputError",
-    "FieldNotFound",
-    "ParseError",
-    "IoError",
-    "Hdf5Error",
-    "NumericalError",
+    *errors.__all__,
 ]

@@ -30,7 +30,7 @@ class Case:
         0.01
         >>> results = case.run()
         >>> results.analysis("steady_state").net_power
-        {'frame': 0.00123...}
+        {'frame': 9.347781076581875e-06}
 
     Several fields that only make sense together change in one step with :meth:`update`.
     """

@@ -157,6 +157,11 @@ class Analysis(Group):
         self.kind = kind
         self.actuators = actuators
 
+    def _members(self, name: str) -> Dict[str, Group]:
+        """The subgroups of group ``name`` (empty if the analysis has none)."""
+        g = self.groups.get(name)
+        return dict(g.groups) if g else {}
+
     def _need(self, *kinds: str) -> None:
         if self.kind not in kinds:
             raise AttributeError(f"{self.path}: a {self.kind} analysis has no such result (only {', '.join(kinds)})")
@@ -186,8 +191,7 @@ class Analysis(Group):
         """Per link: ``frequency`` (Hz), complex ``transmitted``/``interface`` force (N),
         ``velocity`` (m/s), ``acceleration`` (m/s²) amplitudes and ``power`` per harmonic (W)."""
         self._need("transient", "steady_state")
-        g = self.groups.get("spectra")
-        return dict(g.groups) if g else {}
+        return self._members("spectra")
 
     def point_power(self, link: str) -> Quantity:
         """Power into the base per harmonic (W) at one link's foot; frequencies in
@@ -204,26 +208,22 @@ class Analysis(Group):
     def links(self) -> Dict[str, Group]:
         """Time histories per link: stretch, forces, base motion and instantaneous power."""
         self._need("transient", "steady_state")
-        g = self.groups.get("links")
-        return dict(g.groups) if g else {}
+        return self._members("links")
 
     @property
     def sensors(self) -> Dict[str, Group]:
         """Time histories per sensor: ``w`` (m), ``v`` (m/s), ``a`` (m/s²)."""
-        g = self.groups.get("sensors")
-        return dict(g.groups) if g else {}
+        return self._members("sensors")
 
     @property
     def drives(self) -> Dict[str, Group]:
         """Per actuator: voltage (V), hysteretic displacement h (m), stroke (m), force f_p (N)."""
-        g = self.groups.get("drives")
-        return dict(g.groups) if g else {}
+        return self._members("drives")
 
     @property
     def bodies(self) -> Dict[str, Group]:
         """Per actuator body DOF: ``q``, ``q_dot``, ``q_ddot``."""
-        g = self.groups.get("bodies")
-        return dict(g.groups) if g else {}
+        return self._members("bodies")
 
     @property
     def modal(self) -> Optional[Group]:

@@ -58,7 +58,9 @@ impl NativeCase {
         next.text = None;
         for (path, value) in changes {
             let seg = self.segments(path)?;
-            set_path(&mut next.doc, &seg, value.clone()).map_err(|r| Error::input(&self.file, path, r))?;
+            // The sweep's messages speak of its base case; here the case is the one at hand.
+            set_path(&mut next.doc, &seg, value.clone())
+                .map_err(|r| Error::input(&self.file, path, r.replace("the base case", "the case")))?;
             if let toml::Value::Float(x) = value {
                 if x.fract() == 0.0 && x.abs() < 9e15 && next.case().is_err() {
                     let mut as_int = next.doc.clone();

@@ -68,7 +68,7 @@ def test_get_reads_written_values_and_defaults() -> None:
         ("beam.mesh.elements", 0, "beam.mesh.elements", ""),
         ("damping.zeta", -0.1, "damping.zeta", ""),
         ("actuator[0].x_ee", 0.2, "actuator[0].x_ee", "unknown field `x_ee`"),
-        ("actuator[1].x_e", 0.2, "actuator[1].x_e", "1 entries in `actuator`"),
+        ("actuator[1].x_e", 0.2, "actuator[1].x_e", "the case has 1 entries in `actuator`"),
         ("actuator[x].x_e", 0.2, "actuator[x].x_e", "index"),
         ("actuator[0].x_e", "far", "actuator[0].x_e", "invalid type"),
         ("beam", 3.0, "beam", "invalid type"),
