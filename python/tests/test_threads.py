@@ -84,20 +84,20 @@ def test_two_cases_in_two_threads_take_less_than_1_6_times_one() -> None:
     periods = 300
     a, b = long_case(periods), long_case(periods)
     a.run()  # warm-up: page in the library, start the allocator
-    busy = []
+    seen, busy = [], []
     for _ in range(4):
         one = min(seconds(a.run) for _ in range(3))
         two = min(seconds(lambda: in_two_threads(a, b)) for _ in range(3))
-        print(f"one case {one:.3f} s, two in two threads {two:.3f} s ({two / one:.2f} ×)")
         if two < 1.6 * one:
+            print(f"one case {one:.3f} s, two in two threads {two:.3f} s ({two / one:.2f} ×)")
             return
         procs = min(in_two_processes(periods) for _ in range(2))
-        print(f"  two in two processes {procs:.3f} s ({procs / one:.2f} ×)")
-        assert two <= 1.15 * procs, f"threads ({two:.3f} s) scale worse than processes ({procs:.3f} s): the GIL?"
-        busy.append(procs / one)
+        seen.append(f"threads {two / one:.2f} ×, processes {procs / one:.2f} × one case ({one:.3f} s)")
+        if procs >= 1.6 * one and two <= 1.25 * procs:
+            busy.append(seen[-1])
         time.sleep(2.0)
-    print(f"NOTICE: no free second core in {len(busy)} attempts (two processes took {busy} × one case); "
-          "two threads did as well as two processes")
+    assert busy, f"two threads never took less than 1.6 × one case, though processes did: {seen}"
+    print(f"NOTICE: no free second core during the measurement ({seen}); two threads did as well as two processes")
 
 
 def test_python_runs_while_a_case_solves() -> None:
