@@ -276,7 +276,9 @@ class Results(Group):
         self._tree = tree
         self._run = run
         raw = tree.to_python()
-        self._actuators = _names(raw["groups"].get("model", {"datasets": {}})["datasets"].get("actuators", {"data": []})["data"])
+        model = raw["groups"].get("model")
+        listing = model["datasets"].get("actuators") if model else None
+        self._actuators = _names(listing["data"] if listing else [])
         super().__init__(raw, "/")
 
     def _child(self, raw: Dict[str, Any], path: str) -> Group:

@@ -135,7 +135,11 @@ impl NativeCase {
             .py_err()?;
         match get_path(&full, &seg) {
             Some(v) => from_toml(py, v),
-            None => Err(field_not_found(&self.file, path, &format!("the case has no field `{path}`"))),
+            None => Err(field_not_found(
+                &self.file,
+                path,
+                &format!("the case does not set `{path}` and it has no default (or it is no field of a case)"),
+            )),
         }
     }
 

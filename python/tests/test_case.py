@@ -58,6 +58,7 @@ def test_get_reads_written_values_and_defaults() -> None:
     with pytest.raises(beamflow.FieldNotFound) as e:
         case["beam.nonsense"]
     assert isinstance(e.value, KeyError) and e.value.field == "beam.nonsense" and e.value.file == FRAME
+    assert case.get("actuator[0].m_t") is None  # a field of inertial actuators only, unset here
 
 
 @pytest.mark.parametrize(

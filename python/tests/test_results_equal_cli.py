@@ -79,3 +79,22 @@ def test_a_changed_value_is_seen_by_the_comparison(
     got[key] = (np.nextafter(value, np.inf), attrs)
     with pytest.raises(AssertionError, match="values differ"):
         assert_same(h5_contents(cli_runs[name][0]), got, ignore=CREATED)
+
+
+def test_figures_are_the_cli_figures(cli: Path, tmp_path: Path) -> None:
+    from conftest import run_cli
+
+    name = "cases/beam-frame-12V-60Hz.toml"
+    run_cli(cli, "run", name, "--out", str(tmp_path / "cli"))
+    cli_figs = sorted(p.name for p in (tmp_path / "cli").iterdir() if p.suffix in (".png", ".svg"))
+    mine = beamflow.Case.from_file(name).run().write_figures(tmp_path / "py")
+    assert sorted(p.name for p in mine) == cli_figs and len(cli_figs) >= 10
+    for p in mine:
+        head = p.read_bytes()[:8]
+        assert head == b"\x89PNG\r\n\x1a\n" if p.suffix == ".png" else head.startswith(b"<svg") or b"<svg" in p.read_bytes()[:200]
+    with pytest.raises(AttributeError, match="figures"):
+        beamflow.read_results(cli_runs_file(tmp_path / "cli")).write_figures(tmp_path / "none")
+
+
+def cli_runs_file(directory: Path) -> Path:
+    return next(directory.glob("*.h5"))
