@@ -42,7 +42,7 @@ for name, case in cases.items():
     tables[name] = beamflow.sweep(
         {
             "title": f"{name} actuator along the beam",
-            "base": case.file,
+            "base": case,  # a Case (changed or not) or a case file
             "parameter": [{"path": "actuator[0].x_e", "start": 0.05, "stop": 0.68, "count": args.points}],
         },
         as_frame=False,  # numpy columns; with pandas installed the default is a DataFrame

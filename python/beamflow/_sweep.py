@@ -3,10 +3,14 @@
 from __future__ import annotations
 
 import os
+import tempfile
 from pathlib import Path
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Union
+from typing import Any, Dict, Iterator, Mapping, Optional, Union
+
+import numpy as np
 
 from . import _native
+from ._case import Case
 from ._results import Quantity
 
 __all__ = ["SweepTable", "sweep", "read_sweep_table"]
@@ -56,8 +60,9 @@ class SweepTable(Mapping[str, Quantity]):
         description in ``df.attrs["units"]`` and ``df.attrs["sweep"]``."""
         import pandas as pd
 
-        data = {k: c.view(type(c).__base__) for k, c in self.columns.items() if k != "case"}
-        df = pd.DataFrame(data, index=pd.Index(self.columns["case"].view(type(self.columns["case"]).__base__), name="case"))
+        plain = {k: np.asarray(c).view(np.ndarray) for k, c in self.columns.items()}
+        case = plain.pop("case")
+        df = pd.DataFrame(plain, index=pd.Index(case, name="case"))
         df.attrs["units"] = self.units
         df.attrs["sweep"] = dict(self.meta)
         return df
@@ -89,13 +94,16 @@ def sweep(
 ) -> Any:
     """Runs a parameter sweep (``docs/sweeps.md``) on the library's parallel runner.
 
-    ``spec`` is a sweep file or the same content as a dict; a dict's ``base`` case path
-    resolves against ``base_dir`` (default: the working directory)::
+    ``spec`` is a sweep file or the same content as a dict. A dict's ``base`` is a case file
+    (resolved against ``base_dir``, default: the working directory) or a :class:`Case`::
 
         table = beamflow.sweep({
             "base": "cases/placement-frame.toml",
             "parameter": [{"path": "actuator[0].x_e", "start": 0.1, "stop": 0.6, "count": 26}],
         })
+        case = beamflow.Case.from_file("cases/placement-frame.toml")
+        case["actuator[0].voltage.amplitude"] = 24.0
+        table = beamflow.sweep({"base": case, "parameter": [{"path": "actuator[0].x_e", "values": [0.1, 0.2]}]})
 
     Returns a pandas DataFrame when pandas is installed (``as_frame=None``, the default),
     else a :class:`SweepTable` of numpy columns; ``as_frame=False`` always gives the
@@ -103,9 +111,18 @@ def sweep(
     ``threads`` (default: one per core). Ctrl-C stops the sweep between cases.
     """
     if isinstance(spec, Mapping):
-        text = _native.toml_dumps(spec)
-        name = "<dict>"
-        directory = Path(base_dir or ".")
+        spec = dict(spec)
+        tmp = None
+        if isinstance(spec.get("base"), Case):
+            tmp = tempfile.TemporaryDirectory(prefix="beamflow-sweep-")
+            spec["base"] = str(_standalone(spec["base"], Path(tmp.name)))
+        try:
+            text = _native.toml_dumps(spec)
+            directory = Path(base_dir or ".")
+            return _result(SweepTable(_native.run_sweep(text, "<dict>", directory, threads)), as_frame)
+        finally:
+            if tmp is not None:
+                tmp.cleanup()
     else:
         path = Path(spec)
         try:
@@ -114,9 +131,26 @@ def sweep(
             from .errors import IoError
 
             raise IoError(str(path), e.strerror or str(e), e.errno) from None
-        name = str(path)
         directory = Path(base_dir) if base_dir is not None else path.parent
-    return _result(SweepTable(_native.run_sweep(text, name, directory, threads)), as_frame)
+        return _result(SweepTable(_native.run_sweep(text, str(path), directory, threads)), as_frame)
+
+
+def _standalone(case: Case, directory: Path) -> Path:
+    """Writes ``case`` as ``directory/base.toml`` for a sweep to read, with the files it
+    names (a mesh, voltage series; relative to the case file) made absolute so that they
+    still resolve from there."""
+    case = case.copy()
+    fields = ["beam.mesh.file"] + [f"actuator[{i}].voltage.file" for i in range(len(case.get("actuator", [])))]
+    changes = {}
+    for path in fields:
+        value = case.get(path)
+        if isinstance(value, str) and not Path(value).is_absolute():
+            changes[path] = str((case.base_dir / value).resolve())
+    if changes:
+        case.update(changes)
+    out = directory / "base.toml"
+    out.write_text(case.to_toml(), encoding="utf-8")
+    return out
 
 
 def read_sweep_table(path: PathLike, *, as_frame: Optional[bool] = None) -> Any:
