@@ -134,3 +134,17 @@ def test_a_case_object_as_the_base(tmp_path: Path) -> None:
     # the reason a series has, not for a missing file.
     with pytest.raises(beamflow.InputError, match="non-periodic drive"):
         beamflow.sweep({"base": series, "parameter": params}, as_frame=False)
+
+
+def test_pandas_is_optional(monkeypatch: pytest.MonkeyPatch) -> None:
+    import subprocess
+    import sys
+
+    code = "import sys, beamflow; bad = {'pandas', 'matplotlib'} & set(sys.modules); assert not bad, bad"
+    subprocess.run([sys.executable, "-c", code], check=True)
+    import beamflow._sweep as sweep_module
+
+    monkeypatch.setattr(sweep_module, "_have_pandas", lambda: False)
+    table = beamflow.sweep({"base": "cases/placement-frame.toml", "parameter": [{"path": "actuator[0].x_e", "values": [0.2]}]})
+    assert isinstance(table, beamflow.SweepTable) and table["net_power[frame]"].unit == "W"
+    assert table.units["actuator[0].x_e"] == "m" and table.rows == 1
