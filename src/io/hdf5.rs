@@ -21,7 +21,10 @@ use ::hdf5::types::{CompoundField, CompoundType, FloatSize, H5Type, TypeDescript
 use num_complex::Complex64;
 
 use super::atomic::PendingFile;
+use super::sink::{check_name, check_shape, GroupSink};
+use super::tree::{Attr, Data, Dataset, Group};
 use crate::error::{Error, Result};
+use std::collections::BTreeMap;
 
 /// In-file layout of one complex number: the compound `{r: f64, i: f64}` that h5py reads
 /// as `complex128`. Kept private; callers use [`Complex64`].
@@ -137,6 +140,11 @@ impl ResultsFile {
         put_attr(&self.path, self.root(), name, &value)
     }
 
+    /// The root group, for writing a layout through [`GroupSink`].
+    pub fn root_group(&self) -> GroupWriter<'_> {
+        GroupWriter { group: (**self.root()).clone(), path: &self.path }
+    }
+
     /// Opens or creates the group at `path` (slash-separated, relative to the root, e.g.
     /// `"transient/actuator_0"`), creating intermediate groups.
     pub fn group(&self, path: &str) -> Result<GroupWriter<'_>> {
@@ -166,9 +174,9 @@ pub struct GroupWriter<'f> {
     path: &'f Path,
 }
 
-impl GroupWriter<'_> {
+impl<'f> GroupWriter<'f> {
     /// Opens or creates a subgroup (slash-separated path relative to this group).
-    pub fn group(&self, sub: &str) -> Result<GroupWriter<'_>> {
+    pub fn group(&self, sub: &str) -> Result<GroupWriter<'f>> {
         let group = open_or_create(self.path, &self.group, sub)?;
         Ok(GroupWriter { group, path: self.path })
     }
@@ -182,13 +190,7 @@ impl GroupWriter<'_> {
     /// and not taken (HDF5 itself only says "unknown library error" for a duplicate).
     fn new_dataset_path(&self, name: &str) -> Result<String> {
         let full = format!("{}/{name}", self.group.name().trim_end_matches('/'));
-        if name.is_empty() || name.contains('/') || name == "." {
-            return Err(Error::input(
-                self.path.display().to_string(),
-                &full,
-                "dataset name must be non-empty without `/`",
-            ));
-        }
+        check_name(&self.path.display().to_string(), &full, name)?;
         if self.group.link_exists(name) {
             return Err(Error::Hdf5 {
                 path: self.path.display().to_string(),
@@ -248,21 +250,7 @@ impl GroupWriter<'_> {
         description: &str,
     ) -> Result<()> {
         let full = self.new_dataset_path(name)?;
-        if !(1..=2).contains(&shape.len()) {
-            return Err(Error::input(
-                self.path.display().to_string(),
-                &full,
-                format!("shape {shape:?} must have 1 or 2 dimensions"),
-            ));
-        }
-        let n: usize = shape.iter().product();
-        if n != data.len() {
-            return Err(Error::input(
-                self.path.display().to_string(),
-                &full,
-                format!("shape {shape:?} holds {n} values but {} were given", data.len()),
-            ));
-        }
+        check_shape(&self.path.display().to_string(), &full, shape, data.len())?;
         let what = format!("dataset `{full}`");
         let ds = self.group.new_dataset::<T>().shape(shape.to_vec()).create(name).map_err(h5err(self.path, &what))?;
         ds.as_writer().write_raw(data).map_err(h5err(self.path, &what))?;
@@ -286,6 +274,36 @@ impl GroupWriter<'_> {
         let ds =
             self.group.new_dataset::<VarLenUnicode>().shape([v.len()]).create(name).map_err(h5err(self.path, &what))?;
         ds.as_writer().write_raw(&v).map_err(h5err(self.path, &what))
+    }
+}
+
+impl GroupSink for GroupWriter<'_> {
+    fn group(&self, sub: &str) -> Result<Self> {
+        GroupWriter::group(self, sub)
+    }
+    fn attr_str(&self, name: &str, value: &str) -> Result<()> {
+        GroupWriter::attr_str(self, name, value)
+    }
+    fn attr_f64(&self, name: &str, value: f64) -> Result<()> {
+        GroupWriter::attr_f64(self, name, value)
+    }
+    fn attr_i64(&self, name: &str, value: i64) -> Result<()> {
+        GroupWriter::attr_i64(self, name, value)
+    }
+    fn write_f64(&self, name: &str, data: &[f64], shape: &[usize], unit: &str, description: &str) -> Result<()> {
+        GroupWriter::write_f64(self, name, data, shape, unit, description)
+    }
+    fn write_c64(&self, name: &str, data: &[Complex64], shape: &[usize], unit: &str, description: &str) -> Result<()> {
+        GroupWriter::write_c64(self, name, data, shape, unit, description)
+    }
+    fn write_i64(&self, name: &str, data: &[i64], shape: &[usize], unit: &str, description: &str) -> Result<()> {
+        GroupWriter::write_i64(self, name, data, shape, unit, description)
+    }
+    fn write_str(&self, name: &str, value: &str) -> Result<()> {
+        GroupWriter::write_str(self, name, value)
+    }
+    fn write_str_list(&self, name: &str, values: &[String]) -> Result<()> {
+        GroupWriter::write_str_list(self, name, values)
     }
 }
 
@@ -431,6 +449,70 @@ impl ResultsReader {
         let g = self.open_group(group)?;
         let ds = g.datasets().map_err(h5err(&self.path, format!("listing group `{group}`")))?;
         Ok(Self::basenames(ds.iter().map(|d| d.name())))
+    }
+
+    /// The whole file as an in-memory tree (attributes, groups, datasets with their unit
+    /// and description), the form [`super::tree::TreeSink`] builds for a run.
+    pub fn read_tree(&self) -> Result<Group> {
+        self.read_group("/")
+    }
+
+    fn read_group(&self, path: &str) -> Result<Group> {
+        let mut g = Group { attrs: self.read_attrs(path)?, ..Default::default() };
+        let child = |name: &str| format!("{}/{name}", path.trim_end_matches('/'));
+        for name in self.list_datasets(path)? {
+            g.datasets.insert(name.clone(), self.read_dataset(&child(&name))?);
+        }
+        for name in self.list_groups(path)? {
+            g.groups.insert(name.clone(), self.read_group(&child(&name))?);
+        }
+        Ok(g)
+    }
+
+    /// Every attribute of an object, typed as stored (text, float, integer).
+    fn read_attrs(&self, obj: &str) -> Result<BTreeMap<String, Attr>> {
+        let loc = self.location(obj)?;
+        let what = format!("attributes of `{obj}`");
+        let mut out = BTreeMap::new();
+        for name in loc.attr_names().map_err(h5err(&self.path, &what))? {
+            let dtype = loc.attr(&name).and_then(|a| a.dtype()).and_then(|t| t.to_descriptor());
+            let a = match dtype.map_err(h5err(&self.path, &what))? {
+                TypeDescriptor::Float(_) => Attr::F64(self.attr_f64(obj, &name)?),
+                TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_) => Attr::I64(self.attr_i64(obj, &name)?),
+                _ => Attr::Str(self.attr_str(obj, &name)?),
+            };
+            out.insert(name, a);
+        }
+        Ok(out)
+    }
+
+    /// A dataset as stored: real, complex, integer, text or a list of text; numeric ones
+    /// with their `unit` and `description`.
+    fn read_dataset(&self, name: &str) -> Result<Dataset> {
+        let ds = self.dataset(name)?;
+        let what = format!("type of dataset `{name}`");
+        let kind = ds.dtype().and_then(|t| t.to_descriptor()).map_err(h5err(&self.path, &what))?;
+        let (data, shape) = match kind {
+            TypeDescriptor::Float(_) => self.read_f64(name).map(|(v, s)| (Data::F64(v), s))?,
+            TypeDescriptor::Integer(_) | TypeDescriptor::Unsigned(_) => {
+                self.read_i64(name).map(|(v, s)| (Data::I64(v), s))?
+            }
+            TypeDescriptor::Compound(_) => self.read_c64(name).map(|(v, s)| (Data::C64(v), s))?,
+            _ if ds.ndim() == 0 => (Data::Str(self.read_str(name)?), Vec::new()),
+            _ => {
+                let v = self.read_str_list(name)?;
+                let n = v.len();
+                (Data::StrList(v), vec![n])
+            }
+        };
+        let text = |attr: &str| if self.has_attr(name, attr) { self.attr_str(name, attr) } else { Ok(String::new()) };
+        Ok(Dataset { data, shape, unit: text("unit")?, description: text("description")? })
+    }
+
+    fn has_attr(&self, obj: &str, name: &str) -> bool {
+        self.location(obj)
+            .and_then(|l| l.attr_names().map_err(h5err(&self.path, "")))
+            .is_ok_and(|n| n.iter().any(|a| a == name))
     }
 
     /// Whether a group or dataset exists at `path`.

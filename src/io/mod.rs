@@ -8,6 +8,8 @@
 //! * [`hdf5`]: the self-describing results file (units and descriptions as attributes),
 //!   plus a small reader used by tests and for merging sweep shards.
 //! * [`plot`]: report figures (PNG and SVG from one description).
+//! * [`sink`], [`tree`]: the results layout is written through [`sink::GroupSink`], into an
+//!   HDF5 file or an in-memory [`tree::Group`] (the Python package's results) alike.
 //! * [`mtx`]: Matrix Market export of sparse system matrices, for checking them in
 //!   other tools (SciPy, MATLAB, Julia).
 //!
@@ -19,4 +21,6 @@ pub mod hdf5;
 pub mod mtx;
 pub mod plot;
 pub mod results;
+pub mod sink;
 pub mod summary;
+pub mod tree;

@@ -1,6 +1,7 @@
 //! The layout of a run's HDF5 file (documented in docs/results-format.md).
 
-use super::hdf5::{utc_timestamp, GroupWriter, ResultsFile};
+use super::hdf5::{utc_timestamp, ResultsFile};
+use super::sink::GroupSink;
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
@@ -15,12 +16,19 @@ use std::path::Path;
 /// Writes one self-describing file for a case run (atomically).
 pub fn write(path: &Path, lc: &LoadedCase, run: &CaseRun) -> Result<()> {
     let f = ResultsFile::create(path)?;
-    f.set_attr_str("program", "beamflow")?;
-    f.set_attr_str("version", env!("CARGO_PKG_VERSION"))?;
-    f.set_attr_str("case_file", &lc.file)?;
-    f.set_attr_str("title", &lc.case.title)?;
-    f.set_attr_str("created", &utc_timestamp())?;
-    f.set_attr_str("sign_convention", "forces and displacements positive up (+w); power positive into the base; complex amplitudes q(t) = Re(Q·exp(+iωt))")?;
+    write_into(&f.root_group(), lc, run)?;
+    f.finish()
+}
+
+/// Writes the layout of a case run into a root group: an HDF5 file's ([`write`]) or an
+/// in-memory tree's ([`crate::io::tree::TreeSink`]).
+pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result<()> {
+    f.attr_str("program", "beamflow")?;
+    f.attr_str("version", env!("CARGO_PKG_VERSION"))?;
+    f.attr_str("case_file", &lc.file)?;
+    f.attr_str("title", &lc.case.title)?;
+    f.attr_str("created", &utc_timestamp())?;
+    f.attr_str("sign_convention", "forces and displacements positive up (+w); power positive into the base; complex amplitudes q(t) = Re(Q·exp(+iωt))")?;
     f.group("case")?.write_str("toml", &lc.text)?;
     let m = f.group("model")?;
     m.attr_i64("n_dofs", run.system.n() as i64)?;
@@ -41,10 +49,10 @@ pub fn write(path: &Path, lc: &LoadedCase, run: &CaseRun) -> Result<()> {
             AnalysisResult::SteadyState(x) => write_steady(&f.group(&format!("analysis_{i}_steady_state"))?, x, run)?,
         }
     }
-    f.finish()
+    Ok(())
 }
 
-fn write_modes(g: &GroupWriter, r: &ModesResult) -> Result<()> {
+fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
     let n = r.frequencies_hz.len();
     g.attr_str("reference", &r.reference)?;
     g.write_f64("frequencies_hz", &r.frequencies_hz, &[n], "Hz", "natural frequencies of the bare beam")?;
@@ -70,7 +78,7 @@ fn write_modes(g: &GroupWriter, r: &ModesResult) -> Result<()> {
     )
 }
 
-fn write_harmonic(g: &GroupWriter, r: &HarmonicResult) -> Result<()> {
+fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     let nf = r.frequency_hz.len();
     let np = r.point_x.len();
     let nforce = r.input_power.first().map_or(0, Vec::len);
@@ -94,7 +102,7 @@ fn write_harmonic(g: &GroupWriter, r: &HarmonicResult) -> Result<()> {
     g.write_f64("balance_error", &r.balance_error, &[nf], "1", "|total - dissipated|/dissipated")
 }
 
-fn write_energy(g: &GroupWriter, name: &str, e: &EnergyBalance) -> Result<()> {
+fn write_energy<S: GroupSink>(g: &S, name: &str, e: &EnergyBalance) -> Result<()> {
     let s = g.group(name)?;
     s.attr_f64("input_J", e.input)?;
     s.attr_f64("dissipated_J", e.dissipated)?;
@@ -106,8 +114,8 @@ fn link_group_name(run: &CaseRun, l: &LinkSeries) -> String {
     format!("{}_{}", run.model.actuators[l.actuator].name(), l.name)
 }
 
-fn write_series(
-    g: &GroupWriter,
+fn write_series<S: GroupSink>(
+    g: &S,
     t: &[f64],
     links: &[LinkSeries],
     bodies: &[BodySeries],
@@ -161,7 +169,7 @@ fn write_series(
     Ok(())
 }
 
-fn write_spectra(g: &GroupWriter, links: &[LinkSeries], spectra: &[LinkSpectrum], run: &CaseRun) -> Result<()> {
+fn write_spectra<S: GroupSink>(g: &S, links: &[LinkSeries], spectra: &[LinkSpectrum], run: &CaseRun) -> Result<()> {
     for (l, s) in links.iter().zip(spectra) {
         let sg = g.group(&format!("spectra/{}", link_group_name(run, l)))?;
         let n = s.frequency.len();
@@ -189,7 +197,7 @@ fn write_spectra(g: &GroupWriter, links: &[LinkSeries], spectra: &[LinkSpectrum]
     Ok(())
 }
 
-fn write_powers(g: &GroupWriter, mean: &[f64], net: &[f64], run: &CaseRun) -> Result<()> {
+fn write_powers<S: GroupSink>(g: &S, mean: &[f64], net: &[f64], run: &CaseRun) -> Result<()> {
     g.write_f64(
         "mean_power",
         mean,
@@ -208,7 +216,7 @@ fn write_powers(g: &GroupWriter, mean: &[f64], net: &[f64], run: &CaseRun) -> Re
     g.write_f64("net_power", net, &[net.len()], "W", "net power into the base per actuator")
 }
 
-fn write_transient(g: &GroupWriter, r: &TransientResult, run: &CaseRun) -> Result<()> {
+fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> Result<()> {
     g.attr_f64("dt_s", r.dt)?;
     g.attr_f64("period_s", r.period)?;
     g.attr_i64("steps_per_period", r.steps_per_period as i64)?;
@@ -227,7 +235,7 @@ fn write_transient(g: &GroupWriter, r: &TransientResult, run: &CaseRun) -> Resul
 }
 
 /// The modal reduction a run used, if any: basis and error estimate.
-fn write_reduction(g: &GroupWriter, r: Option<&ReductionReport>) -> Result<()> {
+fn write_reduction<S: GroupSink>(g: &S, r: Option<&ReductionReport>) -> Result<()> {
     let Some(r) = r else { return Ok(()) };
     let rg = g.group("reduction")?;
     rg.attr_f64("cutoff_Hz", r.cutoff_hz)?;
@@ -269,7 +277,7 @@ fn write_reduction(g: &GroupWriter, r: Option<&ReductionReport>) -> Result<()> {
     Ok(())
 }
 
-fn write_steady(g: &GroupWriter, r: &SteadyStateResult, run: &CaseRun) -> Result<()> {
+fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Result<()> {
     g.attr_f64("period_s", r.period)?;
     g.attr_i64("harmonics", r.harmonics as i64)?;
     g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;

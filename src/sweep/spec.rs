@@ -157,7 +157,7 @@ pub fn set_path(root: &mut toml::Value, path: &[Segment], value: toml::Value) ->
 }
 
 /// The value at `path`, if the base case has one.
-fn get_path<'a>(root: &'a toml::Value, path: &[Segment]) -> Option<&'a toml::Value> {
+pub fn get_path<'a>(root: &'a toml::Value, path: &[Segment]) -> Option<&'a toml::Value> {
     let mut cur = root;
     for seg in path {
         cur = cur.as_table()?.get(&seg.key)?;

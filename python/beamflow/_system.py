@@ -1,0 +1,121 @@
+"""The assembled system and modes, for custom studies with numpy and scipy."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, Dict, List, Optional, Tuple
+
+import numpy as np
+
+from ._results import Quantity
+
+__all__ = ["System", "DofMap", "Modes"]
+
+
+@dataclass(frozen=True)
+class DofMap:
+    """What each global DOF is, as columns of length ``n``.
+
+    ``node``: the beam node (−1 for an actuator body DOF); ``x``: the node's position (m,
+    NaN for a body DOF); ``kind``: ``"w"`` (m), ``"theta"`` (rad), or the body DOF's name
+    (``"z_t"`` of an inertial actuator, ``"y"``, ``"phi"`` of a frame); ``actuator``: the
+    actuator a body DOF belongs to (empty for the beam). DOFs fixed by supports have no
+    index.
+    """
+
+    index: np.ndarray
+    node: np.ndarray
+    x: Quantity
+    kind: List[str]
+    actuator: List[str]
+
+    def __len__(self) -> int:
+        return len(self.index)
+
+    def where(self, kind: str, actuator: str = "") -> np.ndarray:
+        """Global indices of the DOFs of one kind (``"w"``, ``"theta"``, ``"phi"``, …),
+        optionally of one actuator."""
+        return np.array(
+            [i for i, k, a in zip(self.index, self.kind, self.actuator) if k == kind and (not actuator or a == actuator)],
+            dtype=np.int64,
+        )
+
+    def to_frame(self) -> Any:
+        """The map as a pandas DataFrame (needs pandas)."""
+        import pandas as pd
+
+        return pd.DataFrame({"node": self.node, "x": np.asarray(self.x), "kind": self.kind, "actuator": self.actuator}, index=pd.Index(self.index, name="dof"))
+
+
+def _dofmap(raw: Dict[str, Any]) -> DofMap:
+    return DofMap(raw["index"], raw["node"], Quantity(raw["x"], "m", "beam node position of the DOF"), list(raw["kind"]), list(raw["actuator"]))
+
+
+@dataclass(frozen=True)
+class System:
+    """The assembled second-order system M·q̈ + C·q̇ + K·q = f of a case.
+
+    ``K`` (N/m, N/rad, …), ``M`` (kg, kg·m²) and ``C`` (N·s/m) are ``scipy.sparse``
+    CSR matrices over the free DOFs described by ``dofs``. ``C`` holds the Rayleigh
+    damping ``a0·M + a1·K`` of the beam (``rayleigh``) and the actuators' dashpots; with
+    modal damping (``modal_damping``: the ratios) the beam's damping is not a matrix in
+    these coordinates and ``C`` holds the dashpots only.
+    """
+
+    K: Any
+    M: Any
+    C: Any
+    dofs: DofMap
+    rayleigh: Tuple[float, float]
+    modal_damping: Optional[List[float]]
+
+    @property
+    def n(self) -> int:
+        """Number of free DOFs."""
+        return int(self.K.shape[0])
+
+
+def _system(raw: Dict[str, Any]) -> System:
+    import scipy.sparse as sp
+
+    mats = {k: sp.csr_matrix(tuple(raw[k][:3]), shape=raw[k][3]) for k in ("K", "M", "C")}
+    return System(mats["K"], mats["M"], mats["C"], _dofmap(raw["dofs"]), tuple(raw["rayleigh"]), raw["modal_damping"])
+
+
+@dataclass(frozen=True)
+class Modes:
+    """Natural modes, ascending.
+
+    ``frequencies_hz`` (Hz). Bare beam (:meth:`Case.modes`): ``analytic_hz`` and
+    ``relative_error`` against the closed form where one exists (else empty),
+    ``roundoff_bound`` per mode, ``node_x`` (m) and ``shapes`` with one row per mode: w at
+    each node (m/√kg, mass-normalised). Coupled (:meth:`Case.coupled_modes`): ``shapes``
+    with one row per mode over the global DOFs of ``dofs`` (mass-normalised).
+    """
+
+    frequencies_hz: Quantity
+    shapes: Quantity
+    coupled: bool
+    node_x: Optional[Quantity] = None
+    analytic_hz: Optional[Quantity] = None
+    relative_error: Optional[Quantity] = None
+    roundoff_bound: Optional[Quantity] = None
+    reference: str = ""
+    dofs: Optional[DofMap] = None
+
+
+def _modes(raw: Dict[str, Any], coupled: bool) -> Modes:
+    f = Quantity(raw["frequencies_hz"], "Hz", "natural frequencies")
+    if coupled:
+        shapes = Quantity(raw["shapes"], "1/sqrt(kg)", "mass-normalised mode shapes over the global DOFs, one row per mode")
+        return Modes(f, shapes, True, dofs=_dofmap(raw["dofs"]))
+    return Modes(
+        f,
+        Quantity(raw["shapes_w"], "m/sqrt(kg)", "mass-normalised mode shapes: w at each node, one row per mode"),
+        False,
+        node_x=Quantity(raw["node_x"], "m", "node coordinates"),
+        analytic_hz=Quantity(raw["analytic_hz"], "Hz", "closed-form natural frequencies"),
+        relative_error=Quantity(raw["relative_error"], "1", "(f - f_analytic)/f_analytic"),
+        roundoff_bound=Quantity(raw["roundoff_bound"], "1", "bound on each frequency's relative round-off error"),
+        reference=raw["reference"],
+    )

@@ -1,0 +1,26 @@
+//! The extension module `beamflow._native`: the beamflow library itself, called from
+//! Python. The Python package (`python/beamflow`) wraps it in the documented API; nothing
+//! here computes physics of its own.
+
+mod background;
+mod case;
+mod convert;
+mod errors;
+mod results;
+mod sweep;
+mod system;
+
+use pyo3::prelude::*;
+
+#[pymodule]
+fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add_class::<case::NativeCase>()?;
+    m.add_class::<results::NativeRun>()?;
+    m.add_class::<results::NativeTree>()?;
+    m.add_function(wrap_pyfunction!(results::read_results, m)?)?;
+    m.add_function(wrap_pyfunction!(convert::toml_dumps, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
+    m.add_function(wrap_pyfunction!(sweep::read_sweep_table, m)?)?;
+    Ok(())
+}

@@ -1,0 +1,90 @@
+//! A case run's results: the in-memory tree of the results layout (what `Results` shows),
+//! kept with the run itself for the figures and the headline summary.
+
+use crate::background;
+use beamflow::case::LoadedCase;
+use beamflow::io::hdf5::{ResultsFile, ResultsReader};
+use beamflow::io::tree::{Group, TreeSink};
+use beamflow::runner::{run_case, CaseRun};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+use std::path::PathBuf;
+use std::sync::Arc;
+
+/// A results tree (of a run, or read from a file).
+#[pyclass(module = "beamflow._native", frozen)]
+pub struct NativeTree(Arc<Group>);
+
+#[pymethods]
+impl NativeTree {
+    /// The tree as nested dicts of numpy arrays (see `convert::tree`).
+    fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        crate::convert::tree(py, &self.0)
+    }
+
+    /// Writes the tree as an HDF5 results file (atomically).
+    fn write_hdf5(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let tree = self.0.clone();
+        background::run(py, None, move || {
+            let f = ResultsFile::create(&path)?;
+            tree.write_to(&f.root_group())?;
+            f.finish()
+        })
+    }
+}
+
+/// Reads an HDF5 file written by beamflow (a case run or a sweep table) into a tree.
+#[pyfunction]
+pub fn read_results(py: Python<'_>, path: PathBuf) -> PyResult<NativeTree> {
+    let tree = background::run(py, None, move || ResultsReader::open(&path)?.read_tree())?;
+    Ok(NativeTree(Arc::new(tree)))
+}
+
+/// A finished case run.
+#[pyclass(module = "beamflow._native", frozen)]
+pub struct NativeRun {
+    lc: Arc<LoadedCase>,
+    run: Arc<CaseRun>,
+    tree: Arc<Group>,
+}
+
+impl NativeRun {
+    /// Runs the case and lays its results out in memory, both on a worker thread.
+    pub fn compute(py: Python<'_>, lc: LoadedCase) -> PyResult<NativeRun> {
+        let (lc, run, tree) = background::run(py, None, move || {
+            let run = run_case(&lc)?;
+            let sink = TreeSink::new();
+            beamflow::io::results::write_into(&sink, &lc, &run)?;
+            let tree = sink.tree();
+            Ok((lc, run, tree))
+        })?;
+        Ok(NativeRun { lc: Arc::new(lc), run: Arc::new(run), tree: Arc::new(tree) })
+    }
+}
+
+#[pymethods]
+impl NativeRun {
+    fn tree(&self) -> NativeTree {
+        NativeTree(self.tree.clone())
+    }
+
+    /// The headline numbers, as the command line's `<case>.json`.
+    fn summary_json(&self) -> String {
+        serde_json::to_string(&beamflow::io::summary::summary(&self.lc, &self.run)).expect("plain data serialises")
+    }
+
+    /// The command line's figures of this run, as PNG and SVG files in `dir`.
+    fn write_figures(&self, py: Python<'_>, dir: PathBuf, stem: String) -> PyResult<Vec<PathBuf>> {
+        let (lc, run) = (self.lc.clone(), self.run.clone());
+        background::run(py, None, move || {
+            std::fs::create_dir_all(&dir).map_err(|e| beamflow::Error::io(&dir, e))?;
+            beamflow::io::figures::plot_run(&dir, &stem, &lc, &run)
+        })
+    }
+
+    /// The case file the run came from, as messages name it.
+    #[getter]
+    fn case_file(&self) -> String {
+        self.lc.file.clone()
+    }
+}

@@ -1,0 +1,112 @@
+//! Lower-level access for custom studies: the assembled M, C, K (CSR parts for
+//! scipy.sparse) with the DOF map, the bare beam's modes and the coupled system's modes.
+
+use crate::background;
+use crate::convert::array;
+use beamflow::assembly::System;
+use beamflow::case::{build_model, LoadedCase};
+use beamflow::linalg::Csr;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// `(data, indices, indptr, (n, n))`: the arguments of `scipy.sparse.csr_matrix`.
+fn csr<'py>(py: Python<'py>, m: &Csr) -> PyResult<Bound<'py, PyAny>> {
+    let s = m.as_sprs().to_csr();
+    let n = s.rows();
+    let data = s.data().to_vec();
+    let indices: Vec<i64> = s.indices().iter().map(|&i| i as i64).collect();
+    let indptr: Vec<i64> = s.indptr().raw_storage().iter().map(|&i| i as i64).collect();
+    let (nd, ni, np) = (data.len(), indices.len(), indptr.len());
+    Ok((array(py, data, &[nd])?, array(py, indices, &[ni])?, array(py, indptr, &[np])?, (n, s.cols()))
+        .into_pyobject(py)?
+        .into_any())
+}
+
+/// The DOF map as columns: for each global DOF its beam node (−1 for an actuator body),
+/// the node's x (NaN for a body), its kind (`w`, `theta`, or the body DOF's name) and the
+/// actuator it belongs to (empty for the beam).
+fn dof_table<'py>(py: Python<'py>, model: &beamflow::assembly::Model, sys: &System) -> PyResult<Bound<'py, PyDict>> {
+    let n = sys.n();
+    let mut node = vec![-1i64; n];
+    let mut x = vec![f64::NAN; n];
+    let mut kind = vec![String::new(); n];
+    let mut actuator = vec![String::new(); n];
+    let xs = model.beam.as_ref().map(|b| b.mesh.x.clone()).unwrap_or_default();
+    for (k, dofs) in [("w", &sys.dofs.w), ("theta", &sys.dofs.theta)] {
+        for (i, d) in dofs.iter().enumerate() {
+            if let Some(d) = *d {
+                (node[d], x[d], kind[d]) = (i as i64, xs[i], k.to_string());
+            }
+        }
+    }
+    for (a, body) in sys.dofs.bodies.iter().enumerate() {
+        let names = model.actuators[a].component().dof_names;
+        for (k, &d) in body.iter().enumerate() {
+            kind[d] = names.get(k).map_or_else(|| format!("body_{k}"), |s| s.to_string());
+            actuator[d] = model.actuators[a].name().to_string();
+        }
+    }
+    let t = PyDict::new(py);
+    t.set_item("index", array(py, (0..n as i64).collect(), &[n])?)?;
+    t.set_item("node", array(py, node, &[n])?)?;
+    t.set_item("x", array(py, x, &[n])?)?;
+    t.set_item("kind", kind)?;
+    t.set_item("actuator", actuator)?;
+    Ok(t)
+}
+
+/// The case's assembled system (the full model, before any modal reduction).
+pub fn system<'py>(py: Python<'py>, lc: LoadedCase) -> PyResult<Bound<'py, PyDict>> {
+    let (built, sys) = background::run(py, None, move || {
+        let built = build_model(&lc)?;
+        let sys = System::assemble(&built.model)?;
+        Ok((built, sys))
+    })?;
+    let d = PyDict::new(py);
+    d.set_item("K", csr(py, &sys.k)?)?;
+    d.set_item("M", csr(py, &sys.m)?)?;
+    d.set_item("C", csr(py, &sys.c)?)?;
+    d.set_item("dofs", dof_table(py, &built.model, &sys)?)?;
+    d.set_item("modal_damping", built.modal_ratios.clone())?;
+    d.set_item("rayleigh", (built.model.rayleigh.a0, built.model.rayleigh.a1))?;
+    Ok(d)
+}
+
+/// The bare beam's modes (`beamflow modes`): frequencies, closed-form references and the
+/// mode shapes' w at every node.
+pub fn bare_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResult<Bound<'py, PyDict>> {
+    let r = background::run(py, None, move || {
+        let beam = beamflow::case::build::build_beam(&lc)?;
+        beamflow::analysis::modes::run(&beam, count)
+    })?;
+    let (m, nx) = (r.frequencies_hz.len(), r.node_x.len());
+    let d = PyDict::new(py);
+    d.set_item("frequencies_hz", array(py, r.frequencies_hz, &[m])?)?;
+    d.set_item("analytic_hz", array(py, r.analytic_hz.clone(), &[r.analytic_hz.len()])?)?;
+    d.set_item("relative_error", array(py, r.relative_error.clone(), &[r.relative_error.len()])?)?;
+    d.set_item("roundoff_bound", array(py, r.roundoff_bound, &[m])?)?;
+    d.set_item("reference", r.reference)?;
+    d.set_item("node_x", array(py, r.node_x, &[nx])?)?;
+    d.set_item("shapes_w", array(py, r.shapes_w.concat(), &[m, nx])?)?;
+    Ok(d)
+}
+
+/// The modes of the whole assembled system (beam and actuator bodies), undamped, from the
+/// dense generalised eigenproblem K·φ = ω²·M·φ over every DOF; shapes mass-normalised,
+/// one row per mode over the global DOFs.
+pub fn coupled_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResult<Bound<'py, PyDict>> {
+    let (built, sys, modes) = background::run(py, None, move || {
+        let built = build_model(&lc)?;
+        let sys = System::assemble(&built.model)?;
+        let all: Vec<usize> = (0..sys.n()).collect();
+        let modes = beamflow::solve::eigen::modes(&sys.k, &sys.m, &all, count)?;
+        Ok((built, sys, modes))
+    })?;
+    let (m, n) = (modes.count(), sys.n());
+    let shapes: Vec<f64> = (0..m).flat_map(|r| modes.shape_global(r, n)).collect();
+    let d = PyDict::new(py);
+    d.set_item("frequencies_hz", array(py, modes.frequencies_hz(), &[m])?)?;
+    d.set_item("shapes", array(py, shapes, &[m, n])?)?;
+    d.set_item("dofs", dof_table(py, &built.model, &sys)?)?;
+    Ok(d)
+}
