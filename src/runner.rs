@@ -122,7 +122,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 let forces: Vec<PointForce> =
                     force.iter().map(|f| PointForce { x: f.x, amplitude: f.amplitude, phase: f.phase }).collect();
                 let modal = match &built.modal_ratios {
-                    Some(r) => Some((crate::case::build::bare_modes(beam, usize::MAX)?, r.clone())),
+                    Some(r) => Some((crate::analysis::modes::bare_modes(beam, usize::MAX)?, r.clone())),
                     None => None,
                 };
                 AnalysisResult::Harmonic(harmonic::run(

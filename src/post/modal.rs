@@ -9,8 +9,8 @@
 //! C_beam, so the beam dissipation splits into P_r = ½ω²·(a₀ + a₁ω_r²)·|η_r|²; with modal
 //! damping (ratios ζ_r) into P_r = ½ω²·2ζ_r·ω_r·|η_r|².
 
+use crate::analysis::modes::bare_modes;
 use crate::assembly::{Model, System};
-use crate::case::build::bare_modes;
 use crate::error::Result;
 use crate::solve::eigen::ratio_of;
 use num_complex::Complex64;

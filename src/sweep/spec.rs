@@ -429,7 +429,7 @@ impl Sweep {
             let beam = crate::case::build::build_beam(&lc)?;
             let d = &lc.case.damping;
             let need = d.modes[0].max(d.modes[1]);
-            let m = crate::case::build::bare_modes(&beam, need)?;
+            let m = crate::analysis::modes::bare_modes(&beam, need)?;
             if m.count() < need {
                 return Err(Error::input(
                     &base_file,
