@@ -9,8 +9,12 @@
 use super::transient::{time_grid, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
-use crate::post::spectra::harmonics;
-use crate::solve::harmonic::{dissipated_power, DynamicStiffness};
+use crate::power::link::link_harmonic;
+use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
+use crate::power::point::dissipated_power;
+use crate::power::spectra::harmonics;
+use crate::solve::eigen::Modes;
+use crate::solve::harmonic::DynamicStiffness;
 use num_complex::Complex64;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -46,7 +50,7 @@ pub struct SteadyStateResult {
     pub drives: Vec<DriveSeries>,
     pub sensors: Vec<SensorSeries>,
     /// Mode-resolved power flow (filled by the runner; costly for sweeps, so optional).
-    pub modal: Option<crate::post::modal::ModalDecomposition>,
+    pub modal: Option<ModalDecomposition>,
     /// Set when the run used a modal reduction: its basis and error estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reduction: Option<super::reduction::ReductionReport>,
@@ -236,31 +240,6 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
     Ok(res)
 }
 
-/// A link's complex amplitudes at one frequency.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct LinkHarmonic {
-    /// Transmitted force on the base (N), interface force (N).
-    pub transmitted: Complex64,
-    pub interface: Complex64,
-    /// Base velocity (m/s) and acceleration (m/s²) at the foot.
-    pub velocity: Complex64,
-    pub acceleration: Complex64,
-    /// Time-averaged power ½·Re(F_interface·conj(V)) into the base (W).
-    pub power: f64,
-}
-
-/// What a link transmits when the system moves harmonically with amplitudes `q` at ω
-/// (rad/s) and the stacks' active forces have amplitudes `fp` (one per actuator).
-pub fn link_harmonic(lk: &crate::assembly::LinkDofs, q: &[Complex64], w: f64, fp: &[Complex64]) -> LinkHarmonic {
-    let iw = Complex64::new(0.0, w);
-    let u: Complex64 = lk.stretch.iter().map(|&(d, c)| q[d] * c).sum();
-    let foot: Complex64 = lk.foot.iter().map(|&(d, c)| q[d] * c).sum();
-    let (v, a) = (iw * foot, iw * iw * foot);
-    let ft = u * (lk.k + iw * lk.c) - if lk.active { fp[lk.actuator] } else { Complex64::default() };
-    let fi = ft - a * lk.foot_mass;
-    LinkHarmonic { transmitted: ft, interface: fi, velocity: v, acceleration: a, power: 0.5 * (fi * v.conj()).re }
-}
-
 /// Solves (K − ω²M + iωC)·Q = Σ_a b_a·F̂_p,a for one frequency ω (rad/s).
 pub fn solve_at(sys: &System, w: f64, fp: &[Complex64]) -> Result<Vec<Complex64>> {
     let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
@@ -283,7 +262,7 @@ impl SteadyStateResult {
         }
     }
 
-    /// Adds the mode-resolved decomposition with the first `count` bare-beam modes
+    /// Adds the mode-resolved decomposition with the first `count` bare-structure modes
     /// (`sys` is the full system the amplitudes Q_k belong to; `modal_ratios` the case's
     /// modal damping ratios, if any).
     pub fn decompose_modes(
@@ -293,10 +272,18 @@ impl SteadyStateResult {
         count: usize,
         modal_ratios: Option<&[f64]>,
     ) -> Result<()> {
+        let modes = super::modes::bare_modes_on(model, sys, count)?;
+        self.decompose_with(sys, modes.as_ref(), ModalDamping::of(&model.rayleigh, modal_ratios));
+        Ok(())
+    }
+
+    /// Adds the mode-resolved decomposition with the bare structure's `modes`, numbered on
+    /// the DOFs of `sys`, the full system the amplitudes Q_k belong to (None: the model has
+    /// no structure, and there is no decomposition).
+    pub fn decompose_with(&mut self, sys: &System, modes: Option<&Modes>, damping: ModalDamping) {
         let interface: Vec<Vec<Complex64>> = self.spectra.iter().map(|s| s.interface.clone()).collect();
         let w0 = 2.0 * PI / self.period;
-        self.modal = crate::post::modal::decompose(model, sys, &self.q, w0, &interface, count, modal_ratios)?;
-        Ok(())
+        self.modal = modes.map(|m| decompose(sys, m, damping, &self.q, w0, &interface));
     }
 }
 

@@ -6,10 +6,12 @@
 //! interface point and the RMS of every transmitted force are compared with the previous
 //! period; the run is in steady state when both change by less than the tolerance.
 
-use crate::assembly::{Model, StoredEnergy, System};
+use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
-use crate::post::power::{mean_product, EnergyBalance};
-use crate::post::spectra::{harmonics, power_from_acceleration, power_per_harmonic};
+use crate::power::balance::EnergyBalance;
+use crate::power::energy::StoredEnergy;
+use crate::power::point::mean_product;
+use crate::power::spectra::{harmonics, power_from_acceleration, power_per_harmonic};
 use crate::solve::fused::FusedNewmark;
 use crate::solve::newmark::{consistent_acceleration, Scheme};
 use num_complex::Complex64;

@@ -8,7 +8,7 @@ use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries, TransientResult};
 use crate::case::LoadedCase;
 use crate::error::Result;
-use crate::post::power::EnergyBalance;
+use crate::power::balance::EnergyBalance;
 use crate::runner::{AnalysisResult, CaseRun};
 use std::path::Path;
 

@@ -16,11 +16,12 @@
 //!
 //! `tests/sweeps.rs` checks it against `steady_state::run` on the same cases.
 
-use crate::analysis::steady_state::{link_harmonic, periodic_stack_forces, HarmonicSolver};
+use crate::analysis::steady_state::{periodic_stack_forces, HarmonicSolver};
 use crate::analysis::transient::{time_grid, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
-use crate::post::spectra::harmonics;
+use crate::power::link::link_harmonic;
+use crate::power::spectra::harmonics;
 use num_complex::Complex64;
 use std::collections::HashMap;
 use std::f64::consts::PI;
