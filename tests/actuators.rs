@@ -18,7 +18,7 @@ fn run(lc: &LoadedCase) -> TransientResult {
     transient::run(&model, &sys, &TransientSettings::default()).unwrap()
 }
 
-fn link<'a>(r: &'a TransientResult, actuator: usize, name: &str) -> &'a transient::LinkSeries {
+fn link<'a>(r: &'a TransientResult, actuator: usize, name: &str) -> &'a beamflow::analysis::series::LinkSeries {
     r.links.iter().find(|l| l.actuator == actuator && l.name == name).unwrap()
 }
 

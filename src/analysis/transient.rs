@@ -6,15 +6,14 @@
 //! interface point and the RMS of every transmitted force are compared with the previous
 //! period; the run is in steady state when both change by less than the tolerance.
 
+use super::series::{Balances, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
-use crate::power::balance::EnergyBalance;
 use crate::power::energy::StoredEnergy;
 use crate::power::point::mean_product;
 use crate::power::spectra::{harmonics, power_from_acceleration, power_per_harmonic};
 use crate::solve::fused::FusedNewmark;
 use crate::solve::newmark::{consistent_acceleration, Scheme};
-use num_complex::Complex64;
 use serde::Serialize;
 use std::collections::VecDeque;
 
@@ -52,126 +51,6 @@ impl Default for TransientSettings {
             full_history: false,
         }
     }
-}
-
-/// Time histories of one link (stack or leg), SI units.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct LinkSeries {
-    pub actuator: usize,
-    pub name: String,
-    /// Foot position on the beam (m), None on the rigid ground.
-    pub foot_x: Option<f64>,
-    /// Stretch u = z_top − z_foot (m) and its rate (m/s).
-    pub stretch: Vec<f64>,
-    pub stretch_rate: Vec<f64>,
-    /// Components of the transmitted force (N): k·u, c·u̇, −F_p.
-    pub f_stiffness: Vec<f64>,
-    pub f_damping: Vec<f64>,
-    pub f_pzt: Vec<f64>,
-    /// Force on the base at the foot, positive up (N).
-    pub transmitted: Vec<f64>,
-    /// Force across the actuator–structure interface: transmitted minus foot-mass inertia (N).
-    pub interface: Vec<f64>,
-    /// Base velocity (m/s) and acceleration (m/s²) at the foot.
-    pub base_velocity: Vec<f64>,
-    pub base_acceleration: Vec<f64>,
-    /// Instantaneous power into the base at the foot (W).
-    pub power: Vec<f64>,
-}
-
-impl LinkSeries {
-    /// The last `n` samples of every series.
-    pub fn tail(&self, n: usize) -> LinkSeries {
-        let t = |v: &Vec<f64>| v[v.len().saturating_sub(n)..].to_vec();
-        LinkSeries {
-            actuator: self.actuator,
-            name: self.name.clone(),
-            foot_x: self.foot_x,
-            stretch: t(&self.stretch),
-            stretch_rate: t(&self.stretch_rate),
-            f_stiffness: t(&self.f_stiffness),
-            f_damping: t(&self.f_damping),
-            f_pzt: t(&self.f_pzt),
-            transmitted: t(&self.transmitted),
-            interface: t(&self.interface),
-            base_velocity: t(&self.base_velocity),
-            base_acceleration: t(&self.base_acceleration),
-            power: t(&self.power),
-        }
-    }
-}
-
-/// History of one body DOF (m or rad, and rates).
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct BodySeries {
-    pub actuator: usize,
-    pub dof: String,
-    pub q: Vec<f64>,
-    pub q_dot: Vec<f64>,
-    pub q_ddot: Vec<f64>,
-}
-
-/// The drive of one actuator: voltage (V), hysteretic displacement h (m), free stroke
-/// δ = d_p·V − h (m), active force F_p (N).
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct DriveSeries {
-    pub actuator: usize,
-    pub voltage: Vec<f64>,
-    pub h: Vec<f64>,
-    pub stroke: Vec<f64>,
-    pub f_p: Vec<f64>,
-}
-
-impl DriveSeries {
-    /// The last `n` samples of every series.
-    pub fn tail(&self, n: usize) -> DriveSeries {
-        let t = |v: &Vec<f64>| v[v.len().saturating_sub(n)..].to_vec();
-        DriveSeries {
-            actuator: self.actuator,
-            voltage: t(&self.voltage),
-            h: t(&self.h),
-            stroke: t(&self.stroke),
-            f_p: t(&self.f_p),
-        }
-    }
-}
-
-/// Beam motion at a sensor: w (m), ẇ (m/s), ẅ (m/s²).
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct SensorSeries {
-    pub name: String,
-    pub x: f64,
-    pub w: Vec<f64>,
-    pub v: Vec<f64>,
-    pub a: Vec<f64>,
-}
-
-/// Harmonic content of a link's signals over the last period, k = 0..=harmonics.
-#[derive(Clone, Debug, Default, Serialize)]
-pub struct LinkSpectrum {
-    /// Frequencies k·f₀ (Hz).
-    pub frequency: Vec<f64>,
-    #[serde(skip)]
-    pub transmitted: Vec<Complex64>,
-    #[serde(skip)]
-    pub interface: Vec<Complex64>,
-    #[serde(skip)]
-    pub velocity: Vec<Complex64>,
-    #[serde(skip)]
-    pub acceleration: Vec<Complex64>,
-    /// Power per harmonic from force and velocity (W).
-    pub power: Vec<f64>,
-    /// Power per harmonic from force and acceleration, as measured (W).
-    pub power_from_acceleration: Vec<f64>,
-    /// Σ over all harmonics up to Nyquist (equals the mean power).
-    pub power_total: f64,
-}
-
-/// Energy balances of the beam (interface work in) and of the whole system (stack work in).
-#[derive(Clone, Copy, Debug, Default, Serialize)]
-pub struct Balances {
-    pub beam: EnergyBalance,
-    pub system: EnergyBalance,
 }
 
 /// Result of a transient run.

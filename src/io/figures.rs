@@ -4,7 +4,7 @@
 use super::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
-use crate::analysis::transient::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum};
+use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum};
 use crate::case::LoadedCase;
 use crate::error::Result;
 use crate::power::spectra::db;

@@ -24,7 +24,7 @@ pub enum Combine {
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum SweepAnalysis {
-    /// Frequency-domain periodic steady state (physics spec §9): the fast path.
+    /// Frequency-domain periodic steady state (physics spec §9), in its headline mode.
     #[default]
     SteadyState,
     /// Newmark time integration to the steady state (§8).
