@@ -207,3 +207,82 @@ impl StackForceCache {
         Ok(h)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::case::{build_model, LoadedCase};
+    use std::path::PathBuf;
+
+    fn model(voltage: &str) -> Model {
+        let text = format!("base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\n{voltage}\n");
+        let lc = LoadedCase::from_str(&text, "d.toml", PathBuf::from(".")).unwrap();
+        build_model(&lc).unwrap().model
+    }
+
+    const SINE: &str = "kind = \"sine\"\namplitude = 48.0\nfrequency = 30.0";
+
+    /// Over twice its period the cycle is the same cycle twice: a 2T-cycle of 2N samples is
+    /// the T-cycle of N samples, twice, and the 2T grid's harmonic 2 is the T grid's
+    /// harmonic 1.
+    #[test]
+    fn a_cycle_over_a_multiple_of_the_period_repeats_the_cycle() {
+        let m = model(SINE);
+        let stack = m.actuators[0].stack();
+        let (t, n) = (1.0 / 30.0, 200);
+        let one = stack_cycle(stack, t, n).unwrap();
+        let two = stack_cycle(stack, 2.0 * t, 2 * n).unwrap();
+        let scale = stack.hysteresis.bound(0.0);
+        for j in 0..n {
+            for half in [j, n + j] {
+                assert!((two.h[half] - one.h[j]).abs() < 1e-12 * scale, "h at sample {half}");
+                assert!((two.voltage[half] - one.voltage[j]).abs() < 1e-12 * 48.0, "V at sample {half}");
+            }
+        }
+        assert!(one.periods > 1, "hysteresis settles over several periods");
+        let (h1, h2) = (force_harmonics(&one, 3), force_harmonics(&two, 6));
+        assert!((h2[2] - h1[1]).norm() < 1e-9 * h1[1].norm(), "{} vs {}", h2[2], h1[1]);
+        assert!(h2[1].norm() < 1e-9 * h1[1].norm(), "no subharmonic");
+    }
+
+    #[test]
+    fn the_cache_gives_the_bits_of_the_cycle_and_settles_it_once() {
+        let m = model(SINE);
+        let stack = m.actuators[0].stack();
+        let cache = StackForceCache::default();
+        let a = cache.get(stack, 1.0 / 30.0, 256, 5).unwrap();
+        let b = cache.get(stack, 1.0 / 30.0, 256, 5).unwrap();
+        let direct = force_harmonics(&stack_cycle(stack, 1.0 / 30.0, 256).unwrap(), 5);
+        assert_eq!(cache.computed.load(Ordering::Relaxed), 1);
+        assert_eq!(a.f_p, direct);
+        assert_eq!(b.f_p, direct);
+        // Another timing is another entry.
+        cache.get(stack, 2.0 / 30.0, 256, 5).unwrap();
+        assert_eq!(cache.computed.load(Ordering::Relaxed), 2);
+    }
+
+    #[test]
+    fn timing_follows_the_drive_and_refuses_what_it_cannot_sample() {
+        let m = model(SINE);
+        // A given dt is shrunk to a whole number of steps per period.
+        let s = DriveTiming::stepped(&m, Some(1.0 / 30.0 / 250.5), None, 9).unwrap();
+        assert!(s.periodic && s.steps_per_period == 251);
+        assert!((s.dt * 251.0 - 1.0 / 30.0).abs() < 1e-15);
+        // Default: 20 steps per period of harmonic 9, at least 200 per period.
+        assert_eq!(DriveTiming::stepped(&m, None, None, 9).unwrap().steps_per_period, 200);
+        assert_eq!(DriveTiming::stepped(&m, None, None, 20).unwrap().steps_per_period, 400);
+        let e = DriveTiming::stepped(&m, Some(1e-3), None, 9).unwrap_err().to_string();
+        assert!(e.contains("analysis.dt") && e.contains("too coarse"), "{e}");
+        // A duration runs once, the drive's period notwithstanding.
+        let once = DriveTiming::stepped(&m, Some(1e-4), Some(0.05), 9).unwrap();
+        assert!(!once.periodic && once.period == 0.05 && once.steps_per_period == 500);
+        assert_eq!(DriveTiming::sampled(&m, 64).unwrap().period, 1.0 / 30.0);
+        let chirp = model(
+            "kind = \"chirp\"\namplitude = 10.0\nf_start = 5.0\nf_end = 50.0\nduration = 1.0\nsweep = \"linear\"",
+        );
+        let e = DriveTiming::sampled(&chirp, 64).unwrap_err().to_string();
+        assert!(e.contains("needs a periodic drive"), "{e}");
+        let e = DriveTiming::stepped(&chirp, None, None, 9).unwrap_err().to_string();
+        assert!(e.contains("analysis.duration"), "{e}");
+    }
+}

@@ -72,3 +72,48 @@ pub fn link_harmonic(lk: &LinkDofs, q: &[Complex64], omega: f64, f_p: &[Complex6
     let fi = interface_amplitude(lk, ft, a);
     LinkHarmonic { transmitted: ft, interface: fi, velocity: v, acceleration: a, power: mean_power(fi, v) }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn link(active: bool) -> LinkDofs {
+        LinkDofs {
+            actuator: 0,
+            name: "l".into(),
+            k: 3.0e7,
+            c: 45.0,
+            stretch: Vec::new(),
+            foot_node: None,
+            foot_dof: None,
+            foot: Vec::new(),
+            foot_x: None,
+            foot_mass: 0.012,
+            active,
+        }
+    }
+
+    /// The time-sample and the amplitude forms are two writings of one force: sampling a
+    /// harmonic motion and applying the first gives Re(amplitude·e^{iωt}) of the second.
+    #[test]
+    fn sample_and_amplitude_forms_agree_on_a_harmonic_motion() {
+        let w = 2.0 * std::f64::consts::PI * 60.0;
+        let (u, fp, acc) = (Complex64::new(2e-7, -1e-7), Complex64::new(-0.3, 14.0), Complex64::new(-0.4, 0.9));
+        let at = |z: Complex64, t: f64| (z * Complex64::from_polar(1.0, w * t)).re;
+        for lk in [link(true), link(false)] {
+            let ft = transmitted_amplitude(&lk, u, w, fp);
+            let fi = interface_amplitude(&lk, ft, acc);
+            for j in 0..16 {
+                let t = j as f64 / 16.0 / 60.0;
+                let u_dot = at(Complex64::new(0.0, w) * u, t);
+                let f = transmitted_force(&lk, at(u, t), u_dot, at(fp, t));
+                let scale = ft.norm() + fp.norm();
+                assert!((f - at(ft, t)).abs() < 1e-12 * scale, "F_T at sample {j}: {f} vs {}", at(ft, t));
+                let i = interface_force(&lk, f, at(acc, t));
+                assert!((i - at(fi, t)).abs() < 1e-12 * scale, "F_i at sample {j}");
+            }
+            // F_p acts on the stack's link only.
+            assert_eq!(pzt_force(&lk, 5.0), if lk.active { -5.0 } else { 0.0 });
+        }
+    }
+}

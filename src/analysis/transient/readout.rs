@@ -80,3 +80,45 @@ impl Readout {
         2 * self.links + self.drives + self.sensors + b
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::case::{build_model, LoadedCase};
+    use std::path::PathBuf;
+
+    /// Every named row holds the pattern it names, on a model with every kind of row: two
+    /// actuators (a frame's three links and two body DOFs, an inertial's one and one), two
+    /// sensors.
+    #[test]
+    fn each_named_row_holds_its_pattern() {
+        let sine = "[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
+        let text = format!(
+            "[beam.mesh]\nelements = 40\n[[actuator]]\ntype = \"frame\"\nx_e = 0.2\n{sine}\
+             [[actuator]]\ntype = \"inertial\"\nx_e = 0.5\n{sine}\
+             [[sensor]]\nname = \"a\"\nx = 0.365\n[[sensor]]\nname = \"b\"\nx = 0.6\n"
+        );
+        let cases = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases");
+        let model = build_model(&LoadedCase::from_str(&text, "r.toml", cases).unwrap()).unwrap().model;
+        let sys = System::assemble(&model).unwrap();
+        let r = Readout::new(&model, &sys).unwrap();
+        let rows = r.rows();
+        assert_eq!((r.links(), r.drives(), r.sensors(), r.bodies.len()), (4, 2, 2, 3));
+        assert_eq!(r.len(), 2 * 4 + 2 + 2 + 3);
+        for (l, lk) in sys.links.iter().enumerate() {
+            assert_eq!(rows[r.stretch(l)], lk.stretch, "stretch of link {l}");
+            assert_eq!(rows[r.foot(l)], lk.foot, "foot of link {l}");
+        }
+        for (a, b) in sys.drives.iter().enumerate() {
+            assert_eq!(&rows[r.drive(a)], b, "drive {a}");
+        }
+        for (s, se) in model.sensors.iter().enumerate() {
+            assert_eq!(rows[r.sensor(s)], sys.w_at(&model, se.x, "sensor").unwrap(), "sensor {s}");
+        }
+        for (b, dof) in r.bodies.iter().enumerate() {
+            assert_eq!(rows[r.body(b)], vec![(dof.dof, 1.0)], "body DOF {b}");
+        }
+        let names: Vec<_> = r.bodies.iter().map(|b| (b.actuator, b.name)).collect();
+        assert_eq!(names, [(0, "y"), (0, "phi"), (1, "z_t")]);
+    }
+}

@@ -72,3 +72,53 @@ fn relative_change(metrics: &[f64], prev: &[f64]) -> f64 {
     }
     change
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A spring link (k = 1000 N/m, no damper, no foot mass) whose stretch and foot velocity
+    /// are `u` and `v` at every sample: F_T = k·u, power k·u·v.
+    fn period(u: &[f64], v: &[f64]) -> PeriodRecord {
+        PeriodRecord {
+            t: vec![0.0; u.len()],
+            u: vec![u.to_vec()],
+            ud: vec![vec![0.0; u.len()]],
+            fv: vec![v.to_vec()],
+            fa: vec![vec![0.0; u.len()]],
+            fp: vec![vec![0.0; u.len()]],
+            ..Default::default()
+        }
+    }
+
+    fn links() -> Vec<LinkDofs> {
+        vec![LinkDofs {
+            actuator: 0,
+            name: "spring".into(),
+            k: 1000.0,
+            c: 0.0,
+            stretch: Vec::new(),
+            foot_node: None,
+            foot_dof: None,
+            foot: Vec::new(),
+            foot_x: None,
+            foot_mass: 0.0,
+            active: false,
+        }]
+    }
+
+    #[test]
+    fn settles_when_power_and_force_repeat_to_the_tolerance() {
+        let (u, v) = ([1e-3, -1e-3, 2e-3, 0.0], [0.1, -0.1, 0.2, 0.0]);
+        let mut check = SettleCheck::new(1e-3);
+        assert!(!check.settled_after(&links(), &period(&u, &v)), "one period cannot have settled");
+        assert!(check.change().is_nan());
+        assert!(check.settled_after(&links(), &period(&u, &v)));
+        assert_eq!(check.change(), 0.0);
+        // The power grows by 1 % (the velocity does), the RMS force stays: change 1e-2 of
+        // the power's scale, not settled at 1e-3.
+        let v2 = v.map(|x| 1.01 * x);
+        assert!(!check.settled_after(&links(), &period(&u, &v2)));
+        assert!((check.change() - 0.01 / 1.01).abs() < 1e-12, "{}", check.change());
+    }
+}
