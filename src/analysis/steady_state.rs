@@ -103,7 +103,8 @@ pub fn run_with(
             format!("at least {} samples are needed for {n_harm} harmonics", 2 * n_harm + 2),
         ));
     }
-    let (cycles, f_p, hysteresis_periods) = stack_forces(model, &timing, n_harm, detail)?;
+    let StackForces { cycles, harmonics: f_p, periods: hysteresis_periods } =
+        StackForces::of(model, &timing, n_harm, detail)?;
     let period = timing.period;
     solver.solve(|a, k| f_p[a][k], n_harm, 2.0 * PI / period)?;
     let sys = solver.system();
@@ -128,26 +129,40 @@ pub fn run_with(
     Ok(res)
 }
 
-/// The stacks' force cycles (not kept in [`Detail::Headline`]), their harmonics F̂_p,k per
-/// actuator and the most periods a hysteresis cycle took to settle.
-type StackForces = (Vec<StackCycle>, Vec<Vec<Complex64>>, usize);
+/// The stacks' forces of a steady state.
+struct StackForces {
+    /// One period of each stack's V, h and F_p (not kept in [`Detail::Headline`]).
+    cycles: Vec<StackCycle>,
+    /// F̂_p,k (N), k = 0..=n_harm, per actuator.
+    harmonics: Vec<Vec<Complex64>>,
+    /// The most periods a hysteresis cycle took to settle.
+    periods: usize,
+}
 
-fn stack_forces(model: &Model, timing: &DriveTiming, n_harm: usize, detail: Detail) -> Result<StackForces> {
-    let (period, samples) = (timing.period, timing.steps_per_period);
-    let stacks = model.actuators.iter().map(|a| a.stack());
-    Ok(match detail {
-        Detail::Full => {
-            let cycles: Vec<StackCycle> = stacks.map(|st| stack_cycle(st, period, samples)).collect::<Result<_>>()?;
-            let f_p = cycles.iter().map(|c| force_harmonics(c, n_harm)).collect();
-            let most = cycles.iter().map(|c| c.periods).fold(0, usize::max);
-            (cycles, f_p, most)
-        }
-        Detail::Headline(cache) => {
-            let h: Vec<Arc<_>> = stacks.map(|st| cache.get(st, period, samples, n_harm)).collect::<Result<_>>()?;
-            let most = h.iter().map(|h| h.periods).fold(0, usize::max);
-            (Vec::new(), h.iter().map(|h| h.f_p.clone()).collect(), most)
-        }
-    })
+impl StackForces {
+    fn of(model: &Model, timing: &DriveTiming, n_harm: usize, detail: Detail) -> Result<Self> {
+        let (period, samples) = (timing.period, timing.steps_per_period);
+        let stacks = model.actuators.iter().map(|a| a.stack());
+        Ok(match detail {
+            Detail::Full => {
+                let cycles: Vec<StackCycle> =
+                    stacks.map(|st| stack_cycle(st, period, samples)).collect::<Result<_>>()?;
+                StackForces {
+                    harmonics: cycles.iter().map(|c| force_harmonics(c, n_harm)).collect(),
+                    periods: cycles.iter().map(|c| c.periods).fold(0, usize::max),
+                    cycles,
+                }
+            }
+            Detail::Headline(cache) => {
+                let h: Vec<Arc<_>> = stacks.map(|st| cache.get(st, period, samples, n_harm)).collect::<Result<_>>()?;
+                StackForces {
+                    cycles: Vec::new(),
+                    harmonics: h.iter().map(|h| h.f_p.clone()).collect(),
+                    periods: h.iter().map(|h| h.periods).fold(0, usize::max),
+                }
+            }
+        })
+    }
 }
 
 /// Each link's spectrum from the solved amplitudes `q[k]` and the stack forces `f_p[a][k]`.

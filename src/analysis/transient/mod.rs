@@ -203,17 +203,17 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
 }
 
 /// Adds each link's series over the recorded window, and its mean power and spectrum
-/// (up to harmonic `harmonics`) over the last period.
+/// (up to harmonic `harmonics_kept`) over the last period.
 fn add_links(result: &mut TransientResult, sys: &System, all: &PeriodRecord, harmonics_kept: usize) {
     let n = result.steps_per_period;
-    let last = |v: &[f64]| v[v.len() - n..].to_vec();
     for (l, lk) in sys.links.iter().enumerate() {
         let ls = all.link_series(l, lk);
-        let (interface, velocity) = (last(&ls.interface), last(&ls.base_velocity));
-        result.mean_power.push(mean_product(&interface, &velocity));
-        let fh = harmonics(&last(&ls.transmitted));
+        let start = ls.interface.len() - n;
+        let (interface, velocity) = (&ls.interface[start..], &ls.base_velocity[start..]);
+        result.mean_power.push(mean_product(interface, velocity));
+        let fh = harmonics(&ls.transmitted[start..]);
         let hmax = harmonics_kept.min(fh.len() - 1);
-        let (ih, vh, ah) = (harmonics(&interface), harmonics(&velocity), harmonics(&last(&ls.base_acceleration)));
+        let (ih, vh, ah) = (harmonics(interface), harmonics(velocity), harmonics(&ls.base_acceleration[start..]));
         result.spectra.push(LinkSpectrum::new(result.period, n, hmax, fh, ih, vh, ah));
         result.links.push(ls);
     }

@@ -144,22 +144,33 @@ impl PeriodRecord {
         }
     }
 
-    /// Link l's series (`lk` its DOFs): the stretch and the base motion recorded, the forces
-    /// from them.
-    pub fn link_series(&self, l: usize, lk: &LinkDofs) -> LinkSeries {
-        let mut ls = LinkSeries::of(lk);
+    /// Link l's transmitted and interface forces (N) at each sample (`lk` its DOFs).
+    pub fn link_forces(&self, l: usize, lk: &LinkDofs) -> (Vec<f64>, Vec<f64>) {
+        let n = self.u[l].len();
+        let (mut transmitted, mut interface) = (Vec::with_capacity(n), Vec::with_capacity(n));
         let samples = self.u[l].iter().zip(&self.ud[l]).zip(&self.fa[l]).zip(&self.fp[lk.actuator]);
         for (((&u, &ud), &fa), &fp) in samples {
             let ft = transmitted_force(lk, u, ud, fp);
-            ls.stretch.push(u);
-            ls.stretch_rate.push(ud);
-            ls.f_pzt.push(pzt_force(lk, fp));
-            ls.transmitted.push(ft);
-            ls.interface.push(interface_force(lk, ft, fa));
+            transmitted.push(ft);
+            interface.push(interface_force(lk, ft, fa));
         }
-        ls.base_velocity = self.fv[l].clone();
-        ls.base_acceleration = self.fa[l].clone();
-        ls.complete(lk)
+        (transmitted, interface)
+    }
+
+    /// Link l's series: the stretch and the base motion recorded, the forces from them.
+    pub fn link_series(&self, l: usize, lk: &LinkDofs) -> LinkSeries {
+        let (transmitted, interface) = self.link_forces(l, lk);
+        let series = LinkSeries {
+            stretch: self.u[l].clone(),
+            stretch_rate: self.ud[l].clone(),
+            f_pzt: self.fp[lk.actuator].iter().map(|&f| pzt_force(lk, f)).collect(),
+            transmitted,
+            interface,
+            base_velocity: self.fv[l].clone(),
+            base_acceleration: self.fa[l].clone(),
+            ..LinkSeries::of(lk)
+        };
+        series.complete(lk)
     }
 
     /// Moves the body, drive and sensor channels out into their result series.

@@ -51,9 +51,9 @@ impl SettleCheck {
 fn period_metrics(links: &[LinkDofs], rec: &PeriodRecord) -> Vec<f64> {
     let mut metrics = Vec::with_capacity(2 * links.len());
     for (l, lk) in links.iter().enumerate() {
-        let ls = rec.link_series(l, lk);
-        metrics.push(mean_product(&ls.interface, &ls.base_velocity));
-        metrics.push(mean_product(&ls.transmitted, &ls.transmitted).sqrt());
+        let (transmitted, interface) = rec.link_forces(l, lk);
+        metrics.push(mean_product(&interface, &rec.fv[l]));
+        metrics.push(mean_product(&transmitted, &transmitted).sqrt());
     }
     metrics
 }
