@@ -5,8 +5,8 @@
 //!
 //! Data flows one way: [`case`] (what the user wrote) → [`beam`] and [`actuator`] (the
 //! physics) → [`assembly`] (the system of equations) → [`solve`] (eigen, harmonic,
-//! time integration) driven by [`analysis`] → [`post`] (power, spectra, modes) → I/O at
-//! the edge. There is no global state: two cases can run side by side in one process.
+//! time integration) driven by [`analysis`] → [`power`] (power flow, balances, spectra,
+//! modes) → I/O at the edge. There is no global state: two cases can run side by side in one process.
 
 // Input checks write `!(x > 0.0)` on purpose: unlike `x <= 0.0` it also rejects NaN.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
@@ -33,7 +33,7 @@ pub mod identify;
 pub mod io;
 pub mod linalg;
 pub mod paper;
-pub mod post;
+pub mod power;
 pub mod runner;
 pub mod signal;
 pub mod solve;

@@ -120,8 +120,8 @@ pub fn run(out: &Path) -> Result<()> {
     written.extend(save(&fig12, out, "fig12_force_spectra")?);
     let force_ratio = rt.spectra[f_stack].transmitted[1].norm() / rt.spectra[i_stack].transmitted[1].norm();
     let z1 =
-        crate::post::spectra::harmonics(&body(0, "z_t").q[body(0, "z_t").q.len() - rt.steps_per_period..])[1].norm();
-    let y1 = crate::post::spectra::harmonics(&body(1, "y").q[body(1, "y").q.len() - rt.steps_per_period..])[1].norm();
+        crate::power::spectra::harmonics(&body(0, "z_t").q[body(0, "z_t").q.len() - rt.steps_per_period..])[1].norm();
+    let y1 = crate::power::spectra::harmonics(&body(1, "y").q[body(1, "y").q.len() - rt.steps_per_period..])[1].norm();
 
     // Fig. 11: inertial actuator with four top masses.
     let mut fig11 = LinePlot::new(

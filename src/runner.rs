@@ -3,11 +3,12 @@
 use crate::analysis::harmonic::{self, HarmonicResult, PointForce};
 use crate::analysis::modes::{self, ModesResult};
 use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
-use crate::analysis::steady_state;
+use crate::analysis::steady_state::{self, SteadyStateResult};
 use crate::analysis::transient::{self, TransientResult, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
+use crate::power::modal::ModalDamping;
 use crate::solve::newmark::Scheme;
 use std::cell::OnceCell;
 
@@ -20,7 +21,7 @@ pub enum AnalysisResult {
     Modes(ModesResult),
     Harmonic(HarmonicResult),
     Transient(Box<TransientResult>),
-    SteadyState(Box<crate::analysis::steady_state::SteadyStateResult>),
+    SteadyState(Box<SteadyStateResult>),
 }
 
 /// Everything a case run produced.
@@ -122,7 +123,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 let forces: Vec<PointForce> =
                     force.iter().map(|f| PointForce { x: f.x, amplitude: f.amplitude, phase: f.phase }).collect();
                 let modal = match &built.modal_ratios {
-                    Some(r) => Some((crate::case::build::bare_modes(beam, usize::MAX)?, r.clone())),
+                    Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r.clone())),
                     None => None,
                 };
                 AnalysisResult::Harmonic(harmonic::run(
@@ -163,7 +164,9 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                         let fd = reference()?;
                         let mut s = steady_state::run(&model, fd, h, n)?;
                         s.expand(fd);
-                        s.decompose_modes(&model, &system, MODAL_TABLE_MODES, modal_ratios.as_deref())?;
+                        let bare = modes::bare_modes_on(&model, &system, MODAL_TABLE_MODES)?;
+                        let damping = ModalDamping::of(&model.rayleigh, modal_ratios.as_deref());
+                        s.decompose_with(&system, bare.as_ref(), damping);
                         Ok(s)
                     })(),
                     Some(rs) => (|| {

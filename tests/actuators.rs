@@ -18,7 +18,7 @@ fn run(lc: &LoadedCase) -> TransientResult {
     transient::run(&model, &sys, &TransientSettings::default()).unwrap()
 }
 
-fn link<'a>(r: &'a TransientResult, actuator: usize, name: &str) -> &'a transient::LinkSeries {
+fn link<'a>(r: &'a TransientResult, actuator: usize, name: &str) -> &'a beamflow::analysis::series::LinkSeries {
     r.links.iter().find(|l| l.actuator == actuator && l.name == name).unwrap()
 }
 
@@ -75,7 +75,7 @@ fn inertial_force_below_resonance_is_mass_times_acceleration() {
     let r = run(&lc);
     let spec = &r.spectra[0];
     let w = 2.0 * std::f64::consts::PI * 30.0;
-    let z1 = beamflow::post::spectra::harmonics(&r.bodies[0].q[r.t.len() - r.steps_per_period..])[1];
+    let z1 = beamflow::power::spectra::harmonics(&r.bodies[0].q[r.t.len() - r.steps_per_period..])[1];
     let expected = (0.3 + 0.015) * w * w * z1.norm();
     let ft1 = spec.transmitted[1].norm();
     assert!(rel(ft1, expected) < 1e-3, "F_T = {ft1} N vs (m_t + m_p/2)·ω²·z_t = {expected} N");

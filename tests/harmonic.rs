@@ -79,7 +79,7 @@ fn modal_damping_path_balances_and_agrees_with_rayleigh_equivalent() {
     let model = build_model(&lc_r).unwrap().model;
     let sys = System::assemble(&model).unwrap();
     let beam = model.beam.as_ref().unwrap();
-    let modes = beamflow::case::build::bare_modes(beam, 1000).unwrap();
+    let modes = beamflow::analysis::modes::bare_modes(beam, 1000).unwrap();
     let ratios: Vec<f64> = modes.omega.iter().map(|w| model.rayleigh.ratio_at(*w)).collect();
     let forces = [PointForce { x: 0.146, amplitude: 2.0, phase: 0.3 }];
     let direct = harmonic::run(&model, &sys, &[55.0, 170.0], &forces, None);

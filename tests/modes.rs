@@ -132,7 +132,7 @@ fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
     // 1000 elements (≈ 2000 DOFs) go through the sparse path and still match βL roots
     // (much finer meshes too: see `very_fine_meshes_keep_the_lowest_frequencies`).
     let big = beam_case(1000, "");
-    const { assert!(2 * 1000 > beamflow::case::build::DENSE_EIGEN_LIMIT) };
+    const { assert!(2 * 1000 > beamflow::analysis::modes::DENSE_EIGEN_LIMIT) };
     let r = modes::run(&big, 6).unwrap();
     let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 6).unwrap();
     for (f, a) in r.frequencies_hz.iter().zip(&exact) {
@@ -166,7 +166,7 @@ fn dense_path_converges_at_fourth_order_up_to_its_largest_meshes() {
     let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 3).unwrap();
     let err = |n: usize| {
         let r = modes::run(&beam_case(n, ""), 3).unwrap();
-        assert!(2 * n <= beamflow::case::build::DENSE_EIGEN_LIMIT);
+        assert!(2 * n <= beamflow::analysis::modes::DENSE_EIGEN_LIMIT);
         r.frequencies_hz.iter().zip(&exact).map(|(f, a)| rel(*f, *a)).collect::<Vec<_>>()
     };
     let (coarse, fine) = (err(250), err(500));
@@ -193,7 +193,7 @@ fn square_root_path_matches_the_assembled_stiffness_on_an_irregular_beam() {
     }
     let model = Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
     let sys = System::assemble(&model).unwrap();
-    assert!(sys.n() > beamflow::case::build::DENSE_EIGEN_LIMIT);
+    assert!(sys.n() > beamflow::analysis::modes::DENSE_EIGEN_LIMIT);
     let root = structure_stiffness_root(&beam, &sys.dofs).unwrap();
     let reference = beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 8, 0.0).unwrap();
     let sparse = beamflow::solve::lanczos::lowest_modes_from_root(&root, &sys.m, 8).unwrap();

@@ -4,11 +4,12 @@
 
 mod common;
 use beamflow::analysis::harmonic::{self, PointForce};
-use beamflow::analysis::steady_state::{self, link_harmonic, solve_at};
+use beamflow::analysis::steady_state::{self, solve_at};
 use beamflow::analysis::transient::{self, TransientSettings};
 use beamflow::assembly::{Model, System};
 use beamflow::beam::analytic::{beta_l_roots, End};
 use beamflow::case::{build_model, LoadedCase};
+use beamflow::power::link::link_harmonic;
 use common::*;
 use num_complex::Complex64;
 use std::f64::consts::PI;

@@ -64,10 +64,10 @@ impl Default for BoucWen {
     }
 }
 
-/// One period of the periodic state, from [`BoucWen::periodic_cycle`].
+/// One period of the periodic state, from [`BoucWen::periodic_cycle_from`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct PeriodicCycle {
-    /// The input's period (s).
+    /// The period the cycle repeats with (s).
     pub period: f64,
     /// `samples_per_period + 1` times covering the last period computed, both ends included
     /// (`t[N] = t[0] + period`).
@@ -80,7 +80,8 @@ pub struct PeriodicCycle {
     pub stroke: Vec<f64>,
     /// How many periods were run, counting the returned one.
     pub periods: usize,
-    /// `|h(end) − h(start)|` of the returned period, relative to `α·d_p/(β + γ)`.
+    /// `|h(end) − h(start)|` of the returned period, relative to the bound on |h|
+    /// ([`BoucWen::bound`] of the starting h).
     pub change: f64,
     /// Whether `change ≤ tol`.
     pub converged: bool,
@@ -334,13 +335,12 @@ impl BoucWen {
         }
     }
 
-    /// The periodic state under a periodic input: runs whole periods from `h = 0` at t = 0,
-    /// `samples_per_period` (≥ 2) intervals each, until `h` at the start of a period repeats
-    /// at its end to `tol` relative to `α·d_p/(β + γ)`, or `max_periods` have run. Returns
-    /// that last period (see [`PeriodicCycle`]; check `converged`).
+    /// The periodic state under a periodic input, from `h = 0` at t = 0 over the input's own
+    /// period: [`periodic_cycle_from`](Self::periodic_cycle_from) with `h0 = 0` and
+    /// `period` = [`VoltageInput::period`].
     ///
-    /// Errors ([`Error::Input`], file `<case>`) if the input has no period
-    /// ([`VoltageInput::period`]) or the arguments are out of range.
+    /// Errors ([`Error::Input`], file `<case>`) if the input has no period or the arguments
+    /// are out of range.
     pub fn periodic_cycle(
         &self,
         input: &VoltageInput,
@@ -355,6 +355,30 @@ impl BoucWen {
                 "a periodic cycle needs a periodic voltage (a sine, or sines with commensurate frequencies)",
             ));
         };
+        self.periodic_cycle_from(input, 0.0, period, samples_per_period, tol, max_periods)
+    }
+
+    /// The periodic state under `input`, which repeats with `period` (s; the input's own
+    /// period or a multiple of it, such as the common period of several drives), starting
+    /// from `h0` at t = 0: the one periodic cycle every analysis and the identification use.
+    ///
+    /// Whole periods are run until `h` at the end of a period repeats its start to `tol`
+    /// relative to [`bound`](Self::bound)`(h0)`, or `max_periods` have run; that last period
+    /// is sampled `samples_per_period` (≥ 2) times and returned (see [`PeriodicCycle`]; check
+    /// `converged`). `h` at the end of a period does not depend on samples in between (the
+    /// solution is exact over every monotone piece of the voltage), so the settling periods
+    /// advance from turning point to turning point, a few closed-form steps each, and only
+    /// the returned period is split at its samples as well (which gives the same `h` up to
+    /// rounding).
+    pub fn periodic_cycle_from(
+        &self,
+        input: &VoltageInput,
+        h0: f64,
+        period: f64,
+        samples_per_period: usize,
+        tol: f64,
+        max_periods: usize,
+    ) -> Result<PeriodicCycle> {
         if samples_per_period < 2 {
             return Err(Error::input("<case>", "samples_per_period", format!("must be ≥ 2, got {samples_per_period}")));
         }
@@ -364,22 +388,24 @@ impl BoucWen {
         if !(tol.is_finite() && tol >= 0.0) {
             return Err(Error::input("<case>", "tol", format!("must be a finite number ≥ 0, got {tol}")));
         }
-        let n = samples_per_period;
-        let scale = self.bound(0.0);
-        let mut h_start = 0.0;
-        for j in 0..max_periods {
-            let t0 = j as f64 * period;
-            let t: Vec<f64> = (0..=n).map(|i| t0 + period * (i as f64 / n as f64)).collect();
-            let h = self.history(input, &t, h_start);
-            let change = (h[n] - h_start).abs() / scale;
-            if change <= tol || j + 1 == max_periods {
-                let v: Vec<f64> = t.iter().map(|&ti| input.value(ti)).collect();
-                let stroke = v.iter().zip(&h).map(|(&vi, &hi)| self.stroke(vi, hi)).collect();
-                return Ok(PeriodicCycle { period, t, v, h, stroke, periods: j + 1, change, converged: change <= tol });
+        let scale = self.bound(h0).max(f64::MIN_POSITIVE);
+        // Period p runs from p·T to (p + 1)·T, starting at h_start.
+        let (mut p, mut h_start) = (0, h0);
+        let change = loop {
+            let h_end = self.advance_time(input, h_start, p as f64 * period, (p as f64 + 1.0) * period);
+            let change = (h_end - h_start).abs() / scale;
+            if change <= tol || p + 1 == max_periods {
+                break change;
             }
-            h_start = h[n];
-        }
-        unreachable!("the loop returns on its last period")
+            h_start = h_end;
+            p += 1;
+        };
+        let n = samples_per_period;
+        let t: Vec<f64> = (0..=n).map(|j| (p as f64 + j as f64 / n as f64) * period).collect();
+        let (mut h, mut v) = (Vec::new(), Vec::new());
+        self.history_into(input, &t, h_start, &mut h, &mut v);
+        let stroke = v.iter().zip(&h).map(|(&vi, &hi)| self.stroke(vi, hi)).collect();
+        Ok(PeriodicCycle { period, t, v, h, stroke, periods: p + 1, change, converged: change <= tol })
     }
 
     /// Independent reference for the tests: classic RK4 on the time ODE

@@ -102,13 +102,3 @@ pub struct Component {
     pub mass: DMatrix<f64>,
     pub links: Vec<Link>,
 }
-
-impl Component {
-    /// Positions on the beam where feet stand.
-    pub fn beam_feet(&self) -> impl Iterator<Item = f64> + '_ {
-        self.links.iter().filter_map(|l| match l.foot {
-            FootBase::Beam { x } => Some(x),
-            FootBase::Ground => None,
-        })
-    }
-}

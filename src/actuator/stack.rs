@@ -24,20 +24,8 @@ pub struct Stack {
 }
 
 impl Stack {
-    /// Active (PZT) force F_p = k_p·(d_p·V − h) (N) for voltage V (V) and h (m).
+    /// Active (PZT) force F_p = k_p·δ = k_p·(d_p·V − h) (N) for voltage V (V) and h (m).
     pub fn active_force(&self, v: f64, h: f64) -> f64 {
-        self.k_p * (self.hysteresis.d_p * v - h)
-    }
-
-    /// F_p at the given times, with h integrated exactly from the voltage history.
-    pub fn active_force_history(&self, times: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-        let v: Vec<f64> = times.iter().map(|&t| self.voltage.value(t)).collect();
-        let h = if self.hysteresis_on {
-            self.hysteresis.history(&self.voltage, times, self.h0)
-        } else {
-            vec![0.0; times.len()]
-        };
-        let f = v.iter().zip(&h).map(|(&v, &h)| self.active_force(v, h)).collect();
-        (v, h, f)
+        self.k_p * self.hysteresis.stroke(v, h)
     }
 }

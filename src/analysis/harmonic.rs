@@ -2,8 +2,11 @@
 
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
+use crate::power::balance::balance_error;
+use crate::power::modal::{modal_dissipated_power, ModalDamping};
+use crate::power::point::{dissipated_power, mean_power};
 use crate::solve::eigen::{ratio_of, Modes};
-use crate::solve::harmonic::{dissipated_power, mean_power, DynamicStiffness};
+use crate::solve::harmonic::DynamicStiffness;
 use num_complex::Complex64;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -116,7 +119,7 @@ pub fn run(
             None => dissipated_power(&sys.c_beam, &q, w),
             Some((modes, ratios)) => modal_dissipation(modes, ratios, &sys.m_beam, &q, w),
         };
-        res.balance_error.push(if diss != 0.0 { (total - diss).abs() / diss.abs() } else { total.abs() });
+        res.balance_error.push(balance_error(total, diss));
         res.mobility.push(mob);
         res.velocity.push(v_all);
         res.input_power.push(pin);
@@ -147,13 +150,14 @@ fn modal_response(modes: &Modes, ratios: &[f64], f: &[Complex64], w: f64, n: usi
 fn modal_dissipation(modes: &Modes, ratios: &[f64], m: &crate::linalg::Csr, q: &[Complex64], w: f64) -> f64 {
     let mut mq = vec![Complex64::default(); q.len()];
     m.mul_vec(q, &mut mq);
+    let damping = ModalDamping::Ratios(ratios);
     (0..modes.count())
         .map(|r| {
             let mut eta = Complex64::default();
             for (row, &d) in modes.dofs.iter().enumerate() {
                 eta += mq[d] * modes.shapes[(row, r)];
             }
-            0.5 * w * w * 2.0 * ratio_of(ratios, r) * modes.omega[r] * eta.norm_sqr()
+            modal_dissipated_power(w, damping.coefficient(r, modes.omega[r]), eta)
         })
         .sum()
 }

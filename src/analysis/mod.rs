@@ -1,8 +1,14 @@
 //! Analyses: each takes a model (and its assembled system), runs a solver and returns a
-//! result struct that post-processing and I/O read. Nothing here writes files.
+//! result struct that output and figures read. Nothing here writes files.
+//!
+//! [`drive`] holds the drive's timing and the stacks' periodic forces, [`series`] the
+//! result vocabulary the analyses share; the power flow itself is computed by
+//! [`crate::power`].
 
+pub mod drive;
 pub mod harmonic;
 pub mod modes;
 pub mod reduction;
+pub mod series;
 pub mod steady_state;
 pub mod transient;

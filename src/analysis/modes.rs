@@ -1,11 +1,80 @@
-//! Natural modes of the bare beam, with closed-form references where they exist.
+//! Natural modes of the bare structure (the beam with its supports and attachments, no
+//! actuators): the modal analysis with closed-form references where they exist, and the
+//! modes other analyses need (Rayleigh calibration, the mode-resolved power flow).
 
+use crate::assembly::system::{structure_stiffness_root, Rayleigh};
+use crate::assembly::{Model, System};
 use crate::beam::analytic::{natural_frequencies_hz, End};
 use crate::beam::{Beam, SupportKind};
-use crate::case::build::{bare_modes_of, bare_system};
 use crate::error::Result;
-use crate::solve::eigen::Modes;
+use crate::solve::eigen::{self, Modes};
 use serde::Serialize;
+
+/// The bare structure's modes (no actuators), used for Rayleigh damping and modal analysis.
+pub fn bare_modes(beam: &Beam, count: usize) -> Result<Modes> {
+    bare_modes_of(beam, &bare_system(beam)?, count)
+}
+
+/// The bare structure's assembled system (the beam with its supports and attachments, no
+/// actuators).
+pub fn bare_system(beam: &Beam) -> Result<System> {
+    System::assemble(&Model {
+        beam: Some(beam.clone()),
+        rayleigh: Rayleigh::default(),
+        actuators: Vec::new(),
+        sensors: Vec::new(),
+    })
+}
+
+/// [`bare_modes`] with the bare system already assembled (`sys` from [`bare_system`]).
+pub fn bare_modes_of(beam: &Beam, sys: &System, count: usize) -> Result<Modes> {
+    // K enters through its square-root factor built from the element rows when it has one
+    // (a supported structure): that keeps the lowest modes of fine meshes accurate
+    // (round-off ~ε·elements² instead of ~ε·elements⁴ for K as assembled). An unsupported
+    // structure has none and takes the assembled K (the dense path shifts it, the sparse
+    // path reports it).
+    let root = structure_stiffness_root(beam, &sys.dofs).ok();
+    // Dense reduction up to a few thousand DOFs (all modes at once, robust); beyond that,
+    // or when only a few modes of a large model are wanted, shift-invert Lanczos (linear
+    // cost in the number of DOFs).
+    if sys.n() > DENSE_EIGEN_LIMIT && count < sys.n() / 4 {
+        match root {
+            Some(root) => crate::solve::lanczos::lowest_modes_from_root(&root, &sys.m, count),
+            None => crate::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, count, 0.0),
+        }
+    } else {
+        match root {
+            Some(root) => eigen::modes_from_root(&root, &sys.m, count),
+            None => eigen::modes(&sys.k, &sys.m, &sys.dofs.beam_dofs(), count),
+        }
+    }
+}
+
+/// Largest model solved by the dense eigensolver.
+pub const DENSE_EIGEN_LIMIT: usize = 1500;
+
+/// The bare structure's first `count` modes with their rows numbered on the DOFs of `sys`,
+/// a system of the same model with its actuators (the bare system numbers its DOFs without
+/// them): the modes the mode-resolved power flow takes. None if the model has no beam.
+pub fn bare_modes_on(model: &Model, sys: &System, count: usize) -> Result<Option<Modes>> {
+    let Some(beam) = model.beam.as_ref() else { return Ok(None) };
+    let bare = bare_system(beam)?;
+    let mut modes = bare_modes_of(beam, &bare, count)?;
+    // Map node by node: the same node's w and θ in both numberings.
+    let mut to_coupled = vec![usize::MAX; bare.n()];
+    for node in 0..beam.mesh.n_nodes() {
+        if let (Some(b), Some(c)) = (bare.dofs.w[node], sys.dofs.w[node]) {
+            to_coupled[b] = c;
+        }
+        if let (Some(b), Some(c)) = (bare.dofs.theta[node], sys.dofs.theta[node]) {
+            to_coupled[b] = c;
+        }
+    }
+    for d in &mut modes.dofs {
+        *d = to_coupled[*d];
+    }
+    Ok(Some(modes))
+}
 
 /// Modal analysis result.
 #[derive(Clone, Debug, Serialize)]

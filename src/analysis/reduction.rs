@@ -9,8 +9,8 @@
 //! reduction error is a property of the model pair, and the frequency domain isolates it
 //! from the time-step error of a transient.
 
+use super::drive::common_period;
 use super::steady_state::{self, SteadyStateResult};
-use super::transient::{time_grid, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::solve::reduction::{self as red, ReductionOptions};
@@ -83,14 +83,13 @@ pub struct ReductionReport {
 
 /// The highest analysed harmonic frequency k_max·f₀ (Hz) of a periodic drive.
 pub fn highest_harmonic_hz(model: &Model, harmonics: usize) -> Result<f64> {
-    let (_, _, period, periodic) = time_grid(model, &TransientSettings { harmonics, ..Default::default() })?;
-    if !periodic {
-        return Err(Error::input(
+    let period = common_period(model)?.ok_or_else(|| {
+        Error::input(
             "<case>",
             "analysis.reduction",
             "a cut-off relative to the drive's harmonics needs a periodic drive: give `modes_up_to_hz`",
-        ));
-    }
+        )
+    })?;
     Ok(harmonics as f64 / period)
 }
 

@@ -1,19 +1,31 @@
-//! The exact periodic steady state, solved in the frequency domain.
+//! The exact periodic steady state, solved in the frequency domain (physics spec §9).
 //!
-//! The structure is linear and F_p depends on the voltage alone, so: integrate h over
-//! whole periods until its cycle repeats, take the Fourier coefficients of each stack's
-//! F_p over one period, and solve (K − ω_k²M + iω_kC)·Q_k = Σ_a b_a·F̂_p,a,k for each
-//! harmonic ω_k = k·ω₀ (a static solve for the mean). The profile factorisation is refilled
-//! in place for each harmonic. Results take the same form as the transient path's.
+//! The structure is linear and F_p depends on the voltage alone, so: settle h into its
+//! periodic cycle, take the Fourier coefficients of each stack's F_p over one period, and
+//! solve (K − ω_k²M + iω_kC)·Q_k = Σ_a b_a·F̂_p,a,k for each harmonic ω_k = k·ω₀ (a static
+//! solve for the mean). The profile factorisation is refilled in place for each harmonic.
+//! The point powers, spectra and balance come from [`crate::power`]; results take the same
+//! form as the transient path's.
+//!
+//! A sweep runs the same analysis in [`Detail::Headline`]: the same numbers, bit for bit,
+//! without the period reconstructed in time (about a third of a full run), with the
+//! stack-force harmonics from a cache shared by the cases and the [`HarmonicSolver`] kept
+//! between cases that share a system.
 
-use super::transient::{time_grid, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries, TransientSettings};
+use super::drive::{force_harmonics, stack_cycle, DriveTiming, StackCycle, StackForceCache};
+use super::series::{body_dofs, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
-use crate::post::spectra::harmonics;
-use crate::solve::harmonic::{dissipated_power, DynamicStiffness};
+use crate::power::balance::balance_error;
+use crate::power::link::link_harmonic;
+use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
+use crate::power::point::{dissipated_power, net_power};
+use crate::solve::eigen::Modes;
+use crate::solve::harmonic::DynamicStiffness;
 use num_complex::Complex64;
 use serde::Serialize;
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// Periodic steady state.
 #[derive(Clone, Debug, Default, Serialize)]
@@ -25,7 +37,8 @@ pub struct SteadyStateResult {
     pub hysteresis_periods: usize,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
     pub frequency: Vec<f64>,
-    /// Complex DOF amplitudes Q_k, k = 0..=harmonics (q(t) = Re Σ Q_k e^{ikω₀t}).
+    /// Complex DOF amplitudes Q_k, k = 0..=harmonics (q(t) = Re Σ Q_k e^{ikω₀t}); empty in
+    /// [`Detail::Headline`].
     #[serde(skip)]
     pub q: Vec<Vec<Complex64>>,
     /// Stack force harmonics F̂_p,k per actuator (N).
@@ -39,82 +52,50 @@ pub struct SteadyStateResult {
     pub beam_dissipation: f64,
     /// |Σ interface power − beam dissipation| / beam dissipation (0 on a rigid base).
     pub balance_error: f64,
-    /// One period reconstructed from the harmonics, for plots and comparison.
+    /// One period reconstructed from the harmonics, for plots and comparison (empty in
+    /// [`Detail::Headline`]).
     pub t: Vec<f64>,
     pub links: Vec<LinkSeries>,
     pub bodies: Vec<BodySeries>,
     pub drives: Vec<DriveSeries>,
     pub sensors: Vec<SensorSeries>,
     /// Mode-resolved power flow (filled by the runner; costly for sweeps, so optional).
-    pub modal: Option<crate::post::modal::ModalDecomposition>,
+    pub modal: Option<ModalDecomposition>,
     /// Set when the run used a modal reduction: its basis and error estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reduction: Option<super::reduction::ReductionReport>,
 }
 
-/// Stack forces over one period of the hysteresis's periodic cycle: (V, h, F_p) samples at
-/// t_j = j·T/N, j < N, for each actuator, and the number of periods it took.
-///
-/// The cycle settles over whole periods from h₀ at t = 0, until h at the end of a period
-/// repeats its start to 1e-13 of the hysteresis bound. h at the end of a period does not
-/// depend on the samples in between (the Bouc–Wen solution is exact over every monotone
-/// piece of the voltage, see [`crate::actuator::bouc_wen`]), so the settling periods are
-/// advanced from turning point to turning point, a few closed-form steps each, and only the
-/// settled period is sampled N times. Splitting at the samples as well would give the same
-/// h up to rounding, at N steps a period.
-pub fn periodic_stack_forces(model: &Model, period: f64, n: usize) -> Result<(Vec<[Vec<f64>; 3]>, usize)> {
-    let mut out = Vec::new();
-    let mut most = 0;
-    for st in model.actuators.iter().map(|a| a.stack()) {
-        let bw = &st.hysteresis;
-        let bound = bw.bound(st.h0).max(f64::MIN_POSITIVE);
-        let mut h0 = st.h0;
-        let mut p = 0;
-        if st.hysteresis_on {
-            loop {
-                let h_end = bw.advance_time(&st.voltage, h0, p as f64 * period, (p as f64 + 1.0) * period);
-                let change = (h_end - h0).abs() / bound;
-                p += 1;
-                if change < 1e-13 {
-                    break;
-                }
-                if p > 10_000 {
-                    return Err(Error::Numerical("the hysteresis cycle did not repeat within 10 000 periods".into()));
-                }
-                h0 = h_end;
-            }
-        } else {
-            p = 1;
-        }
-        // The settled period, p − 1, sampled.
-        let t: Vec<f64> = (0..=n).map(|j| ((p - 1) as f64 + j as f64 / n as f64) * period).collect();
-        let mut h = if st.hysteresis_on { bw.history(&st.voltage, &t, h0) } else { vec![0.0; n + 1] };
-        h.truncate(n);
-        let v: Vec<f64> = t[..n].iter().map(|&t| st.voltage.value(t)).collect();
-        most = most.max(p);
-        let f = v.iter().zip(&h).map(|(&v, &h)| st.active_force(v, h)).collect();
-        out.push([v, h, f]);
-    }
-    Ok((out, most))
-}
-
-/// Real time series x_j = Re Σ_k c_k·e^{2πi·kj/N}, j < N, of one period from its harmonic
-/// amplitudes c_k (k < N), by one inverse FFT: N·log N work instead of N·(k + 1) sines and
-/// cosines of a direct sum. `buf` is scratch of length N for `fft`.
-fn synthesise(fft: &dyn rustfft::Fft<f64>, buf: &mut [Complex64], c: &[Complex64]) -> Vec<f64> {
-    buf.fill(Complex64::default());
-    buf[..c.len()].copy_from_slice(c);
-    fft.process(buf);
-    buf.iter().map(|x| x.re).collect()
+/// How much of the steady state [`run_with`] computes.
+#[derive(Clone, Copy, Debug)]
+pub enum Detail<'c> {
+    /// Everything, with one period reconstructed in time (output files, plots).
+    Full,
+    /// The headline numbers a sweep tabulates — spectra, point and net powers, beam
+    /// dissipation, balance — and nothing in time: no period reconstructed, no drive
+    /// samples, the amplitudes Q_k left in the solver. The stack-force harmonics come from
+    /// the cache, shared by the cases of a sweep.
+    Headline(&'c StackForceCache),
 }
 
 /// Solves the periodic steady state with `n_harm` harmonics from `samples` per period.
 pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result<SteadyStateResult> {
-    let grid = TransientSettings { harmonics: n_harm, ..Default::default() };
-    let (_, _, period, periodic) = time_grid(model, &grid)?;
-    if !periodic {
-        return Err(Error::input("<case>", "analysis.type", "a frequency-domain steady state needs a periodic drive"));
-    }
+    run_with(model, &mut HarmonicSolver::new(sys), n_harm, samples, Detail::Full)
+}
+
+/// [`run`] against a solver kept between cases (the cases of a sweep that differ only in
+/// their drives share the assembled system, so they share its solver and allocate nothing
+/// for the harmonic solves), computing what `detail` asks for. `model` must be the model
+/// the solver's system was assembled from, up to the actuators' voltages. Every number
+/// both details compute is the same, bit for bit.
+pub fn run_with(
+    model: &Model,
+    solver: &mut HarmonicSolver,
+    n_harm: usize,
+    samples: usize,
+    detail: Detail,
+) -> Result<SteadyStateResult> {
+    let timing = DriveTiming::sampled(model, samples)?;
     if samples < 2 * n_harm + 2 {
         return Err(Error::input(
             "<case>",
@@ -122,143 +103,206 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
             format!("at least {} samples are needed for {n_harm} harmonics", 2 * n_harm + 2),
         ));
     }
-    let (forces, hyst_periods) = periodic_stack_forces(model, period, samples)?;
-    let fp_h: Vec<Vec<Complex64>> = forces.iter().map(|f| harmonics(&f[2])[..=n_harm].to_vec()).collect();
-    let w0 = 2.0 * PI / period;
-    let (q_all, diss) = solve_harmonics(sys, |a, k| fp_h[a][k], n_harm, w0)?;
+    let StackForces { cycles, harmonics: f_p, periods: hysteresis_periods } =
+        StackForces::of(model, &timing, n_harm, detail)?;
+    let period = timing.period;
+    solver.solve(|a, k| f_p[a][k], n_harm, 2.0 * PI / period)?;
+    let sys = solver.system();
     let mut res = SteadyStateResult {
         period,
         harmonics: n_harm,
-        hysteresis_periods: hyst_periods,
+        hysteresis_periods,
         frequency: (0..=n_harm).map(|k| k as f64 / period).collect(),
-        f_p: fp_h.clone(),
+        spectra: link_spectra(sys, &solver.q, &f_p, &timing),
+        beam_dissipation: solver.diss.iter().sum(),
+        beam_dissipation_per_harmonic: solver.diss.clone(),
         ..Default::default()
     };
-    // Link quantities per harmonic.
-    for lk in &sys.links {
-        let mut sp = LinkSpectrum { frequency: res.frequency.clone(), ..Default::default() };
-        for (k, q) in q_all.iter().enumerate() {
-            let fp: Vec<Complex64> = fp_h.iter().map(|f| f[k]).collect();
-            let h = link_harmonic(lk, q, k as f64 * w0, &fp);
-            sp.transmitted.push(h.transmitted);
-            sp.interface.push(h.interface);
-            sp.velocity.push(h.velocity);
-            sp.acceleration.push(h.acceleration);
-            sp.power.push(if k == 0 { 2.0 * h.power } else { h.power });
-            sp.power_from_acceleration.push(if k == 0 {
-                0.0
-            } else {
-                -0.5 * (h.interface * h.acceleration.conj()).im / (k as f64 * w0)
-            });
-        }
-        sp.power_total = sp.power.iter().sum();
-        res.mean_power.push(sp.power_total);
-        res.spectra.push(sp);
+    res.mean_power = res.spectra.iter().map(|s| s.power_total).collect();
+    res.net_power = net_power(&sys.links, &res.mean_power, model.actuators.len());
+    res.balance_error = balance_error(res.mean_power.iter().sum(), res.beam_dissipation);
+    if let Detail::Full = detail {
+        reconstruct(&mut res, model, sys, &solver.q, &f_p, cycles, samples)?;
+        res.q = std::mem::take(&mut solver.q);
     }
-    res.net_power = (0..model.actuators.len())
-        .map(|a| sys.links.iter().zip(&res.mean_power).filter(|(l, _)| l.actuator == a).map(|(_, p)| p).sum())
-        .collect();
-    res.beam_dissipation = diss.iter().sum();
-    res.beam_dissipation_per_harmonic = diss;
-    let input: f64 = res.mean_power.iter().sum();
-    res.balance_error = if res.beam_dissipation != 0.0 {
-        (input - res.beam_dissipation).abs() / res.beam_dissipation.abs()
-    } else {
-        input.abs()
-    };
-    // One period in time, for plots.
-    let nt = samples;
-    res.t = (0..nt).map(|j| j as f64 * period / nt as f64).collect();
-    // t_j = j·T/N, so e^{ikω₀t_j} = e^{2πi·kj/N}: one period is an inverse DFT of the
-    // harmonics (rustfft's inverse transform is unnormalised, as the sum needs).
-    let ifft = rustfft::FftPlanner::new().plan_fft_inverse(nt);
-    let mut buf = vec![Complex64::default(); nt];
-    let mut synth = |c: &[Complex64]| -> Vec<f64> { synthesise(ifft.as_ref(), &mut buf, c) };
-    for (l, lk) in sys.links.iter().enumerate() {
-        let sp = &res.spectra[l];
-        let u: Vec<Complex64> = q_all.iter().map(|q| lk.stretch.iter().map(|&(d, c)| q[d] * c).sum()).collect();
-        let ud: Vec<Complex64> = u.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
-        let fpz: Vec<Complex64> =
-            (0..=n_harm).map(|k| if lk.active { -fp_h[lk.actuator][k] } else { Complex64::default() }).collect();
-        let mut s = LinkSeries {
-            actuator: lk.actuator,
-            name: lk.name.clone(),
-            foot_x: lk.foot_x,
-            stretch: synth(&u),
-            stretch_rate: synth(&ud),
-            f_pzt: synth(&fpz),
-            transmitted: synth(&sp.transmitted),
-            interface: synth(&sp.interface),
-            base_velocity: synth(&sp.velocity),
-            base_acceleration: synth(&sp.acceleration),
-            ..Default::default()
-        };
-        s.f_stiffness = s.stretch.iter().map(|x| lk.k * x).collect();
-        s.f_damping = s.stretch_rate.iter().map(|x| lk.c * x).collect();
-        s.power = s.interface.iter().zip(&s.base_velocity).map(|(f, v)| f * v).collect();
-        res.links.push(s);
-    }
-    for (a, ds) in sys.dofs.bodies.iter().enumerate() {
-        let names = model.actuators[a].component().dof_names;
-        for (k, &d) in ds.iter().enumerate() {
-            let q: Vec<Complex64> = q_all.iter().map(|q| q[d]).collect();
-            let qd: Vec<Complex64> =
-                q.iter().enumerate().map(|(h, x)| x * Complex64::new(0.0, h as f64 * w0)).collect();
-            let qdd: Vec<Complex64> =
-                qd.iter().enumerate().map(|(h, x)| x * Complex64::new(0.0, h as f64 * w0)).collect();
-            res.bodies.push(BodySeries {
-                actuator: a,
-                dof: names[k].to_string(),
-                q: synth(&q),
-                q_dot: synth(&qd),
-                q_ddot: synth(&qdd),
-            });
-        }
-    }
-    for (a, f) in forces.iter().enumerate() {
-        let d_p = model.actuators[a].stack().hysteresis.d_p;
-        res.drives.push(DriveSeries {
-            actuator: a,
-            voltage: f[0].clone(),
-            h: f[1].clone(),
-            stroke: f[0].iter().zip(&f[1]).map(|(v, h)| d_p * v - h).collect(),
-            f_p: f[2].clone(),
-        });
-    }
-    for se in &model.sensors {
-        let d = sys.w_at(model, se.x, "sensor.x")?;
-        let w: Vec<Complex64> = q_all.iter().map(|q| d.iter().map(|&(i, c)| q[i] * c).sum()).collect();
-        let v: Vec<Complex64> = w.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
-        let a: Vec<Complex64> = v.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
-        res.sensors.push(SensorSeries { name: se.name.clone(), x: se.x, w: synth(&w), v: synth(&v), a: synth(&a) });
-    }
-    res.q = q_all;
+    res.f_p = f_p;
     Ok(res)
 }
 
-/// A link's complex amplitudes at one frequency.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct LinkHarmonic {
-    /// Transmitted force on the base (N), interface force (N).
-    pub transmitted: Complex64,
-    pub interface: Complex64,
-    /// Base velocity (m/s) and acceleration (m/s²) at the foot.
-    pub velocity: Complex64,
-    pub acceleration: Complex64,
-    /// Time-averaged power ½·Re(F_interface·conj(V)) into the base (W).
-    pub power: f64,
+/// The stacks' forces of a steady state.
+struct StackForces {
+    /// One period of each stack's V, h and F_p (not kept in [`Detail::Headline`]).
+    cycles: Vec<StackCycle>,
+    /// F̂_p,k (N), k = 0..=n_harm, per actuator.
+    harmonics: Vec<Vec<Complex64>>,
+    /// The most periods a hysteresis cycle took to settle.
+    periods: usize,
 }
 
-/// What a link transmits when the system moves harmonically with amplitudes `q` at ω
-/// (rad/s) and the stacks' active forces have amplitudes `fp` (one per actuator).
-pub fn link_harmonic(lk: &crate::assembly::LinkDofs, q: &[Complex64], w: f64, fp: &[Complex64]) -> LinkHarmonic {
-    let iw = Complex64::new(0.0, w);
-    let u: Complex64 = lk.stretch.iter().map(|&(d, c)| q[d] * c).sum();
-    let foot: Complex64 = lk.foot.iter().map(|&(d, c)| q[d] * c).sum();
-    let (v, a) = (iw * foot, iw * iw * foot);
-    let ft = u * (lk.k + iw * lk.c) - if lk.active { fp[lk.actuator] } else { Complex64::default() };
-    let fi = ft - a * lk.foot_mass;
-    LinkHarmonic { transmitted: ft, interface: fi, velocity: v, acceleration: a, power: 0.5 * (fi * v.conj()).re }
+impl StackForces {
+    fn of(model: &Model, timing: &DriveTiming, n_harm: usize, detail: Detail) -> Result<Self> {
+        let (period, samples) = (timing.period, timing.steps_per_period);
+        let stacks = model.actuators.iter().map(|a| a.stack());
+        Ok(match detail {
+            Detail::Full => {
+                let cycles: Vec<StackCycle> =
+                    stacks.map(|st| stack_cycle(st, period, samples)).collect::<Result<_>>()?;
+                StackForces {
+                    harmonics: cycles.iter().map(|c| force_harmonics(c, n_harm)).collect(),
+                    periods: cycles.iter().map(|c| c.periods).fold(0, usize::max),
+                    cycles,
+                }
+            }
+            Detail::Headline(cache) => {
+                let h: Vec<Arc<_>> = stacks.map(|st| cache.get(st, period, samples, n_harm)).collect::<Result<_>>()?;
+                StackForces {
+                    cycles: Vec::new(),
+                    harmonics: h.iter().map(|h| h.f_p.clone()).collect(),
+                    periods: h.iter().map(|h| h.periods).fold(0, usize::max),
+                }
+            }
+        })
+    }
+}
+
+/// Each link's spectrum from the solved amplitudes `q[k]` and the stack forces `f_p[a][k]`.
+fn link_spectra(sys: &System, q: &[Vec<Complex64>], f_p: &[Vec<Complex64>], timing: &DriveTiming) -> Vec<LinkSpectrum> {
+    let w0 = 2.0 * PI / timing.period;
+    let n_harm = q.len() - 1;
+    let mut fp = vec![Complex64::default(); f_p.len()];
+    let mut spectra = Vec::with_capacity(sys.links.len());
+    for lk in &sys.links {
+        let (mut ft, mut fi, mut v, mut a) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+        for (k, qk) in q.iter().enumerate() {
+            fp.iter_mut().zip(f_p).for_each(|(x, f)| *x = f[k]);
+            let lh = link_harmonic(lk, qk, k as f64 * w0, &fp);
+            ft.push(lh.transmitted);
+            fi.push(lh.interface);
+            v.push(lh.velocity);
+            a.push(lh.acceleration);
+        }
+        spectra.push(LinkSpectrum::new(timing.period, timing.steps_per_period, n_harm, ft, fi, v, a));
+    }
+    spectra
+}
+
+/// One period in time from harmonic amplitudes c_k: t_j = j·T/N, so e^{ikω₀t_j} =
+/// e^{2πi·kj/N} and the period is one inverse FFT (rustfft's inverse transform is
+/// unnormalised, as the sum needs): N·log N work instead of N·(k + 1) sines and cosines.
+struct PeriodSynthesis {
+    ifft: Arc<dyn rustfft::Fft<f64>>,
+    buf: Vec<Complex64>,
+    w0: f64,
+}
+
+impl PeriodSynthesis {
+    fn new(samples: usize, w0: f64) -> Self {
+        let ifft = rustfft::FftPlanner::new().plan_fft_inverse(samples);
+        PeriodSynthesis { ifft, buf: vec![Complex64::default(); samples], w0 }
+    }
+
+    /// x_j = Re Σ_k c_k·e^{2πi·kj/N}, j < N (k < N).
+    fn series(&mut self, c: &[Complex64]) -> Vec<f64> {
+        self.buf.fill(Complex64::default());
+        self.buf[..c.len()].copy_from_slice(c);
+        self.ifft.process(&mut self.buf);
+        self.buf.iter().map(|x| x.re).collect()
+    }
+
+    /// The amplitudes of the time derivative: c_k·ikω₀.
+    fn rate(&self, c: &[Complex64]) -> Vec<Complex64> {
+        c.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * self.w0)).collect()
+    }
+
+    /// A signal and its first two time derivatives over the period.
+    fn with_rates(&mut self, c: &[Complex64]) -> [Vec<f64>; 3] {
+        let d1 = self.rate(c);
+        let d2 = self.rate(&d1);
+        [self.series(c), self.series(&d1), self.series(&d2)]
+    }
+}
+
+/// Σ coeff·Q_k[dof] of a sparse read-out pattern, for each harmonic k.
+fn gather(q: &[Vec<Complex64>], pattern: &[(usize, f64)]) -> Vec<Complex64> {
+    q.iter().map(|qk| pattern.iter().map(|&(d, c)| qk[d] * c).sum()).collect()
+}
+
+/// Fills the result's period in time: links, bodies, drives (from the stacks' `cycles`)
+/// and sensors.
+fn reconstruct(
+    res: &mut SteadyStateResult,
+    model: &Model,
+    sys: &System,
+    q: &[Vec<Complex64>],
+    f_p: &[Vec<Complex64>],
+    cycles: Vec<StackCycle>,
+    samples: usize,
+) -> Result<()> {
+    let period = res.period;
+    res.t = (0..samples).map(|j| j as f64 * period / samples as f64).collect();
+    let mut synth = PeriodSynthesis::new(samples, 2.0 * PI / period);
+    for (lk, sp) in sys.links.iter().zip(&res.spectra) {
+        let u = gather(q, &lk.stretch);
+        let fpz: Vec<Complex64> =
+            f_p[lk.actuator].iter().map(|&f| if lk.active { -f } else { Complex64::default() }).collect();
+        let series = LinkSeries {
+            stretch: synth.series(&u),
+            stretch_rate: synth.series(&synth.rate(&u)),
+            f_pzt: synth.series(&fpz),
+            transmitted: synth.series(&sp.transmitted),
+            interface: synth.series(&sp.interface),
+            base_velocity: synth.series(&sp.velocity),
+            base_acceleration: synth.series(&sp.acceleration),
+            ..LinkSeries::of(lk)
+        };
+        res.links.push(series.complete(lk));
+    }
+    for b in body_dofs(model, sys) {
+        let amplitudes: Vec<Complex64> = q.iter().map(|qk| qk[b.dof]).collect();
+        let [q, q_dot, q_ddot] = synth.with_rates(&amplitudes);
+        res.bodies.push(BodySeries { actuator: b.actuator, dof: b.name.to_string(), q, q_dot, q_ddot });
+    }
+    for (a, c) in cycles.into_iter().enumerate() {
+        res.drives.push(DriveSeries::new(a, &model.actuators[a].stack().hysteresis, c.voltage, c.h, c.f_p));
+    }
+    for se in &model.sensors {
+        let [w, v, a] = synth.with_rates(&gather(q, &sys.w_at(model, se.x, "sensor.x")?));
+        res.sensors.push(SensorSeries { name: se.name.clone(), x: se.x, w, v, a });
+    }
+    Ok(())
+}
+
+impl SteadyStateResult {
+    /// Moves the amplitudes Q_k of a run on a reduced system to the full model's DOFs.
+    pub fn expand(&mut self, reduced: &System) {
+        if let Some(p) = &reduced.projection {
+            self.q = self.q.iter().map(|qk| p.expand(qk)).collect();
+        }
+    }
+
+    /// Adds the mode-resolved decomposition with the first `count` bare-structure modes
+    /// (`sys` is the full system the amplitudes Q_k belong to; `modal_ratios` the case's
+    /// modal damping ratios, if any).
+    pub fn decompose_modes(
+        &mut self,
+        model: &Model,
+        sys: &System,
+        count: usize,
+        modal_ratios: Option<&[f64]>,
+    ) -> Result<()> {
+        let modes = super::modes::bare_modes_on(model, sys, count)?;
+        self.decompose_with(sys, modes.as_ref(), ModalDamping::of(&model.rayleigh, modal_ratios));
+        Ok(())
+    }
+
+    /// Adds the mode-resolved decomposition with the bare structure's `modes`, numbered on
+    /// the DOFs of `sys`, the full system the amplitudes Q_k belong to (None: the model has
+    /// no structure, and there is no decomposition).
+    pub fn decompose_with(&mut self, sys: &System, modes: Option<&Modes>, damping: ModalDamping) {
+        let interface: Vec<Vec<Complex64>> = self.spectra.iter().map(|s| s.interface.clone()).collect();
+        let w0 = 2.0 * PI / self.period;
+        self.modal = modes.map(|m| decompose(sys, m, damping, &self.q, w0, &interface));
+    }
 }
 
 /// Solves (K − ω²M + iωC)·Q = Σ_a b_a·F̂_p,a for one frequency ω (rad/s).
@@ -273,31 +317,6 @@ pub fn solve_at(sys: &System, w: f64, fp: &[Complex64]) -> Result<Vec<Complex64>
     }
     dk.solve_in_place(&mut rhs);
     Ok(rhs)
-}
-
-impl SteadyStateResult {
-    /// Moves the amplitudes Q_k of a run on a reduced system to the full model's DOFs.
-    pub fn expand(&mut self, reduced: &System) {
-        if let Some(p) = &reduced.projection {
-            self.q = self.q.iter().map(|qk| p.expand(qk)).collect();
-        }
-    }
-
-    /// Adds the mode-resolved decomposition with the first `count` bare-beam modes
-    /// (`sys` is the full system the amplitudes Q_k belong to; `modal_ratios` the case's
-    /// modal damping ratios, if any).
-    pub fn decompose_modes(
-        &mut self,
-        model: &Model,
-        sys: &System,
-        count: usize,
-        modal_ratios: Option<&[f64]>,
-    ) -> Result<()> {
-        let interface: Vec<Vec<Complex64>> = self.spectra.iter().map(|s| s.interface.clone()).collect();
-        let w0 = 2.0 * PI / self.period;
-        self.modal = crate::post::modal::decompose(model, sys, &self.q, w0, &interface, count, modal_ratios)?;
-        Ok(())
-    }
 }
 
 /// Solves (K − ω_k²M + iω_kC)·Q_k = Σ_a b_a·F̂_p,a,k for k = 0..=n_harm (ω_k = k·ω₀),

@@ -7,9 +7,7 @@
 //! feet, so the profile grows by a few rows' worth per actuator, not with the beam size.
 
 pub mod dofs;
-pub mod energy;
 pub mod system;
 
 pub use dofs::DofMap;
-pub use energy::StoredEnergy;
 pub use system::{LinkDofs, Model, Projection, System};

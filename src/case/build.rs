@@ -3,11 +3,11 @@
 use super::schema::*;
 use super::LoadedCase;
 use crate::actuator::{Actuator, FootBase, Frame, Inertial, Leg, Stack};
-use crate::assembly::system::{structure_stiffness_root, Model, Rayleigh, Sensor, System};
+use crate::analysis::modes::bare_modes;
+use crate::assembly::system::{Model, Rayleigh, Sensor};
 use crate::beam::mesh::RequiredPoint;
 use crate::beam::{Beam, GroundedSpring, MassKind, Material, Mesh, PointMass, Section, Support, SupportKind};
 use crate::error::{Error, Result};
-use crate::solve::eigen;
 
 /// The model with what was derived while building it.
 #[derive(Clone, Debug)]
@@ -146,49 +146,6 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
     }
     Ok(beam)
 }
-
-/// The bare structure's modes (no actuators), used for Rayleigh damping and modal analysis.
-pub fn bare_modes(beam: &Beam, count: usize) -> Result<eigen::Modes> {
-    bare_modes_of(beam, &bare_system(beam)?, count)
-}
-
-/// The bare structure's assembled system (the beam with its supports and attachments, no
-/// actuators).
-pub fn bare_system(beam: &Beam) -> Result<System> {
-    System::assemble(&Model {
-        beam: Some(beam.clone()),
-        rayleigh: Rayleigh::default(),
-        actuators: Vec::new(),
-        sensors: Vec::new(),
-    })
-}
-
-/// [`bare_modes`] with the bare system already assembled (`sys` from [`bare_system`]).
-pub fn bare_modes_of(beam: &Beam, sys: &System, count: usize) -> Result<eigen::Modes> {
-    // K enters through its square-root factor built from the element rows when it has one
-    // (a supported structure): that keeps the lowest modes of fine meshes accurate
-    // (round-off ~ε·elements² instead of ~ε·elements⁴ for K as assembled). An unsupported
-    // structure has none and takes the assembled K (the dense path shifts it, the sparse
-    // path reports it).
-    let root = structure_stiffness_root(beam, &sys.dofs).ok();
-    // Dense reduction up to a few thousand DOFs (all modes at once, robust); beyond that,
-    // or when only a few modes of a large model are wanted, shift-invert Lanczos (linear
-    // cost in the number of DOFs).
-    if sys.n() > DENSE_EIGEN_LIMIT && count < sys.n() / 4 {
-        match root {
-            Some(root) => crate::solve::lanczos::lowest_modes_from_root(&root, &sys.m, count),
-            None => crate::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, count, 0.0),
-        }
-    } else {
-        match root {
-            Some(root) => eigen::modes_from_root(&root, &sys.m, count),
-            None => eigen::modes(&sys.k, &sys.m, &sys.dofs.beam_dofs(), count),
-        }
-    }
-}
-
-/// Largest model solved by the dense eigensolver.
-pub const DENSE_EIGEN_LIMIT: usize = 1500;
 
 /// Builds the model a case describes.
 pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {

@@ -4,10 +4,10 @@
 use super::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
-use crate::analysis::transient::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum};
+use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum};
 use crate::case::LoadedCase;
 use crate::error::Result;
-use crate::post::spectra::db;
+use crate::power::spectra::db;
 use crate::runner::{AnalysisResult, CaseRun};
 use std::path::{Path, PathBuf};
 
@@ -281,7 +281,7 @@ fn periodic_figures(
 }
 
 /// Net input power by bare-beam mode (first 12), one group per actuator.
-pub fn modal_power_figure(m: &crate::post::modal::ModalDecomposition, run: &CaseRun) -> BarChart {
+pub fn modal_power_figure(m: &crate::power::modal::ModalDecomposition, run: &CaseRun) -> BarChart {
     let nm = m.mode_frequency_hz.len().min(12);
     let mut bar = BarChart::new("Net power into the beam by mode", "bare-beam mode (natural frequency)", "power (W)");
     bar.categories = (0..nm).map(|r| format!("{:.0} Hz", m.mode_frequency_hz[r])).collect();

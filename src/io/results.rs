@@ -5,11 +5,12 @@ use super::sink::GroupSink;
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
+use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
 use crate::analysis::steady_state::SteadyStateResult;
-use crate::analysis::transient::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries, TransientResult};
+use crate::analysis::transient::TransientResult;
 use crate::case::LoadedCase;
 use crate::error::Result;
-use crate::post::power::EnergyBalance;
+use crate::power::balance::EnergyBalance;
 use crate::runner::{AnalysisResult, CaseRun};
 use std::path::Path;
 

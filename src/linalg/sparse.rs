@@ -115,7 +115,7 @@ impl Csr {
     }
 
     /// xᵀ·A·y, row by row without storing A·y. (Transient runs evaluate their stored
-    /// energies through `assembly::StoredEnergy` instead, whose flat lists avoid the branch
+    /// energies through `power::energy::StoredEnergy` instead, whose flat lists avoid the branch
     /// miss per short row that this loop pays.)
     pub fn bilinear(&self, x: &[f64], y: &[f64]) -> f64 {
         let ip = self.mat.indptr();

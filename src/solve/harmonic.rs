@@ -245,17 +245,6 @@ fn check_pivot(i: usize, d: Complex64, a_ii: Complex64) -> Result<()> {
     Ok(())
 }
 
-/// Time-averaged power dissipated by a viscous matrix C in harmonic motion Q at ω:
-/// ½·ω²·Qᴴ·C·Q (W).
-pub fn dissipated_power(c: &Csr, q: &[Complex64], omega: f64) -> f64 {
-    0.5 * omega * omega * c.hermitian_form(q)
-}
-
-/// Time-averaged power ½·Re(F·conj(V)) (W) of force and velocity amplitudes.
-pub fn mean_power(f: Complex64, v: Complex64) -> f64 {
-    0.5 * (f * v.conj()).re
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -1,16 +1,17 @@
 //! Running a sweep: one case evaluated, the shard's cases in parallel on a local rayon
 //! pool, checkpoints for resuming (batches of rows), and the output file.
 
-use super::fast::{self, ForceCache, Headline};
 use super::spec::{Sweep, SweepAnalysis};
 use super::table::{decode_part, encode_part, Row, Shard, SweepTable};
+use crate::analysis::drive::StackForceCache;
 use crate::analysis::reduction::complete_modal_basis;
-use crate::analysis::steady_state::{self, HarmonicSolver};
-use crate::analysis::transient;
-use crate::assembly::System;
+use crate::analysis::steady_state::{self, Detail, HarmonicSolver, SteadyStateResult};
+use crate::analysis::transient::{self, TransientResult};
+use crate::assembly::{Model, System};
 use crate::case::build::BuiltModel;
 use crate::case::build_model;
 use crate::error::{Error, Result};
+use crate::power::balance::balance_error;
 use rayon::prelude::*;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -34,7 +35,8 @@ pub struct RunOptions {
     /// Show a progress bar on stderr (never drawn when stderr is not a terminal).
     pub progress: bool,
     pub on_evaluated: Option<OnEvaluated>,
-    /// Evaluate through `steady_state::run` itself rather than the fast path (checks, timing).
+    /// Evaluate through the full `steady_state::run` (with its period in time) rather than
+    /// its headline mode (checks, timing).
     pub reference: bool,
     /// Set to stop: cases not yet started are skipped and the table comes back incomplete.
     pub cancel: Option<Arc<AtomicBool>>,
@@ -55,16 +57,56 @@ impl std::fmt::Debug for RunOptions {
 #[derive(Debug)]
 pub struct Evaluator<'a> {
     pub sweep: &'a Sweep,
-    /// Stack-force harmonics per drive (the fast path's cache).
-    pub forces: ForceCache,
-    /// Use `steady_state::run` itself (with its time-domain reconstruction, no force cache)
-    /// instead of the fast path: for checks and timing.
+    /// Stack-force harmonics per drive, shared by the cases.
+    pub forces: StackForceCache,
+    /// Use the full `steady_state::run` (with its period in time, no force cache) instead
+    /// of its headline mode: for checks and timing.
     pub reference: bool,
+}
+
+/// The headline numbers of a case, as a sweep tabulates them.
+#[derive(Clone, Debug, Default)]
+pub struct Headline {
+    /// Net mean power into the beam per actuator (W).
+    pub net_power: Vec<f64>,
+    /// Mean power into the beam per link (W).
+    pub mean_power: Vec<f64>,
+    /// |F̂_T| at the fundamental per link (N).
+    pub force_amplitude: Vec<f64>,
+    pub beam_dissipation: f64,
+    pub balance_error: f64,
+}
+
+/// |F̂_T| at the fundamental (N) of a spectrum of the transmitted force (0 without one).
+fn fundamental(transmitted: &[num_complex::Complex64]) -> f64 {
+    transmitted.get(1).map_or(0.0, |c| c.norm())
+}
+
+impl Headline {
+    fn of_steady_state(r: SteadyStateResult) -> Self {
+        Headline {
+            force_amplitude: r.spectra.iter().map(|s| fundamental(&s.transmitted)).collect(),
+            net_power: r.net_power,
+            mean_power: r.mean_power,
+            beam_dissipation: r.beam_dissipation,
+            balance_error: r.balance_error,
+        }
+    }
+
+    fn of_transient(r: TransientResult) -> Self {
+        Headline {
+            force_amplitude: r.spectra.iter().map(|s| fundamental(&s.transmitted)).collect(),
+            balance_error: balance_error(r.beam_input_power, r.beam_dissipation),
+            net_power: r.net_power,
+            mean_power: r.mean_power,
+            beam_dissipation: r.beam_dissipation,
+        }
+    }
 }
 
 impl<'a> Evaluator<'a> {
     pub fn new(sweep: &'a Sweep, reference: bool) -> Self {
-        Evaluator { sweep, forces: ForceCache::default(), reference }
+        Evaluator { sweep, forces: StackForceCache::default(), reference }
     }
 
     /// Evaluates case `i`: builds its model (the mesh follows the actuator) and solves the
@@ -76,44 +118,29 @@ impl<'a> Evaluator<'a> {
         let built = build_model(&lc).map_err(wrap)?;
         let sys = frequency_domain_system(&built, &lc.file, sweep.analysis).map_err(wrap)?;
         let model = built.model;
-        let amp = |c: &[num_complex::Complex64]| c.get(1).map_or(0.0, |c| c.norm());
-        let (h, n) = (sweep.harmonics, sweep.samples_per_period);
         let head = match (sweep.analysis, self.reference) {
-            (SweepAnalysis::SteadyState, false) => {
-                fast::steady_state(&model, &sys, h, n, &self.forces).map_err(wrap)?
-            }
+            (SweepAnalysis::SteadyState, false) => self.steady_state(&model, &mut HarmonicSolver::new(&sys)),
             (SweepAnalysis::SteadyState, true) => {
-                let r = steady_state::run(&model, &sys, h, n).map_err(wrap)?;
-                Headline {
-                    force_amplitude: r.spectra.iter().map(|s| amp(&s.transmitted)).collect(),
-                    net_power: r.net_power,
-                    mean_power: r.mean_power,
-                    beam_dissipation: r.beam_dissipation,
-                    balance_error: r.balance_error,
-                }
+                steady_state::run(&model, &sys, sweep.harmonics, sweep.samples_per_period)
+                    .map(Headline::of_steady_state)
             }
             (SweepAnalysis::Transient, _) => {
-                let s = transient::TransientSettings { harmonics: h, ..Default::default() };
-                let r = transient::run(&model, &sys, &s).map_err(wrap)?;
-                let input = r.beam_input_power;
-                Headline {
-                    force_amplitude: r.spectra.iter().map(|s| amp(&s.transmitted)).collect(),
-                    net_power: r.net_power,
-                    mean_power: r.mean_power,
-                    beam_dissipation: r.beam_dissipation,
-                    balance_error: if r.beam_dissipation != 0.0 {
-                        (input - r.beam_dissipation).abs() / r.beam_dissipation.abs()
-                    } else {
-                        input.abs()
-                    },
-                }
+                let s = transient::TransientSettings { harmonics: sweep.harmonics, ..Default::default() };
+                transient::run(&model, &sys, &s).map(Headline::of_transient)
             }
         };
-        self.row(i, head)
+        self.row(i, head.map_err(wrap)?)
+    }
+
+    /// The steady state of `model` in its headline mode, against `solver`'s system (the
+    /// model's, up to the actuators' voltages), with this sweep's harmonics and cache.
+    fn steady_state(&self, model: &Model, solver: &mut HarmonicSolver) -> Result<Headline> {
+        let (h, n) = (self.sweep.harmonics, self.sweep.samples_per_period);
+        steady_state::run_with(model, solver, h, n, Detail::Headline(&self.forces)).map(Headline::of_steady_state)
     }
 
     /// Whether [`Evaluator::evaluate_group`] shares one assembled system between the cases
-    /// of a group (the fast steady-state path); otherwise it evaluates them one by one.
+    /// of a group (the steady state in its headline mode); otherwise it evaluates them one by one.
     pub fn shares_systems(&self) -> bool {
         self.sweep.analysis == SweepAnalysis::SteadyState && !self.reference
     }
@@ -166,9 +193,7 @@ impl<'a> Evaluator<'a> {
                     slot.stack_mut().voltage = v;
                 }
             }
-            let head =
-                fast::steady_state_with(&model, &mut solver, sweep.harmonics, sweep.samples_per_period, &self.forces)
-                    .map_err(wrap(i))?;
+            let head = self.steady_state(&model, &mut solver).map_err(wrap(i))?;
             sink(self.row(i, head)?)?;
         }
         Ok(())
@@ -224,7 +249,7 @@ pub fn group_cases(sweep: &Sweep, todo: &[usize], max_len: usize) -> Vec<Vec<usi
     groups.into_iter().flat_map(|g| g.chunks(max_len).map(<[usize]>::to_vec).collect::<Vec<_>>()).collect()
 }
 
-/// Evaluates case `i` of a sweep on its own (fast path, fresh cache).
+/// Evaluates case `i` of a sweep on its own (headline steady state, fresh cache).
 pub fn evaluate(sweep: &Sweep, i: usize) -> Result<Row> {
     Evaluator::new(sweep, false).evaluate(i)
 }

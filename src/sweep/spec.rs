@@ -24,7 +24,7 @@ pub enum Combine {
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
 #[serde(rename_all = "snake_case")]
 pub enum SweepAnalysis {
-    /// Frequency-domain periodic steady state (physics spec §9): the fast path.
+    /// Frequency-domain periodic steady state (physics spec §9), in its headline mode.
     #[default]
     SteadyState,
     /// Newmark time integration to the steady state (§8).
@@ -429,7 +429,7 @@ impl Sweep {
             let beam = crate::case::build::build_beam(&lc)?;
             let d = &lc.case.damping;
             let need = d.modes[0].max(d.modes[1]);
-            let m = crate::case::build::bare_modes(&beam, need)?;
+            let m = crate::analysis::modes::bare_modes(&beam, need)?;
             if m.count() < need {
                 return Err(Error::input(
                     &base_file,

@@ -9,12 +9,46 @@
 //! C_beam, so the beam dissipation splits into P_r = ½ω²·(a₀ + a₁ω_r²)·|η_r|²; with modal
 //! damping (ratios ζ_r) into P_r = ½ω²·2ζ_r·ω_r·|η_r|².
 
-use crate::assembly::{Model, System};
-use crate::case::build::bare_modes;
-use crate::error::Result;
-use crate::solve::eigen::ratio_of;
+use super::point::mean_power;
+use crate::assembly::system::Rayleigh;
+use crate::assembly::System;
+use crate::solve::eigen::{ratio_of, Modes};
 use num_complex::Complex64;
 use serde::Serialize;
+
+/// How the structure's damping acts on its modes.
+#[derive(Clone, Copy, Debug)]
+pub enum ModalDamping<'a> {
+    /// Rayleigh damping C = a₀·M + a₁·K: modal coefficient c_r = a₀ + a₁·ω_r² (1/s).
+    Rayleigh { a0: f64, a1: f64 },
+    /// Modal damping ratios ζ_r per mode (the last repeats): c_r = 2ζ_r·ω_r (1/s).
+    Ratios(&'a [f64]),
+}
+
+impl<'a> ModalDamping<'a> {
+    /// A model's damping: its modal ratios if it has them, else its Rayleigh coefficients.
+    pub fn of(rayleigh: &Rayleigh, modal_ratios: Option<&'a [f64]>) -> Self {
+        match modal_ratios {
+            Some(z) => ModalDamping::Ratios(z),
+            None => ModalDamping::Rayleigh { a0: rayleigh.a0, a1: rayleigh.a1 },
+        }
+    }
+
+    /// The modal damping coefficient c_r (1/s) of mode r (0-based) at ω_r (rad/s).
+    pub fn coefficient(&self, r: usize, omega_r: f64) -> f64 {
+        match *self {
+            ModalDamping::Rayleigh { a0, a1 } => a0 + a1 * omega_r * omega_r,
+            ModalDamping::Ratios(z) => 2.0 * ratio_of(z, r) * omega_r,
+        }
+    }
+}
+
+/// Time-averaged power (W) a mode with damping coefficient c_r (1/s) dissipates when its
+/// coordinate moves harmonically with amplitude η (√kg·m) at ω (rad/s): ½ω²·c_r·|η|².
+#[inline]
+pub fn modal_dissipated_power(omega: f64, c_r: f64, eta: Complex64) -> f64 {
+    0.5 * omega * omega * c_r * eta.norm_sqr()
+}
 
 /// Mode-resolved view of a periodic steady state (per harmonic k and mode r).
 #[derive(Clone, Debug, Default, Serialize)]
@@ -42,47 +76,21 @@ pub struct ModalDecomposition {
     pub response_participation: Vec<f64>,
 }
 
-/// Decomposes harmonic amplitudes `q[k]` at frequencies `k·omega0` with `count` modes.
-/// `interface[l][k]` are the links' interface-force amplitudes (N); `modal_ratios` the
-/// case's modal damping ratios, if it has modal rather than Rayleigh damping.
+/// Decomposes harmonic amplitudes `q[k]` at frequencies `k·omega0` (rad/s) of the system
+/// `sys` with the bare structure's mass-normalised `modes`, their rows numbered on `sys`'s
+/// DOFs (see `analysis::modes::bare_modes_on`). `interface[l][k]` are the links'
+/// interface-force amplitudes (N); `damping` how the structure's damping acts on the modes.
 pub fn decompose(
-    model: &Model,
     sys: &System,
+    modes: &Modes,
+    damping: ModalDamping,
     q: &[Vec<Complex64>],
     omega0: f64,
     interface: &[Vec<Complex64>],
-    count: usize,
-    modal_ratios: Option<&[f64]>,
-) -> Result<Option<ModalDecomposition>> {
-    let Some(beam) = model.beam.as_ref() else { return Ok(None) };
-    let modes = bare_modes(beam, count)?;
-    // The bare system numbers DOFs differently (no actuator DOFs): map node by node.
-    let bare = System::assemble(&Model {
-        beam: Some(beam.clone()),
-        rayleigh: Default::default(),
-        actuators: vec![],
-        sensors: vec![],
-    })?;
-    let mut to_coupled = vec![usize::MAX; bare.n()];
-    for node in 0..beam.mesh.n_nodes() {
-        if let (Some(b), Some(c)) = (bare.dofs.w[node], sys.dofs.w[node]) {
-            to_coupled[b] = c;
-        }
-        if let (Some(b), Some(c)) = (bare.dofs.theta[node], sys.dofs.theta[node]) {
-            to_coupled[b] = c;
-        }
-    }
+) -> ModalDecomposition {
     let n = sys.n();
     let nm = modes.count();
-    let phi: Vec<Vec<f64>> = (0..nm)
-        .map(|r| {
-            let mut v = vec![0.0; n];
-            for (row, &d) in modes.dofs.iter().enumerate() {
-                v[to_coupled[d]] = modes.shapes[(row, r)];
-            }
-            v
-        })
-        .collect();
+    let phi: Vec<Vec<f64>> = (0..nm).map(|r| modes.shape_global(r, n)).collect();
     let nl = sys.links.len();
     let mut out = ModalDecomposition {
         mode_frequency_hz: modes.frequencies_hz(),
@@ -91,10 +99,9 @@ pub fn decompose(
         dissipation: vec![0.0; nm],
         kinetic_energy: vec![0.0; nm],
         strain_energy: vec![0.0; nm],
-        generalised_force_abs: vec![vec![]; model.actuators.len()],
+        generalised_force_abs: vec![vec![]; sys.drives.len()],
         ..Default::default()
     };
-    let (a0, a1) = (model.rayleigh.a0, model.rayleigh.a1);
     let mut mq = vec![Complex64::default(); n];
     for (k, qk) in q.iter().enumerate() {
         let w = k as f64 * omega0;
@@ -123,17 +130,13 @@ pub fn decompose(
         for (l, lk) in sys.links.iter().enumerate() {
             if let Some(d) = lk.foot_dof {
                 for r in 0..nm {
-                    out.point_power[l][r] += 0.5 * (interface[l][k] * (iw * phi[r][d] * eta[r]).conj()).re;
+                    out.point_power[l][r] += mean_power(interface[l][k], iw * phi[r][d] * eta[r]);
                 }
             }
         }
-        for (r, (&wr, eta_r)) in modes.omega.iter().zip(&eta).enumerate().take(nm) {
+        for (r, (&wr, &eta_r)) in modes.omega.iter().zip(&eta).enumerate().take(nm) {
             let e2 = eta_r.norm_sqr();
-            let c_r = match modal_ratios {
-                Some(z) => 2.0 * ratio_of(z, r) * wr,
-                None => a0 + a1 * wr * wr,
-            };
-            out.dissipation[r] += 0.5 * w * w * c_r * e2;
+            out.dissipation[r] += modal_dissipated_power(w, damping.coefficient(r, wr), eta_r);
             out.kinetic_energy[r] += 0.25 * w * w * e2;
             out.strain_energy[r] += 0.25 * wr * wr * e2;
         }
@@ -142,7 +145,7 @@ pub fn decompose(
         let full: f64 = (1..q.len())
             .map(|k| {
                 let w = k as f64 * omega0;
-                lk.foot_dof.map_or(0.0, |d| 0.5 * (interface[l][k] * (Complex64::new(0.0, w) * q[k][d]).conj()).re)
+                lk.foot_dof.map_or(0.0, |d| mean_power(interface[l][k], Complex64::new(0.0, w) * q[k][d]))
             })
             .sum();
         out.point_residual.push(full - out.point_power[l].iter().sum::<f64>());
@@ -153,5 +156,5 @@ pub fn decompose(
         .collect();
     let ke: f64 = out.kinetic_energy.iter().sum();
     out.response_participation = out.kinetic_energy.iter().map(|e| e / if ke != 0.0 { ke } else { 1.0 }).collect();
-    Ok(Some(out))
+    out
 }

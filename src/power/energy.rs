@@ -8,7 +8,7 @@
 //! inner branches; and the system's energy is the beam's plus the actuators' part, the few
 //! entries where M, K differ from M_beam, K_beam (link springs, feet and body masses).
 
-use super::System;
+use crate::assembly::System;
 use crate::linalg::Csr;
 
 /// ½·xᵀ·A·x of a symmetric A as Σ w·x_i·x_j over A's lower triangle. M and K are

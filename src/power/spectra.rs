@@ -6,6 +6,7 @@
 //! X̂_k = 2X_k/N for 0 < k < N/2 and X̂_{N/2} = X_{N/2}/N. No window: over a whole period
 //! the harmonics fall exactly on bins.
 
+use super::point::{mean_power, mean_power_from_acceleration};
 use num_complex::Complex64;
 use rustfft::FftPlanner;
 
@@ -20,10 +21,16 @@ pub fn harmonics(samples: &[f64]) -> Vec<Complex64> {
     let half = n / 2;
     (0..=half)
         .map(|k| {
-            let s = if k == 0 || (n.is_multiple_of(2) && k == half) { 1.0 } else { 2.0 };
+            let s = if is_unpaired(k, n) { 1.0 } else { 2.0 };
             buf[k] * (s / n as f64)
         })
         .collect()
+}
+
+/// Whether harmonic k of a single-sided spectrum of N samples per period carries its full
+/// amplitude rather than twice its half (the mean, and the Nyquist term of an even N).
+fn is_unpaired(k: usize, n_samples: usize) -> bool {
+    k == 0 || (n_samples.is_multiple_of(2) && k == n_samples / 2)
 }
 
 /// Time-averaged power per harmonic from force and velocity amplitudes:
@@ -33,9 +40,13 @@ pub fn power_per_harmonic(f: &[Complex64], v: &[Complex64], n_samples: usize) ->
     f.iter()
         .zip(v)
         .enumerate()
-        .map(|(k, (a, b))| {
-            let s = if k == 0 || (n_samples.is_multiple_of(2) && k == n_samples / 2) { 1.0 } else { 0.5 };
-            s * (a * b.conj()).re
+        .map(|(k, (&a, &b))| {
+            let p = mean_power(a, b);
+            if is_unpaired(k, n_samples) {
+                2.0 * p
+            } else {
+                p
+            }
         })
         .collect()
 }
@@ -47,12 +58,16 @@ pub fn power_from_acceleration(f: &[Complex64], a: &[Complex64], omega0: f64, n_
     f.iter()
         .zip(a)
         .enumerate()
-        .map(|(k, (fk, ak))| {
+        .map(|(k, (&fk, &ak))| {
             if k == 0 {
                 return 0.0;
             }
-            let s = if n_samples.is_multiple_of(2) && k == n_samples / 2 { 2.0 } else { 1.0 };
-            -0.5 * s * (fk * ak.conj()).im / (k as f64 * omega0)
+            let p = mean_power_from_acceleration(fk, ak, k as f64 * omega0);
+            if is_unpaired(k, n_samples) {
+                2.0 * p
+            } else {
+                p
+            }
         })
         .collect()
 }

@@ -1,4 +1,5 @@
-//! Power flow through interface points and the energy bookkeeping that checks it.
+//! The energy bookkeeping that checks the power flow (physics spec §10): over an interval,
+//! work in = dissipated + Δ(stored); in a periodic steady state, power in = power dissipated.
 
 use serde::Serialize;
 
@@ -25,10 +26,13 @@ impl EnergyBalance {
     }
 }
 
-/// Mean of the product of two sampled signals over whole periods (W for force × velocity).
-pub fn mean_product(a: &[f64], b: &[f64]) -> f64 {
-    if a.is_empty() {
-        return 0.0;
+/// The steady-state balance error |input − dissipated| / |dissipated| of a mean input power
+/// and a mean dissipated power (W); |input| itself when nothing is dissipated (a rigid base
+/// takes no power).
+pub fn balance_error(input: f64, dissipated: f64) -> f64 {
+    if dissipated != 0.0 {
+        (input - dissipated).abs() / dissipated.abs()
+    } else {
+        input.abs()
     }
-    a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>() / a.len() as f64
 }

@@ -1,0 +1,288 @@
+//! The drive as the analyses see it: its timing (the period it repeats with and how a run
+//! samples it) and the stacks' active forces over one period of their periodic state.
+//!
+//! F_p = k_p·(d_p·V − h) depends on the voltage alone (physics spec §4), so a stack's force
+//! over a period of its periodic state is a property of the stack and its drive, not of
+//! the structure it stands on: [`stack_cycle`] computes it with the one periodic hysteresis
+//! cycle of the crate ([`BoucWen::periodic_cycle_from`]), and [`StackForceCache`] keeps its
+//! harmonics for the many cases of a sweep that share a drive.
+//!
+//! [`BoucWen::periodic_cycle_from`]: crate::actuator::bouc_wen::BoucWen::periodic_cycle_from
+//! [`BoucWen::bound`]: crate::actuator::bouc_wen::BoucWen::bound
+
+use crate::actuator::Stack;
+use crate::assembly::Model;
+use crate::error::{Error, Result};
+use crate::power::spectra::harmonics;
+use num_complex::Complex64;
+use std::collections::HashMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// How an analysis samples the drive in time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DriveTiming {
+    /// The period T the drive repeats with (s). A non-periodic drive is run once over the
+    /// requested duration, which then stands in for the period: the run is one "period".
+    pub period: f64,
+    /// Time step Δt = T / steps_per_period (s).
+    pub dt: f64,
+    /// Steps (samples) per period.
+    pub steps_per_period: usize,
+    /// Whether the drive repeats with `period` (false: `period` is the run's duration).
+    pub periodic: bool,
+}
+
+impl DriveTiming {
+    /// The time grid of a time-stepping run. A periodic drive without `duration` is stepped
+    /// by `dt` (shrunk to a whole number of steps per period) or, without it, at 20
+    /// steps per period of harmonic `harmonics` of the first drive's fundamental and at
+    /// least 200 per period; a given `dt` may not be coarser than that. A non-periodic drive
+    /// (or a periodic one given a `duration`) runs once over `duration`, stepped by `dt` or
+    /// at 20 steps per period of its highest frequency.
+    pub fn stepped(model: &Model, dt: Option<f64>, duration: Option<f64>, harmonics: usize) -> Result<Self> {
+        let period = common_period(model)?;
+        if let (Some(p), None) = (period, duration) {
+            let first = model.actuators[0].stack();
+            let f0 = 1.0 / p;
+            let dt_max = 1.0 / (20.0 * harmonics as f64 * first.voltage.fundamental_frequency().unwrap_or(f0));
+            let n = match dt {
+                Some(dt) => {
+                    if dt > dt_max * (1.0 + 1e-12) {
+                        return Err(Error::input(
+                            "<case>",
+                            "analysis.dt",
+                            format!(
+                                "Δt = {dt} s is too coarse for harmonic {harmonics} of the drive: it must not exceed \
+                                 1/20 of that harmonic's period, {dt_max:.6e} s"
+                            ),
+                        ));
+                    }
+                    (p / dt - 1e-9).ceil() as usize
+                }
+                None => ((p / dt_max).ceil() as usize).max(200),
+            };
+            return Ok(DriveTiming { period: p, dt: p / n as f64, steps_per_period: n, periodic: true });
+        }
+        let d = duration
+            .ok_or_else(|| Error::input("<case>", "analysis.duration", "a non-periodic drive needs `duration`"))?;
+        let hf = model.actuators.iter().filter_map(|a| a.stack().voltage.highest_frequency()).fold(0.0, f64::max);
+        let dt = match (dt, hf > 0.0) {
+            (Some(dt), _) => dt,
+            (None, true) => 1.0 / (20.0 * hf),
+            (None, false) => {
+                return Err(Error::input(
+                    "<case>",
+                    "analysis.dt",
+                    "the drive has no frequency to derive a time step from: give `dt`",
+                ))
+            }
+        };
+        let n = (d / dt - 1e-9).ceil() as usize;
+        Ok(DriveTiming { period: d, dt: d / n as f64, steps_per_period: n, periodic: false })
+    }
+
+    /// One period of a periodic drive sampled `samples` times, as the frequency-domain
+    /// steady state takes it. Errors if the drive does not repeat.
+    pub fn sampled(model: &Model, samples: usize) -> Result<Self> {
+        let period = common_period(model)?.ok_or_else(|| {
+            Error::input("<case>", "analysis.type", "a frequency-domain steady state needs a periodic drive")
+        })?;
+        Ok(DriveTiming { period, dt: period / samples as f64, steps_per_period: samples, periodic: true })
+    }
+}
+
+/// The period the actuators' drives repeat with together (s): the longest of their
+/// voltages' periods, each commensurate with the first's; None when the first actuator's
+/// voltage does not repeat. Errors without actuators or with incommensurate periods.
+pub fn common_period(model: &Model) -> Result<Option<f64>> {
+    let first = model.actuators.first().ok_or_else(|| {
+        Error::input("<case>", "actuator", "the analysis needs at least one actuator to drive the system")
+    })?;
+    let period = first.stack().voltage.period();
+    for (i, a) in model.actuators.iter().enumerate().skip(1) {
+        if let (Some(p0), Some(pi)) = (period, a.stack().voltage.period()) {
+            let ratio = p0.max(pi) / p0.min(pi);
+            if (ratio - ratio.round()).abs() > 1e-9 {
+                return Err(Error::input(
+                    "<case>",
+                    format!("actuator[{i}].voltage"),
+                    "all actuators must share a common drive period for a periodic transient",
+                ));
+            }
+        }
+    }
+    Ok(period.map(|p| model.actuators.iter().filter_map(|a| a.stack().voltage.period()).fold(p, f64::max)))
+}
+
+/// The hysteresis cycle has settled when h at the end of a period repeats its start to
+/// this fraction of the bound on |h| ([`BoucWen::bound`]).
+pub const CYCLE_TOLERANCE: f64 = 1e-13;
+
+/// Periods the hysteresis cycle may take to settle before the analysis gives up.
+pub const CYCLE_MAX_PERIODS: usize = 10_000;
+
+/// One period of a stack's periodic state: voltage V (V), hysteretic displacement h (m) and
+/// active force F_p (N) at t_j = (p + j/N)·T, j < N, p the period it settled in.
+#[derive(Clone, Debug, Default)]
+pub struct StackCycle {
+    pub voltage: Vec<f64>,
+    pub h: Vec<f64>,
+    pub f_p: Vec<f64>,
+    /// Periods it took h to settle into its cycle, the sampled one included (1 without
+    /// hysteresis).
+    pub periods: usize,
+}
+
+/// A stack's force over one period `period` (s) of its periodic state, `samples` samples:
+/// the Bouc–Wen cycle from the stack's h₀ at t = 0, settled to [`CYCLE_TOLERANCE`]; without
+/// hysteresis the linear stack, h = 0.
+pub fn stack_cycle(stack: &Stack, period: f64, samples: usize) -> Result<StackCycle> {
+    let n = samples;
+    let (voltage, h, periods) = if stack.hysteresis_on {
+        let c = stack.hysteresis.periodic_cycle_from(
+            &stack.voltage,
+            stack.h0,
+            period,
+            samples,
+            CYCLE_TOLERANCE,
+            CYCLE_MAX_PERIODS,
+        )?;
+        if !c.converged {
+            return Err(Error::Numerical(format!(
+                "the hysteresis cycle did not repeat within {CYCLE_MAX_PERIODS} periods"
+            )));
+        }
+        let (mut v, mut h) = (c.v, c.h);
+        v.truncate(n);
+        h.truncate(n);
+        (v, h, c.periods)
+    } else {
+        let v = (0..n).map(|j| stack.voltage.value(j as f64 / n as f64 * period)).collect();
+        (v, vec![0.0; n], 1)
+    };
+    let f_p = voltage.iter().zip(&h).map(|(&v, &h)| stack.active_force(v, h)).collect();
+    Ok(StackCycle { voltage, h, f_p, periods })
+}
+
+/// The stack forces' harmonics F̂_p,k (N), k = 0..=n_harm, of a cycle (single-sided, see
+/// [`crate::power::spectra`]).
+pub fn force_harmonics(cycle: &StackCycle, n_harm: usize) -> Vec<Complex64> {
+    harmonics(&cycle.f_p)[..=n_harm].to_vec()
+}
+
+/// A stack's force harmonics over one period of its periodic state.
+#[derive(Clone, Debug, Default)]
+pub struct StackHarmonics {
+    /// F̂_p,k (N), k = 0..=n_harm.
+    pub f_p: Vec<Complex64>,
+    /// Periods the hysteresis took to settle (see [`StackCycle::periods`]).
+    pub periods: usize,
+}
+
+/// Stack-force harmonics shared by the cases of a sweep. F_p depends on the stack and its
+/// voltage alone, not on where the stack stands, so a placement sweep settles the Bouc–Wen
+/// cycle once per drive instead of once per case. A cached value is a pure function of its
+/// key, so which thread fills it changes no bit.
+#[derive(Debug, Default)]
+pub struct StackForceCache {
+    map: Mutex<HashMap<String, Arc<StackHarmonics>>>,
+    /// Hysteresis cycles settled (cache misses).
+    pub computed: AtomicUsize,
+}
+
+impl StackForceCache {
+    /// F̂_p,k, k = 0..=n_harm, of `stack` over `period` (s) from `samples` samples: what
+    /// [`force_harmonics`] of [`stack_cycle`] gives.
+    pub fn get(&self, stack: &Stack, period: f64, samples: usize, n_harm: usize) -> Result<Arc<StackHarmonics>> {
+        // Debug formatting of f64 round-trips exactly, so equal keys mean equal inputs.
+        let key = format!("{stack:?}|{period:?}|{samples}|{n_harm}");
+        if let Some(v) = self.map.lock().expect("cache lock").get(&key) {
+            return Ok(v.clone());
+        }
+        let cycle = stack_cycle(stack, period, samples)?;
+        let h = Arc::new(StackHarmonics { f_p: force_harmonics(&cycle, n_harm), periods: cycle.periods });
+        self.computed.fetch_add(1, Ordering::Relaxed);
+        self.map.lock().expect("cache lock").entry(key).or_insert(h.clone());
+        Ok(h)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::case::{build_model, LoadedCase};
+    use std::path::PathBuf;
+
+    fn model(voltage: &str) -> Model {
+        let text = format!("base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\n{voltage}\n");
+        let lc = LoadedCase::from_str(&text, "d.toml", PathBuf::from(".")).unwrap();
+        build_model(&lc).unwrap().model
+    }
+
+    const SINE: &str = "kind = \"sine\"\namplitude = 48.0\nfrequency = 30.0";
+
+    /// Over twice its period the cycle is the same cycle twice: a 2T-cycle of 2N samples is
+    /// the T-cycle of N samples, twice, and the 2T grid's harmonic 2 is the T grid's
+    /// harmonic 1.
+    #[test]
+    fn a_cycle_over_a_multiple_of_the_period_repeats_the_cycle() {
+        let m = model(SINE);
+        let stack = m.actuators[0].stack();
+        let (t, n) = (1.0 / 30.0, 200);
+        let one = stack_cycle(stack, t, n).unwrap();
+        let two = stack_cycle(stack, 2.0 * t, 2 * n).unwrap();
+        let scale = stack.hysteresis.bound(0.0);
+        for j in 0..n {
+            for half in [j, n + j] {
+                assert!((two.h[half] - one.h[j]).abs() < 1e-12 * scale, "h at sample {half}");
+                assert!((two.voltage[half] - one.voltage[j]).abs() < 1e-12 * 48.0, "V at sample {half}");
+            }
+        }
+        assert!(one.periods > 1, "hysteresis settles over several periods");
+        let (h1, h2) = (force_harmonics(&one, 3), force_harmonics(&two, 6));
+        assert!((h2[2] - h1[1]).norm() < 1e-9 * h1[1].norm(), "{} vs {}", h2[2], h1[1]);
+        assert!(h2[1].norm() < 1e-9 * h1[1].norm(), "no subharmonic");
+    }
+
+    #[test]
+    fn the_cache_gives_the_bits_of_the_cycle_and_settles_it_once() {
+        let m = model(SINE);
+        let stack = m.actuators[0].stack();
+        let cache = StackForceCache::default();
+        let a = cache.get(stack, 1.0 / 30.0, 256, 5).unwrap();
+        let b = cache.get(stack, 1.0 / 30.0, 256, 5).unwrap();
+        let direct = force_harmonics(&stack_cycle(stack, 1.0 / 30.0, 256).unwrap(), 5);
+        assert_eq!(cache.computed.load(Ordering::Relaxed), 1);
+        assert_eq!(a.f_p, direct);
+        assert_eq!(b.f_p, direct);
+        // Another timing is another entry.
+        cache.get(stack, 2.0 / 30.0, 256, 5).unwrap();
+        assert_eq!(cache.computed.load(Ordering::Relaxed), 2);
+    }
+
+    #[test]
+    fn timing_follows_the_drive_and_refuses_what_it_cannot_sample() {
+        let m = model(SINE);
+        // A given dt is shrunk to a whole number of steps per period.
+        let s = DriveTiming::stepped(&m, Some(1.0 / 30.0 / 250.5), None, 9).unwrap();
+        assert!(s.periodic && s.steps_per_period == 251);
+        assert!((s.dt * 251.0 - 1.0 / 30.0).abs() < 1e-15);
+        // Default: 20 steps per period of harmonic 9, at least 200 per period.
+        assert_eq!(DriveTiming::stepped(&m, None, None, 9).unwrap().steps_per_period, 200);
+        assert_eq!(DriveTiming::stepped(&m, None, None, 20).unwrap().steps_per_period, 400);
+        let e = DriveTiming::stepped(&m, Some(1e-3), None, 9).unwrap_err().to_string();
+        assert!(e.contains("analysis.dt") && e.contains("too coarse"), "{e}");
+        // A duration runs once, the drive's period notwithstanding.
+        let once = DriveTiming::stepped(&m, Some(1e-4), Some(0.05), 9).unwrap();
+        assert!(!once.periodic && once.period == 0.05 && once.steps_per_period == 500);
+        assert_eq!(DriveTiming::sampled(&m, 64).unwrap().period, 1.0 / 30.0);
+        let chirp = model(
+            "kind = \"chirp\"\namplitude = 10.0\nf_start = 5.0\nf_end = 50.0\nduration = 1.0\nsweep = \"linear\"",
+        );
+        let e = DriveTiming::sampled(&chirp, 64).unwrap_err().to_string();
+        assert!(e.contains("needs a periodic drive"), "{e}");
+        let e = DriveTiming::stepped(&chirp, None, None, 9).unwrap_err().to_string();
+        assert!(e.contains("analysis.duration"), "{e}");
+    }
+}

@@ -1,0 +1,220 @@
+//! Time integration of the coupled system driven by the stacks' voltages.
+//!
+//! The run advances whole drive periods. Because F_p depends on the voltage alone, each
+//! period's stack forces are computed up front (h exact in voltage space), then the
+//! Newmark loop steps through the period ([`step`]), and the read-outs the integrator
+//! evaluates after every step ([`readout`]) are sorted into the period's record
+//! ([`record`]). At each period end the steady-state check ([`settle`]) compares the period
+//! with the one before; the run stops when they agree to the tolerance.
+
+mod readout;
+mod record;
+mod settle;
+mod step;
+
+use self::readout::Readout;
+use self::record::{PeriodRecord, Window};
+use self::settle::SettleCheck;
+use self::step::{EnergyLedger, StackHistories, Stepper};
+use super::drive::DriveTiming;
+use super::series::{Balances, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
+use crate::assembly::{Model, System};
+use crate::error::Result;
+use crate::power::point::{mean_product, net_power};
+use crate::power::spectra::harmonics;
+use crate::solve::fused::FusedNewmark;
+use crate::solve::newmark::{consistent_acceleration, Scheme};
+use serde::Serialize;
+
+/// How to run.
+#[derive(Clone, Debug)]
+pub struct TransientSettings {
+    pub dt: Option<f64>,
+    pub periods: Option<usize>,
+    pub duration: Option<f64>,
+    pub scheme: Scheme,
+    pub steady_state: bool,
+    pub tolerance: f64,
+    pub max_periods: usize,
+    /// Highest harmonic of the drive analysed (sets the Δt limit and the spectra length).
+    pub harmonics: usize,
+    /// Periods kept at the end of the run for output (and run at least before the
+    /// steady-state criterion may stop it).
+    pub record_periods: usize,
+    /// Keep every period of the run for output instead (`[output] full_history`).
+    pub full_history: bool,
+}
+
+impl Default for TransientSettings {
+    fn default() -> Self {
+        TransientSettings {
+            dt: None,
+            periods: None,
+            duration: None,
+            scheme: Scheme::average_acceleration(),
+            steady_state: true,
+            tolerance: 1e-4,
+            max_periods: 400,
+            harmonics: 9,
+            record_periods: 3,
+            full_history: false,
+        }
+    }
+}
+
+/// Result of a transient run.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct TransientResult {
+    /// Time step used (s) and drive period (s).
+    pub dt: f64,
+    pub period: f64,
+    pub steps_per_period: usize,
+    pub periods_run: usize,
+    pub steps_run: usize,
+    /// Whether the steady-state criterion was met, and the last relative change.
+    pub converged: bool,
+    pub final_change: f64,
+    /// Times of the recorded window (s).
+    pub t: Vec<f64>,
+    pub links: Vec<LinkSeries>,
+    pub bodies: Vec<BodySeries>,
+    pub drives: Vec<DriveSeries>,
+    pub sensors: Vec<SensorSeries>,
+    /// Mean power into the base at each link's foot over the last period (W).
+    pub mean_power: Vec<f64>,
+    /// Net mean power into the base per actuator (W).
+    pub net_power: Vec<f64>,
+    pub spectra: Vec<LinkSpectrum>,
+    /// Over the whole run, and over the last period.
+    pub energy_run: Balances,
+    pub energy_last_period: Balances,
+    /// Mean power dissipated in the beam over the last period (W).
+    pub beam_dissipation: f64,
+    /// Mean power into the beam over the last period by the same (midpoint) quadrature as
+    /// the dissipation, so the two balance to round-off in steady state (W). The per-point
+    /// `mean_power` are sample means, consistent with the spectra; both converge at O(Δt²).
+    pub beam_input_power: f64,
+    /// Set when the run used a modal reduction: its basis and error estimate.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reduction: Option<crate::analysis::reduction::ReductionReport>,
+}
+
+/// How many periods a run takes and keeps.
+struct PeriodPlan {
+    /// Periods to run at most.
+    total: usize,
+    /// Periods to run at least before the steady-state check may stop the run.
+    min: usize,
+    /// Periods kept for output.
+    keep: usize,
+}
+
+impl PeriodPlan {
+    fn new(timing: &DriveTiming, s: &TransientSettings) -> Self {
+        let total = match (timing.periodic, s.periods) {
+            (false, _) => 1,
+            (true, Some(p)) => p,
+            (true, None) if s.steady_state => s.max_periods,
+            (true, None) => 1,
+        };
+        let min = if timing.periodic { s.record_periods.max(1) } else { 1 };
+        PeriodPlan { total, min, keep: if s.full_history { total.max(1) } else { min } }
+    }
+}
+
+/// The integrator of a run, built and set up in one place.
+fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<FusedNewmark> {
+    let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt)?;
+    // The structure's Rayleigh damping lets the band step drop its C product (a reduced,
+    // dense system declines: its C is no longer banded).
+    nm.use_proportional_damping(model.rayleigh.a0, model.rayleigh.a1);
+    nm.track_dissipation = true;
+    Ok(nm)
+}
+
+/// Starts the integrator at rest under the stack forces `f_p0` (N) at t = 0, with the
+/// consistent initial acceleration, and registers the drives' load patterns.
+fn start_at_rest(nm: &mut FusedNewmark, sys: &System, f_p0: &[f64]) -> Result<()> {
+    // F₀ = Σ_a b_a·F_p,a(0) as sparse pairs.
+    let loads: Vec<(usize, f64)> =
+        sys.drives.iter().zip(f_p0).flat_map(|(b, &fp)| b.iter().map(move |&(d, c)| (d, c * fp))).collect();
+    let zeros = vec![0.0; sys.n()];
+    let a0 = consistent_acceleration(&sys.m, &sys.c, &sys.k, &sys.envelope, &zeros, &zeros, &loads)?;
+    nm.set_state(&zeros, &zeros, &a0, &loads);
+    nm.set_load_patterns(sys.drives.clone());
+    nm.set_previous_weights(f_p0);
+    Ok(())
+}
+
+/// Runs the transient.
+pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<TransientResult> {
+    let timing = DriveTiming::stepped(model, s.dt, s.duration, s.harmonics)?;
+    let layout = Readout::new(model, sys)?;
+    let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
+    let mut stacks = StackHistories::new(model, &timing);
+    let f_p0 = stacks.initial_forces();
+    start_at_rest(&mut nm, sys, &f_p0)?;
+    let plan = PeriodPlan::new(&timing, s);
+    let mut window = Window::new(plan.keep, timing.steps_per_period);
+    let mut ledger = EnergyLedger::new(sys, &nm);
+    nm.set_observations(layout.rows());
+    let mut stepper = Stepper::new(&nm, sys, &layout, &f_p0, &timing);
+    let mut settle = SettleCheck::new(s.tolerance);
+    let (mut converged, mut periods_run) = (false, 0);
+    for p in 0..plan.total {
+        stacks.advance(p, &timing);
+        let mut rec = window.next_record(&layout);
+        ledger.open_period(&nm);
+        let pb = stepper.period(&mut nm, sys, &layout, &stacks);
+        ledger.close_period(&nm, pb);
+        let n = timing.steps_per_period;
+        rec.store_drives(&stacks.times[..n], &stacks.v, &stacks.h, &stepper.f_p);
+        rec.store_readouts(&layout, &stepper.observed);
+        periods_run = p + 1;
+        let settled = settle.settled_after(&sys.links, &rec);
+        window.push(rec);
+        if timing.periodic && s.steady_state && settled && periods_run >= plan.min {
+            converged = true;
+            if s.periods.is_none() {
+                break;
+            }
+        }
+    }
+    let mut result = TransientResult {
+        dt: timing.dt,
+        period: timing.period,
+        steps_per_period: timing.steps_per_period,
+        periods_run,
+        steps_run: periods_run * timing.steps_per_period,
+        converged,
+        final_change: settle.change(),
+        energy_run: ledger.run,
+        energy_last_period: ledger.last_period,
+        beam_dissipation: ledger.last_period.beam.dissipated / timing.period,
+        beam_input_power: ledger.last_period.beam.input / timing.period,
+        ..Default::default()
+    };
+    let all = window.joined(&layout);
+    add_links(&mut result, sys, &all, s.harmonics);
+    result.net_power = net_power(&sys.links, &result.mean_power, model.actuators.len());
+    result.t = all.t.clone();
+    (result.bodies, result.drives, result.sensors) = all.into_series(model, &layout, &stacks.stacks);
+    Ok(result)
+}
+
+/// Adds each link's series over the recorded window, and its mean power and spectrum
+/// (up to harmonic `harmonics_kept`) over the last period.
+fn add_links(result: &mut TransientResult, sys: &System, all: &PeriodRecord, harmonics_kept: usize) {
+    let n = result.steps_per_period;
+    for (l, lk) in sys.links.iter().enumerate() {
+        let ls = all.link_series(l, lk);
+        let start = ls.interface.len() - n;
+        let (interface, velocity) = (&ls.interface[start..], &ls.base_velocity[start..]);
+        result.mean_power.push(mean_product(interface, velocity));
+        let fh = harmonics(&ls.transmitted[start..]);
+        let hmax = harmonics_kept.min(fh.len() - 1);
+        let (ih, vh, ah) = (harmonics(interface), harmonics(velocity), harmonics(&ls.base_acceleration[start..]));
+        result.spectra.push(LinkSpectrum::new(result.period, n, hmax, fh, ih, vh, ah));
+        result.links.push(ls);
+    }
+}

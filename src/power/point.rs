@@ -1,0 +1,64 @@
+//! Power at a point (physics spec §10): p(t) = F(t)·v(t) with F the force on the structure
+//! there (positive up) and v its velocity; its time average over whole periods, in time and
+//! from harmonic amplitudes (convention q(t) = Re(Q·e^{iωt})); the net power of an actuator;
+//! and the power its dampers take out.
+
+use crate::assembly::LinkDofs;
+use crate::linalg::Csr;
+use num_complex::Complex64;
+
+/// Instantaneous power p = F·v (W) at each sample of a force (N) and a velocity (m/s).
+pub fn instantaneous_power(force: &[f64], velocity: &[f64]) -> Vec<f64> {
+    force.iter().zip(velocity).map(|(f, v)| f * v).collect()
+}
+
+/// Mean of the product of two sampled signals over whole periods (W for force × velocity).
+pub fn mean_product(a: &[f64], b: &[f64]) -> f64 {
+    if a.is_empty() {
+        return 0.0;
+    }
+    a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>() / a.len() as f64
+}
+
+/// Time-averaged power ½·Re(F·conj(V)) (W) of force (N) and velocity (m/s) amplitudes.
+#[inline]
+pub fn mean_power(f: Complex64, v: Complex64) -> f64 {
+    0.5 * (f * v.conj()).re
+}
+
+/// Time-averaged power (W) from force (N) and *acceleration* (m/s²) amplitudes at ω > 0
+/// (rad/s), as measured with an impedance head and an accelerometer: V = A/(iω), hence
+/// P = −½·Im(F·conj(A))/ω.
+#[inline]
+pub fn mean_power_from_acceleration(f: Complex64, a: Complex64, omega: f64) -> f64 {
+    -0.5 * (f * a.conj()).im / omega
+}
+
+/// Work F̄·v̄·Δt (J) of a force over one time step by the midpoint rule, from the force (N)
+/// and velocity (m/s) at both ends of the step: what the trapezoidal scheme balances exactly.
+#[inline]
+pub fn midpoint_work(dt: f64, f0: f64, f1: f64, v0: f64, v1: f64) -> f64 {
+    dt * 0.5 * (f0 + f1) * 0.5 * (v0 + v1)
+}
+
+/// Energy c·ū̇²·Δt (J) a damper c (N·s/m) dissipates over one time step by the midpoint rule,
+/// from its stretch rate (m/s) at both ends.
+#[inline]
+pub fn damper_dissipation(dt: f64, c: f64, rate0: f64, rate1: f64) -> f64 {
+    let mid = 0.5 * (rate0 + rate1);
+    dt * c * mid * mid
+}
+
+/// Time-averaged power (W) dissipated by a viscous matrix C in harmonic motion Q at ω
+/// (rad/s): ½·ω²·Qᴴ·C·Q.
+pub fn dissipated_power(c: &Csr, q: &[Complex64], omega: f64) -> f64 {
+    0.5 * omega * omega * c.hermitian_form(q)
+}
+
+/// Net power of each of `actuators` actuators (W): the sum of `point_power` (one per link,
+/// in the order of `links`) over the actuator's interface points.
+pub fn net_power(links: &[LinkDofs], point_power: &[f64], actuators: usize) -> Vec<f64> {
+    (0..actuators)
+        .map(|a| links.iter().zip(point_power).filter(|(lk, _)| lk.actuator == a).map(|(_, p)| p).sum())
+        .collect()
+}
