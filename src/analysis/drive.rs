@@ -86,7 +86,7 @@ impl DriveTiming {
     /// steady state takes it. Errors if the drive does not repeat.
     pub fn sampled(model: &Model, samples: usize) -> Result<Self> {
         let period = common_period(model)?.ok_or_else(|| {
-            Error::input("<case>", "analysis.type", "a frequency-domain steady state needs a periodic drive")
+            Error::input("<case>", "analysis.type", "a frequency-domain steady state needs a periodic drive, and this is a non-periodic drive (chirp, step or series): use a transient analysis")
         })?;
         Ok(DriveTiming { period, dt: period / samples as f64, steps_per_period: samples, periodic: true })
     }
