@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""An extended-precision reference for issue 7's anchor problem.
+"""An extended-precision reference for the OpenSees anchor problem.
 
 The same discrete problem as scripts/opensees_anchor.py and examples/opensees_check.rs (200
 Euler-Bernoulli elements of the 730 x 50 x 5 mm steel beam, consistent mass, clamped ends,

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 7's anchor, measured with OpenSeesPy on this machine.
+"""The OpenSees speed anchor, measured with OpenSeesPy on this machine.
 
 The bare paper beam (730 x 50 x 5 mm steel, clamped at both ends) as 200 elastic beam-column
 elements with consistent mass, Rayleigh damping a0 = 5.29 1/s, a1 = 9.96e-6 s, a sine point

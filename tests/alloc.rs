@@ -1,5 +1,5 @@
 //! The transient step allocates nothing, and the integrator's memory is linear in the
-//! number of DOFs (issue 7). A counting global allocator sees every allocation of this
+//! number of DOFs. A counting global allocator sees every allocation of this
 //! test binary, so the tests here run one at a time under a lock.
 
 use beamflow::assembly::System;

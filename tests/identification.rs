@@ -1,4 +1,4 @@
-//! Parameter identification end to end (physics spec §12, issue 6): synthetic measurements
+//! Parameter identification end to end (physics spec §12): synthetic measurements
 //! made by the simulator (`synth`) go through files into the identification commands, which
 //! must recover the known parameters; their case fragments must load as part of a case; bad
 //! files must fail with a message naming the file and the problem.

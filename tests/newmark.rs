@@ -453,7 +453,7 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
 
 /// The 512-bit right-hand side is used where the processor has AVX-512F and the system
 /// is in-cache sized; above ≈ 3·10⁵ DOFs the state streams from memory, where the 256-bit
-/// kernel measured faster (docs/performance.md, "512-bit vectors and main memory").
+/// kernel measured faster (the comment on `WIDE_RHS_MAX_DOFS` in `solve/fused.rs`).
 #[test]
 fn wide_kernel_only_for_systems_that_fit_in_cache() {
     use beamflow::assembly::System;

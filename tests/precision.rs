@@ -255,7 +255,7 @@ fn transient_agrees_with_a_double_double_reference() {
     }
     // Measured 3.5e-9 (3.4e-9 with three band products) and 3.8e-9: both steps solve for the increment Δu, so the solver's
     // relative round-off (≈ 1e-13) reaches the acceleration multiplied by ≈ 1/(βΔtω). Had
-    // they solved for the whole displacement, as before session 10, it would be multiplied
+    // they solved for the whole displacement, it would be multiplied
     // by 1/(βΔt²ω²): 1.14e-7 here.
     assert!(err_fast < 1e-8, "fused step: {err_fast:.3e} of the peak");
     assert!(err_three < 1e-8, "fused step, three products: {err_three:.3e} of the peak");

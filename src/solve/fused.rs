@@ -56,8 +56,8 @@ struct LongRow {
 // variant but run for a handful of rows a step (four for a frame actuator). Inlined, they
 // grew the AVX2 step by 60 % (13,200 → 20,900 instructions) and slowed the rows that never
 // take them: out of line, the step took 0.87 (bare beam) and 0.89 (frame system) of the
-// time in alternating pairs in the host's slow state, the same in its fast state
-// (docs/performance.md, "Session 9: long rows out of line"). So they are cold calls.
+// time in alternating pairs (`scripts/paired.sh`), in a slow and a fast state of a shared
+// host alike. So they are cold calls.
 impl LongRow {
     /// Its entries in the columns `first..row − B`, from the side list `l_tail`.
     #[inline(always)]
@@ -789,11 +789,11 @@ unsafe fn rhs_band_avx512<const DISS: bool, const RAY: bool>(
 }
 
 /// Largest system whose band right-hand side runs on 512-bit vectors. Above it the state
-/// streams from main memory, where on the AMD EPYC (Zen 5) host the 512-bit kernel took
+/// streams from main memory, where on an AMD EPYC (Zen 5) VM the 512-bit kernel took
 /// twice the 256-bit one's time (the whole step 5 % slower at 4·10⁵ DOFs, 18 % at 2·10⁶,
-/// in alternating pairs; 5 % faster at 2·10⁵ and 4 % at 3·10⁵), and on the earlier Xeon
+/// in alternating pairs; 5 % faster at 2·10⁵ and 4 % at 3·10⁵), and on an Intel Xeon VM
 /// the two were equal there. Software prefetching and 64-byte-aligned vectors did not
-/// change it (docs/performance.md, "512-bit vectors and main memory").
+/// change it.
 const WIDE_RHS_MAX_DOFS: usize = 300_000;
 
 /// Whether the processor has AVX-512F.

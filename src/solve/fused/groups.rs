@@ -14,8 +14,7 @@
 //! unknowns before the pair: the second row of a pair with the first substituted into it
 //! (`PairRows`: four multipliers instead of three, computed once from the factor). The
 //! chain is then one multiply–add per two rows; the step measured 0.91 (bare paper beam)
-//! to 0.94 (10⁴–10⁵ DOFs) of its time before, in alternating pairs (docs/performance.md,
-//! "Session 11"). The substitution rounds differently from the row-by-row sweeps in
+//! to 0.94 (10⁴–10⁵ DOFs) of its time before, in alternating pairs (`scripts/paired.sh`). The substitution rounds differently from the row-by-row sweeps in
 //! `fused.rs`, so the two agree to round-off, not to the bit (`tests/newmark.rs`); the
 //! error against an extended-precision reference is unchanged (`tests/precision.rs`).
 //! The substituted multipliers stay small: at most 1 in magnitude on meshes of 38 to 10⁵
