@@ -4,7 +4,7 @@
 //!
 //! `cargo run --release --example scaling_report [-- <criterion dir> <output png>]`
 
-use beamflow::io::plot::{LinePlot, Series};
+use beamflow::report::plot::{LinePlot, Series};
 use std::path::PathBuf;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -17,24 +17,22 @@
 #[macro_export]
 macro_rules! say {
     ($($arg:tt)*) => {
-        $crate::cli::say_line(format_args!($($arg)*))
+        $crate::app::cli::say_line(format_args!($($arg)*))
     };
 }
 
 pub mod actuator;
 pub mod analysis;
+pub mod app;
 pub mod assembly;
 pub mod beam;
 pub mod case;
-pub mod cli;
-pub mod commands;
 pub mod error;
 pub mod identify;
 pub mod io;
 pub mod linalg;
-pub mod paper;
 pub mod power;
-pub mod runner;
+pub mod report;
 pub mod signal;
 pub mod solve;
 pub mod sweep;

@@ -1,3 +1,3 @@
 fn main() -> std::process::ExitCode {
-    beamflow::cli::main()
+    beamflow::app::cli::main()
 }

@@ -105,7 +105,7 @@ fn time_step_errors() {
     expect("[[analysis]]\ntype = \"transient\"\ndt = 0.0\n", &["analysis[0].dt", "positive"]);
     let text = format!("base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n{SINE}[[analysis]]\ntype = \"transient\"\ndt = 1e-3\nharmonics = 9\n");
     let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(".")).unwrap();
-    let msg = beamflow::runner::run_case(&lc).unwrap_err().to_string();
+    let msg = beamflow::app::runner::run_case(&lc).unwrap_err().to_string();
     // 1/20 of the period of the 9th harmonic of 60 Hz.
     assert!(msg.contains("bad.toml") && msg.contains("analysis[0].dt") && msg.contains("9.259259e-5"), "{msg}");
 }
@@ -156,7 +156,7 @@ fn modal_damping_needs_a_reduction_in_the_time_domain() {
         [[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
     let text = format!("{BASE}[[analysis]]\ntype = \"transient\"\nperiods = 2\n");
     let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(".")).unwrap();
-    let msg = match beamflow::runner::run_case(&lc) {
+    let msg = match beamflow::app::runner::run_case(&lc) {
         Ok(_) => panic!("a modal-damped transient without reduction ran"),
         Err(e) => e.to_string(),
     };
@@ -170,14 +170,14 @@ fn modal_damping_needs_a_reduction_in_the_time_domain() {
     ] {
         let text = format!("{BASE}[[analysis]]\n{analysis}\n");
         let lc = LoadedCase::from_str(&text, "ok.toml", PathBuf::from(".")).unwrap();
-        if let Err(e) = beamflow::runner::run_case(&lc) {
+        if let Err(e) = beamflow::app::runner::run_case(&lc) {
             panic!("modal damping in `{analysis}`: {e}");
         }
     }
     // Unreduced, the steady state needs every mode of the beam: a fine mesh is told to reduce.
     let text = format!("[beam.mesh]\nelements = 600\n{BASE}[[analysis]]\ntype = \"steady_state\"\n");
     let lc = LoadedCase::from_str(&text, "fine.toml", PathBuf::from(".")).unwrap();
-    let msg = beamflow::runner::run_case(&lc).expect_err("a complete modal basis of ≈ 1200 DOFs").to_string();
+    let msg = beamflow::app::runner::run_case(&lc).expect_err("a complete modal basis of ≈ 1200 DOFs").to_string();
     for needle in ["fine.toml", "analysis[0].reduction", "modes of the beam"] {
         assert!(msg.contains(needle), "message must mention `{needle}`: {msg}");
     }

@@ -1,7 +1,8 @@
 //! `[output] full_history`: a transient keeps every period of its time histories.
 
 mod common;
-use beamflow::runner::{run_case, AnalysisResult};
+use beamflow::analysis::case_run::AnalysisResult;
+use beamflow::app::runner::run_case;
 use common::*;
 
 fn transient(full_history: bool, analysis: &str) -> beamflow::analysis::transient::TransientResult {

@@ -4,20 +4,20 @@
 //! files must fail with a message naming the file and the problem.
 //!
 //! Most round trips call the library functions the CLI calls
-//! (`beamflow::identify::commands`); the binary itself is run for a full round trip, the
+//! (`beamflow::app::identify`); the binary itself is run for a full round trip, the
 //! reproducibility check and the bad-file errors.
 
 mod common;
 
 use beamflow::actuator::bouc_wen::BoucWen;
-use beamflow::case::LoadedCase;
-use beamflow::identify::bouc_wen_fit::{self, normalised_squared_error, CycleOptions, FitOptions, FitTarget};
-use beamflow::identify::commands::{
+use beamflow::app::identify::{
     identify_bouc_wen, identify_dp, identify_modal, synth, BoucWenRequest, DpRequest, ModalRequest, SynthRequest,
 };
+use beamflow::case::LoadedCase;
+use beamflow::identify::bouc_wen_fit::{self, normalised_squared_error, CycleOptions, FitOptions, FitTarget};
 use beamflow::identify::dp::DpOptions;
 use beamflow::identify::measurement::LoadOptions;
-use beamflow::identify::modal_fit::Element;
+use beamflow::identify::modal_fit::IdentifiedElement;
 use beamflow::identify::synth::{SynthKind, SynthOptions};
 use beamflow::signal::voltage::VoltageInput;
 use common::rel;
@@ -228,7 +228,10 @@ fn modal_from_a_synthetic_impact_test_of_the_stack_on_its_mass() {
     let (m, k, c): (f64, f64, f64) = (0.3 + 0.03 / 2.0, 3.0e7, 200.0);
     let wn = (k / m).sqrt();
     let zeta = c / (2.0 * (k * m).sqrt());
-    let req = ModalRequest { out: Some(dir.path().join("modal")), ..ModalRequest::new(&file[0], m, Element::Stack) };
+    let req = ModalRequest {
+        out: Some(dir.path().join("modal")),
+        ..ModalRequest::new(&file[0], m, IdentifiedElement::Stack)
+    };
     let out = identify_modal(&req).unwrap();
     let p = &out.parameters;
     let (ew, ez) = (rel(p.omega_n, wn), rel(p.zeta, zeta));
@@ -295,7 +298,7 @@ fn multi_mode_fit_through_a_file() {
         band: Some((30.0, 300.0)),
         use_mode: 2,
         out: Some(dir.path().join("modal")),
-        ..ModalRequest::new(&path, m2, Element::Stack)
+        ..ModalRequest::new(&path, m2, IdentifiedElement::Stack)
     };
     let out = identify_modal(&req).unwrap();
     assert_eq!(out.used, "multi_mode");
@@ -329,14 +332,15 @@ fn frame_leg_impact_test_gives_a_leg_fragment() {
         SynthOptions {
             kind: SynthKind::Impact,
             actuator: Some("frame".into()),
-            element: Element::Leg,
+            element: IdentifiedElement::Leg,
             hits: 3,
             seed: 5,
             ..SynthOptions::default()
         },
     );
     let (m, k, c) = (0.1, 1.5e9, 100.0);
-    let out = identify_modal(&ModalRequest { plots: false, ..ModalRequest::new(&file[0], m, Element::Leg) }).unwrap();
+    let out = identify_modal(&ModalRequest { plots: false, ..ModalRequest::new(&file[0], m, IdentifiedElement::Leg) })
+        .unwrap();
     let p = &out.parameters;
     eprintln!("leg impact: k error {:.2e}, c error {:.2e}", rel(p.k, k), rel(p.c, c));
     assert!(rel(p.k, k) < 0.01 && rel(p.c, c) < 0.06, "{p:?}");
@@ -345,7 +349,8 @@ fn frame_leg_impact_test_gives_a_leg_fragment() {
     assert!(rel(kl, p.k) < 1e-5 && rel(cl, p.c) < 1e-5 && kr == kl && cr == cl);
     // The right leg's fields.
     let right =
-        identify_modal(&ModalRequest { plots: false, ..ModalRequest::new(&file[0], m, Element::LegRight) }).unwrap();
+        identify_modal(&ModalRequest { plots: false, ..ModalRequest::new(&file[0], m, IdentifiedElement::LegRight) })
+            .unwrap();
     let lc = splice_leg(&right.fragment);
     let ((kl, _), (kr, cr)) = lc.case.actuator[0].legs();
     assert_eq!(kl, 1.5e9); // the default left leg

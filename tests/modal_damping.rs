@@ -6,10 +6,11 @@
 //! Rayleigh results, which come from the assembled C = a₀M + a₁K on the physical DOFs.
 
 mod common;
+use beamflow::analysis::case_run::{AnalysisResult, CaseRun};
 use beamflow::analysis::reduction::{self, Cutoff, ReductionSettings};
+use beamflow::app::runner::run_case;
 use beamflow::assembly::System;
 use beamflow::case::{build_model, LoadedCase};
-use beamflow::runner::{run_case, AnalysisResult, CaseRun};
 use common::*;
 use std::path::PathBuf;
 
@@ -56,7 +57,7 @@ fn modal_ratios_equal_to_rayleigh_reproduce_the_rayleigh_steady_state() {
     let e_net = max_rel(&m.net_power, &r.net_power);
     let e_diss = rel(m.beam_dissipation, r.beam_dissipation);
     eprintln!("point powers {e_point:.2e}, net {e_net:.2e}, beam dissipation {e_diss:.2e}");
-    // The reduced model's floor with every mode kept is ~1e-8 (solve::reduction).
+    // The reduced model's floor with every mode kept is ~1e-8 (solve::modal_basis).
     assert!(e_point < 1e-6 && e_net < 1e-6 && e_diss < 1e-6, "{e_point:e} {e_net:e} {e_diss:e}");
     assert!(m.balance_error < 1e-8, "power in = beam dissipation: {:e}", m.balance_error);
     assert!(m.reduction.is_none(), "the complete modal basis is the full model, not a reduction");

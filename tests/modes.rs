@@ -154,7 +154,7 @@ fn very_fine_meshes_keep_the_lowest_frequencies() {
             assert!(err < r.roundoff_bound[k], "{n} elements, mode {}: error {err:e} above its bound", k + 1);
         }
         assert!(r.roundoff_bound[0] < 1e-6, "bound {}", r.roundoff_bound[0]);
-        let table = beamflow::commands::modes_table(&r);
+        let table = beamflow::app::commands::modes_table(&r);
         assert!(!table.contains("note:"), "no round-off warning expected at {n} elements:\n{table}");
     }
 }

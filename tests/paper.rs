@@ -1,7 +1,8 @@
 //! The paper's beam experiments (Figs. 13–16) with the default parameters.
 
+use beamflow::analysis::case_run::AnalysisResult;
+use beamflow::app::runner::run_case;
 use beamflow::case::LoadedCase;
-use beamflow::runner::{run_case, AnalysisResult};
 use std::path::Path;
 
 fn steady(file: &str) -> Box<beamflow::analysis::steady_state::SteadyStateResult> {

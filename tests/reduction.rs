@@ -2,10 +2,11 @@
 //! against the full model, on the paper's beam cases.
 
 mod common;
+use beamflow::analysis::case_run::{AnalysisResult, CaseRun};
 use beamflow::analysis::reduction::{self, Cutoff, ReductionSettings};
+use beamflow::app::runner::run_case;
 use beamflow::assembly::{Model, System};
 use beamflow::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec};
-use beamflow::runner::{run_case, AnalysisResult, CaseRun};
 use common::*;
 use std::path::PathBuf;
 

@@ -2,10 +2,11 @@
 //! kept with the run itself for the figures and the headline summary.
 
 use crate::background;
+use beamflow::analysis::case_run::CaseRun;
+use beamflow::app::runner::run_case;
 use beamflow::case::LoadedCase;
 use beamflow::io::hdf5::{ResultsFile, ResultsReader};
 use beamflow::io::tree::{Group, TreeSink};
-use beamflow::runner::{run_case, CaseRun};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
@@ -75,10 +76,10 @@ impl NativeRun {
 
     /// The command line's figures of this run, as PNG and SVG files in `dir`.
     fn write_figures(&self, py: Python<'_>, dir: PathBuf, stem: String) -> PyResult<Vec<PathBuf>> {
-        let (lc, run) = (self.lc.clone(), self.run.clone());
+        let run = self.run.clone();
         background::run(py, None, move || {
             std::fs::create_dir_all(&dir).map_err(|e| beamflow::Error::io(&dir, e))?;
-            beamflow::io::figures::plot_run(&dir, &stem, &lc, &run)
+            beamflow::report::figures::plot_run(&dir, &stem, &run)
         })
     }
 

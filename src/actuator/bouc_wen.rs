@@ -500,7 +500,7 @@ impl BoucWen {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::signal::voltage::{SineComponent, Sweep};
+    use crate::signal::voltage::{ChirpLaw, SineComponent};
     use std::f64::consts::TAU;
 
     /// Deterministic 64-bit LCG (Knuth's MMIX constants); `next` gives a uniform in [0, 1).
@@ -528,7 +528,7 @@ mod tests {
         VoltageInput::Sine { amplitude, frequency, offset, phase: 0.0 }
     }
 
-    fn chirp(sweep: Sweep) -> VoltageInput {
+    fn chirp(sweep: ChirpLaw) -> VoltageInput {
         VoltageInput::Chirp { amplitude: 30.0, f_start: 5.0, f_end: 60.0, duration: 0.4, sweep, offset: 3.0 }
     }
 
@@ -548,7 +548,7 @@ mod tests {
         let bw = BoucWen { d_p: 1.3e-7, alpha: 0.3, beta: 0.0, gamma: 0.0 };
         let a = bw.alpha * bw.d_p;
         let times = linspace(0.0, 0.6, 600);
-        for input in [sine(48.0, 30.0, 4.0), chirp(Sweep::Linear), chirp(Sweep::Log)] {
+        for input in [sine(48.0, 30.0, 4.0), chirp(ChirpLaw::Linear), chirp(ChirpLaw::Log)] {
             let h = bw.history(&input, &times, 0.0);
             let v0 = input.value(0.0);
             let exact: Vec<f64> = times.iter().map(|&t| a * (input.value(t) - v0)).collect();
@@ -607,8 +607,8 @@ mod tests {
         let cases = [
             ("sine", sine(48.0, 30.0, 0.0)),
             ("sines", sines()),
-            ("chirp linear", chirp(Sweep::Linear)),
-            ("chirp log", chirp(Sweep::Log)),
+            ("chirp linear", chirp(ChirpLaw::Linear)),
+            ("chirp log", chirp(ChirpLaw::Log)),
             ("series", series),
             ("ramp", ramp),
             ("jump", jump),
@@ -774,7 +774,7 @@ mod tests {
     #[test]
     fn periodic_cycle_needs_a_period() {
         let bw = BoucWen::default();
-        let e = bw.periodic_cycle(&chirp(Sweep::Linear), 100, 1e-10, 10).unwrap_err().to_string();
+        let e = bw.periodic_cycle(&chirp(ChirpLaw::Linear), 100, 1e-10, 10).unwrap_err().to_string();
         assert!(e.contains("periodic"), "{e}");
         assert!(bw.periodic_cycle(&sine(1.0, 1.0, 0.0), 1, 1e-10, 10).is_err());
         // not converged within the allowed periods: reported, not hidden

@@ -5,6 +5,7 @@
 //! result vocabulary the analyses share; the power flow itself is computed by
 //! [`crate::power`].
 
+pub mod case_run;
 pub mod drive;
 pub mod harmonic;
 pub mod modes;

@@ -1,6 +1,6 @@
 //! Modal reduction as a solver option of the transient and steady-state analyses.
 //!
-//! [`reduce`] builds the reduced [`System`] (see [`crate::solve::reduction`] for the basis:
+//! [`reduce`] builds the reduced [`System`] (see [`crate::solve::modal_basis`] for the basis:
 //! bare-beam modes up to a cut-off, residual-flexibility vectors at the feet, actuator
 //! bodies physical); the analyses then run on it unchanged. [`estimate_error`] compares
 //! the frequency-domain periodic steady state (§9) of the reduced and the full model at the
@@ -13,7 +13,7 @@ use super::drive::common_period;
 use super::steady_state::{self, SteadyStateResult};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
-use crate::solve::reduction::{self as red, ReductionOptions};
+use crate::solve::modal_basis::{self as red, ReductionOptions};
 use serde::Serialize;
 use std::f64::consts::PI;
 

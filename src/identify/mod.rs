@@ -23,12 +23,10 @@
 //! The methods, conventions and tolerances are described in `docs/identification.md`.
 
 pub mod bouc_wen_fit;
-pub mod commands;
 pub mod dp;
 pub mod frf;
 pub mod measurement;
 pub mod modal_fit;
-pub mod plots;
 pub mod pso;
 pub mod synth;
 

@@ -90,7 +90,7 @@ impl ModalFit {
     }
 
     /// k and c of `element` from mode `index` with the known `mass`.
-    pub fn dynamic_parameters(&self, element: Element, mass: f64, index: usize) -> Result<DynamicParameters> {
+    pub fn dynamic_parameters(&self, element: IdentifiedElement, mass: f64, index: usize) -> Result<DynamicParameters> {
         let m = self.modes.get(index).ok_or_else(|| {
             Error::input("<modal fit>", "mode", format!("mode {index} requested but {} identified", self.modes.len()))
         })?;
@@ -340,7 +340,7 @@ pub fn dynamic_parameters(mass: f64, omega_n: f64, zeta: f64) -> (f64, f64) {
 /// Which element the impact test identified: it decides the case-file fields.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Element {
+pub enum IdentifiedElement {
     /// The stack (`k_p`, `c_p` in `[actuator.stack]`).
     Stack,
     /// A frame leg, or both when they are alike (`k_l`, `c_l`: fields of the frame's
@@ -354,7 +354,7 @@ pub enum Element {
 /// k and c from a mode and a known mass.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct DynamicParameters {
-    pub element: Element,
+    pub element: IdentifiedElement,
     /// Known moving mass (kg).
     pub mass: f64,
     pub omega_n: f64,
@@ -367,7 +367,7 @@ pub struct DynamicParameters {
 
 impl DynamicParameters {
     /// Checks m > 0, ω_n > 0, 0 < ζ < 1 and derives k, c.
-    pub fn new(element: Element, mass: f64, omega_n: f64, zeta: f64) -> Result<Self> {
+    pub fn new(element: IdentifiedElement, mass: f64, omega_n: f64, zeta: f64) -> Result<Self> {
         if !(mass > 0.0 && mass.is_finite()) {
             return Err(Error::input("<identify>", "mass", format!("must be positive, got {mass}")));
         }
@@ -399,9 +399,10 @@ impl DynamicParameters {
         );
         let (k, c) = (toml_float(self.k), toml_float(self.c));
         match self.element {
-            Element::Stack => format!("{head}[{}]\nk_p = {k}\nc_p = {c}\n", crate::identify::STACK_TABLE),
-            Element::Leg | Element::LegRight => {
-                let (kf, cf) = if self.element == Element::Leg { ("k_l", "c_l") } else { ("k_l_right", "c_l_right") };
+            IdentifiedElement::Stack => format!("{head}[{}]\nk_p = {k}\nc_p = {c}\n", crate::identify::STACK_TABLE),
+            IdentifiedElement::Leg | IdentifiedElement::LegRight => {
+                let (kf, cf) =
+                    if self.element == IdentifiedElement::Leg { ("k_l", "c_l") } else { ("k_l_right", "c_l_right") };
                 format!(
                     "{head}# fields of the frame's [[actuator]] table: paste right below its [[actuator]] line,\n\
                      # above its [actuator.stack] and [actuator.voltage] sub-tables\n{kf} = {k}\n{cf} = {c}\n"
@@ -594,7 +595,7 @@ mod tests {
         assert!(ew < 0.005, "omega_n {} vs {wn}", mode.omega_n);
         assert!(ez < 0.05, "zeta {} vs {zeta}", mode.zeta);
         assert!((mode.modal_mass() / m - 1.0).abs() < 0.05, "{}", mode.modal_mass());
-        let dp = fit.dynamic_parameters(Element::Stack, m, 0).unwrap();
+        let dp = fit.dynamic_parameters(IdentifiedElement::Stack, m, 0).unwrap();
         assert!((dp.k / k - 1.0).abs() < 0.01, "k {}", dp.k);
         assert!((dp.c / c - 1.0).abs() < 0.06, "c {}", dp.c);
         eprintln!("k error {:.2e}, c error {:.2e}", dp.k / k - 1.0, dp.c / c - 1.0);
@@ -670,15 +671,15 @@ mod tests {
     fn dynamic_parameters_and_fragments() {
         let (k, c) = dynamic_parameters(2.0, 10.0, 0.05);
         assert_eq!((k, c), (200.0, 2.0));
-        let leg = DynamicParameters::new(Element::Leg, 0.2, 2.0 * PI * 13783.0, 0.01).unwrap();
+        let leg = DynamicParameters::new(IdentifiedElement::Leg, 0.2, 2.0 * PI * 13783.0, 0.01).unwrap();
         let t: toml::Table = toml::from_str(&leg.to_case_fragment()).unwrap();
         assert!(t["k_l"].as_float().is_some() && t["c_l"].as_float().is_some());
-        let right = DynamicParameters { element: Element::LegRight, ..leg };
+        let right = DynamicParameters { element: IdentifiedElement::LegRight, ..leg };
         let t: toml::Table = toml::from_str(&right.to_case_fragment()).unwrap();
         assert!(t.contains_key("k_l_right") && t.contains_key("c_l_right"));
-        let e = DynamicParameters::new(Element::Leg, 0.2, 100.0, -0.01).unwrap_err().to_string();
+        let e = DynamicParameters::new(IdentifiedElement::Leg, 0.2, 100.0, -0.01).unwrap_err().to_string();
         assert!(e.contains("zeta"), "{e}");
-        let e = DynamicParameters::new(Element::Stack, 0.0, 100.0, 0.01).unwrap_err().to_string();
+        let e = DynamicParameters::new(IdentifiedElement::Stack, 0.0, 100.0, 0.01).unwrap_err().to_string();
         assert!(e.contains("mass"), "{e}");
     }
 }

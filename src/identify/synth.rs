@@ -33,7 +33,7 @@ use crate::case::LoadedCase;
 use crate::error::{Error, Result};
 use crate::identify::frf;
 use crate::identify::measurement::{Measurement, Quantity};
-use crate::identify::modal_fit::Element;
+use crate::identify::modal_fit::IdentifiedElement;
 use crate::identify::pso::Rng;
 use crate::identify::toml_float;
 use crate::signal::voltage::VoltageInput;
@@ -53,7 +53,7 @@ pub enum SynthKind {
 }
 
 /// The element an impact test excites (it is also the element `identify modal` names).
-pub type ImpactElement = Element;
+pub type ImpactElement = IdentifiedElement;
 
 /// Settings of [`synthesize`].
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -98,7 +98,7 @@ impl Default for SynthOptions {
             samples_per_period: 200,
             offset: None,
             lag: 37,
-            element: Element::Stack,
+            element: IdentifiedElement::Stack,
             mass: None,
             hits: 8,
         }
@@ -120,7 +120,7 @@ pub struct Truth {
     pub period: Option<f64>,
     pub delta_v: Option<f64>,
     /// Impact test: element, mass (kg), k (N/m), c (N·s/m), f_n (Hz), ζ.
-    pub element: Option<Element>,
+    pub element: Option<IdentifiedElement>,
     pub mass: Option<f64>,
     pub k: Option<f64>,
     pub c: Option<f64>,
@@ -180,11 +180,11 @@ impl Truth {
 }
 
 /// Human name of an element.
-pub fn element_name(e: Element) -> &'static str {
+pub fn element_name(e: IdentifiedElement) -> &'static str {
     match e {
-        Element::Stack => "stack",
-        Element::Leg => "frame leg (left)",
-        Element::LegRight => "frame leg (right)",
+        IdentifiedElement::Stack => "stack",
+        IdentifiedElement::Leg => "frame leg (left)",
+        IdentifiedElement::LegRight => "frame leg (right)",
     }
 }
 
@@ -416,10 +416,14 @@ fn with_offset(file: &str, name: &str, input: &VoltageInput, dv: f64) -> Result<
 fn impact_system(lc: &LoadedCase, act: &Actuator, opts: &SynthOptions) -> Result<(f64, f64, f64)> {
     let s = act.stack();
     match (opts.element, act) {
-        (Element::Stack, Actuator::Inertial(a)) => Ok((opts.mass.unwrap_or(a.m_t + 0.5 * s.m_p), s.k_p, s.c_p)),
-        (Element::Stack, Actuator::Frame(f)) => Ok((opts.mass.unwrap_or(f.m_b + 0.5 * s.m_p), s.k_p, s.c_p)),
-        (Element::Leg, Actuator::Frame(f)) => Ok((opts.mass.unwrap_or(0.5 * f.m_b), f.left.k_l, f.left.c_l)),
-        (Element::LegRight, Actuator::Frame(f)) => Ok((opts.mass.unwrap_or(0.5 * f.m_b), f.right.k_l, f.right.c_l)),
+        (IdentifiedElement::Stack, Actuator::Inertial(a)) => {
+            Ok((opts.mass.unwrap_or(a.m_t + 0.5 * s.m_p), s.k_p, s.c_p))
+        }
+        (IdentifiedElement::Stack, Actuator::Frame(f)) => Ok((opts.mass.unwrap_or(f.m_b + 0.5 * s.m_p), s.k_p, s.c_p)),
+        (IdentifiedElement::Leg, Actuator::Frame(f)) => Ok((opts.mass.unwrap_or(0.5 * f.m_b), f.left.k_l, f.left.c_l)),
+        (IdentifiedElement::LegRight, Actuator::Frame(f)) => {
+            Ok((opts.mass.unwrap_or(0.5 * f.m_b), f.right.k_l, f.right.c_l))
+        }
         (_, a) => Err(Error::input(
             &lc.file,
             "actuator",
@@ -532,9 +536,12 @@ mod tests {
         let t = &i.truth;
         assert!((t.mass.unwrap() - 0.315).abs() < 1e-12 && t.k == Some(3.0e7) && t.c == Some(200.0));
         assert!(i.records[0].force.is_some() && i.records[0].acceleration.is_some());
-        let e = synthesize(&lc, &SynthOptions { kind: SynthKind::Impact, element: Element::Leg, ..Default::default() })
-            .unwrap_err()
-            .to_string();
+        let e = synthesize(
+            &lc,
+            &SynthOptions { kind: SynthKind::Impact, element: IdentifiedElement::Leg, ..Default::default() },
+        )
+        .unwrap_err()
+        .to_string();
         assert!(e.contains("synth.toml") && e.contains("no frame legs"), "{e}");
         let e = synthesize(&lc, &SynthOptions { actuator: Some("nope".into()), ..Default::default() })
             .unwrap_err()

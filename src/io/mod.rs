@@ -16,10 +16,8 @@
 //! Every function returns [`crate::error::Result`], and every error names the file.
 
 pub mod atomic;
-pub mod figures;
 pub mod hdf5;
 pub mod mtx;
-pub mod plot;
 pub mod results;
 pub mod sink;
 pub mod summary;

@@ -2,6 +2,7 @@
 
 use super::hdf5::{utc_timestamp, ResultsFile};
 use super::sink::GroupSink;
+use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
@@ -11,7 +12,6 @@ use crate::analysis::transient::TransientResult;
 use crate::case::LoadedCase;
 use crate::error::Result;
 use crate::power::balance::EnergyBalance;
-use crate::runner::{AnalysisResult, CaseRun};
 use std::path::Path;
 
 /// Writes one self-describing file for a case run (atomically).

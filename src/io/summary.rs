@@ -1,7 +1,7 @@
 //! The headline numbers of a run, for people (text) and scripts (JSON).
 
+use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::case::LoadedCase;
-use crate::runner::{AnalysisResult, CaseRun};
 use serde_json::{json, Map, Value};
 
 /// A JSON object with one entry per analysis.

@@ -4,4 +4,4 @@
 pub mod csv;
 pub mod voltage;
 
-pub use voltage::{SineComponent, Sweep, VoltageInput};
+pub use voltage::{ChirpLaw, SineComponent, VoltageInput};

@@ -53,7 +53,7 @@ pub struct SineComponent {
 /// Frequency law of a [`VoltageInput::Chirp`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum Sweep {
+pub enum ChirpLaw {
     /// f(t) = f_start + (f_end − f_start)·t/duration
     #[default]
     Linear,
@@ -128,7 +128,7 @@ pub enum VoltageInput {
         f_end: f64,
         duration: f64,
         #[serde(default)]
-        sweep: Sweep,
+        sweep: ChirpLaw,
         #[serde(default)]
         offset: f64,
     },
@@ -289,17 +289,17 @@ impl VoltageInput {
     }
 
     /// Chirp phase φ(t) and its first two derivatives.
-    fn chirp_phase(f0: f64, f1: f64, duration: f64, sweep: Sweep, t: f64) -> (f64, f64, f64) {
+    fn chirp_phase(f0: f64, f1: f64, duration: f64, sweep: ChirpLaw, t: f64) -> (f64, f64, f64) {
         if t <= 0.0 {
             return (TAU * f0 * t, TAU * f0, 0.0);
         }
         let tt = t.min(duration);
         let (phi, f, fdot) = match sweep {
-            Sweep::Linear => {
+            ChirpLaw::Linear => {
                 let k = (f1 - f0) / duration;
                 (TAU * (f0 * tt + 0.5 * k * tt * tt), f0 + k * tt, k)
             }
-            Sweep::Log => {
+            ChirpLaw::Log => {
                 let l = (f1 / f0).ln();
                 if l == 0.0 {
                     (TAU * f0 * tt, f0, 0.0)
@@ -705,7 +705,7 @@ mod tests {
                 f_start: 5.0,
                 f_end: 80.0,
                 duration: 0.5,
-                sweep: Sweep::Linear,
+                sweep: ChirpLaw::Linear,
                 offset: 0.0,
             },
             VoltageInput::Chirp {
@@ -713,7 +713,7 @@ mod tests {
                 f_start: 80.0,
                 f_end: 5.0,
                 duration: 0.5,
-                sweep: Sweep::Log,
+                sweep: ChirpLaw::Log,
                 offset: -3.0,
             },
         ]
@@ -730,7 +730,7 @@ mod tests {
         assert_eq!(v.period(), Some(1.0 / 60.0));
         let v =
             parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"log\"\n").unwrap();
-        assert!(matches!(v, VoltageInput::Chirp { sweep: Sweep::Log, .. }));
+        assert!(matches!(v, VoltageInput::Chirp { sweep: ChirpLaw::Log, .. }));
         let v = parse("kind = \"step\"\ntime = 0.1\nfrom = 0\nto = 10\n").unwrap();
         assert!(matches!(v, VoltageInput::Step { rise_time, .. } if rise_time == 0.0));
         let v = parse("kind = \"series\"\nfile = \"v.csv\"\n").unwrap();
@@ -782,7 +782,7 @@ mod tests {
                     f_start: 1.0,
                     f_end: 2.0,
                     duration: 0.0,
-                    sweep: Sweep::Linear,
+                    sweep: ChirpLaw::Linear,
                     offset: 0.0,
                 },
                 "v.duration",
@@ -793,7 +793,7 @@ mod tests {
                     f_start: 1.0,
                     f_end: f64::INFINITY,
                     duration: 1.0,
-                    sweep: Sweep::Log,
+                    sweep: ChirpLaw::Log,
                     offset: 0.0,
                 },
                 "v.f_end",
@@ -858,7 +858,7 @@ mod tests {
 
     #[test]
     fn chirp_frequency_law_and_continuation() {
-        for sweep in [Sweep::Linear, Sweep::Log] {
+        for sweep in [ChirpLaw::Linear, ChirpLaw::Log] {
             let c =
                 VoltageInput::Chirp { amplitude: 1.0, f_start: 10.0, f_end: 40.0, duration: 2.0, sweep, offset: 0.0 };
             let (_, w0, _) = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 1e-12);
@@ -868,7 +868,7 @@ mod tests {
                 (w0 / TAU - 10.0).abs() < 1e-9 && (w1 / TAU - 40.0).abs() < 1e-9 && (w2 / TAU - 40.0).abs() < 1e-12
             );
             let mid = VoltageInput::chirp_phase(10.0, 40.0, 2.0, sweep, 1.0).1 / TAU;
-            let expect = if sweep == Sweep::Linear { 25.0 } else { 20.0 };
+            let expect = if sweep == ChirpLaw::Linear { 25.0 } else { 20.0 };
             assert!((mid - expect).abs() < 1e-9, "{mid}");
             // phase continuity across t = duration and t = 0
             for tk in [0.0, 2.0] {

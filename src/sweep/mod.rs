@@ -27,7 +27,6 @@
 //! ```
 
 pub mod exec;
-pub mod report;
 pub mod spec;
 pub mod table;
 

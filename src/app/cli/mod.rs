@@ -84,12 +84,12 @@ pub fn main() -> ExitCode {
 
 fn dispatch(cmd: &Command) -> Result<()> {
     match cmd {
-        Command::Modes { case, count, json } => crate::commands::modes(case, *count, json.as_deref()),
+        Command::Modes { case, count, json } => crate::app::commands::modes(case, *count, json.as_deref()),
         Command::Run { case, out, json, no_plots } => {
-            crate::commands::run(case, out.as_deref(), json.as_deref(), !no_plots)
+            crate::app::commands::run(case, out.as_deref(), json.as_deref(), !no_plots)
         }
-        Command::Paper { out } => crate::paper::run(out),
-        Command::Check { case } => crate::commands::check(case),
+        Command::Paper { out } => crate::app::paper::run(out),
+        Command::Check { case } => crate::app::commands::check(case),
         Command::Sweep(a) => sweep::sweep(a),
         Command::Merge(a) => sweep::merge(a),
         Command::Identify(a) => identify::identify(a),

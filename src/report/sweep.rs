@@ -11,9 +11,9 @@
 //! * The best cases by net power, as Markdown; with a position parameter (`….x_e`) and one
 //!   other parameter, also the best and worst position for each value of the other.
 
-use super::table::SweepTable;
 use crate::error::Result;
-use crate::io::plot::{HeatMap, LinePlot, Series, SeriesStyle};
+use crate::report::plot::{HeatMap, LinePlot, Series, SeriesStyle};
+use crate::sweep::table::SweepTable;
 use std::path::{Path, PathBuf};
 
 /// A number with about 6 significant digits, without trailing zeros.

@@ -1,12 +1,12 @@
 //! `beamflow identify …` and `beamflow synth`: argument parsing over
-//! [`crate::identify::commands`].
+//! [`crate::app::identify`].
 
+use crate::app::identify::{self as commands, BoucWenRequest, DpRequest, ModalRequest, SynthRequest};
 use crate::error::{Error, Result};
 use crate::identify::bouc_wen_fit::{CycleOptions, FitOptions, FitTarget};
-use crate::identify::commands::{self, BoucWenRequest, DpRequest, ModalRequest, SynthRequest};
 use crate::identify::dp::DpOptions;
 use crate::identify::measurement::LoadOptions;
-use crate::identify::modal_fit::Element;
+use crate::identify::modal_fit::IdentifiedElement;
 use crate::identify::pso::PsoOptions;
 use crate::identify::synth::{SynthKind, SynthOptions};
 use clap::{Args, Subcommand, ValueEnum};
@@ -148,12 +148,12 @@ pub enum ElementArg {
     LegRight,
 }
 
-impl From<ElementArg> for Element {
-    fn from(e: ElementArg) -> Element {
+impl From<ElementArg> for IdentifiedElement {
+    fn from(e: ElementArg) -> IdentifiedElement {
         match e {
-            ElementArg::Stack => Element::Stack,
-            ElementArg::Leg => Element::Leg,
-            ElementArg::LegRight => Element::LegRight,
+            ElementArg::Stack => IdentifiedElement::Stack,
+            ElementArg::Leg => IdentifiedElement::Leg,
+            ElementArg::LegRight => IdentifiedElement::LegRight,
         }
     }
 }

@@ -2,13 +2,12 @@
 //! Every figure is written as PNG and SVG.
 
 use super::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
+use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum};
-use crate::case::LoadedCase;
 use crate::error::Result;
 use crate::power::spectra::db;
-use crate::runner::{AnalysisResult, CaseRun};
 use std::path::{Path, PathBuf};
 
 /// Something that can be rendered to a path.
@@ -185,7 +184,7 @@ fn harmonic_figure(h: &HarmonicResult) -> MultiPanel {
 }
 
 /// The standard figures of `run`: one set per analysis.
-pub fn plot_run(dir: &Path, stem: &str, _lc: &LoadedCase, run: &CaseRun) -> Result<Vec<PathBuf>> {
+pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     for (i, r) in run.results.iter().enumerate() {
         let tag = format!("{stem}_{i}");

@@ -17,10 +17,10 @@ use num_complex::Complex64;
 use crate::identify::bouc_wen_fit::{CycleData, FitTarget, MultiSeedFit};
 use crate::identify::frf::Frf;
 use crate::identify::modal_fit::ModalFit;
-use crate::io::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
+use crate::report::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
 
 // Figures are written through the run figures' helpers: PNG and SVG side by side.
-pub use crate::io::figures::{save as render_both, Figure};
+pub use crate::report::figures::{save as render_both, Figure};
 
 /// Short file name for titles.
 fn short(file: &str) -> String {

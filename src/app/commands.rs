@@ -1,11 +1,12 @@
 //! What the CLI commands do, as library functions (the CLI only parses arguments).
 
+use crate::analysis::case_run::AnalysisResult;
 use crate::analysis::modes;
+use crate::app::runner::run_case;
 use crate::case::build::build_beam;
 use crate::case::{AnalysisSpec, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
-use crate::runner::{run_case, AnalysisResult};
 use std::path::{Path, PathBuf};
 
 /// `beamflow modes`: prints the table and optionally writes JSON.
@@ -98,7 +99,7 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) ->
         }
     }
     if plots && lc.case.output.plots {
-        for p in crate::io::figures::plot_run(&dir, stem, &lc, &run)? {
+        for p in crate::report::figures::plot_run(&dir, stem, &run)? {
             crate::say!("wrote {}", p.display());
         }
     }

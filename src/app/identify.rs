@@ -21,10 +21,10 @@ use crate::identify::bouc_wen_fit::{self, CycleData, CycleOptions, FitOptions, F
 use crate::identify::dp::{self, DpEstimate, DpOptions};
 use crate::identify::frf::{self, Frf, FrfOptions, Segmentation};
 use crate::identify::measurement::{self, LoadOptions, Quantity};
-use crate::identify::modal_fit::{self, DynamicParameters, Element, ModalFit, RfpOptions, SdofOptions};
-use crate::identify::plots;
+use crate::identify::modal_fit::{self, DynamicParameters, IdentifiedElement, ModalFit, RfpOptions, SdofOptions};
 use crate::identify::synth::{self, SynthKind, SynthOptions, Truth};
 use crate::io::atomic::write_atomic_string;
+use crate::report::identify as plots;
 
 /// Replaces a placeholder file label (`<frf>`, `<identify>`, `<pso>`) in an input error by
 /// the measurement file, and puts the file in front of a numerical failure.
@@ -277,7 +277,7 @@ pub struct ModalRequest {
     pub file: PathBuf,
     /// The known moving mass (kg).
     pub mass: f64,
-    pub element: Element,
+    pub element: IdentifiedElement,
     /// Modes of the multi-mode (rational-fraction) fit (default 1).
     pub modes: usize,
     /// Band (Hz) of the multi-mode fit, also where the single-mode fit looks for its peak.
@@ -303,7 +303,7 @@ pub struct ModalRequest {
 
 impl ModalRequest {
     /// Defaults: one mode, the hammer's band, auto segments, no windows.
-    pub fn new(file: impl Into<PathBuf>, mass: f64, element: Element) -> Self {
+    pub fn new(file: impl Into<PathBuf>, mass: f64, element: IdentifiedElement) -> Self {
         ModalRequest {
             file: file.into(),
             mass,

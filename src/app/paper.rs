@@ -5,16 +5,17 @@
 //! actuator on the beam at 12 V, 60 Hz (Figs. 13–16). Each run's case file is in `cases/`
 //! (the top-mass variants are made from the rigid-base case), and each run writes its HDF5.
 
+use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
+use crate::app::runner::run_case;
 use crate::case::{ActuatorType, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
-use crate::io::figures::{
+use crate::report::figures::{
     body_panel, components_panel, forces_panel, ms_axis, power_spectrum_panel, save, spectrum_panel,
 };
-use crate::io::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
-use crate::runner::{run_case, AnalysisResult, CaseRun};
+use crate::report::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -182,7 +183,7 @@ pub fn run(out: &Path) -> Result<()> {
     let mut p15 = LinePlot::new("instantaneous power", "time (ms)", "power (W)");
     for &l in &idx {
         p15.series.push(Series::line(
-            crate::io::figures::link_label(&bft.links[l]),
+            crate::report::figures::link_label(&bft.links[l]),
             xf.clone(),
             bft.links[l].power.clone(),
         ));
@@ -191,7 +192,7 @@ pub fn run(out: &Path) -> Result<()> {
     for &l in &idx {
         b15.series.push(
             Series::line(
-                crate::io::figures::link_label(&bft.links[l]),
+                crate::report::figures::link_label(&bft.links[l]),
                 bfs.spectra[l].frequency[1..].to_vec(),
                 bfs.spectra[l].power[1..].to_vec(),
             )

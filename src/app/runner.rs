@@ -1,10 +1,11 @@
 //! Runs every analysis a case asks for. Pure computation: writing is in [`crate::io`].
 
-use crate::analysis::harmonic::{self, HarmonicResult, PointForce};
-use crate::analysis::modes::{self, ModesResult};
+use crate::analysis::case_run::{AnalysisResult, CaseRun};
+use crate::analysis::harmonic::{self, PointForce};
+use crate::analysis::modes;
 use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
-use crate::analysis::steady_state::{self, SteadyStateResult};
-use crate::analysis::transient::{self, TransientResult, TransientSettings};
+use crate::analysis::steady_state;
+use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
@@ -14,23 +15,6 @@ use std::cell::OnceCell;
 
 /// Modes in the mode-resolved tables of a run (the residual of the truncated sum is reported).
 pub const MODAL_TABLE_MODES: usize = 30;
-
-/// One analysis' result, in case order.
-#[derive(Clone, Debug)]
-pub enum AnalysisResult {
-    Modes(ModesResult),
-    Harmonic(HarmonicResult),
-    Transient(Box<TransientResult>),
-    SteadyState(Box<SteadyStateResult>),
-}
-
-/// Everything a case run produced.
-#[derive(Clone, Debug)]
-pub struct CaseRun {
-    pub model: Model,
-    pub system: System,
-    pub results: Vec<AnalysisResult>,
-}
 
 /// The transient settings a case's analysis entry describes (`full_history`: the case's
 /// `[output] full_history`, every period kept rather than the last three).

@@ -1,7 +1,8 @@
 //! `beamflow sweep` and `beamflow merge`.
 
 use crate::error::{Error, Result};
-use crate::sweep::{self, report, RunOptions, Shard, SweepTable};
+use crate::report::sweep as report;
+use crate::sweep::{self, RunOptions, Shard, SweepTable};
 use clap::Args;
 use std::path::{Path, PathBuf};
 

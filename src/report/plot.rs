@@ -28,8 +28,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::atomic::write_atomic;
 use crate::error::{Error, Result};
+use crate::io::atomic::write_atomic;
 
 /// DejaVu Sans (see `assets/fonts/DejaVu-LICENSE.txt`).
 static FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
@@ -270,13 +270,13 @@ type DrawResult = std::result::Result<(), String>;
 
 /// What every figure kind provides to [`render_figure`]: checks first, then drawing onto
 /// any plotters backend (bitmap or SVG) so both formats share one code path.
-trait Figure {
+trait Drawable {
     fn size(&self) -> (u32, u32);
     fn validate(&self, file: &str) -> Result<()>;
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult;
 }
 
-fn render_figure<F: Figure>(fig: &F, path: &Path) -> Result<()> {
+fn render_figure<F: Drawable>(fig: &F, path: &Path) -> Result<()> {
     let file = path.display().to_string();
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
     if ext != "png" && ext != "svg" {
@@ -298,7 +298,7 @@ fn render_figure<F: Figure>(fig: &F, path: &Path) -> Result<()> {
     })
 }
 
-fn draw_on<DB: DrawingBackend, F: Figure>(root: DrawingArea<DB, Shift>, fig: &F) -> DrawResult {
+fn draw_on<DB: DrawingBackend, F: Drawable>(root: DrawingArea<DB, Shift>, fig: &F) -> DrawResult {
     root.fill(&WHITE).map_err(de)?;
     fig.draw(&root)?;
     // `present` writes the file; the backend would swallow an error on drop.
@@ -905,7 +905,7 @@ where
     Ok(())
 }
 
-impl Figure for LinePlot {
+impl Drawable for LinePlot {
     fn size(&self) -> (u32, u32) {
         self.size
     }
@@ -917,7 +917,7 @@ impl Figure for LinePlot {
     }
 }
 
-impl Figure for MultiPanel {
+impl Drawable for MultiPanel {
     fn size(&self) -> (u32, u32) {
         let title = if self.title.is_empty() { 0 } else { TITLE_PX + 20 };
         self.size.unwrap_or((1000, 320 * self.panels.len().max(1) as u32 + title))
@@ -943,7 +943,7 @@ impl Figure for MultiPanel {
 // Bar charts
 // ---------------------------------------------------------------------------------------
 
-impl Figure for BarChart {
+impl Drawable for BarChart {
     fn size(&self) -> (u32, u32) {
         self.size
     }
@@ -1101,7 +1101,7 @@ impl HeatMap {
     }
 }
 
-impl Figure for HeatMap {
+impl Drawable for HeatMap {
     fn size(&self) -> (u32, u32) {
         self.size
     }

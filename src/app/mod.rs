@@ -1,0 +1,11 @@
+//! The application layer: what a user runs. The command line ([`cli`]) parses arguments
+//! and calls [`commands`], which load a case or sweep, run it ([`runner`] for a case's
+//! analyses, [`paper`] for the paper's experiments, [`identify`] for parameter
+//! identification from measurements) and hand the results to `io` and `report`. Nothing
+//! below this layer prints to the console, parses arguments or decides file names.
+
+pub mod cli;
+pub mod commands;
+pub mod identify;
+pub mod paper;
+pub mod runner;
