@@ -10,6 +10,7 @@
 mod readout;
 mod record;
 mod settle;
+mod stability;
 mod step;
 
 use self::readout::Readout;
@@ -149,6 +150,7 @@ fn start_at_rest(nm: &mut FusedNewmark, sys: &System, f_p0: &[f64]) -> Result<()
 /// Runs the transient.
 pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<TransientResult> {
     let timing = DriveTiming::stepped(model, s.dt, s.duration, s.harmonics)?;
+    stability::check_step(sys, s.scheme, &timing)?;
     let layout = Readout::new(model, sys)?;
     let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
     let mut stacks = StackHistories::new(model, &timing);
