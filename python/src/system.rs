@@ -26,32 +26,14 @@ fn csr<'py>(py: Python<'py>, m: &Csr) -> PyResult<Bound<'py, PyAny>> {
 /// the node's x (NaN for a body), its kind (`w`, `theta`, or the body DOF's name) and the
 /// actuator it belongs to (empty for the beam).
 fn dof_table<'py>(py: Python<'py>, model: &beamflow::assembly::Model, sys: &System) -> PyResult<Bound<'py, PyDict>> {
-    let n = sys.n();
-    let mut node = vec![-1i64; n];
-    let mut x = vec![f64::NAN; n];
-    let mut kind = vec![String::new(); n];
-    let mut actuator = vec![String::new(); n];
-    let xs = model.beam.as_ref().map(|b| b.mesh.x.clone()).unwrap_or_default();
-    for (k, dofs) in [("w", &sys.dofs.w), ("theta", &sys.dofs.theta)] {
-        for (i, d) in dofs.iter().enumerate() {
-            if let Some(d) = *d {
-                (node[d], x[d], kind[d]) = (i as i64, xs[i], k.to_string());
-            }
-        }
-    }
-    for (a, body) in sys.dofs.bodies.iter().enumerate() {
-        let names = model.actuators[a].component().dof_names;
-        for (k, &d) in body.iter().enumerate() {
-            kind[d] = names.get(k).map_or_else(|| format!("body_{k}"), |s| s.to_string());
-            actuator[d] = model.actuators[a].name().to_string();
-        }
-    }
+    let rows = beamflow::assembly::dof_rows(model, sys);
+    let n = rows.len();
     let t = PyDict::new(py);
     t.set_item("index", array(py, (0..n as i64).collect(), &[n])?)?;
-    t.set_item("node", array(py, node, &[n])?)?;
-    t.set_item("x", array(py, x, &[n])?)?;
-    t.set_item("kind", kind)?;
-    t.set_item("actuator", actuator)?;
+    t.set_item("node", array(py, rows.iter().map(|r| r.node.map_or(-1, |v| v as i64)).collect(), &[n])?)?;
+    t.set_item("x", array(py, rows.iter().map(|r| r.x.unwrap_or(f64::NAN)).collect(), &[n])?)?;
+    t.set_item("kind", rows.iter().map(|r| r.kind.clone()).collect::<Vec<_>>())?;
+    t.set_item("actuator", rows.iter().map(|r| r.actuator.clone().unwrap_or_default()).collect::<Vec<_>>())?;
     Ok(t)
 }
 

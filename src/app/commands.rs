@@ -94,9 +94,12 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) ->
     if lc.case.output.matrices {
         for (name, m) in [("K", &run.system.k), ("M", &run.system.m), ("C", &run.system.c)] {
             let p = dir.join(format!("{stem}_{name}.mtx"));
-            crate::io::mtx::write_matrix_market(&p, m.as_sprs())?;
+            crate::io::mtx::write_system_matrix(&p, m.as_sprs())?;
             crate::say!("wrote {}", p.display());
         }
+        let p = dir.join(format!("{stem}_dofs.csv"));
+        crate::io::mtx::write_dof_map(&p, &crate::assembly::dof_rows(&run.model, &run.system))?;
+        crate::say!("wrote {}", p.display());
     }
     if plots && lc.case.output.plots {
         for p in crate::report::figures::plot_run(&dir, stem, &run)? {

@@ -428,3 +428,43 @@ mod tests {
         assert!(err.contains("singular"), "{err}");
     }
 }
+
+/// What a row (and column) of the assembled matrices is: the beam node and its position, or
+/// the actuator body it belongs to, and the DOF's kind (`w`, `theta`, or the body's DOF
+/// name such as `z_t`, `y`, `phi`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct DofRow {
+    pub index: usize,
+    /// Beam node (None for an actuator body DOF).
+    pub node: Option<usize>,
+    /// Position of the node on the beam (m).
+    pub x: Option<f64>,
+    pub kind: String,
+    /// Actuator name (for a body DOF).
+    pub actuator: Option<String>,
+}
+
+/// One [`DofRow`] per DOF of the full model's system, in index order.
+pub fn dof_rows(model: &Model, sys: &System) -> Vec<DofRow> {
+    let n = sys.dofs.n;
+    let mut rows: Vec<DofRow> =
+        (0..n).map(|index| DofRow { index, node: None, x: None, kind: String::new(), actuator: None }).collect();
+    let xs = model.beam.as_ref().map(|b| b.mesh.x.clone()).unwrap_or_default();
+    for (kind, dofs) in [("w", &sys.dofs.w), ("theta", &sys.dofs.theta)] {
+        for (node, d) in dofs.iter().enumerate() {
+            if let Some(d) = *d {
+                rows[d].node = Some(node);
+                rows[d].x = xs.get(node).copied();
+                rows[d].kind = kind.to_string();
+            }
+        }
+    }
+    for (a, body) in sys.dofs.bodies.iter().enumerate() {
+        let names = model.actuators[a].component().dof_names;
+        for (k, &d) in body.iter().enumerate() {
+            rows[d].kind = names.get(k).map_or_else(|| format!("body_{k}"), |s| s.to_string());
+            rows[d].actuator = Some(model.actuators[a].name().to_string());
+        }
+    }
+    rows
+}

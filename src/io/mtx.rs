@@ -9,14 +9,40 @@ use std::path::Path;
 
 use sprs::CsMat;
 
-use super::atomic::write_atomic;
 use crate::error::{Error, Result};
 
-/// Writes `mat` as a general real coordinate Matrix Market file, atomically.
-/// Units are whatever the matrix holds (e.g. N/m for stiffness, kg for mass); the file
-/// format has no place for them, so name files accordingly (`stiffness.mtx`).
-pub fn write_matrix_market(path: &Path, mat: &CsMat<f64>) -> Result<()> {
-    write_atomic(path, |tmp| sprs::io::write_matrix_market(tmp, mat).map_err(|e| Error::io(path, e)))
+/// Writes `mat` in Matrix Market coordinate format, atomically: `symmetric` storage (the
+/// lower triangle only) when the matrix is exactly symmetric, `general` otherwise. Values
+/// are printed in Rust's shortest round-trip form, so reading them back is exact.
+pub fn write_system_matrix(path: &Path, mat: &CsMat<f64>) -> Result<()> {
+    let csr = if mat.is_csr() { mat.clone() } else { mat.to_csr() };
+    let symmetric = csr.rows() == csr.cols() && csr.iter().all(|(&v, (i, j))| csr.get(j, i) == Some(&v));
+    let entries: Vec<(usize, usize, f64)> =
+        csr.iter().filter(|(_, (i, j))| !symmetric || i >= j).map(|(&v, (i, j))| (i, j, v)).collect();
+    let mut text = format!(
+        "%%MatrixMarket matrix coordinate real {}\n{} {} {}\n",
+        if symmetric { "symmetric" } else { "general" },
+        csr.rows(),
+        csr.cols(),
+        entries.len()
+    );
+    for (i, j, v) in entries {
+        text += &format!("{} {} {v:?}\n", i + 1, j + 1);
+    }
+    super::atomic::write_atomic_string(path, &text)
+}
+
+/// Writes the DOF map of a system as CSV beside its matrices: one line per row/column
+/// (1-based `row` as in the Matrix Market files, the beam node, its x in m, the DOF kind
+/// and the actuator a body DOF belongs to), so a matrix row can be named.
+pub fn write_dof_map(path: &Path, rows: &[crate::assembly::DofRow]) -> Result<()> {
+    let mut text = String::from("row,node,x_m,kind,actuator\n");
+    for r in rows {
+        let node = r.node.map(|v| v.to_string()).unwrap_or_default();
+        let x = r.x.map(|v| format!("{v:?}")).unwrap_or_default();
+        text += &format!("{},{node},{x},{},{}\n", r.index + 1, r.kind, r.actuator.as_deref().unwrap_or(""));
+    }
+    super::atomic::write_atomic_string(path, &text)
 }
 
 /// Reads a real Matrix Market file (general or symmetric) into CSR form; used to check
@@ -44,7 +70,7 @@ mod tests {
         t.add_triplet(2, 3, std::f64::consts::PI);
         t.add_triplet(2, 0, 1.0e-300);
         let m: CsMat<f64> = t.to_csr();
-        write_matrix_market(&p, &m).unwrap();
+        write_system_matrix(&p, &m).unwrap();
         let text = std::fs::read_to_string(&p).unwrap();
         assert!(text.starts_with("%%MatrixMarket matrix coordinate real general"), "{text}");
         let back = read_matrix_market(&p).unwrap();
@@ -52,9 +78,32 @@ mod tests {
         assert_eq!(back.nnz(), 4);
         assert_eq!(back.to_dense(), m.to_dense());
         // Column-major input is written the same.
-        write_matrix_market(&p, &m.to_csc()).unwrap();
+        write_system_matrix(&p, &m.to_csc()).unwrap();
         assert_eq!(read_matrix_market(&p).unwrap().to_dense(), m.to_dense());
         assert_eq!(std::fs::read_dir(p.parent().unwrap()).unwrap().count(), 1);
+    }
+
+    #[test]
+    fn symmetric_storage_round_trips_exactly() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("k.mtx");
+        let mut t = TriMat::new((3, 3));
+        for (i, j, v) in [(0, 0, 2.5e9), (1, 1, 0.1), (2, 2, 3.0), (0, 1, -1.0 / 3.0), (1, 0, -1.0 / 3.0)] {
+            t.add_triplet(i, j, v);
+        }
+        let m: CsMat<f64> = t.to_csr();
+        write_system_matrix(&p, &m).unwrap();
+        let text = std::fs::read_to_string(&p).unwrap();
+        assert!(text.starts_with("%%MatrixMarket matrix coordinate real symmetric\n3 3 4\n"), "{text}");
+        assert_eq!(read_matrix_market(&p).unwrap().to_dense(), m.to_dense());
+        // One entry off symmetry: stored in full.
+        let mut t = TriMat::new((2, 2));
+        t.add_triplet(0, 1, 1.0);
+        t.add_triplet(1, 0, 1.0 + f64::EPSILON);
+        let m: CsMat<f64> = t.to_csr();
+        write_system_matrix(&p, &m).unwrap();
+        assert!(std::fs::read_to_string(&p).unwrap().contains("general"));
+        assert_eq!(read_matrix_market(&p).unwrap().to_dense(), m.to_dense());
     }
 
     #[test]
