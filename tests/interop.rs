@@ -6,8 +6,10 @@ mod common;
 use beamflow::io::mtx::read_matrix_market;
 use std::path::Path;
 
-/// The rows of `<stem>_dofs.csv`: (row − 1, node, x, kind, actuator).
-fn dof_map(path: &Path) -> Vec<(usize, Option<usize>, Option<f64>, String, String)> {
+/// A row of `<stem>_dofs.csv`: (row − 1, node, x, kind, actuator).
+type DofLine = (usize, Option<usize>, Option<f64>, String, String);
+
+fn dof_map(path: &Path) -> Vec<DofLine> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("row,node,x_m,kind,actuator"));
