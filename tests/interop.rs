@@ -59,3 +59,70 @@ fn the_dof_map_names_the_stack_foot_and_the_top_mass_rows() {
     assert_eq!(kd(top.0, foot.0), -k_p);
     assert_eq!(kd(foot.0, top.0), -k_p);
 }
+
+/// A small transient-free case in `dir` (modes and a steady state, no figures).
+fn small_case(dir: &Path) -> std::path::PathBuf {
+    let case = dir.join("small.toml");
+    std::fs::write(
+        &case,
+        "[beam.mesh]\nelements = 20\n[damping]\nkind = \"rayleigh\"\na0 = 5.0\na1 = 1e-5\n\
+         [[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\n\
+         [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n\
+         [[analysis]]\ntype = \"steady_state\"\n[output]\nplots = false\n",
+    )
+    .unwrap();
+    case
+}
+
+fn beamflow(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_beamflow")).args(args).output().unwrap()
+}
+
+#[test]
+fn json_to_standard_output_is_the_only_thing_there() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = small_case(dir.path());
+    let out = dir.path().join("out");
+    let o = beamflow(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--json", "-"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("stdout is one JSON document");
+    assert!(v.is_object());
+    // The same numbers as the file the run writes, and the status lines on standard error.
+    let file: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("small.json")).unwrap()).unwrap();
+    assert_eq!(v, file);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("wrote"));
+    let q = beamflow(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap(), "--quiet"]);
+    assert!(q.status.success() && q.stdout.is_empty() && q.stderr.is_empty());
+}
+
+#[test]
+fn json_may_not_replace_the_case_or_another_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = small_case(dir.path());
+    let before = std::fs::read(&case).unwrap();
+    let out = dir.path().join("out");
+    for target in [case.clone(), out.join("small.h5"), out.join("sub/../small.json")] {
+        let o = beamflow(&[
+            "run",
+            case.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--json",
+            target.to_str().unwrap(),
+        ]);
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && e.contains("--json") && e.contains("another output"), "{e}");
+    }
+    assert_eq!(std::fs::read(&case).unwrap(), before);
+}
+
+#[test]
+fn completions_are_printed_for_each_shell() {
+    for shell in ["bash", "zsh", "fish"] {
+        let o = beamflow(&["completions", shell]);
+        assert!(o.status.success());
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(text.contains("beamflow") && text.contains("sweep"), "{shell}");
+    }
+}

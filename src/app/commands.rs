@@ -28,7 +28,7 @@ pub fn modes(case: &Path, count: Option<usize>, json: Option<&Path>) -> Result<(
     crate::say!("{}", modes_table(&r));
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&r).expect("plain data serialises");
-        write_atomic_string(path, &text)?;
+        crate::app::cli::write_text_or_stdout(path, &text)?;
     }
     Ok(())
 }
@@ -74,6 +74,29 @@ pub fn check(case: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Whether two paths name the same file: equal as absolute paths with `.` and `..`
+/// resolved, or (when both exist) the same file after following links.
+fn same_path(a: &Path, b: &Path) -> bool {
+    let lexical = |p: &Path| {
+        let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+        let mut out = PathBuf::new();
+        for c in abs.components() {
+            match c {
+                std::path::Component::ParentDir => {
+                    out.pop();
+                }
+                std::path::Component::CurDir => {}
+                c => out.push(c),
+            }
+        }
+        out
+    };
+    match (a.canonicalize(), b.canonicalize()) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => lexical(a) == lexical(b),
+    }
+}
+
 /// Default output directory for a case: out/<file stem>.
 pub fn default_out(case: &Path) -> PathBuf {
     PathBuf::from("out").join(case.file_stem().unwrap_or_default())
@@ -83,9 +106,19 @@ pub fn default_out(case: &Path) -> PathBuf {
 pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
+    let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
+    if let Some(j) = json.filter(|j| !crate::app::cli::is_stdout(j)) {
+        let taken = [case.to_path_buf(), dir.join(format!("{stem}.h5")), dir.join(format!("{stem}.json"))];
+        if taken.iter().any(|p| same_path(p, j)) {
+            return Err(Error::input(
+                "<cli>",
+                "--json",
+                format!("{} is the case file or another output of this run; name a different file", j.display()),
+            ));
+        }
+    }
     std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
     let run = run_case(&lc)?;
-    let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
     let h5 = dir.join(format!("{stem}.h5"));
     if lc.case.output.hdf5 {
         crate::io::results::write(&h5, &lc, &run)?;
@@ -116,7 +149,7 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) ->
     let text = serde_json::to_string_pretty(&summary).expect("plain data serialises");
     write_atomic_string(&dir.join(format!("{stem}.json")), &text)?;
     if let Some(j) = json {
-        write_atomic_string(j, &text)?;
+        crate::app::cli::write_text_or_stdout(j, &text)?;
     }
     Ok(())
 }

@@ -13,6 +13,9 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(name = "beamflow", version, about, long_about = None)]
 pub struct Cli {
+    /// Print no status lines (results files and errors only).
+    #[arg(long, global = true)]
+    pub quiet: bool,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -21,21 +24,25 @@ pub struct Cli {
 pub enum Command {
     /// Natural modes of a case's bare beam, against closed-form values where they exist.
     Modes {
+        /// The case file (TOML; see docs/case-format.md).
         case: PathBuf,
         /// Number of modes (default: the case's modes analysis, else 10).
         #[arg(long)]
         count: Option<usize>,
-        /// Also write the frequencies and errors as JSON.
+        /// Also write the frequencies and errors as JSON (`-`: standard output, status
+        /// lines then go to standard error).
         #[arg(long)]
         json: Option<PathBuf>,
     },
     /// Runs every analysis of a case; writes HDF5, figures and a JSON summary.
     Run {
+        /// The case file (TOML; see docs/case-format.md).
         case: PathBuf,
         /// Output directory (default: out/<case name>).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Headline numbers as JSON (for scripts).
+        /// Headline numbers as JSON, for scripts (`-`: standard output, status lines then
+        /// go to standard error).
         #[arg(long)]
         json: Option<PathBuf>,
         /// Skip figures.
@@ -48,7 +55,10 @@ pub enum Command {
         out: PathBuf,
     },
     /// Checks a case file without running it.
-    Check { case: PathBuf },
+    Check {
+        /// The case file (TOML; see docs/case-format.md).
+        case: PathBuf,
+    },
     /// Runs a parameter sweep in parallel.
     Sweep(sweep::SweepArgs),
     /// Joins sweep shards into one table.
@@ -57,11 +67,65 @@ pub enum Command {
     Identify(identify::IdentifyArgs),
     /// Makes synthetic measurements from a case, with noise.
     Synth(identify::SynthArgs),
+    /// Prints a shell completion script, e.g. `beamflow completions bash > ~/.local/share/bash-completion/completions/beamflow`.
+    Completions {
+        /// The shell.
+        shell: clap_complete::Shell,
+    },
+}
+
+/// Where status lines go: standard output, standard error (when standard output carries
+/// data, as with `--json -`) or nowhere (`--quiet`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Status {
+    Stdout = 0,
+    Stderr = 1,
+    Quiet = 2,
+}
+
+static STATUS: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(Status::Stdout as u8);
+
+fn set_status(s: Status) {
+    STATUS.store(s as u8, std::sync::atomic::Ordering::Relaxed);
+}
+
+fn status() -> Status {
+    match STATUS.load(std::sync::atomic::Ordering::Relaxed) {
+        1 => Status::Stderr,
+        2 => Status::Quiet,
+        _ => Status::Stdout,
+    }
+}
+
+/// Whether `path` is `-`, the command line's name for standard output.
+pub fn is_stdout(path: &std::path::Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Writes `text` to `path` atomically, or to standard output when `path` is `-`.
+pub fn write_text_or_stdout(path: &std::path::Path, text: &str) -> Result<()> {
+    if is_stdout(path) {
+        use std::io::Write;
+        let mut out = std::io::stdout().lock();
+        return match out.write_all(text.as_bytes()).and_then(|()| out.write_all(b"\n")) {
+            Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(crate::Error::io(path, e)),
+            _ => Ok(()),
+        };
+    }
+    crate::io::atomic::write_atomic_string(path, text)
 }
 
 /// The body of [`say!`](crate::say).
 pub fn say_line(args: std::fmt::Arguments) {
     use std::io::Write;
+    match status() {
+        Status::Quiet => return,
+        Status::Stderr => {
+            eprintln!("{args}");
+            return;
+        }
+        Status::Stdout => {}
+    }
     let mut out = std::io::stdout().lock();
     if let Err(e) = out.write_fmt(args).and_then(|()| out.write_all(b"\n")) {
         if e.kind() != std::io::ErrorKind::BrokenPipe {
@@ -73,6 +137,17 @@ pub fn say_line(args: std::fmt::Arguments) {
 /// Entry point of the binary.
 pub fn main() -> ExitCode {
     let cli = Cli::parse();
+    let json_to_stdout = match &cli.command {
+        Command::Modes { json, .. } | Command::Run { json, .. } => json.as_deref().is_some_and(is_stdout),
+        _ => false,
+    };
+    set_status(if cli.quiet {
+        Status::Quiet
+    } else if json_to_stdout {
+        Status::Stderr
+    } else {
+        Status::Stdout
+    });
     match dispatch(&cli.command) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
@@ -94,5 +169,10 @@ fn dispatch(cmd: &Command) -> Result<()> {
         Command::Merge(a) => sweep::merge(a),
         Command::Identify(a) => identify::identify(a),
         Command::Synth(a) => identify::synth(a),
+        Command::Completions { shell } => {
+            use clap::CommandFactory;
+            clap_complete::generate(*shell, &mut Cli::command(), "beamflow", &mut std::io::stdout());
+            Ok(())
+        }
     }
 }
