@@ -117,37 +117,45 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) ->
             ));
         }
     }
-    std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, e))?;
     let run = run_case(&lc)?;
-    let h5 = dir.join(format!("{stem}.h5"));
+    // Every file goes to a staging folder first and appears in `dir` only once all are
+    // complete (io::output_set).
+    let set = crate::io::output_set::OutputSet::begin(&dir)?;
+    let mut written = Vec::new();
     if lc.case.output.hdf5 {
+        let h5 = set.dir().join(format!("{stem}.h5"));
         crate::io::results::write(&h5, &lc, &run)?;
-        crate::say!("wrote {}", h5.display());
+        written.push(h5);
     }
     if lc.case.output.matrices {
         for (name, m) in [("K", &run.system.k), ("M", &run.system.m), ("C", &run.system.c)] {
-            let p = dir.join(format!("{stem}_{name}.mtx"));
+            let p = set.dir().join(format!("{stem}_{name}.mtx"));
             crate::io::mtx::write_system_matrix(&p, m.as_sprs())?;
-            crate::say!("wrote {}", p.display());
+            written.push(p);
         }
-        let p = dir.join(format!("{stem}_dofs.csv"));
+        let p = set.dir().join(format!("{stem}_dofs.csv"));
         crate::io::mtx::write_dof_map(&p, &crate::assembly::dof_rows(&run.model, &run.system))?;
-        crate::say!("wrote {}", p.display());
+        written.push(p);
     }
     if plots && lc.case.output.plots {
-        for p in crate::report::figures::plot_run(&dir, stem, &run)? {
-            crate::say!("wrote {}", p.display());
-        }
+        written.extend(crate::report::figures::plot_run(set.dir(), stem, &run)?);
     }
     let summary = crate::io::summary::summary(&lc, &run);
+    let text = serde_json::to_string_pretty(&summary).expect("plain data serialises");
+    let json_path = set.dir().join(format!("{stem}.json"));
+    write_atomic_string(&json_path, &text)?;
+    written.push(json_path);
+    let finals: Vec<PathBuf> = written.iter().map(|p| set.final_path(p)).collect();
+    set.commit()?;
+    for p in &finals {
+        crate::say!("wrote {}", p.display());
+    }
     for r in &run.results {
         if let AnalysisResult::Modes(m) = r {
             crate::say!("{}", modes_table(m));
         }
     }
     crate::say!("{}", crate::io::summary::headline_text(&summary));
-    let text = serde_json::to_string_pretty(&summary).expect("plain data serialises");
-    write_atomic_string(&dir.join(format!("{stem}.json")), &text)?;
     if let Some(j) = json {
         crate::app::cli::write_text_or_stdout(j, &text)?;
     }

@@ -18,6 +18,7 @@
 pub mod atomic;
 pub mod hdf5;
 pub mod mtx;
+pub mod output_set;
 pub mod results;
 pub mod sink;
 pub mod summary;
