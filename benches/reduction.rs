@@ -19,7 +19,7 @@ fn bench(c: &mut Criterion) {
     let lc = LoadedCase::load(&path).unwrap();
     let model = build_model(&lc).unwrap().model;
     let full = System::assemble(&model).unwrap();
-    let settings = TransientSettings { harmonics: 9, ..Default::default() };
+    let settings = TransientSettings { harmonics: Some(9), ..Default::default() };
     let rs = ReductionSettings {
         cutoff: Cutoff::HarmonicFactor(5.0),
         static_correction: true,
@@ -49,7 +49,7 @@ fn bench(c: &mut Criterion) {
         periods: Some(100),
         steady_state: false,
         record_periods: 1,
-        harmonics: 9,
+        harmonics: Some(9),
         ..Default::default()
     };
     g.bench_function("reduced_transient_20000_steps", |b| {

@@ -76,7 +76,7 @@ fn inertial_force_below_resonance_is_mass_times_acceleration() {
     let spec = &r.spectra[0];
     let w = 2.0 * std::f64::consts::PI * 30.0;
     let z1 = beamflow::power::spectra::harmonics(&r.bodies[0].q[r.t.len() - r.steps_per_period..])[1];
-    let expected = (0.3 + 0.015) * w * w * z1.norm();
+    let expected = (0.1 + 0.015) * w * w * z1.norm(); // the default m_t with half the stack mass
     let ft1 = spec.transmitted[1].norm();
     assert!(rel(ft1, expected) < 1e-3, "F_T = {ft1} N vs (m_t + m_p/2)·ω²·z_t = {expected} N");
     assert!(r.converged, "steady state reached");
@@ -90,7 +90,14 @@ fn paper_claims_on_rigid_base_48v_30hz() {
     let stack_f = r.links.iter().position(|l| l.actuator == 1 && l.name == "stack").unwrap();
     let ff = r.spectra[stack_f].transmitted[1].norm();
     let ratio = ff / fi;
-    assert!(ratio > 100.0, "frame/inertial force ratio {ratio}");
+    assert!(ratio > 100.0, "frame/inertial force ratio {ratio}: the paper's more than two orders");
+    // Both stacks make the same stroke δ (same voltage, same hysteresis). Far below the
+    // inertial actuator's resonance its force is the top inertia (m_t + m_p/2)·ω²·δ; the
+    // frame's stack pushes against its legs, k_p in series with 2·k_l (the bar is rigid at
+    // 30 Hz and the 1 mm offset adds e²/a² = 6e-4 to the legs' compliance).
+    let (k_p, k_l, m_eff, w) = (3.0e7, 1.5e9, 0.1 + 0.03 / 2.0, 2.0 * std::f64::consts::PI * 30.0);
+    let expected = (k_p * 2.0 * k_l / (k_p + 2.0 * k_l)) / (m_eff * w * w);
+    assert!(rel(ratio, expected) < 0.02, "force ratio {ratio:.0} against the estimate {expected:.0}");
     let amp = |q: &[f64]| q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let zt = amp(&r.bodies[0].q);
     let y = amp(&r.bodies[1].q);

@@ -103,11 +103,24 @@ fn bouc_wen_constraints_and_non_positive_stack_parameters() {
 #[test]
 fn time_step_errors() {
     expect("[[analysis]]\ntype = \"transient\"\ndt = 0.0\n", &["analysis[0].dt", "positive"]);
-    let text = format!("base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n{SINE}[[analysis]]\ntype = \"transient\"\ndt = 1e-3\nharmonics = 9\n");
-    let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(".")).unwrap();
-    let msg = beamflow::app::runner::run_case(&lc).unwrap_err().to_string();
-    // 1/20 of the period of the 9th harmonic of 60 Hz.
-    assert!(msg.contains("bad.toml") && msg.contains("analysis[0].dt") && msg.contains("9.259259e-5"), "{msg}");
+    let run = |step: &str| {
+        let text = format!("base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n{SINE}[[analysis]]\ntype = \"transient\"\n{step}\nharmonics = 9\n");
+        let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(".")).unwrap();
+        beamflow::app::runner::run_case(&lc).unwrap_err().to_string()
+    };
+    // 1 ms does not divide the 60 Hz period: never rounded silently, the nearest steps named.
+    let msg = run("dt = 1e-3");
+    assert!(
+        msg.contains("bad.toml") && msg.contains("analysis[0].dt") && msg.contains("`steps_per_period` = 17"),
+        "{msg}"
+    );
+    // 100 steps a period resolve harmonic 9 of 60 Hz with 11 steps, not 20: 180 are needed.
+    let msg = run("steps_per_period = 100");
+    assert!(msg.contains("too coarse") && msg.contains("`steps_per_period` ≥ 180"), "{msg}");
+    expect(
+        "[[analysis]]\ntype = \"transient\"\ndt = 1e-4\nsteps_per_period = 100\n",
+        &["analysis[0].steps_per_period", "not both"],
+    );
 }
 
 #[test]

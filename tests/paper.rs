@@ -31,9 +31,8 @@ fn frame_injects_far_more_power_and_its_legs_return_part_of_it() {
     let p_stack = frame.spectra[0].power[1];
     let p_legs = frame.spectra[1].power[1] + frame.spectra[2].power[1];
     let ratio = (p_stack + p_legs) / p_i;
-    // With the spec's defaults the ratio is about 50 (see docs/paper.md for why it is not
-    // the paper's ≈300: the frame's self-balanced forces barely couple to mode 1).
-    assert!(ratio > 10.0, "frame/inertial net power ratio {ratio}");
+    // The paper reports ≈ 300×; with the defaults (inertial top mass 0.1 kg) ≈ 310×.
+    assert!((250.0..400.0).contains(&ratio), "frame/inertial net power ratio {ratio}");
     assert!(p_stack > 0.0 && p_legs < 0.0, "legs' combined power {p_legs} opposes the stack's {p_stack}");
     assert!(p_stack + p_legs > 0.0, "net power flows into the beam");
     // The stack-foot force is the largest and in opposite phase to the leg forces.
@@ -51,10 +50,14 @@ fn inertial_power_spectrum_is_the_drive_line_and_odd_harmonics() {
     let p = &s.spectra[0].power;
     let p1 = p[1];
     for (k, &pk) in p.iter().enumerate().skip(2) {
-        assert!(pk.abs() < 1e-2 * p1, "line {} Hz is {:e} of the drive line", 60 * k, pk / p1);
+        assert!(pk.abs() < 5e-2 * p1, "line {} Hz is {:e} of the drive line", 60 * k, pk / p1);
         if k % 2 == 0 {
             assert!(pk.abs() < 1e-9 * p1, "even harmonic {k} must vanish for a zero-offset sine");
         }
     }
     assert!(p[3] > 1e-4 * p1, "the 180 Hz line carries the hysteresis");
+    // Where the model differs from the measurement (180 Hz): its second line is the 7th
+    // harmonic, near the coupled 4th beam mode (bare beam: 445.6 Hz).
+    let second = (2..p.len()).max_by(|&a, &b| p[a].abs().total_cmp(&p[b].abs())).unwrap();
+    assert_eq!(second, 7, "second line at {} Hz", 60 * second);
 }

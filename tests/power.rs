@@ -181,7 +181,7 @@ fn newmark_steady(
     let s = TransientSettings {
         dt: Some(1.0 / 60.0 / steps_per_period as f64),
         periods: Some(periods),
-        harmonics: 2,
+        harmonics: Some(2),
         ..Default::default()
     };
     let r = transient::run(&model, &sys, &s).unwrap();

@@ -22,7 +22,9 @@ fn paper_text(name: &str) -> String {
 
 /// The paper case with `reduction = …` added to every analysis.
 fn with_reduction(text: &str, reduction: &str) -> String {
-    let out = text.replace("harmonics = 9\n", &format!("harmonics = 9\nreduction = {reduction}\n"));
+    let out = text
+        .replace("type = \"steady_state\"\n", &format!("type = \"steady_state\"\nreduction = {reduction}\n"))
+        .replace("type = \"transient\"\n", &format!("type = \"transient\"\nreduction = {reduction}\n"));
     assert_eq!(out.matches("reduction =").count(), 2, "both analyses of the paper case get the option");
     out
 }
@@ -81,14 +83,18 @@ fn auto_reduction_matches_the_full_model_in_both_domains_on_the_paper_cases() {
         assert_eq!(rt.periods_run, ft.periods_run, "{name}: same settling");
 
         // The result carries its basis and error estimate.
-        for rep in [rs.reduction.as_ref().unwrap(), rt.reduction.as_ref().unwrap()] {
-            assert!((rep.cutoff_hz - 5.0 * 9.0 * 60.0).abs() < 1e-9, "auto = 5 × the 9th harmonic of 60 Hz");
-            assert_eq!(rep.modes_kept, 10, "clamped–clamped modes below 2700 Hz");
-            assert!(rep.mode_frequencies_hz.iter().all(|&f| f <= 2700.0));
-            assert!(rep.first_discarded_mode_hz.unwrap() > 2700.0);
+        // The steady state analyses its 9 harmonics, the transient the 10 its step resolves.
+        for (rep, h) in [(rs.reduction.as_ref().unwrap(), rs.harmonics), (rt.reduction.as_ref().unwrap(), rt.harmonics)]
+        {
+            let cutoff = 5.0 * h as f64 * 60.0;
+            assert!((rep.cutoff_hz - cutoff).abs() < 1e-9, "auto = 5 × the highest analysed harmonic of 60 Hz");
+            // Clamped–clamped modes: 10 below 2700 Hz, 11 below 3000 Hz (f₁₁ ≈ 2910 Hz).
+            assert_eq!(rep.modes_kept, if h == 9 { 10 } else { 11 }, "modes below {cutoff} Hz");
+            assert!(rep.mode_frequencies_hz.iter().all(|&f| f <= cutoff));
+            assert!(rep.first_discarded_mode_hz.unwrap() > cutoff);
             let feet = red.system.links.iter().filter(|l| l.foot_dof.is_some()).count();
             assert_eq!(rep.residual_vectors, feet, "one residual vector per foot");
-            assert_eq!(rep.reduced_dofs, 10 + feet + red.system.dofs.bodies.iter().flatten().count());
+            assert_eq!(rep.reduced_dofs, rep.modes_kept + feet + red.system.dofs.bodies.iter().flatten().count());
             let err = rep.error.as_ref().expect("error estimate is on by default");
             assert!(err.max_relative_error < 1e-3);
             assert_eq!(err.full_mean_power.len(), fs.mean_power.len());

@@ -35,8 +35,8 @@ fn the_limit_is_where_the_integrator_turns_unstable() {
     assert!(above > 1e6, "above the limit it grows without bound: peak {above}");
 }
 
-fn linear_acceleration_case(elements: usize, dt: Option<f64>) -> String {
-    let dt = dt.map(|d| format!("dt = {d:e}\n")).unwrap_or_default();
+fn linear_acceleration_case(elements: usize, steps: Option<usize>) -> String {
+    let dt = steps.map(|n| format!("steps_per_period = {n}\n")).unwrap_or_default();
     format!(
         "[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = 5.0\na1 = 1e-5\n\
          [[actuator]]\ntype = \"inertial\"\nname = \"inertial\"\nx_e = 0.15\n\
@@ -60,7 +60,8 @@ fn the_admissible_step_runs_and_agrees_with_average_acceleration() {
         Err(e) => e.to_string(),
         Ok(_) => panic!("the default step should exceed the limit on 20 elements"),
     };
-    let advised: f64 = e.split("give `dt` = ").nth(1).and_then(|s| s.split(' ').next()).unwrap().parse().unwrap();
+    let advised: usize =
+        e.split("give `steps_per_period` = ").nth(1).and_then(|s| s.split(' ').next()).unwrap().parse().unwrap();
     let run = |text: String| {
         let r = run_case(&common::case(&text)).unwrap();
         match &r.results[0] {

@@ -21,7 +21,7 @@ fn periodic_steady_state_matches_the_transient_as_dt_shrinks() {
     for n in [200, 400, 800] {
         let s = TransientSettings {
             dt: Some(1.0 / 60.0 / n as f64),
-            harmonics: 9,
+            harmonics: Some(9),
             tolerance: 1e-7,
             max_periods: 2000,
             ..Default::default()

@@ -465,12 +465,17 @@ fn grouped_evaluation_equals_case_by_case() {
 #[test]
 fn transient_option_agrees_with_steady_state() {
     let d = Dir::new();
-    let text = "base = \"base.toml\"\nanalysis = \"transient\"\nharmonics = 3\n[[parameter]]\n\
+    // 19 harmonics: the steady state then holds the 7th (420 Hz, near mode 4), which
+    // carries 1.6 % of the inertial actuator's power; the transient's mean has them all.
+    let text = "base = \"base.toml\"\nanalysis = \"transient\"\nharmonics = 19\n[[parameter]]\n\
                 path = \"actuator[0].voltage.frequency\"\nvalues = [60.0]\n";
     let tr = sweep::run(&d.sweep("t.sweep.toml", text), &threads(1)).unwrap();
     let ss = sweep::run(&d.sweep("ss.sweep.toml", &text.replace("transient", "steady_state")), &threads(1)).unwrap();
     let (a, b) = (tr.rows[0].net_power[0], ss.rows[0].net_power[0]);
-    assert!((a - b).abs() / b < 2e-2, "transient {a} vs steady state {b}");
+    // Settled to 1e-4 of its own periodic state, the transient differs from the exact one by
+    // the time step's frequency warping, (ωΔt)²/12: 3e-5 at the drive with 380 steps a
+    // period but 1e-3 at the 7th harmonic, which sits on the flank of mode 4.
+    assert!((a - b).abs() / b < 5e-3, "transient {a} vs steady state {b}");
     assert_eq!(tr.analysis, "transient");
 }
 

@@ -19,6 +19,28 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
+/// The time step a case asks for.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Step {
+    /// Δt (s), used as given.
+    Dt(f64),
+    /// Steps per drive period: Δt = period / n.
+    PerPeriod(usize),
+    /// The default: 200 steps per period, or finer where the harmonics need it.
+    Default,
+}
+
+impl Step {
+    /// From a case's `dt` and `steps_per_period` (at most one of them).
+    pub fn of(dt: Option<f64>, steps_per_period: Option<usize>) -> Self {
+        match (dt, steps_per_period) {
+            (Some(dt), _) => Step::Dt(dt),
+            (None, Some(n)) => Step::PerPeriod(n),
+            (None, None) => Step::Default,
+        }
+    }
+}
+
 /// How an analysis samples the drive in time.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DriveTiming {
@@ -34,52 +56,106 @@ pub struct DriveTiming {
 }
 
 impl DriveTiming {
-    /// The time grid of a time-stepping run. A periodic drive without `duration` is stepped
-    /// by `dt` (shrunk to a whole number of steps per period) or, without it, at 20
-    /// steps per period of harmonic `harmonics` of the first drive's fundamental and at
-    /// least 200 per period; a given `dt` may not be coarser than that. A non-periodic drive
-    /// (or a periodic one given a `duration`) runs once over `duration`, stepped by `dt` or
-    /// at 20 steps per period of its highest frequency.
-    pub fn stepped(model: &Model, dt: Option<f64>, duration: Option<f64>, harmonics: usize) -> Result<Self> {
+    /// The time grid of a time-stepping run.
+    ///
+    /// A periodic drive without `duration` is stepped by `dt` exactly as given, which must
+    /// divide the period into whole steps (to 1e-9; otherwise the error names the two nearest
+    /// steps that do) and give at least 20 steps per period of the highest frequency to
+    /// resolve: harmonic `harmonics` of the fastest drive's fundamental, or that fundamental
+    /// itself. Without `dt` it takes 200 steps per period, or more where that resolution
+    /// needs them. A non-periodic drive (or a periodic one given a `duration`) runs once,
+    /// by whole steps of `dt` (the duration rounded up to them) or of 1/20 of the period of
+    /// its highest frequency. Every drive counts, whatever the order of the actuators.
+    pub fn stepped(model: &Model, step: Step, duration: Option<f64>, harmonics: Option<usize>) -> Result<Self> {
         let period = common_period(model)?;
+        let dt = match step {
+            Step::Dt(dt) => Some(dt),
+            Step::PerPeriod(n) => {
+                let p = period.filter(|_| duration.is_none()).ok_or_else(|| {
+                    Error::input(
+                        "<case>",
+                        "analysis.steps_per_period",
+                        "steps per period need a periodic drive run by periods (no `duration`): give `dt`",
+                    )
+                })?;
+                Some(p / n as f64)
+            }
+            Step::Default => None,
+        };
         if let (Some(p), None) = (period, duration) {
-            let first = model.actuators[0].stack();
-            let f0 = 1.0 / p;
-            let dt_max = 1.0 / (20.0 * harmonics as f64 * first.voltage.fundamental_frequency().unwrap_or(f0));
-            let n = match dt {
+            let fastest = model
+                .actuators
+                .iter()
+                .filter_map(|a| a.stack().voltage.fundamental_frequency())
+                .fold(1.0 / p, f64::max);
+            let resolve_hz = fastest * harmonics.unwrap_or(1) as f64;
+            let n_min = (20.0 * resolve_hz * p * (1.0 - 1e-12)).ceil().max(1.0) as usize;
+            let what = match harmonics {
+                Some(h) => format!("harmonic {h} of the drive ({resolve_hz:.6e} Hz)"),
+                None => format!("the drive frequency ({resolve_hz:.6e} Hz)"),
+            };
+            return match dt {
                 Some(dt) => {
-                    if dt > dt_max * (1.0 + 1e-12) {
+                    let steps = p / dt;
+                    let n = steps.round();
+                    if (steps - n).abs() > 1e-9 * steps || n < 1.0 {
+                        let (lo, hi) = (steps.floor().max(1.0), steps.ceil().max(1.0));
                         return Err(Error::input(
                             "<case>",
                             "analysis.dt",
                             format!(
-                                "Δt = {dt} s is too coarse for harmonic {harmonics} of the drive: it must not exceed \
-                                 1/20 of that harmonic's period, {dt_max:.6e} s"
+                                "Δt = {dt:e} s does not divide the drive period {p:e} s into whole steps ({steps:.6} steps): \
+                                 give `steps_per_period` = {hi} (Δt = {:.9e} s) or {lo} (Δt = {:.9e} s)",
+                                p / hi,
+                                p / lo
                             ),
                         ));
                     }
-                    (p / dt - 1e-9).ceil() as usize
+                    let n = n as usize;
+                    let dt = if let Step::PerPeriod(_) = step { p / n as f64 } else { dt };
+                    if n < n_min {
+                        return Err(Error::input(
+                            "<case>",
+                            "analysis.dt",
+                            format!(
+                                "Δt = {dt:e} s is too coarse for {what}: at least 20 steps per period of it are \
+                                 needed, i.e. `steps_per_period` ≥ {n_min} (Δt ≤ {:.9e} s)",
+                                p / n_min as f64
+                            ),
+                        ));
+                    }
+                    Ok(DriveTiming { period: p, dt, steps_per_period: n, periodic: true })
                 }
-                None => ((p / dt_max).ceil() as usize).max(200),
+                None => {
+                    let n = n_min.max(200);
+                    Ok(DriveTiming { period: p, dt: p / n as f64, steps_per_period: n, periodic: true })
+                }
             };
-            return Ok(DriveTiming { period: p, dt: p / n as f64, steps_per_period: n, periodic: true });
         }
         let d = duration
             .ok_or_else(|| Error::input("<case>", "analysis.duration", "a non-periodic drive needs `duration`"))?;
         let hf = model.actuators.iter().filter_map(|a| a.stack().voltage.highest_frequency()).fold(0.0, f64::max);
-        let dt = match (dt, hf > 0.0) {
-            (Some(dt), _) => dt,
-            (None, true) => 1.0 / (20.0 * hf),
-            (None, false) => {
-                return Err(Error::input(
-                    "<case>",
-                    "analysis.dt",
-                    "the drive has no frequency to derive a time step from: give `dt`",
-                ))
+        match (dt, hf > 0.0) {
+            (Some(dt), _) => {
+                let n = (d / dt - 1e-9).ceil().max(1.0) as usize;
+                Ok(DriveTiming { period: n as f64 * dt, dt, steps_per_period: n, periodic: false })
             }
-        };
-        let n = (d / dt - 1e-9).ceil() as usize;
-        Ok(DriveTiming { period: d, dt: d / n as f64, steps_per_period: n, periodic: false })
+            (None, true) => {
+                let n = (d * 20.0 * hf - 1e-9).ceil().max(1.0) as usize;
+                Ok(DriveTiming { period: d, dt: d / n as f64, steps_per_period: n, periodic: false })
+            }
+            (None, false) => Err(Error::input(
+                "<case>",
+                "analysis.dt",
+                "the drive has no frequency to derive a time step from: give `dt`",
+            )),
+        }
+    }
+
+    /// The harmonics of 1/period a run analyses: `requested`, or as many as its time step
+    /// resolves at 20 steps per harmonic period (spec §8).
+    pub fn analysed_harmonics(&self, requested: Option<usize>) -> usize {
+        requested.unwrap_or((self.steps_per_period / 20).max(1))
     }
 
     /// One period of a periodic drive sampled `samples` times, as the frequency-domain
@@ -264,25 +340,38 @@ mod tests {
     #[test]
     fn timing_follows_the_drive_and_refuses_what_it_cannot_sample() {
         let m = model(SINE);
-        // A given dt is shrunk to a whole number of steps per period.
-        let s = DriveTiming::stepped(&m, Some(1.0 / 30.0 / 250.5), None, 9).unwrap();
-        assert!(s.periodic && s.steps_per_period == 251);
-        assert!((s.dt * 251.0 - 1.0 / 30.0).abs() < 1e-15);
-        // Default: 20 steps per period of harmonic 9, at least 200 per period.
-        assert_eq!(DriveTiming::stepped(&m, None, None, 9).unwrap().steps_per_period, 200);
-        assert_eq!(DriveTiming::stepped(&m, None, None, 20).unwrap().steps_per_period, 400);
-        let e = DriveTiming::stepped(&m, Some(1e-3), None, 9).unwrap_err().to_string();
-        assert!(e.contains("analysis.dt") && e.contains("too coarse"), "{e}");
-        // A duration runs once, the drive's period notwithstanding.
-        let once = DriveTiming::stepped(&m, Some(1e-4), Some(0.05), 9).unwrap();
-        assert!(!once.periodic && once.period == 0.05 && once.steps_per_period == 500);
+        // A given dt is used as given, when it divides the period.
+        let s = DriveTiming::stepped(&m, Step::Dt(1.0 / 30.0 / 250.0), None, Some(9)).unwrap();
+        assert!(s.periodic && s.steps_per_period == 250 && s.dt == 1.0 / 30.0 / 250.0);
+        // One that does not is refused, with the two nearest steps that do.
+        let e = DriveTiming::stepped(&m, Step::Dt(1e-4), None, None).unwrap_err().to_string();
+        assert!(e.contains("analysis.dt") && e.contains("whole steps"), "{e}");
+        assert!(e.contains("`steps_per_period` = 334") && e.contains("or 333"), "{e}");
+        assert!(
+            e.contains(&format!("{:.9e}", 1.0 / 30.0 / 334.0)) && e.contains(&format!("{:.9e}", 1.0 / 30.0 / 333.0)),
+            "{e}"
+        );
+        // Default: 200 steps per period, more where harmonic 20 needs 20 steps each.
+        assert_eq!(DriveTiming::stepped(&m, Step::Default, None, Some(9)).unwrap().steps_per_period, 200);
+        assert_eq!(DriveTiming::stepped(&m, Step::Default, None, Some(20)).unwrap().steps_per_period, 400);
+        let d = DriveTiming::stepped(&m, Step::Default, None, None).unwrap();
+        assert_eq!((d.steps_per_period, d.analysed_harmonics(None), d.analysed_harmonics(Some(3))), (200, 10, 3));
+        let e = DriveTiming::stepped(&m, Step::PerPeriod(100), None, Some(9)).unwrap_err().to_string();
+        assert!(e.contains("analysis.dt") && e.contains("too coarse") && e.contains("`steps_per_period` ≥ 180"), "{e}");
+        let exact = DriveTiming::stepped(&m, Step::PerPeriod(6667), None, None).unwrap();
+        assert_eq!((exact.steps_per_period, exact.dt), (6667, 1.0 / 30.0 / 6667.0));
+        // A duration runs once, by whole steps of the given dt.
+        let once = DriveTiming::stepped(&m, Step::Dt(1e-4), Some(0.05), Some(9)).unwrap();
+        assert!(!once.periodic && once.steps_per_period == 500 && once.dt == 1e-4);
+        let longer = DriveTiming::stepped(&m, Step::Dt(3e-4), Some(0.05), None).unwrap();
+        assert!(longer.steps_per_period == 167 && longer.dt == 3e-4 && longer.period >= 0.05);
         assert_eq!(DriveTiming::sampled(&m, 64).unwrap().period, 1.0 / 30.0);
         let chirp = model(
             "kind = \"chirp\"\namplitude = 10.0\nf_start = 5.0\nf_end = 50.0\nduration = 1.0\nsweep = \"linear\"",
         );
         let e = DriveTiming::sampled(&chirp, 64).unwrap_err().to_string();
         assert!(e.contains("needs a periodic drive"), "{e}");
-        let e = DriveTiming::stepped(&chirp, None, None, 9).unwrap_err().to_string();
+        let e = DriveTiming::stepped(&chirp, Step::Default, None, None).unwrap_err().to_string();
         assert!(e.contains("analysis.duration"), "{e}");
     }
 }

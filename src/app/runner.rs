@@ -1,6 +1,7 @@
 //! Runs every analysis a case asks for. Pure computation: writing is in [`crate::io`].
 
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
+use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
 use crate::analysis::modes;
 use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
@@ -21,6 +22,7 @@ pub const MODAL_TABLE_MODES: usize = 30;
 pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<TransientSettings> {
     if let AnalysisSpec::Transient {
         dt,
+        steps_per_period,
         periods,
         duration,
         scheme,
@@ -41,6 +43,7 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
         };
         Some(TransientSettings {
             dt: *dt,
+            steps_per_period: *steps_per_period,
             periods: *periods,
             duration: *duration,
             scheme,
@@ -124,15 +127,18 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                     None => transient::run(&model, &system, &s),
                     Some(rs) => (|| {
                         let rs = reduction_settings(rs, modal_ratios.as_deref());
-                        let (red, mut report) = reduced.get(&model, &system, &rs, s.harmonics)?;
+                        let timing =
+                            DriveTiming::stepped(&model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
+                        let h = timing.analysed_harmonics(s.harmonics);
+                        let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
                         let mut r = transient::run(&model, &red, &s)?;
                         if rs.error_estimate {
                             report.error = Some(reduction::estimate_error(
                                 &model,
                                 reference()?,
                                 &red,
-                                s.harmonics,
-                                ESTIMATE_SAMPLES.max(4 * s.harmonics + 2),
+                                h,
+                                ESTIMATE_SAMPLES.max(4 * h + 2),
                             )?);
                         }
                         r.reduction = Some(report);

@@ -238,7 +238,7 @@ pub struct ActuatorSpec {
     /// Stack foot position on the beam x_E (m); default 0.150.
     #[serde(default = "d_x_e")]
     pub x_e: f64,
-    /// Inertial: top mass m_t (kg), default 0.3.
+    /// Inertial: top mass m_t (kg), default 0.1.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub m_t: Option<f64>,
     /// Frame: top beam mass m_b (kg), default 0.2.
@@ -477,6 +477,9 @@ pub enum AnalysisSpec {
         /// the highest harmonic analysed.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         dt: Option<f64>,
+        /// Steps per drive period instead of `dt` (Δt = period / steps_per_period exactly).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        steps_per_period: Option<usize>,
         /// Run length in drive periods, or to steady state if `steady_state`.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         periods: Option<usize>,
@@ -499,9 +502,10 @@ pub enum AnalysisSpec {
         tolerance: f64,
         #[serde(default = "d_max_periods")]
         max_periods: usize,
-        /// Highest harmonic of the drive frequency analysed (spectra, Δt limit).
-        #[serde(default = "d_harmonics")]
-        harmonics: usize,
+        /// Highest harmonic of the drive frequency analysed (spectra, Δt limit); default:
+        /// as many as the time step resolves at 20 steps per harmonic period.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        harmonics: Option<usize>,
         /// Run on a modal-reduced model (see [`ReductionSpec`]); default: the full model.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         reduction: Option<ReductionSpec>,
@@ -817,6 +821,7 @@ impl Case {
                 }
                 AnalysisSpec::Transient {
                     dt,
+                    steps_per_period,
                     periods,
                     duration,
                     alpha,
@@ -834,6 +839,19 @@ impl Case {
                     if let Some(dt) = dt {
                         positive(file, &format!("{f}.dt"), *dt)?;
                     }
+                    match (dt, steps_per_period) {
+                        (Some(_), Some(_)) => {
+                            return Err(Error::input(
+                                file,
+                                format!("{f}.steps_per_period"),
+                                "give either `dt` or `steps_per_period`, not both",
+                            ))
+                        }
+                        (_, Some(0)) => {
+                            return Err(Error::input(file, format!("{f}.steps_per_period"), "must be at least 1"))
+                        }
+                        _ => {}
+                    }
                     if let Some(d) = duration {
                         positive(file, &format!("{f}.duration"), *d)?;
                     }
@@ -841,7 +859,7 @@ impl Case {
                         return Err(Error::input(file, format!("{f}.periods"), "must be at least 1"));
                     }
                     positive(file, &format!("{f}.tolerance"), *tolerance)?;
-                    if *max_periods == 0 || *harmonics == 0 {
+                    if *max_periods == 0 || *harmonics == Some(0) {
                         return Err(Error::input(file, &f, "`max_periods` and `harmonics` must be at least 1"));
                     }
                     if let Some(a) = alpha {
@@ -975,7 +993,7 @@ impl ActuatorSpec {
     }
 
     pub fn m_t(&self) -> f64 {
-        self.m_t.unwrap_or(0.3)
+        self.m_t.unwrap_or(0.1)
     }
     pub fn m_b(&self) -> f64 {
         self.m_b.unwrap_or(0.2)

@@ -534,7 +534,7 @@ mod tests {
         assert!((v2[0] - v1[37] - 12.0).abs() < 1e-9);
         let i = synthesize(&lc, &SynthOptions { kind: SynthKind::Impact, hits: 2, ..Default::default() }).unwrap();
         let t = &i.truth;
-        assert!((t.mass.unwrap() - 0.315).abs() < 1e-12 && t.k == Some(3.0e7) && t.c == Some(200.0));
+        assert!((t.mass.unwrap() - 0.115).abs() < 1e-12 && t.k == Some(3.0e7) && t.c == Some(200.0));
         assert!(i.records[0].force.is_some() && i.records[0].acceleration.is_some());
         let e = synthesize(
             &lc,

@@ -224,6 +224,10 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
     g.attr_i64("periods_run", r.periods_run as i64)?;
     g.attr_i64("converged", r.converged as i64)?;
     g.attr_f64("final_change", r.final_change)?;
+    if r.settling_estimate.is_finite() {
+        g.attr_f64("settling_estimate", r.settling_estimate)?;
+    }
+    g.attr_i64("harmonics", r.harmonics as i64)?;
     g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;

@@ -21,7 +21,8 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                     points.insert(link_name(l), json!(p));
                 }
                 let amp: Map<String, Value> = t.spectra.iter().enumerate().map(|(l, s)| (link_name(l), json!(s.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
-                let mut v = json!({"type": "transient", "dt_s": t.dt, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
+                let mut v = json!({"type": "transient", "dt_s": t.dt, "steps_per_period": t.steps_per_period, "harmonics": t.harmonics, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
+                       "settling_estimate": finite_or_null(t.settling_estimate),
                        "mean_power_w": points, "net_power_w": t.net_power, "transmitted_force_amplitude_at_drive_n": amp,
                        "beam_dissipation_w": t.beam_dissipation,
                        "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}});
@@ -45,6 +46,15 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     json!({"case": lc.file, "title": lc.case.title, "actuators": run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>(), "analyses": analyses})
 }
 
+/// A number, or JSON null where it is not defined (NaN).
+fn finite_or_null(x: f64) -> Value {
+    if x.is_finite() {
+        json!(x)
+    } else {
+        Value::Null
+    }
+}
+
 /// A reduced run's basis and error estimate, under `reduction`.
 fn add_reduction(v: &mut Value, r: Option<&crate::analysis::reduction::ReductionReport>) {
     if let Some(r) = r {
@@ -60,6 +70,9 @@ pub fn headline_text(v: &Value) -> String {
         match a["type"].as_str() {
             Some(t @ ("transient" | "steady_state")) => {
                 s += &format!("{t}:\n");
+                if t == "transient" {
+                    s += &transient_status(a);
+                }
                 if let Some(m) = a["mean_power_w"].as_object() {
                     for (k, p) in m {
                         s += &format!(
@@ -101,4 +114,28 @@ pub fn headline_text(v: &Value) -> String {
         }
     }
     s.trim_end().to_string()
+}
+
+/// How a transient ran: its step, the harmonics it analysed, and whether (and how well) it
+/// settled.
+fn transient_status(a: &Value) -> String {
+    let n = a["steps_per_period"].as_u64().unwrap_or(0);
+    let mut s = format!(
+        "  Δt = {:.4e} s ({n} steps per period), spectra to harmonic {} (20 steps per harmonic period)\n",
+        a["dt_s"].as_f64().unwrap_or(f64::NAN),
+        a["harmonics"]
+    );
+    let periods = a["periods_run"].as_u64().unwrap_or(0);
+    match (a["converged"].as_bool(), a["settling_estimate"].as_f64()) {
+        (Some(true), Some(e)) => {
+            s += &format!("  settled after {periods} periods: start-up transient left {e:.1e} (relative)\n")
+        }
+        (Some(false), Some(e)) => {
+            s += &format!(
+            "  NOT settled after {periods} periods: start-up transient left {e:.1e} (relative); raise `max_periods`\n"
+        )
+        }
+        _ => s += &format!("  ran {periods} period(s)\n"),
+    }
+    s
 }

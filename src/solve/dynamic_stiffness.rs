@@ -66,6 +66,15 @@ impl Factor {
         }
     }
 
+    /// K + c_m·M + c_c·C on the envelope.
+    fn fill_general(&mut self, k: &[f64], m: &[f64], c: &[f64], c_m: Complex64, c_c: Complex64) {
+        self.factorized = false;
+        self.omega = f64::NAN;
+        for (((v, &k), &m), &c) in self.values.iter_mut().zip(k).zip(m).zip(c) {
+            *v = Complex64::new(k, 0.0) + c_m * m + c_c * c;
+        }
+    }
+
     /// Factorises row i, rows before it being done.
     #[inline(always)]
     fn row(&mut self, first: &[usize], start: &[usize], i: usize) -> Result<()> {
@@ -163,6 +172,19 @@ impl DynamicStiffness {
     pub fn factorize(&mut self, omega: f64) -> Result<()> {
         let [a, _] = &mut self.lanes;
         a.fill(&self.k, &self.m, &self.c, omega);
+        for i in 0..self.first.len() {
+            a.row(&self.first, &self.start, i)?;
+        }
+        a.factorized = true;
+        Ok(())
+    }
+
+    /// Factorises K + c_m·M + c_c·C for complex coefficients: the periodic response of a
+    /// time-stepping scheme is a dynamic stiffness of this form (c_m = −ω², c_c = iω for the
+    /// continuous system). Fails as [`DynamicStiffness::factorize`] does.
+    pub fn factorize_general(&mut self, c_m: Complex64, c_c: Complex64) -> Result<()> {
+        let [a, _] = &mut self.lanes;
+        a.fill_general(&self.k, &self.m, &self.c, c_m, c_c);
         for i in 0..self.first.len() {
             a.row(&self.first, &self.start, i)?;
         }

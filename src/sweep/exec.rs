@@ -125,7 +125,7 @@ impl<'a> Evaluator<'a> {
                     .map(Headline::of_steady_state)
             }
             (SweepAnalysis::Transient, _) => {
-                let s = transient::TransientSettings { harmonics: sweep.harmonics, ..Default::default() };
+                let s = transient::TransientSettings { harmonics: Some(sweep.harmonics), ..Default::default() };
                 transient::run(&model, &sys, &s).map(Headline::of_transient)
             }
         };

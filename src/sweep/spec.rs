@@ -307,7 +307,7 @@ impl Sweep {
                 AnalysisSpec::SteadyState { harmonics, samples_per_period, .. } => {
                     Some((*harmonics, Some(*samples_per_period)))
                 }
-                AnalysisSpec::Transient { harmonics, .. } => Some((*harmonics, None)),
+                AnalysisSpec::Transient { harmonics, .. } => Some((harmonics.unwrap_or(9), None)),
                 _ => None,
             })
             .unwrap_or((9, None));

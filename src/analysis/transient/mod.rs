@@ -9,6 +9,7 @@
 
 mod readout;
 mod record;
+mod reference;
 mod settle;
 mod stability;
 mod step;
@@ -17,7 +18,7 @@ use self::readout::Readout;
 use self::record::{PeriodRecord, Window};
 use self::settle::SettleCheck;
 use self::step::{EnergyLedger, StackHistories, Stepper};
-use super::drive::DriveTiming;
+use super::drive::{DriveTiming, Step};
 use super::series::{Balances, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
 use crate::assembly::{Model, System};
 use crate::error::Result;
@@ -31,14 +32,17 @@ use serde::Serialize;
 #[derive(Clone, Debug)]
 pub struct TransientSettings {
     pub dt: Option<f64>,
+    /// Steps per drive period instead of `dt`.
+    pub steps_per_period: Option<usize>,
     pub periods: Option<usize>,
     pub duration: Option<f64>,
     pub scheme: Scheme,
     pub steady_state: bool,
     pub tolerance: f64,
     pub max_periods: usize,
-    /// Highest harmonic of the drive analysed (sets the Δt limit and the spectra length).
-    pub harmonics: usize,
+    /// Highest harmonic of the drive analysed (sets the Δt limit and the spectra length);
+    /// None: as many as the time step resolves ([`DriveTiming::analysed_harmonics`]).
+    pub harmonics: Option<usize>,
     /// Periods kept at the end of the run for output (and run at least before the
     /// steady-state criterion may stop it).
     pub record_periods: usize,
@@ -50,13 +54,14 @@ impl Default for TransientSettings {
     fn default() -> Self {
         TransientSettings {
             dt: None,
+            steps_per_period: None,
             periods: None,
             duration: None,
             scheme: Scheme::average_acceleration(),
             steady_state: true,
             tolerance: 1e-4,
             max_periods: 400,
-            harmonics: 9,
+            harmonics: None,
             record_periods: 3,
             full_history: false,
         }
@@ -72,9 +77,16 @@ pub struct TransientResult {
     pub steps_per_period: usize,
     pub periods_run: usize,
     pub steps_run: usize,
-    /// Whether the steady-state criterion was met, and the last relative change.
+    /// Harmonics of 1/period in the spectra: as asked, or as many as Δt resolves.
+    pub harmonics: usize,
+    /// Whether the steady-state criterion was met, and the last relative change between
+    /// neighbouring periods.
     pub converged: bool,
     pub final_change: f64,
+    /// The start-up transient left in the last period: the largest relative distance of its
+    /// mean powers and RMS forces from the exact periodic state of the same discrete system
+    /// (NaN for a non-periodic drive).
+    pub settling_estimate: f64,
     /// Times of the recorded window (s).
     pub t: Vec<f64>,
     pub links: Vec<LinkSeries>,
@@ -149,7 +161,7 @@ fn start_at_rest(nm: &mut FusedNewmark, sys: &System, f_p0: &[f64]) -> Result<()
 
 /// Runs the transient.
 pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<TransientResult> {
-    let timing = DriveTiming::stepped(model, s.dt, s.duration, s.harmonics)?;
+    let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
     stability::check_step(sys, s.scheme, &timing)?;
     let layout = Readout::new(model, sys)?;
     let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
@@ -161,7 +173,12 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let mut ledger = EnergyLedger::new(sys, &nm);
     nm.set_observations(layout.rows());
     let mut stepper = Stepper::new(&nm, sys, &layout, &f_p0, &timing);
-    let mut settle = SettleCheck::new(s.tolerance);
+    let reference = if timing.periodic && s.steady_state && !model.actuators.is_empty() {
+        Some(reference::periodic_metrics(model, sys, &s.scheme, &timing)?)
+    } else {
+        None
+    };
+    let mut settle = SettleCheck::new(s.tolerance, reference);
     let (mut converged, mut periods_run) = (false, 0);
     for p in 0..plan.total {
         stacks.advance(p, &timing);
@@ -190,6 +207,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         steps_run: periods_run * timing.steps_per_period,
         converged,
         final_change: settle.change(),
+        settling_estimate: settle.remaining(),
         energy_run: ledger.run,
         energy_last_period: ledger.last_period,
         beam_dissipation: ledger.last_period.beam.dissipated / timing.period,
@@ -197,7 +215,9 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         ..Default::default()
     };
     let all = window.joined(&layout);
-    add_links(&mut result, sys, &all, s.harmonics);
+    let harmonics = timing.analysed_harmonics(s.harmonics);
+    result.harmonics = harmonics;
+    add_links(&mut result, sys, &all, harmonics);
     result.net_power = net_power(&sys.links, &result.mean_power, model.actuators.len());
     result.t = all.t.clone();
     (result.bodies, result.drives, result.sensors) = all.into_series(model, &layout, &stacks.stacks);

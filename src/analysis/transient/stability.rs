@@ -41,7 +41,7 @@ pub(super) fn check_step(sys: &System, scheme: Scheme, timing: &DriveTiming) -> 
     }
     let advice = if timing.periodic {
         let steps = (timing.period / limit).floor() as usize + 1;
-        format!("give `dt` = {:.6e} s ({steps} steps per period) or less", timing.period / steps as f64)
+        format!("give `steps_per_period` = {steps} (Δt = {:.9e} s) or more", timing.period / steps as f64)
     } else {
         format!("give `dt` below {limit:.6e} s")
     };

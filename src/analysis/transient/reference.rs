@@ -1,0 +1,127 @@
+//! The exact periodic state of the discrete system a transient steps.
+//!
+//! The stack force depends on the voltage alone (spec §9), so the stepped system is linear
+//! with a periodic load, and the Newmark-family recurrence has one periodic solution. At
+//! z = e^{iω_kΔt} the recurrence's updates give V = σ(z)·U and A = α(z)·U with
+//!
+//! g = (1−γ) + γz, b = (½−β) + βz, σ = g(z−1)/(Δt·(g + b(z−1))), α = (z−1)²/(Δt²·(g + b(z−1))),
+//!
+//! and the generalised-α balance weights M by (1−α_m)z + α_m and C, K and the load by
+//! (1−α_f)z + α_f, so each harmonic k of the sampled load solves
+//! (K + c_m·M + σ·C)·U_k = F̂_k with c_m = α·((1−α_m)z + α_m)/((1−α_f)z + α_f). For average
+//! acceleration σ = i·(2/Δt)·tan(ω_kΔt/2): the continuous dynamic stiffness at the warped
+//! frequency. The run's periods converge to this state; their distance from it is the
+//! start-up transient that remains, which no comparison of neighbouring periods can see
+//! while a lightly damped mode beats against the drive.
+
+use super::record::PeriodRecord;
+use super::settle::period_metrics;
+use crate::analysis::drive::{stack_cycle, DriveTiming};
+use crate::analysis::steady_state::NEGLIGIBLE_HARMONIC;
+use crate::assembly::{Model, System};
+use crate::error::Result;
+use crate::power::spectra::harmonics;
+use crate::solve::dynamic_stiffness::DynamicStiffness;
+use crate::solve::newmark::Scheme;
+use num_complex::Complex64;
+use std::f64::consts::PI;
+
+/// The coefficients (c_m, σ, α) of harmonic k of N at step `dt`; None where the scheme's
+/// response to that harmonic vanishes (average acceleration at the Nyquist frequency).
+fn coefficients(scheme: &Scheme, dt: f64, k: usize, n: usize) -> Option<(Complex64, Complex64, Complex64)> {
+    let z = Complex64::from_polar(1.0, 2.0 * PI * k as f64 / n as f64);
+    let one = Complex64::new(1.0, 0.0);
+    let g = (1.0 - scheme.gamma) * one + scheme.gamma * z;
+    let b = (0.5 - scheme.beta) * one + scheme.beta * z;
+    let den = g + b * (z - 1.0);
+    if den.norm() <= 1e-12 * (g.norm() + b.norm()) {
+        return None;
+    }
+    let sigma = g * (z - 1.0) / (dt * den);
+    let alpha = (z - 1.0) * (z - 1.0) / (dt * dt * den);
+    let c_m = alpha * ((1.0 - scheme.alpha_m) * z + scheme.alpha_m) / ((1.0 - scheme.alpha_f) * z + scheme.alpha_f);
+    let finite = |c: Complex64| c.re.is_finite() && c.im.is_finite();
+    (finite(c_m) && finite(sigma) && finite(alpha)).then_some((c_m, sigma, alpha))
+}
+
+/// Samples x_n = Re Σ_k X̂_k·e^{i2πkn/N}, n = 0..N−1, of single-sided amplitudes X̂_k.
+fn samples(x: &[Complex64], n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|j| {
+            x.iter()
+                .enumerate()
+                .map(|(k, c)| (c * Complex64::from_polar(1.0, 2.0 * PI * (k * j % n) as f64 / n as f64)).re)
+                .sum()
+        })
+        .collect()
+}
+
+/// The per-period metrics (mean interface power and RMS transmitted force per link, as
+/// [`period_metrics`] takes them from a run) of the periodic state of `sys` stepped by
+/// `scheme` at `timing`.
+pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, timing: &DriveTiming) -> Result<Vec<f64>> {
+    let n = timing.steps_per_period;
+    let mut rec = PeriodRecord::default();
+    let mut loads = Vec::with_capacity(model.actuators.len());
+    for a in &model.actuators {
+        let cycle = stack_cycle(a.stack(), timing.period, n)?;
+        loads.push(harmonics(&cycle.f_p));
+        rec.fp.push(cycle.f_p);
+    }
+    let kmax = n / 2;
+    let size = |k: usize| loads.iter().map(|f| f[k].norm()).fold(0.0f64, f64::max);
+    let largest = (0..=kmax).map(size).fold(0.0f64, f64::max);
+    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
+    let nl = sys.links.len();
+    let zero = vec![Complex64::default(); kmax + 1];
+    let (mut u, mut ud, mut fv, mut fa) =
+        (vec![zero.clone(); nl], vec![zero.clone(); nl], vec![zero.clone(); nl], vec![zero; nl]);
+    for k in 0..=kmax {
+        let Some((c_m, sigma, alpha)) = coefficients(scheme, timing.dt, k, n) else { continue };
+        if size(k) <= NEGLIGIBLE_HARMONIC * largest {
+            continue;
+        }
+        let mut q = vec![Complex64::default(); sys.n()];
+        for (b, f) in sys.drives.iter().zip(&loads) {
+            for &(d, c) in b {
+                q[d] += f[k] * c;
+            }
+        }
+        dk.factorize_general(c_m, sigma)?;
+        dk.solve_in_place(&mut q);
+        for (l, lk) in sys.links.iter().enumerate() {
+            let stretch: Complex64 = lk.stretch.iter().map(|&(d, c)| q[d] * c).sum();
+            let foot: Complex64 = lk.foot.iter().map(|&(d, c)| q[d] * c).sum();
+            (u[l][k], ud[l][k], fv[l][k], fa[l][k]) = (stretch, sigma * stretch, sigma * foot, alpha * foot);
+        }
+    }
+    for l in 0..nl {
+        rec.u.push(samples(&u[l], n));
+        rec.ud.push(samples(&ud[l], n));
+        rec.fv.push(samples(&fv[l], n));
+        rec.fa.push(samples(&fa[l], n));
+    }
+    Ok(period_metrics(&sys.links, &rec))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn average_acceleration_is_the_continuous_system_at_the_warped_frequency() {
+        let (dt, n) = (1e-4, 200);
+        for k in [1, 3, 37, 99] {
+            let (c_m, sigma, alpha) = coefficients(&Scheme::average_acceleration(), dt, k, n).unwrap();
+            let w = 2.0 * PI * k as f64 / (n as f64 * dt);
+            let warped = 2.0 / dt * (w * dt / 2.0).tan();
+            assert!((sigma - Complex64::new(0.0, warped)).norm() < 1e-9 * warped, "{sigma} vs i·{warped}");
+            assert!((c_m + warped * warped).norm() < 1e-9 * warped * warped);
+            assert!((alpha - sigma * sigma).norm() < 1e-9 * warped * warped);
+        }
+        assert!(coefficients(&Scheme::average_acceleration(), dt, 100, 200).is_none(), "no response at Nyquist");
+        // The static load (k = 0) sees K alone.
+        let (c_m, sigma, _) = coefficients(&Scheme::hht(0.1), dt, 0, n).unwrap();
+        assert!(c_m.norm() == 0.0 && sigma.norm() == 0.0);
+    }
+}
