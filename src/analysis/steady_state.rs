@@ -33,6 +33,11 @@ pub struct SteadyStateResult {
     /// Drive period (s) and the number of harmonics solved (besides the mean).
     pub period: f64,
     pub harmonics: usize,
+    /// What the harmonics above `harmonics` would add: the largest over the interface
+    /// points of Σ_{k>harmonics} |P_k|, relative to the largest point power, up to the
+    /// samples' Nyquist harmonic, plus the last quarter of that range again for what lies
+    /// beyond it (NaN where not estimated: a sweep's headline run).
+    pub truncation_estimate: f64,
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
@@ -83,6 +88,66 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
     run_with(model, &mut HarmonicSolver::new(sys), n_harm, samples, Detail::Full)
 }
 
+/// How many harmonics a steady state keeps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HarmonicCount {
+    /// Exactly this many (the truncation is still estimated and reported).
+    Fixed(usize),
+    /// The fewest whose neglected rest changes no point power by more than this fraction
+    /// of the largest point power.
+    Tolerance(f64),
+}
+
+/// The steady state with its harmonic count chosen (or checked) against every harmonic
+/// `samples` resolve: they are all solved once, the point powers per harmonic decide the
+/// count, and the run keeps that many and reports what the rest carry.
+pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: usize) -> Result<SteadyStateResult> {
+    let all = (samples.max(4) - 2) / 2;
+    let full = run(model, sys, all, samples)?;
+    let tails = tail_powers(&full);
+    let estimate = |k: usize| tails[k] + tails[all - all / 4];
+    let n_harm = match count {
+        HarmonicCount::Fixed(n) => n.min(all),
+        HarmonicCount::Tolerance(tol) => {
+            let k = (1..=all).find(|&k| estimate(k) <= tol).ok_or_else(|| {
+                Error::input(
+                    "<case>",
+                    "analysis.samples_per_period",
+                    format!(
+                        "{samples} samples per period resolve {all} harmonics, and what lies beyond them \
+                         ({:.1e} of the largest point power) exceeds the tolerance {tol:e}: raise \
+                         `samples_per_period`",
+                        estimate(all)
+                    ),
+                )
+            })?;
+            k
+        }
+    };
+    let mut r = if n_harm == all { full } else { run(model, sys, n_harm, samples)? };
+    r.truncation_estimate = estimate(n_harm);
+    Ok(r)
+}
+
+/// tails[k] = max over points of Σ_{j>k} |P_j| relative to the largest point power, for
+/// k = 0..=harmonics of `r` (0 past the last).
+fn tail_powers(r: &SteadyStateResult) -> Vec<f64> {
+    let n = r.harmonics;
+    let scale = r.mean_power.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    let mut tails = vec![0.0f64; n + 1];
+    for sp in &r.spectra {
+        let mut sum = 0.0;
+        for k in (0..n).rev() {
+            sum += sp.power[k + 1].abs();
+            tails[k] = tails[k].max(sum);
+        }
+    }
+    if scale > 0.0 {
+        tails.iter_mut().for_each(|t| *t /= scale);
+    }
+    tails
+}
+
 /// [`run`] against a solver kept between cases (the cases of a sweep that differ only in
 /// their drives share the assembled system, so they share its solver and allocate nothing
 /// for the harmonic solves), computing what `detail` asks for. `model` must be the model
@@ -111,6 +176,7 @@ pub fn run_with(
     let mut res = SteadyStateResult {
         period,
         harmonics: n_harm,
+        truncation_estimate: f64::NAN,
         hysteresis_periods,
         frequency: (0..=n_harm).map(|k| k as f64 / period).collect(),
         spectra: link_spectra(sys, &solver.q, &f_p, &timing),

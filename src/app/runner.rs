@@ -5,7 +5,7 @@ use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
 use crate::analysis::modes;
 use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
-use crate::analysis::steady_state;
+use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
@@ -147,12 +147,18 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 };
                 AnalysisResult::Transient(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
             }
-            AnalysisSpec::SteadyState { harmonics, samples_per_period, reduction } => {
-                let (h, n) = (*harmonics, *samples_per_period);
+            AnalysisSpec::SteadyState { harmonics, harmonic_tolerance, samples_per_period, reduction } => {
+                let n = *samples_per_period;
+                // A reduced model's cut-off follows the harmonic count, so it needs one first.
+                let h = harmonics.unwrap_or(REDUCED_HARMONICS);
+                let count = match harmonics {
+                    Some(h) => HarmonicCount::Fixed(*h),
+                    None => HarmonicCount::Tolerance(*harmonic_tolerance),
+                };
                 let r = match reduction {
                     None => (|| {
                         let fd = reference()?;
-                        let mut s = steady_state::run(&model, fd, h, n)?;
+                        let mut s = steady_state::run_counted(&model, fd, count, n)?;
                         s.expand(fd);
                         let bare = modes::bare_modes_on(&model, &system, MODAL_TABLE_MODES)?;
                         let damping = ModalDamping::of(&model.rayleigh, modal_ratios.as_deref());
@@ -162,7 +168,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                     Some(rs) => (|| {
                         let rs = reduction_settings(rs, modal_ratios.as_deref());
                         let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
-                        let mut r = steady_state::run(&model, &red, h, n)?;
+                        let mut r = steady_state::run_counted(&model, &red, HarmonicCount::Fixed(h), n)?;
                         if rs.error_estimate {
                             let full = steady_state::run(&model, reference()?, h, n)?;
                             report.error = Some(reduction::compare(&full, &r));
@@ -178,6 +184,9 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     }
     Ok(CaseRun { model, system, results })
 }
+
+/// Harmonics of a modal-reduced steady state that does not name its count.
+const REDUCED_HARMONICS: usize = 9;
 
 /// Samples per period of the frequency-domain runs behind a reduction's error estimate.
 const ESTIMATE_SAMPLES: usize = 1024;

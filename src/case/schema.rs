@@ -512,8 +512,13 @@ pub enum AnalysisSpec {
     },
     /// Periodic steady state solved in the frequency domain.
     SteadyState {
-        #[serde(default = "d_harmonics")]
-        harmonics: usize,
+        /// Harmonics kept; default: the fewest whose neglected rest changes no point power
+        /// by more than `harmonic_tolerance` (9 on a modal-reduced model).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        harmonics: Option<usize>,
+        /// Relative truncation tolerance of the automatic harmonic count.
+        #[serde(default = "d_harmonic_tolerance")]
+        harmonic_tolerance: f64,
         #[serde(default = "d_samples")]
         samples_per_period: usize,
         /// Run on a modal-reduced model (see [`ReductionSpec`]); default: the full model.
@@ -646,8 +651,8 @@ fn d_tol() -> f64 {
 fn d_max_periods() -> usize {
     400
 }
-fn d_harmonics() -> usize {
-    9
+fn d_harmonic_tolerance() -> f64 {
+    1e-6
 }
 fn d_samples() -> usize {
     1024
@@ -893,10 +898,12 @@ impl Case {
                         ));
                     }
                 }
-                AnalysisSpec::SteadyState { harmonics, samples_per_period, reduction } => {
+                AnalysisSpec::SteadyState { harmonics, harmonic_tolerance, samples_per_period, reduction } => {
                     if let Some(r) = reduction {
                         r.validate(file, &format!("{f}.reduction"), self.base)?;
                     }
+                    positive(file, &format!("{f}.harmonic_tolerance"), *harmonic_tolerance)?;
+                    let harmonics = &harmonics.unwrap_or(1);
                     if *harmonics == 0 {
                         return Err(Error::input(file, format!("{f}.harmonics"), "must be at least 1"));
                     }

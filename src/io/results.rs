@@ -284,6 +284,9 @@ fn write_reduction<S: GroupSink>(g: &S, r: Option<&ReductionReport>) -> Result<(
 
 fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Result<()> {
     g.attr_f64("period_s", r.period)?;
+    if r.truncation_estimate.is_finite() {
+        g.attr_f64("truncation_estimate", r.truncation_estimate)?;
+    }
     g.attr_i64("harmonics", r.harmonics as i64)?;
     g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
     g.attr_f64("balance_error", r.balance_error)?;

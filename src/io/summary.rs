@@ -36,7 +36,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 }
                 let amp: Map<String, Value> = s.spectra.iter().enumerate().map(|(l, sp)| (link_name(l), json!(sp.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
                 let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "modal_dissipation_w": m.dissipation}));
-                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "mean_power_w": points, "net_power_w": s.net_power, "modal": modal,
+                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "truncation_estimate": finite_or_null(s.truncation_estimate), "mean_power_w": points, "net_power_w": s.net_power, "modal": modal,
                        "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error});
                 add_reduction(&mut v, s.reduction.as_ref());
                 v
@@ -72,6 +72,12 @@ pub fn headline_text(v: &Value) -> String {
                 s += &format!("{t}:\n");
                 if t == "transient" {
                     s += &transient_status(a);
+                } else {
+                    s += &format!("  {} harmonics", a["harmonics"]);
+                    match a["truncation_estimate"].as_f64() {
+                        Some(e) => s += &format!("; the harmonics left out carry {e:.1e} of the largest point power\n"),
+                        None => s += "\n",
+                    }
                 }
                 if let Some(m) = a["mean_power_w"].as_object() {
                     for (k, p) in m {

@@ -305,7 +305,7 @@ impl Sweep {
             .iter()
             .find_map(|a| match a {
                 AnalysisSpec::SteadyState { harmonics, samples_per_period, .. } => {
-                    Some((*harmonics, Some(*samples_per_period)))
+                    Some((harmonics.unwrap_or(9), Some(*samples_per_period)))
                 }
                 AnalysisSpec::Transient { harmonics, .. } => Some((harmonics.unwrap_or(9), None)),
                 _ => None,
