@@ -62,6 +62,7 @@ pub fn check(case: &Path) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     let built = crate::case::build_model(&lc)?;
     let sys = crate::assembly::System::assemble(&built.model)?;
+    crate::app::runner::preflight(&lc, &built, &sys)?;
     let elements = built.model.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
     crate::say!(
         "{}: ok — {} elements, {} DOFs, {} actuator(s), {} analysis(es)",

@@ -8,6 +8,7 @@ use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSetting
 use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{Model, System};
+use crate::case::build::BuiltModel;
 use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::power::modal::ModalDamping;
@@ -59,20 +60,88 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
     }
 }
 
-/// Builds the model and runs the case's analyses in order.
+/// Everything about a case's analyses that can be refused without solving them: beams they
+/// need, points on nodes, time steps (as given, resolving the drive, stable for the
+/// scheme), periodic drives where the analysis needs one, damping the analysis can apply.
+/// `beamflow check` runs it, and [`run_case`] before its first analysis, so both refuse the
+/// same cases with the same messages.
+pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result<()> {
+    let model = &built.model;
+    for (i, spec) in lc.case.analysis.iter().enumerate() {
+        let field = format!("analysis[{i}]");
+        let need_beam = || {
+            model
+                .beam
+                .as_ref()
+                .map(|_| ())
+                .ok_or_else(|| Error::input(&lc.file, &field, "this analysis needs a beam, but base = \"rigid\""))
+        };
+        let check = || -> Result<()> {
+            match spec {
+                AnalysisSpec::Modes { .. } => need_beam(),
+                AnalysisSpec::Harmonic { force, .. } => {
+                    need_beam()?;
+                    let mesh = &model.beam.as_ref().expect("checked").mesh;
+                    for (j, f) in force.iter().enumerate() {
+                        if mesh.node_at(f.x).is_none() {
+                            return Err(Error::input(
+                                &lc.file,
+                                format!("{field}.force[{j}].x"),
+                                format!("x = {} m is not on a mesh node", f.x),
+                            ));
+                        }
+                    }
+                    Ok(())
+                }
+                AnalysisSpec::Transient { reduction, .. } => {
+                    let s = transient_settings(spec, false).expect("transient");
+                    let timing =
+                        DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
+                    match reduction {
+                        // Modal damping is a matrix only in modal coordinates.
+                        None => {
+                            built.require_viscous_damping(&lc.file, "transient analysis without `reduction`")?;
+                            transient::check_time_step(system, s.scheme, &timing)
+                        }
+                        Some(r) if r.modes_up_to_hz.is_none() && !timing.periodic => {
+                            reduction::highest_harmonic_hz(model, 1).map(|_| ())
+                        }
+                        Some(_) => Ok(()),
+                    }
+                }
+                AnalysisSpec::SteadyState { samples_per_period, reduction, .. } => {
+                    DriveTiming::sampled(model, *samples_per_period)?;
+                    let beam_dofs = system.dofs.beam_dofs().len();
+                    if built.modal_ratios.is_some()
+                        && reduction.is_none()
+                        && beam_dofs > reduction::COMPLETE_BASIS_LIMIT
+                    {
+                        return Err(Error::input(
+                            "<case>",
+                            "analysis.reduction",
+                            format!(
+                                "modal damping without a reduction needs all {beam_dofs} modes of the beam (dense, \
+                                 above the {} this computes); give `reduction = \"auto\"` or a cut-off",
+                                reduction::COMPLETE_BASIS_LIMIT
+                            ),
+                        ));
+                    }
+                    Ok(())
+                }
+            }
+        };
+        check().map_err(|e| relabel(e, &lc.file, &field))?;
+    }
+    Ok(())
+}
+
+/// Builds the model and runs the case's analyses in order, after [`preflight`].
 pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     let built = build_model(lc)?;
-    // Before anything runs: modal damping is a matrix only in modal coordinates, so a
-    // time-domain run needs the modal reduction (the frequency domain uses the complete
-    // modal basis by itself).
-    for spec in &lc.case.analysis {
-        if let AnalysisSpec::Transient { reduction: None, .. } = spec {
-            built.require_viscous_damping(&lc.file, "transient analysis without `reduction`")?;
-        }
-    }
+    let system = System::assemble(&built.model)?;
+    preflight(lc, &built, &system)?;
     let modal_ratios = built.modal_ratios.clone();
     let model = built.model;
-    let system = System::assemble(&model)?;
     let mut reduced = ReducedCache::default();
     // Built at most once per case run (an eigen-analysis and a dense basis).
     let complete: OnceCell<System> = OnceCell::new();

@@ -190,16 +190,7 @@ pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {
             BaseKind::Beam => FootBase::Beam { x: a.x_e },
             BaseKind::Rigid => FootBase::Ground,
         };
-        let name = a.name.clone().unwrap_or_else(|| {
-            format!(
-                "{}{}",
-                match a.kind {
-                    ActuatorType::Inertial => "inertial",
-                    ActuatorType::Frame => "frame",
-                },
-                if case.actuator.len() > 1 { format!("_{i}") } else { String::new() }
-            )
-        });
+        let name = a.effective_name(i, case.actuator.len());
         actuators.push(match a.kind {
             ActuatorType::Inertial => Actuator::Inertial(Inertial { name, stack, m_t: a.m_t(), foot }),
             ActuatorType::Frame => {

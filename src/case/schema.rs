@@ -709,7 +709,53 @@ fn on_beam(file: &str, field: &str, x: f64, length: f64) -> Result<()> {
     }
 }
 
+/// Longest actuator or sensor name: names become parts of file and HDF5 group names.
+pub const NAME_MAX: usize = 64;
+
+/// Checks a name that reaches file and group names: 1 to [`NAME_MAX`] characters from
+/// letters, digits, `_` and `-`, so it can neither leave the output folder (`/`, `..`) nor
+/// hide a file (a leading `.`) nor break a path (NUL, control characters).
+fn valid_name(file: &str, field: &str, name: &str) -> Result<()> {
+    let ok = !name.is_empty()
+        && name.chars().count() <= NAME_MAX
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::input(
+            file,
+            field,
+            format!("{name:?} is not a valid name: use 1 to {NAME_MAX} letters, digits, `_` or `-`"),
+        ))
+    }
+}
+
 impl Case {
+    /// Names of actuators (as given) and sensors: valid and unique among their kind, so no
+    /// two results, groups or figure files share a name.
+    fn validate_names(&self, file: &str) -> Result<()> {
+        let mut seen = std::collections::HashMap::new();
+        for (i, a) in self.actuator.iter().enumerate() {
+            let field = format!("actuator[{i}].name");
+            if let Some(name) = &a.name {
+                valid_name(file, &field, name)?;
+            }
+            let name = a.effective_name(i, self.actuator.len());
+            if let Some(first) = seen.insert(name.clone(), field.clone()) {
+                return Err(Error::input(file, field, format!("{name:?} is already the name of {first}")));
+            }
+        }
+        let mut seen = std::collections::HashMap::new();
+        for (i, s) in self.sensor.iter().enumerate() {
+            let field = format!("sensor[{i}].name");
+            valid_name(file, &field, &s.name)?;
+            if let Some(first) = seen.insert(s.name.clone(), field.clone()) {
+                return Err(Error::input(file, field, format!("{:?} is already the name of {first}", s.name)));
+            }
+        }
+        Ok(())
+    }
+
     /// Checks every field; the first problem is returned, naming file and field.
     pub fn validate(&self, file: &str) -> Result<()> {
         let b = &self.beam;
@@ -796,6 +842,7 @@ impl Case {
         for (i, s) in self.sensor.iter().enumerate() {
             on_beam(file, &format!("sensor[{i}].x"), s.x, b.length)?;
         }
+        self.validate_names(file)?;
         for (i, an) in self.analysis.iter().enumerate() {
             let f = format!("analysis[{i}]");
             match an {
@@ -925,6 +972,21 @@ impl Case {
 }
 
 impl ActuatorSpec {
+    /// Its name: as given, or its type (with its index when the case has several).
+    pub fn effective_name(&self, index: usize, count: usize) -> String {
+        self.name.clone().unwrap_or_else(|| {
+            let kind = match self.kind {
+                ActuatorType::Inertial => "inertial",
+                ActuatorType::Frame => "frame",
+            };
+            if count > 1 {
+                format!("{kind}_{index}")
+            } else {
+                kind.to_string()
+            }
+        })
+    }
+
     fn validate(&self, file: &str, f: &str, base: BaseKind, length: f64) -> Result<()> {
         let frame_only = [
             ("m_b", self.m_b),

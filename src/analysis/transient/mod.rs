@@ -159,6 +159,11 @@ fn start_at_rest(nm: &mut FusedNewmark, sys: &System, f_p0: &[f64]) -> Result<()
     Ok(())
 }
 
+/// Refuses a time step the scheme cannot run stably on `sys` (see [`stability`]).
+pub fn check_time_step(sys: &System, scheme: Scheme, timing: &DriveTiming) -> Result<()> {
+    stability::check_step(sys, scheme, timing)
+}
+
 /// Runs the transient.
 pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<TransientResult> {
     let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;

@@ -1,0 +1,68 @@
+//! `beamflow check` refuses what `run` refuses, with the same message, and `run` refuses it
+//! before any solve: nothing is written.
+
+use beamflow::app::commands;
+use std::path::Path;
+
+const SINE: &str = "[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
+const CHIRP: &str =
+    "[actuator.voltage]\nkind = \"chirp\"\namplitude = 10.0\nf_start = 5.0\nf_end = 50.0\nduration = 1.0\nsweep = \"linear\"\n";
+
+fn inertial(voltage: &str) -> String {
+    format!("[[actuator]]\ntype = \"inertial\"\n{voltage}")
+}
+
+/// (case text, field the message must name, words it must hold)
+fn table() -> Vec<(String, &'static str, &'static str)> {
+    let beam = "[beam.mesh]\nelements = 40\n";
+    vec![
+        (format!("{beam}{}[[analysis]]\ntype = \"transient\"\ndt = 1e-3\n", inertial(SINE)), "analysis[0].dt", "whole steps"),
+        (format!("{beam}{}[[analysis]]\ntype = \"transient\"\nsteps_per_period = 10\n", inertial(SINE)), "analysis[0].dt", "too coarse"),
+        (format!("{beam}{}[[analysis]]\ntype = \"transient\"\nscheme = \"linear_acceleration\"\n", inertial(SINE)), "analysis[0].dt", "stability limit"),
+        (format!("{beam}{}[[analysis]]\ntype = \"steady_state\"\n", inertial(CHIRP)), "analysis[0].type", "non-periodic"),
+        (
+            format!("{beam}[damping]\nkind = \"modal\"\nratios = [0.01]\n{}[[analysis]]\ntype = \"transient\"\n", inertial(SINE)),
+            "damping",
+            "transient analysis without `reduction`",
+        ),
+        (
+            format!("{beam}{}[[analysis]]\ntype = \"transient\"\nduration = 0.5\nreduction = \"auto\"\n", inertial(CHIRP)),
+            "analysis[0].reduction",
+            "periodic drive",
+        ),
+        (
+            format!("{beam}[[actuator]]\ntype = \"inertial\"\nname = \"a\"\n{SINE}[[actuator]]\ntype = \"frame\"\nname = \"a\"\n{SINE}[[analysis]]\ntype = \"steady_state\"\n"),
+            "actuator[1].name",
+            "already the name",
+        ),
+        (format!("{beam}[[actuator]]\ntype = \"inertial\"\nname = \"x/../../up\"\n{SINE}"), "actuator[0].name", "not a valid name"),
+        (format!("base = \"rigid\"\n{}[[analysis]]\ntype = \"modes\"\n", inertial(SINE)), "analysis[0]", "needs a beam"),
+        (format!("{beam}[[sensor]]\nname = \"s\"\nx = 0.1\n[[sensor]]\nname = \"s\"\nx = 0.2\n"), "sensor[1].name", "already the name"),
+    ]
+}
+
+fn visible_files(dir: &Path) -> usize {
+    std::fs::read_dir(dir)
+        .map_or(0, |rd| rd.flatten().filter(|e| !e.file_name().to_string_lossy().starts_with('.')).count())
+}
+
+#[test]
+fn check_refuses_what_run_refuses_before_any_solve() {
+    let dir = tempfile::tempdir().unwrap();
+    for (i, (text, field, words)) in table().into_iter().enumerate() {
+        let case = dir.path().join(format!("c{i}.toml"));
+        std::fs::write(&case, &text).unwrap();
+        let checked = match commands::check(&case) {
+            Err(e) => e.to_string(),
+            Ok(()) => panic!("case {i}: check accepted\n{text}"),
+        };
+        let out = dir.path().join(format!("out{i}"));
+        let ran = commands::run(&case, Some(&out), None, false).unwrap_err().to_string();
+        assert_eq!(checked, ran, "case {i}: check and run differ");
+        assert!(
+            checked.contains(&format!("c{i}.toml")) && checked.contains(field) && checked.contains(words),
+            "case {i}: {checked}"
+        );
+        assert_eq!(visible_files(&out), 0, "case {i}: run wrote files before refusing");
+    }
+}
