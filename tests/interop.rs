@@ -126,3 +126,54 @@ fn completions_are_printed_for_each_shell() {
         assert!(text.contains("beamflow") && text.contains("sweep"), "{shell}");
     }
 }
+
+/// The keys of every analysis of a summary, sorted.
+fn analysis_keys(v: &serde_json::Value) -> Vec<Vec<String>> {
+    v["analyses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| {
+            let mut k: Vec<String> = a.as_object().unwrap().keys().cloned().collect();
+            k.sort();
+            k
+        })
+        .collect()
+}
+
+#[test]
+fn a_rigid_base_reports_forces_and_no_beam_fields_in_the_same_shape() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases");
+    let out = dir.path().join("out");
+    let run = |case: &str| {
+        let o = beamflow(&[
+            "run",
+            cases.join(case).to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--no-plots",
+            "--json",
+            "-",
+        ]);
+        assert!(o.status.success());
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (v, String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    let (rigid, console) = run("rigid-base-48V-30Hz.toml");
+    let (beam, _) = run("beam-frame-12V-60Hz.toml");
+    assert_eq!((rigid["base"].as_str(), beam["base"].as_str()), (Some("rigid"), Some("beam")));
+    let t = &rigid["analyses"][0];
+    for key in ["mean_power_w", "net_power_w", "beam_dissipation_w"] {
+        assert!(t[key].is_null(), "{key}: {}", t[key]);
+    }
+    assert!(t["energy_balance_rel_error"]["beam_run"].is_null());
+    assert!(t["energy_balance_rel_error"]["system_run"].as_f64().unwrap() < 1e-9);
+    // The same keys as a transient on the beam.
+    assert_eq!(analysis_keys(&rigid)[0], analysis_keys(&beam)[1]);
+    // The console shows the forces and the stack-force ratio, the point of the case.
+    let f = &t["transmitted_force_amplitude_at_drive_n"];
+    let ratio = f["frame_stack"].as_f64().unwrap() / f["inertial_stack"].as_f64().unwrap();
+    assert!(console.contains(&format!("frame_stack / inertial_stack force ratio {ratio:.1}")), "{console}");
+    assert!(!console.contains("mean power into the base"), "{console}");
+}

@@ -228,13 +228,19 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
         g.attr_f64("settling_estimate", r.settling_estimate)?;
     }
     g.attr_i64("harmonics", r.harmonics as i64)?;
-    g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
+    // On a rigid base nothing moves the base: no power into it, no beam to dissipate.
+    let beam = run.model.beam.is_some();
+    if beam {
+        g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
+    }
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;
-    write_powers(g, &r.mean_power, &r.net_power, run)?;
-    write_energy(g, "energy_run/beam", &r.energy_run.beam)?;
+    if beam {
+        write_powers(g, &r.mean_power, &r.net_power, run)?;
+        write_energy(g, "energy_run/beam", &r.energy_run.beam)?;
+        write_energy(g, "energy_last_period/beam", &r.energy_last_period.beam)?;
+    }
     write_energy(g, "energy_run/system", &r.energy_run.system)?;
-    write_energy(g, "energy_last_period/beam", &r.energy_last_period.beam)?;
     write_energy(g, "energy_last_period/system", &r.energy_last_period.system)?;
     write_reduction(g, r.reduction.as_ref())
 }

@@ -43,7 +43,34 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
             }
         });
     }
-    json!({"case": lc.file, "title": lc.case.title, "actuators": run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>(), "analyses": analyses})
+    if run.model.beam.is_none() {
+        analyses.iter_mut().for_each(without_beam);
+    }
+    json!({"case": lc.file, "title": lc.case.title, "base": if run.model.beam.is_some() { "beam" } else { "rigid" },
+           "actuators": run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>(), "analyses": analyses})
+}
+
+/// On a rigid base nothing moves the base, so powers into it and the beam's dissipation
+/// and balance are not defined: they stay in the summary (one shape for every case) as
+/// null, and the transmitted forces carry the result.
+fn without_beam(a: &mut Value) {
+    for key in ["mean_power_w", "net_power_w", "beam_dissipation_w", "truncation_estimate"] {
+        if a.get(key).is_some() {
+            a[key] = Value::Null;
+        }
+    }
+    match a.get_mut("energy_balance_rel_error") {
+        Some(Value::Object(m)) => {
+            for key in ["beam_run", "beam_last_period"] {
+                m.insert(key.into(), Value::Null);
+            }
+        }
+        Some(v) => *v = Value::Null,
+        None => {}
+    }
+    if let Some(m) = a.get_mut("modal") {
+        *m = Value::Null;
+    }
 }
 
 /// A number, or JSON null where it is not defined (NaN).
@@ -78,6 +105,11 @@ pub fn headline_text(v: &Value) -> String {
                         Some(e) => s += &format!("; the harmonics left out carry {e:.1e} of the largest point power\n"),
                         None => s += "\n",
                     }
+                }
+                if let Some(f) =
+                    a["transmitted_force_amplitude_at_drive_n"].as_object().filter(|_| v["base"] == "rigid")
+                {
+                    s += &rigid_forces(f);
                 }
                 if let Some(m) = a["mean_power_w"].as_object() {
                     for (k, p) in m {
@@ -142,6 +174,24 @@ fn transient_status(a: &Value) -> String {
         )
         }
         _ => s += &format!("  ran {periods} period(s)\n"),
+    }
+    s
+}
+
+/// On a rigid base: each link's transmitted force amplitude at the drive frequency and,
+/// for every pair of actuators, the ratio of their stack forces (the point of such a case).
+fn rigid_forces(f: &Map<String, Value>) -> String {
+    let mut s = String::from("  transmitted force amplitude at the drive frequency:\n");
+    for (k, v) in f {
+        s += &format!("    {k:<36} {:>12.4e} N\n", v.as_f64().unwrap_or(f64::NAN));
+    }
+    let stacks: Vec<(&String, f64)> =
+        f.iter().filter(|(k, _)| k.ends_with("_stack")).map(|(k, v)| (k, v.as_f64().unwrap_or(f64::NAN))).collect();
+    for (i, (a, fa)) in stacks.iter().enumerate() {
+        for (b, fb) in &stacks[i + 1..] {
+            let (hi, lo, r) = if fa >= fb { (a, b, fa / fb) } else { (b, a, fb / fa) };
+            s += &format!("  {hi} / {lo} force ratio {r:.1}\n");
+        }
     }
     s
 }
