@@ -53,7 +53,13 @@ fn frequency_error_converges_at_fourth_order_under_mesh_halving() {
 #[test]
 fn modes_are_mass_normalised_and_diagonalise_stiffness() {
     let beam = beam_case(60, "");
-    let model = Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let model = Model {
+        beam: Some(beam.clone()),
+        rayleigh: Default::default(),
+        actuators: vec![],
+        sensors: vec![],
+        loss_factor: 0.0,
+    };
     let sys = System::assemble(&model).unwrap();
     let r = modes::run(&beam, 12).unwrap();
     let n = sys.n();
@@ -92,7 +98,13 @@ fn pinned_pinned_and_cantilever_frequencies() {
 #[test]
 fn cantilever_static_tip_deflection_is_exact() {
     let beam = beam_case(7, "[[beam.support]]\nx = 0.0\nkind = \"clamped\"");
-    let model = Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let model = Model {
+        beam: Some(beam.clone()),
+        rayleigh: Default::default(),
+        actuators: vec![],
+        sensors: vec![],
+        loss_factor: 0.0,
+    };
     let sys = System::assemble(&model).unwrap();
     let tip = sys.dofs.w[beam.mesh.n_nodes() - 1].unwrap();
     let mut f = vec![0.0; sys.n()];
@@ -105,7 +117,8 @@ fn cantilever_static_tip_deflection_is_exact() {
 #[test]
 fn unsupported_beam_is_reported_not_solved() {
     let beam = beam_case(10, "[[beam.support]]\nx = 0.0\nkind = \"free\"");
-    let model = Model { beam: Some(beam), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let model =
+        Model { beam: Some(beam), rayleigh: Default::default(), actuators: vec![], sensors: vec![], loss_factor: 0.0 };
     let sys = System::assemble(&model).unwrap();
     let err = sys.static_solve(&vec![1.0; sys.n()]).unwrap_err().to_string();
     assert!(err.contains("singular"), "{err}");
@@ -114,7 +127,13 @@ fn unsupported_beam_is_reported_not_solved() {
 #[test]
 fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
     let beam = beam_case(200, "");
-    let model = Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let model = Model {
+        beam: Some(beam.clone()),
+        rayleigh: Default::default(),
+        actuators: vec![],
+        sensors: vec![],
+        loss_factor: 0.0,
+    };
     let sys = System::assemble(&model).unwrap();
     let lz = beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 20, 0.0).unwrap();
     let dense = modes::run(&beam, 20).unwrap();
@@ -191,7 +210,13 @@ fn square_root_path_matches_the_assembled_stiffness_on_an_irregular_beam() {
     for (i, e) in beam.mesh.elements.iter_mut().enumerate() {
         e.ei *= 1.0 + 0.5 * (i as f64 * 0.01).sin();
     }
-    let model = Model { beam: Some(beam.clone()), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let model = Model {
+        beam: Some(beam.clone()),
+        rayleigh: Default::default(),
+        actuators: vec![],
+        sensors: vec![],
+        loss_factor: 0.0,
+    };
     let sys = System::assemble(&model).unwrap();
     assert!(sys.n() > beamflow::analysis::modes::DENSE_EIGEN_LIMIT);
     let root = structure_stiffness_root(&beam, &sys.dofs).unwrap();
@@ -221,7 +246,8 @@ fn unsupported_fine_beam_is_still_reported_by_the_profile_solver() {
 #[test]
 fn zero_modes_is_an_argument_error_even_with_a_singular_stiffness() {
     let beam = beam_case(20, "[[beam.support]]\nx = 0.0\nkind = \"free\"\n[[beam.support]]\nx = 0.73\nkind = \"free\"");
-    let model = Model { beam: Some(beam), rayleigh: Default::default(), actuators: vec![], sensors: vec![] };
+    let model =
+        Model { beam: Some(beam), rayleigh: Default::default(), actuators: vec![], sensors: vec![], loss_factor: 0.0 };
     let sys = System::assemble(&model).unwrap();
     let err =
         beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 0, 0.0).unwrap_err().to_string();

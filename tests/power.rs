@@ -157,7 +157,13 @@ fn actuator_replaced_by_its_force_pair_reproduces_the_harmonic_analysis() {
         .zip(&h)
         .map(|(lk, h)| PointForce { x: lk.foot_x.unwrap(), amplitude: h.interface.norm(), phase: h.interface.arg() })
         .collect();
-    let bare = Model { beam: model.beam.clone(), rayleigh: model.rayleigh, actuators: vec![], sensors: vec![] };
+    let bare = Model {
+        beam: model.beam.clone(),
+        rayleigh: model.rayleigh,
+        actuators: vec![],
+        sensors: vec![],
+        loss_factor: 0.0,
+    };
     let bsys = System::assemble(&bare).unwrap();
     let r = harmonic::run(&bare, &bsys, &[60.0], &forces, None).unwrap();
     for (j, hj) in h.iter().enumerate() {

@@ -4,7 +4,7 @@ use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
 use crate::power::modal::{modal_dissipated_power, ModalDamping};
-use crate::power::point::{dissipated_power, mean_power};
+use crate::power::point::{beam_dissipation, mean_power};
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::{ratio_of, Modes};
 use num_complex::Complex64;
@@ -69,7 +69,7 @@ pub fn run(
         ..Default::default()
     };
     let mut dynk = match modal {
-        None => Some(DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope)),
+        None => Some(DynamicStiffness::of(sys)),
         Some(_) => None,
     };
     let mut cols: Vec<Vec<Complex64>> = vec![vec![Complex64::default(); n]; forces.len()];
@@ -116,7 +116,7 @@ pub fn run(
         let pin: Vec<f64> = (0..forces.len()).map(|j| mean_power(amps[j], v_all[j])).collect();
         let total: f64 = pin.iter().sum();
         let diss = match modal {
-            None => dissipated_power(&sys.c_beam, &q, w),
+            None => beam_dissipation(sys, &q, w),
             Some((modes, ratios)) => modal_dissipation(modes, ratios, &sys.m_beam, &q, w),
         };
         res.balance_error.push(balance_error(total, diss));

@@ -23,6 +23,7 @@ pub fn bare_system(beam: &Beam) -> Result<System> {
         rayleigh: Rayleigh::default(),
         actuators: Vec::new(),
         sensors: Vec::new(),
+        loss_factor: 0.0,
     })
 }
 

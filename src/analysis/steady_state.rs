@@ -19,7 +19,7 @@ use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
 use crate::power::link::link_harmonic;
 use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
-use crate::power::point::{dissipated_power, net_power};
+use crate::power::point::{beam_dissipation, net_power};
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::Modes;
 use num_complex::Complex64;
@@ -373,7 +373,7 @@ impl SteadyStateResult {
 
 /// Solves (K − ω²M + iωC)·Q = Σ_a b_a·F̂_p,a for one frequency ω (rad/s).
 pub fn solve_at(sys: &System, w: f64, fp: &[Complex64]) -> Result<Vec<Complex64>> {
-    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
+    let mut dk = DynamicStiffness::of(sys);
     dk.factorize(w)?;
     let mut rhs = vec![Complex64::default(); sys.n()];
     for (a, b) in sys.drives.iter().enumerate() {
@@ -419,12 +419,7 @@ pub struct HarmonicSolver<'s> {
 
 impl<'s> HarmonicSolver<'s> {
     pub fn new(sys: &'s System) -> Self {
-        HarmonicSolver {
-            sys,
-            dk: DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope),
-            q: Vec::new(),
-            diss: Vec::new(),
-        }
+        HarmonicSolver { sys, dk: DynamicStiffness::of(sys), q: Vec::new(), diss: Vec::new() }
     }
 
     /// The system solved against.
@@ -479,7 +474,7 @@ impl<'s> HarmonicSolver<'s> {
             }
         }
         for (k, q) in self.q.iter().enumerate() {
-            self.diss.push(if active.contains(&k) { dissipated_power(&sys.c_beam, q, k as f64 * w0) } else { 0.0 });
+            self.diss.push(if active.contains(&k) { beam_dissipation(sys, q, k as f64 * w0) } else { 0.0 });
         }
         Ok(())
     }

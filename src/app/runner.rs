@@ -94,6 +94,9 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                     Ok(())
                 }
                 AnalysisSpec::Transient { reduction, .. } => {
+                    if model.loss_factor > 0.0 {
+                        return Err(Error::input(&lc.file, "damping.kind", transient::HYSTERETIC_IN_TIME));
+                    }
                     let s = transient_settings(spec, false).expect("transient");
                     let timing =
                         DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
@@ -111,6 +114,13 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                 }
                 AnalysisSpec::SteadyState { samples_per_period, reduction, .. } => {
                     DriveTiming::sampled(model, *samples_per_period)?;
+                    if model.loss_factor > 0.0 && reduction.is_some() {
+                        return Err(Error::input(
+                            "<case>",
+                            "analysis.reduction",
+                            "a modal reduction is not available with hysteretic damping: run the full model",
+                        ));
+                    }
                     let beam_dofs = system.dofs.beam_dofs().len();
                     if built.modal_ratios.is_some()
                         && reduction.is_none()
@@ -174,6 +184,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                     rayleigh: model.rayleigh,
                     actuators: Vec::new(),
                     sensors: model.sensors.clone(),
+                    loss_factor: model.loss_factor,
                 };
                 let sys = System::assemble(&bare)?;
                 let forces: Vec<PointForce> =
@@ -229,7 +240,12 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                         let fd = reference()?;
                         let mut s = steady_state::run_counted(&model, fd, count, n)?;
                         s.expand(fd);
-                        let bare = modes::bare_modes_on(&model, &system, MODAL_TABLE_MODES)?;
+                        // The mode-resolved view has viscous modal dampers only.
+                        let bare = if model.loss_factor > 0.0 {
+                            None
+                        } else {
+                            modes::bare_modes_on(&model, &system, MODAL_TABLE_MODES)?
+                        };
                         let damping = ModalDamping::of(&model.rayleigh, modal_ratios.as_deref());
                         s.decompose_with(&system, bare.as_ref(), damping);
                         Ok(s)

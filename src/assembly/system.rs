@@ -45,6 +45,9 @@ pub struct Model {
     pub rayleigh: Rayleigh,
     pub actuators: Vec<Actuator>,
     pub sensors: Vec<Sensor>,
+    /// Hysteretic (structural) loss factor η of the beam: its stiffness is K_beam·(1 + iη)
+    /// in the frequency domain (spec §3); 0 without.
+    pub loss_factor: f64,
 }
 
 /// A link with its global DOFs resolved.
@@ -84,6 +87,9 @@ pub struct System {
     pub m_beam: Csr,
     pub c_beam: Csr,
     pub k_beam: Csr,
+    /// The imaginary part η·K_beam of a hysteretically damped structure's stiffness
+    /// (frequency-domain analyses only).
+    pub k_loss: Option<Csr>,
     pub links: Vec<LinkDofs>,
     /// For each actuator, the load pattern b of its stack's F_p (top minus foot).
     pub drives: Vec<Vec<(usize, f64)>>,
@@ -265,7 +271,8 @@ impl System {
             n,
             m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
         );
-        Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, links, drives, envelope, projection: None })
+        let k_loss = (model.loss_factor > 0.0).then(|| k_beam.scaled(model.loss_factor));
+        Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, k_loss, links, drives, envelope, projection: None })
     }
 
     /// The w DOF of the beam node at x, if free. Errors if x is not on a node, or if this
@@ -394,8 +401,13 @@ mod tests {
     #[test]
     fn stiffness_root_squares_to_the_assembled_stiffness_and_is_banded() {
         for beam in odd_beams() {
-            let model =
-                Model { beam: Some(beam.clone()), rayleigh: Rayleigh::default(), actuators: vec![], sensors: vec![] };
+            let model = Model {
+                beam: Some(beam.clone()),
+                rayleigh: Rayleigh::default(),
+                actuators: vec![],
+                sensors: vec![],
+                loss_factor: 0.0,
+            };
             let sys = System::assemble(&model).unwrap();
             let r = structure_stiffness_root(&beam, &sys.dofs).unwrap();
             let n = sys.n();
@@ -421,8 +433,13 @@ mod tests {
         let mut beam = odd_beams().remove(0);
         beam.supports.clear();
         beam.springs.clear();
-        let model =
-            Model { beam: Some(beam.clone()), rayleigh: Rayleigh::default(), actuators: vec![], sensors: vec![] };
+        let model = Model {
+            beam: Some(beam.clone()),
+            rayleigh: Rayleigh::default(),
+            actuators: vec![],
+            sensors: vec![],
+            loss_factor: 0.0,
+        };
         let sys = System::assemble(&model).unwrap();
         let err = structure_stiffness_root(&beam, &sys.dofs).unwrap_err().to_string();
         assert!(err.contains("singular"), "{err}");

@@ -171,6 +171,7 @@ pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {
             modal_ratios = Some(d.ratios.clone());
             Rayleigh::default()
         }
+        (Some(_), DampingKind::Hysteretic) => Rayleigh::default(),
     };
     let mut actuators = Vec::new();
     for (i, a) in case.actuator.iter().enumerate() {
@@ -210,5 +211,9 @@ pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {
         });
     }
     let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), x: s.x }).collect();
-    Ok(BuiltModel { model: Model { beam, rayleigh, actuators, sensors }, modal_ratios })
+    let loss_factor = match (&beam, d.kind) {
+        (Some(_), DampingKind::Hysteretic) => d.eta,
+        _ => 0.0,
+    };
+    Ok(BuiltModel { model: Model { beam, rayleigh, actuators, sensors, loss_factor }, modal_ratios })
 }

@@ -184,6 +184,13 @@ pub struct DampingSpec {
     /// Modal damping ratios per bare-beam mode for `modal` (the last repeats).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub ratios: Vec<f64>,
+    /// Loss factor η for `hysteretic` (–).
+    #[serde(default = "d_eta")]
+    pub eta: f64,
+}
+
+fn d_eta() -> f64 {
+    0.01
 }
 
 fn d_zeta() -> f64 {
@@ -202,6 +209,7 @@ impl Default for DampingSpec {
             a0: None,
             a1: None,
             ratios: Vec::new(),
+            eta: d_eta(),
         }
     }
 }
@@ -216,6 +224,9 @@ pub enum DampingKind {
     Rayleigh,
     /// Modal damping ratios (frequency-domain analyses).
     Modal,
+    /// Hysteretic (structural) damping: the beam's stiffness K·(1 + iη), loss factor `eta`
+    /// (harmonic and steady-state analyses; no causal time-domain form).
+    Hysteretic,
     /// Undamped beam.
     None,
 }
@@ -832,6 +843,11 @@ impl Case {
                 }
                 for (i, &z) in d.ratios.iter().enumerate() {
                     non_negative(file, &format!("damping.ratios[{i}]"), z)?;
+                }
+            }
+            DampingKind::Hysteretic => {
+                if !(d.eta > 0.0 && d.eta < 1.0) {
+                    return Err(Error::input(file, "damping.eta", format!("must be in (0, 1), got {}", d.eta)));
                 }
             }
             DampingKind::None => {}

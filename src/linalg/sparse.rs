@@ -54,6 +54,13 @@ impl Csr {
         Csr { mat: CsMat::new((n, n), indptr, indices, data) }
     }
 
+    /// This matrix times `factor`.
+    pub fn scaled(&self, factor: f64) -> Self {
+        let n = self.dim();
+        let trip: Vec<(usize, usize, f64)> = self.triplets().map(|(i, j, v)| (i, j, v * factor)).collect();
+        Csr::from_triplets(n, &trip)
+    }
+
     pub fn zeros(n: usize) -> Self {
         Csr { mat: CsMat::zero((n, n)).to_csr() }
     }

@@ -55,6 +55,17 @@ pub fn dissipated_power(c: &Csr, q: &[Complex64], omega: f64) -> f64 {
     0.5 * omega * omega * c.hermitian_form(q)
 }
 
+/// Time-averaged power (W) the structure of `sys` dissipates in harmonic motion Q at ω
+/// (rad/s): its viscous part ½·ω²·Qᴴ·C_beam·Q and, when hysteretically damped, the loss
+/// ½·ω·Qᴴ·(η·K_beam)·Q of its complex stiffness.
+pub fn beam_dissipation(sys: &crate::assembly::System, q: &[Complex64], omega: f64) -> f64 {
+    let viscous = dissipated_power(&sys.c_beam, q, omega);
+    match &sys.k_loss {
+        Some(kl) => viscous + 0.5 * omega * kl.hermitian_form(q),
+        None => viscous,
+    }
+}
+
 /// Net power of each of `actuators` actuators (W): the sum of `point_power` (one per link,
 /// in the order of `links`) over the actuator's interface points.
 pub fn net_power(links: &[LinkDofs], point_power: &[f64], actuators: usize) -> Vec<f64> {

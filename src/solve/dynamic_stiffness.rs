@@ -34,6 +34,8 @@ pub struct DynamicStiffness {
     k: Vec<f64>,
     m: Vec<f64>,
     c: Vec<f64>,
+    /// The imaginary stiffness η·K_beam of hysteretic damping (zeros without).
+    kl: Vec<f64>,
     /// Two factorisations: [`DynamicStiffness::factorize`] fills the first.
     lanes: [Factor; 2],
 }
@@ -57,21 +59,21 @@ impl Factor {
     }
 
     /// K − ω²M + iωC on the envelope.
-    fn fill(&mut self, k: &[f64], m: &[f64], c: &[f64], omega: f64) {
+    fn fill(&mut self, k: &[f64], m: &[f64], c: &[f64], kl: &[f64], omega: f64) {
         self.factorized = false;
         self.omega = omega;
         let w2 = -omega * omega;
-        for (((v, &k), &m), &c) in self.values.iter_mut().zip(k).zip(m).zip(c) {
-            *v = Complex64::new(k + w2 * m, omega * c);
+        for ((((v, &k), &m), &c), &kl) in self.values.iter_mut().zip(k).zip(m).zip(c).zip(kl) {
+            *v = Complex64::new(k + w2 * m, omega * c + kl);
         }
     }
 
     /// K + c_m·M + c_c·C on the envelope.
-    fn fill_general(&mut self, k: &[f64], m: &[f64], c: &[f64], c_m: Complex64, c_c: Complex64) {
+    fn fill_general(&mut self, k: &[f64], m: &[f64], c: &[f64], kl: &[f64], c_m: Complex64, c_c: Complex64) {
         self.factorized = false;
         self.omega = f64::NAN;
-        for (((v, &k), &m), &c) in self.values.iter_mut().zip(k).zip(m).zip(c) {
-            *v = Complex64::new(k, 0.0) + c_m * m + c_c * c;
+        for ((((v, &k), &m), &c), &kl) in self.values.iter_mut().zip(k).zip(m).zip(c).zip(kl) {
+            *v = Complex64::new(k, kl) + c_m * m + c_c * c;
         }
     }
 
@@ -159,8 +161,21 @@ impl DynamicStiffness {
             k: to_sky(k),
             m: to_sky(m),
             c: to_sky(c),
+            kl: vec![0.0; off],
             lanes: [Factor::new(off, n), Factor::new(off, n)],
         }
+    }
+
+    /// The dynamic stiffness of an assembled system: K − ω²M + iωC, plus i·η·K_beam when
+    /// the structure is hysteretically damped.
+    pub fn of(sys: &crate::assembly::System) -> Self {
+        let mut d = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
+        if let Some(kl) = &sys.k_loss {
+            let mut s = Skyline::<f64>::zeros(sys.envelope.clone());
+            kl.add_into_skyline(1.0, &mut s);
+            d.kl = s.into_values();
+        }
+        d
     }
 
     pub fn dim(&self) -> usize {
@@ -171,7 +186,7 @@ impl DynamicStiffness {
     /// or non-finite pivot (a singular system, e.g. undamped at a resonance).
     pub fn factorize(&mut self, omega: f64) -> Result<()> {
         let [a, _] = &mut self.lanes;
-        a.fill(&self.k, &self.m, &self.c, omega);
+        a.fill(&self.k, &self.m, &self.c, &self.kl, omega);
         for i in 0..self.first.len() {
             a.row(&self.first, &self.start, i)?;
         }
@@ -184,7 +199,7 @@ impl DynamicStiffness {
     /// continuous system). Fails as [`DynamicStiffness::factorize`] does.
     pub fn factorize_general(&mut self, c_m: Complex64, c_c: Complex64) -> Result<()> {
         let [a, _] = &mut self.lanes;
-        a.fill_general(&self.k, &self.m, &self.c, c_m, c_c);
+        a.fill_general(&self.k, &self.m, &self.c, &self.kl, c_m, c_c);
         for i in 0..self.first.len() {
             a.row(&self.first, &self.start, i)?;
         }
@@ -197,8 +212,8 @@ impl DynamicStiffness {
     /// [`DynamicStiffness::solve_in_place`] then solves at.
     pub fn factorize_pair(&mut self, omega_a: f64, omega_b: f64) -> Result<()> {
         let [a, b] = &mut self.lanes;
-        a.fill(&self.k, &self.m, &self.c, omega_a);
-        b.fill(&self.k, &self.m, &self.c, omega_b);
+        a.fill(&self.k, &self.m, &self.c, &self.kl, omega_a);
+        b.fill(&self.k, &self.m, &self.c, &self.kl, omega_b);
         for i in 0..self.first.len() {
             a.row(&self.first, &self.start, i)?;
             b.row(&self.first, &self.start, i)?;

@@ -347,6 +347,8 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
         m_beam,
         c_beam,
         k_beam,
+        // A reduced basis is for viscous damping; hysteretic damping is refused before.
+        k_loss: None,
         links,
         drives,
         envelope,

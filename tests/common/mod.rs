@@ -48,3 +48,12 @@ pub fn cc_mode(bl: f64, x: f64) -> f64 {
     let grow = (bl.cos() - bl.sin() - em) * (z - bl).exp() / denom; // e^{z}(1−σ)/2
     ((-z).exp() * (1.0 + sigma) / 2.0 + grow - z.cos() + sigma * z.sin()) / (RHO_A * L).sqrt()
 }
+
+/// The error message `run` gives for case text that loads but cannot run.
+pub fn case_error_run(text: &str) -> String {
+    let lc = LoadedCase::from_str(text, "bad.toml", PathBuf::from(".")).expect("the case loads");
+    match beamflow::app::runner::run_case(&lc) {
+        Ok(_) => panic!("case ran but should be refused:\n{text}"),
+        Err(e) => e.to_string(),
+    }
+}

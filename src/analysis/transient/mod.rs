@@ -159,6 +159,12 @@ fn start_at_rest(nm: &mut FusedNewmark, sys: &System, f_p0: &[f64]) -> Result<()
     Ok(())
 }
 
+/// Why a transient refuses hysteretic damping.
+pub const HYSTERETIC_IN_TIME: &str = "hysteretic damping (stiffness K·(1 + iη) at every frequency) has no causal \
+     time-domain form: its response would begin before its cause, so no time integration can use it. Use it in \
+     harmonic and steady-state analyses, or give the transient viscous damping (kind = \"rayleigh_ratio\" with \
+     zeta ≈ η/2 matches it at the calibration modes)";
+
 /// Refuses a time step the scheme cannot run stably on `sys` (see [`stability`]).
 pub fn check_time_step(sys: &System, scheme: Scheme, timing: &DriveTiming) -> Result<()> {
     stability::check_step(sys, scheme, timing)
@@ -166,6 +172,9 @@ pub fn check_time_step(sys: &System, scheme: Scheme, timing: &DriveTiming) -> Re
 
 /// Runs the transient.
 pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<TransientResult> {
+    if sys.k_loss.is_some() {
+        return Err(crate::error::Error::input("<case>", "damping.kind", HYSTERETIC_IN_TIME));
+    }
     let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
     stability::check_step(sys, s.scheme, &timing)?;
     let layout = Readout::new(model, sys)?;

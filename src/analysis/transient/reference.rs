@@ -71,7 +71,7 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
     let kmax = n / 2;
     let size = |k: usize| loads.iter().map(|f| f[k].norm()).fold(0.0f64, f64::max);
     let largest = (0..=kmax).map(size).fold(0.0f64, f64::max);
-    let mut dk = DynamicStiffness::new(&sys.k, &sys.m, &sys.c, &sys.envelope);
+    let mut dk = DynamicStiffness::of(sys);
     let nl = sys.links.len();
     let zero = vec![Complex64::default(); kmax + 1];
     let (mut u, mut ud, mut fv, mut fa) =
