@@ -38,6 +38,11 @@ fn table() -> Vec<(String, &'static str, &'static str)> {
         (format!("{beam}[[actuator]]\ntype = \"inertial\"\nname = \"x/../../up\"\n{SINE}"), "actuator[0].name", "not a valid name"),
         (format!("base = \"rigid\"\n{}[[analysis]]\ntype = \"modes\"\n", inertial(SINE)), "analysis[0]", "needs a beam"),
         (format!("{beam}[[sensor]]\nname = \"s\"\nx = 0.1\n[[sensor]]\nname = \"s\"\nx = 0.2\n"), "sensor[1].name", "already the name"),
+        (
+            format!("[beam.mesh]\nelements = 1000\n{}[[analysis]]\ntype = \"steady_state\"\n", inertial(SINE)),
+            "beam.mesh.elements",
+            "round-off",
+        ),
     ]
 }
 

@@ -26,8 +26,10 @@ fn mobility_errors(elements: usize, freqs: &[f64]) -> Vec<f64> {
         .map(|(i, &f)| {
             let w = 2.0 * std::f64::consts::PI * f;
             let exact = Complex64::new(0.0, w) * clamped_point_receptance(common::L, ei, common::RHO_A, w, x_f, x_f);
-            // What goes in is what the complex stiffness dissipates, ½·ω·η·Qᴴ·K·Q.
-            assert!(h.balance_error[i] < 1e-9, "{f} Hz: balance {:e}", h.balance_error[i]);
+            // What goes in is what the complex stiffness dissipates, ½·ω·η·Qᴴ·K·Q, up to the
+            // round-off of K, which grows as elements⁴.
+            let bound = 1e-9 * (elements as f64 / 200.0).powi(4).max(1.0);
+            assert!(h.balance_error[i] < bound, "{f} Hz: balance {:e}", h.balance_error[i]);
             (h.mobility[i][0][0] - exact).norm() / exact.norm()
         })
         .collect()
@@ -41,6 +43,11 @@ fn harmonic_mobility_matches_the_complex_stiffness_beam() {
     for (f, e) in freqs.iter().zip(mobility_errors(200, &freqs)) {
         eprintln!("{f} Hz: error {e:.1e}");
         assert!(e < 1e-6, "{f} Hz: {e:e}");
+    }
+    // At the finest mesh the solves accept, round-off stays below 1e-6 too.
+    for (f, e) in [60.0, 445.0].iter().zip(mobility_errors(beamflow::app::runner::MESH_ELEMENTS_LIMIT, &[60.0, 445.0]))
+    {
+        assert!(e < 1e-6, "{f} Hz at the mesh limit: {e:e}");
     }
     // Higher up the discretisation error shows, and falls at the Hermite element's fourth
     // order: 16× for twice the elements.
