@@ -193,7 +193,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         None
     };
     let mut settle = SettleCheck::new(s.tolerance, reference);
-    let (mut converged, mut periods_run) = (false, 0);
+    let (mut converged, mut periods_run, mut settled_run) = (false, 0, 0);
     for p in 0..plan.total {
         stacks.advance(p, &timing);
         let mut rec = window.next_record(&layout);
@@ -204,9 +204,10 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         rec.store_drives(&stacks.times[..n], &stacks.v, &stacks.h, &stepper.f_p);
         rec.store_readouts(&layout, &stepper.observed);
         periods_run = p + 1;
-        let settled = settle.settled_after(&sys.links, &rec);
+        // Every period kept for output must be settled, not only the last.
+        settled_run = if settle.settled_after(&sys.links, &rec) { settled_run + 1 } else { 0 };
         window.push(rec);
-        if timing.periodic && s.steady_state && settled && periods_run >= plan.min {
+        if timing.periodic && s.steady_state && settled_run >= plan.min {
             converged = true;
             if s.periods.is_none() {
                 break;
