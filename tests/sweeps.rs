@@ -124,7 +124,7 @@ fn expansion_is_cartesian_last_fastest_or_zipped() {
     assert!(lc.case.analysis.is_empty(), "the base case's analyses are not run by a sweep");
     assert_eq!(s.harmonics, 5, "harmonics come from the base case's steady_state analysis");
     assert_eq!(s.samples_per_period, 256);
-    assert!(s.cached_damping.is_some());
+    assert!(s.base.cached_damping.is_some());
 
     let z = d.sweep(
         "z.sweep.toml",
@@ -134,7 +134,7 @@ fn expansion_is_cartesian_last_fastest_or_zipped() {
     );
     assert_eq!(z.len(), 2);
     assert_eq!(z.values(1), vec![0.2, 0.5, 0.02]);
-    assert!(z.cached_damping.is_none(), "a sweep over damping must not cache it");
+    assert!(z.base.cached_damping.is_none(), "a sweep over damping must not cache it");
     assert_eq!(z.case(1).unwrap().case.damping.zeta, 0.02);
     // An integer field the base leaves at its default.
     let m = d.sweep(

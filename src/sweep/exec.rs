@@ -201,7 +201,7 @@ impl<'a> Evaluator<'a> {
 
     fn row(&self, i: usize, head: Headline) -> Result<Row> {
         let sweep = self.sweep;
-        if head.net_power.len() != sweep.actuators.len() || head.mean_power.len() != sweep.links.len() {
+        if head.net_power.len() != sweep.base.actuators.len() || head.mean_power.len() != sweep.base.links.len() {
             let e = Error::Numerical("the case's actuators differ from the base case's".into());
             return Err(Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string()));
         }

@@ -26,10 +26,14 @@
 //! # Ok(()) }
 //! ```
 
+pub mod base;
 pub mod exec;
+pub mod field;
 pub mod spec;
 pub mod table;
 
+pub use base::BaseCase;
 pub use exec::{evaluate, execute, group_cases, parts_dir, run, Evaluator, Execution, OnEvaluated, RunOptions};
+pub use field::Field;
 pub use spec::{load, Combine, Parameter, Sweep, SweepAnalysis};
 pub use table::{encode_part, merge, merge_files, Row, Shard, SweepTable};

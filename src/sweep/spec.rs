@@ -2,12 +2,13 @@
 //! evaluated. Loading checks everything a user can get wrong before any case runs, and every
 //! message names the sweep file (or the base case file) and the field.
 
-use crate::assembly::system::Rayleigh;
-use crate::case::{AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase, Spacing};
+use super::base::BaseCase;
+pub use super::field::{get_path, parse_path, set_path, unit_of, Field, Segment};
+use crate::case::{LoadedCase, Spacing};
 use crate::error::{Error, Result};
 use crate::signal::voltage::VoltageInput;
 use serde::Deserialize;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// How the parameters' value lists combine into cases.
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq, Eq)]
@@ -80,150 +81,17 @@ struct ParameterFile {
     spacing: Option<Spacing>,
 }
 
-/// One segment of a dotted field path: `actuator[0]` is key `actuator`, index 0.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Segment {
-    pub key: String,
-    pub index: Option<usize>,
-}
-
-/// Parses `actuator[0].voltage.frequency` into segments.
-pub fn parse_path(path: &str) -> std::result::Result<Vec<Segment>, String> {
-    if path.trim().is_empty() {
-        return Err("the path is empty".into());
-    }
-    let mut out = Vec::new();
-    for part in path.split('.') {
-        let (key, index) = match part.find('[') {
-            Some(b) => {
-                let rest = &part[b + 1..];
-                let idx = rest
-                    .strip_suffix(']')
-                    .and_then(|d| d.parse::<usize>().ok())
-                    .ok_or_else(|| format!("`{part}`: an index must be written `name[N]` with N ≥ 0"))?;
-                (&part[..b], Some(idx))
-            }
-            None => (part, None),
-        };
-        if key.is_empty() || !key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_') {
-            return Err(format!("`{part}` is not a field name (letters, digits and `_`, optionally `[N]`)"));
-        }
-        out.push(Segment { key: key.to_string(), index });
-    }
-    Ok(out)
-}
-
-/// Sets `path` in a TOML document to `value`, creating missing tables on the way. Arrays
-/// (e.g. `actuator`) must exist and hold the index: a sweep varies cases, it does not add
-/// actuators.
-pub fn set_path(root: &mut toml::Value, path: &[Segment], value: toml::Value) -> std::result::Result<(), String> {
-    let mut cur = root;
-    let mut walked = String::new();
-    for (n, seg) in path.iter().enumerate() {
-        let last = n + 1 == path.len();
-        let table = cur.as_table_mut().ok_or_else(|| format!("`{walked}` in the base case is a value, not a table"))?;
-        if !walked.is_empty() {
-            walked.push('.');
-        }
-        walked.push_str(&seg.key);
-        match seg.index {
-            None if last => {
-                table.insert(seg.key.clone(), value);
-                return Ok(());
-            }
-            None => {
-                cur = table.entry(seg.key.clone()).or_insert_with(|| toml::Value::Table(Default::default()));
-            }
-            Some(i) => {
-                let arr = table
-                    .get_mut(&seg.key)
-                    .ok_or_else(|| format!("the base case has no `{walked}` to index"))?
-                    .as_array_mut()
-                    .ok_or_else(|| format!("`{walked}` in the base case is not an array"))?;
-                let len = arr.len();
-                let slot = arr
-                    .get_mut(i)
-                    .ok_or_else(|| format!("the base case has {len} entries in `{walked}`, not {}", i + 1))?;
-                walked.push_str(&format!("[{i}]"));
-                if last {
-                    *slot = value;
-                    return Ok(());
-                }
-                cur = slot;
-            }
-        }
-    }
-    Ok(())
-}
-
-/// The value at `path`, if the base case has one.
-pub fn get_path<'a>(root: &'a toml::Value, path: &[Segment]) -> Option<&'a toml::Value> {
-    let mut cur = root;
-    for seg in path {
-        cur = cur.as_table()?.get(&seg.key)?;
-        if let Some(i) = seg.index {
-            cur = cur.as_array()?.get(i)?;
-        }
-    }
-    Some(cur)
-}
-
 /// A varied field and its values.
 #[derive(Clone, Debug)]
 pub struct Parameter {
-    /// Dotted case-field path, e.g. `actuator[0].x_e`.
-    pub path: String,
-    pub segments: Vec<Segment>,
+    pub field: Field,
     pub values: Vec<f64>,
-    /// Written as a TOML integer (the field is an integer, e.g. `beam.mesh.elements`).
-    pub integer: bool,
-    /// SI unit, from the field name (`"1"` dimensionless, `"?"` unknown).
-    pub unit: &'static str,
 }
 
 impl Parameter {
-    /// The actuator whose drive this parameter sets, if its path starts with
-    /// `actuator[a].voltage.`: such a parameter changes what the stack is driven with, not
-    /// the model that is assembled.
-    pub fn drive_of(&self) -> Option<usize> {
-        match self.segments.as_slice() {
-            [a, v, _, ..] if a.key == "actuator" && v.key == "voltage" && v.index.is_none() => a.index,
-            _ => None,
-        }
-    }
-
-    /// The value as TOML.
-    fn toml(&self, v: f64) -> toml::Value {
-        if self.integer {
-            toml::Value::Integer(v as i64)
-        } else {
-            toml::Value::Float(v)
-        }
-    }
-}
-
-/// The unit of a case field, from its last name (physics spec and case schema).
-pub fn unit_of(path: &str) -> &'static str {
-    let name = path.rsplit('.').next().unwrap_or(path);
-    let name = name.split('[').next().unwrap_or(name);
-    match name {
-        "x_e" | "a" | "e" | "x" | "length" | "width" | "thickness" | "h0" => "m",
-        "frequency" | "f_start" | "f_end" => "Hz",
-        "amplitude" | "offset" | "from" | "to" => "V",
-        "phase" => "rad",
-        "m_t" | "m_b" | "m_p" | "mass" => "kg",
-        "j_b" | "rotary_inertia" => "kg m^2",
-        "k_l" | "k_l_right" | "k_p" | "k_w" | "stiffness" => "N/m",
-        "c_l" | "c_l_right" | "c_p" | "damping" => "N s/m",
-        "k_theta" => "N m/rad",
-        "d_p" => "m/V",
-        "beta" | "gamma" => "1/V",
-        "alpha" | "zeta" | "ratios" | "elements" | "modes" => "1",
-        "youngs_modulus" => "Pa",
-        "density" => "kg/m^3",
-        "a0" => "1/s",
-        "a1" | "duration" | "time" | "rise_time" => "s",
-        _ => "?",
+    /// Dotted case-field path, e.g. `actuator[0].x_e`.
+    pub fn path(&self) -> &str {
+        &self.field.path
     }
 }
 
@@ -234,11 +102,8 @@ pub struct Sweep {
     pub file: String,
     pub text: String,
     pub title: String,
-    /// The base case file and its text.
-    pub base_file: String,
-    pub base_text: String,
-    /// Directory the base case's relative paths resolve against.
-    pub base_dir: PathBuf,
+    /// The base case, as the cases start from it.
+    pub base: BaseCase,
     pub combine: Combine,
     pub analysis: SweepAnalysis,
     /// Harmonics solved per case (sweep file, else the base case's analysis, else 9).
@@ -246,19 +111,11 @@ pub struct Sweep {
     /// Samples per period for the steady state's stack-force FFT.
     pub samples_per_period: usize,
     pub parameters: Vec<Parameter>,
-    /// Rayleigh coefficients computed once from the base case and used by every case, when
-    /// the sweep leaves the beam and its damping alone (`cache_damping`).
-    pub cached_damping: Option<Rayleigh>,
     /// Rows in the best-placement table.
     pub best: usize,
     /// Identifies the sweep: FNV-1a (64 bit) of the sweep text, the base text and the
     /// beamflow version. Shards merge only when it agrees.
     pub hash: String,
-    /// Actuator and link names of the base model (table columns).
-    pub actuators: Vec<String>,
-    pub links: Vec<String>,
-    /// The base case with the analyses removed (and the cached damping inserted).
-    base_value: toml::Value,
     counts: Vec<usize>,
 }
 
@@ -280,49 +137,37 @@ pub fn load(path: &Path) -> Result<Sweep> {
     Sweep::from_str(&text, &path.display().to_string(), &dir)
 }
 
+/// Harmonics and samples per period of a study: its own, else its base case's analysis,
+/// else 9 and 1024; checked so that the samples resolve the harmonics.
+pub fn harmonic_counts(
+    harmonics: Option<usize>,
+    samples: Option<usize>,
+    base: &BaseCase,
+    file: &str,
+) -> Result<(usize, usize)> {
+    let harmonics = harmonics.unwrap_or(base.harmonics);
+    if harmonics == 0 {
+        return Err(Error::input(file, "harmonics", "must be at least 1"));
+    }
+    let samples_per_period = samples.or(base.samples_per_period).unwrap_or(1024);
+    if samples_per_period < 4 * harmonics + 2 {
+        return Err(Error::input(
+            file,
+            "samples_per_period",
+            format!("must be at least 4·harmonics + 2 = {} to resolve the harmonics", 4 * harmonics + 2),
+        ));
+    }
+    Ok((harmonics, samples_per_period))
+}
+
 impl Sweep {
     /// Parses and checks sweep text; `file` names it in messages and `dir` is where the
     /// base case path is resolved.
     pub fn from_str(text: &str, file: &str, dir: &Path) -> Result<Sweep> {
         let sf: SweepFile = toml::from_str(text)
             .map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string().trim_end().to_string() })?;
-        let base_path = dir.join(&sf.base);
-        let base_file = base_path.display().to_string();
-        let base_text = std::fs::read_to_string(&base_path)
-            .map_err(|e| Error::input(file, "base", format!("cannot read the base case {base_file}: {e}")))?;
-        let base_dir = base_path.parent().map(Path::to_path_buf).unwrap_or_default();
-        // The base must be a valid case on its own; its errors name the base file.
-        let base_lc = LoadedCase::from_str(&base_text, &base_file, base_dir.clone())?;
-        let mut base_value: toml::Value = toml::from_str(&base_text)
-            .map_err(|e| Error::Parse { file: base_file.clone(), message: e.to_string().trim_end().to_string() })?;
-        if let Some(t) = base_value.as_table_mut() {
-            t.remove("analysis");
-        }
-
-        let (base_harm, base_samples) = base_lc
-            .case
-            .analysis
-            .iter()
-            .find_map(|a| match a {
-                AnalysisSpec::SteadyState { harmonics, samples_per_period, .. } => {
-                    Some((harmonics.unwrap_or(9), Some(*samples_per_period)))
-                }
-                AnalysisSpec::Transient { harmonics, .. } => Some((harmonics.unwrap_or(9), None)),
-                _ => None,
-            })
-            .unwrap_or((9, None));
-        let harmonics = sf.harmonics.unwrap_or(base_harm);
-        if harmonics == 0 {
-            return Err(Error::input(file, "harmonics", "must be at least 1"));
-        }
-        let samples_per_period = sf.samples_per_period.or(base_samples).unwrap_or(1024);
-        if samples_per_period < 4 * harmonics + 2 {
-            return Err(Error::input(
-                file,
-                "samples_per_period",
-                format!("must be at least 4·harmonics + 2 = {} to resolve the harmonics", 4 * harmonics + 2),
-            ));
-        }
+        let mut base = BaseCase::load(file, "base", dir, &sf.base)?;
+        let (harmonics, samples_per_period) = harmonic_counts(sf.harmonics, sf.samples_per_period, &base, file)?;
         if sf.best == 0 {
             return Err(Error::input(file, "best", "must be at least 1"));
         }
@@ -332,18 +177,17 @@ impl Sweep {
 
         let mut parameters: Vec<Parameter> = Vec::new();
         for (i, p) in sf.parameter.iter().enumerate() {
-            let field = format!("parameter[{i}]");
-            let segments = parse_path(&p.path).map_err(|r| Error::input(file, format!("{field}.path"), r))?;
-            if let Some(j) = parameters.iter().position(|q| q.path == p.path) {
+            let name = format!("parameter[{i}]");
+            let field = Field::parse(&p.path).map_err(|r| Error::input(file, format!("{name}.path"), r))?;
+            if let Some(j) = parameters.iter().position(|q| q.path() == p.path) {
                 return Err(Error::input(
                     file,
-                    format!("{field}.path"),
+                    format!("{name}.path"),
                     format!("`{}` is already varied by parameter[{j}]", p.path),
                 ));
             }
-            let values = parameter_values(p, file, &field)?;
-            let integer = matches!(get_path(&base_value, &segments), Some(toml::Value::Integer(_)));
-            parameters.push(Parameter { path: p.path.clone(), segments, values, integer, unit: unit_of(&p.path) });
+            let values = parameter_values(p, file, &name)?;
+            parameters.push(Parameter { field, values });
         }
         if sf.combine == Combine::Zip {
             let n = parameters[0].values.len();
@@ -353,9 +197,9 @@ impl Sweep {
                     format!("parameter[{i}]"),
                     format!(
                         "combine = \"zip\" needs equally many values: `{}` has {}, `{}` has {n}",
-                        q.path,
+                        q.path(),
                         q.values.len(),
-                        parameters[0].path
+                        parameters[0].path()
                     ),
                 ));
             }
@@ -363,123 +207,17 @@ impl Sweep {
 
         // Each parameter on its own, over all its values, on the base case: unknown paths,
         // integer fields and out-of-range values fail here, before anything runs.
-        for (i, param) in parameters.iter_mut().enumerate() {
-            let field = format!("parameter[{i}]");
-            for k in 0..param.values.len() {
-                let v = param.values[k];
-                let attempt = |p: &Parameter| -> Result<()> {
-                    let mut val = base_value.clone();
-                    set_path(&mut val, &p.segments, p.toml(v))
-                        .map_err(|r| Error::input(file, format!("{field}.path"), format!("`{}`: {r}", p.path)))?;
-                    let case: Case = val.try_into().map_err(|e: toml::de::Error| {
-                        Error::input(
-                            file,
-                            format!("{field}.path"),
-                            format!(
-                                "`{}` is not a case field the base case accepts: {}",
-                                p.path,
-                                e.message().trim_end()
-                            ),
-                        )
-                    })?;
-                    case.validate(&base_file).map_err(|e| {
-                        Error::input(
-                            file,
-                            format!("{field}.values"),
-                            format!("{} = {v} is not acceptable: {e}", p.path),
-                        )
-                    })
-                };
-                match attempt(param) {
-                    Ok(()) => {}
-                    Err(e) if k == 0 && !param.integer && v.fract() == 0.0 => {
-                        // A field the base leaves at its default may be an integer.
-                        let mut as_int = param.clone();
-                        as_int.integer = true;
-                        if attempt(&as_int).is_err() {
-                            return Err(e);
-                        }
-                        param.integer = true;
-                    }
-                    Err(e) => return Err(e),
-                }
-                if param.integer && v.fract() != 0.0 {
-                    return Err(Error::input(
-                        file,
-                        format!("{field}.values"),
-                        format!("`{}` is an integer field, got {v}", param.path),
-                    ));
-                }
-            }
+        for (i, p) in parameters.iter_mut().enumerate() {
+            base.check_field(&mut p.field, &p.values, file, &format!("parameter[{i}]"))?;
         }
-
-        // Beam damping computed once, if no case can change it.
-        let touches_beam = parameters.iter().any(|p| matches!(p.segments[0].key.as_str(), "beam" | "damping" | "base"));
-        let mut cached_damping = None;
-        if sf.cache_damping
-            && !touches_beam
-            && base_lc.case.base == BaseKind::Beam
-            && base_lc.case.damping.kind == DampingKind::RayleighRatio
-        {
-            let stripped: Case = base_value.clone().try_into().map_err(|e: toml::de::Error| Error::Parse {
-                file: base_file.clone(),
-                message: e.message().trim_end().to_string(),
-            })?;
-            let lc = LoadedCase { case: stripped, file: base_file.clone(), dir: base_dir.clone(), text: String::new() };
-            let beam = crate::case::build::build_beam(&lc)?;
-            let d = &lc.case.damping;
-            let need = d.modes[0].max(d.modes[1]);
-            let m = crate::analysis::modes::bare_modes(&beam, need)?;
-            if m.count() < need {
-                return Err(Error::input(
-                    &base_file,
-                    "damping.modes",
-                    format!("the mesh has only {} modes", m.count()),
-                ));
-            }
-            let r = Rayleigh::from_ratio(d.zeta, m.omega[d.modes[0] - 1], m.omega[d.modes[1] - 1]);
-            let mut t = toml::map::Map::new();
-            t.insert("kind".into(), toml::Value::String("rayleigh".into()));
-            t.insert("a0".into(), toml::Value::Float(r.a0));
-            t.insert("a1".into(), toml::Value::Float(r.a1));
-            base_value.as_table_mut().expect("a case is a table").insert("damping".into(), toml::Value::Table(t));
-            cached_damping = Some(r);
-        }
-
-        // Column names from the base model.
-        let base_case: Case = base_value.clone().try_into().map_err(|e: toml::de::Error| Error::Parse {
-            file: base_file.clone(),
-            message: e.message().trim_end().to_string(),
-        })?;
-        let mut actuators = Vec::new();
-        let mut links = Vec::new();
-        for (i, a) in base_case.actuator.iter().enumerate() {
-            let name = a.name.clone().unwrap_or_else(|| {
-                let kind = match a.kind {
-                    crate::case::ActuatorType::Inertial => "inertial",
-                    crate::case::ActuatorType::Frame => "frame",
-                };
-                if base_case.actuator.len() > 1 {
-                    format!("{kind}_{i}")
-                } else {
-                    kind.to_string()
-                }
-            });
-            let l: &[&str] = match a.kind {
-                crate::case::ActuatorType::Inertial => &["stack"],
-                crate::case::ActuatorType::Frame => &["stack", "left_leg", "right_leg"],
-            };
-            links.extend(l.iter().map(|l| format!("{name}.{l}")));
-            actuators.push(name);
-        }
-        if actuators.is_empty() {
-            return Err(Error::input(&base_file, "actuator", "a sweep's base case needs at least one actuator"));
+        if sf.cache_damping {
+            base.cache_damping(&parameters.iter().map(|p| &p.field).collect::<Vec<_>>())?;
         }
 
         let version = env!("CARGO_PKG_VERSION");
         let mut h = fnv1a(text.as_bytes(), FNV_OFFSET);
         h = fnv1a(b"\0", h);
-        h = fnv1a(base_text.as_bytes(), h);
+        h = fnv1a(base.text.as_bytes(), h);
         h = fnv1a(b"\0", h);
         h = fnv1a(version.as_bytes(), h);
         let counts = parameters.iter().map(|p| p.values.len()).collect();
@@ -487,20 +225,14 @@ impl Sweep {
             file: file.to_string(),
             text: text.to_string(),
             title: sf.title,
-            base_file,
-            base_text,
-            base_dir,
+            base,
             combine: sf.combine,
             analysis: sf.analysis,
             harmonics,
             samples_per_period,
             parameters,
-            cached_damping,
             best: sf.best,
             hash: format!("{h:016x}"),
-            actuators,
-            links,
-            base_value,
             counts,
         })
     }
@@ -519,7 +251,7 @@ impl Sweep {
 
     /// Parameter paths, in file order.
     pub fn parameter_names(&self) -> Vec<String> {
-        self.parameters.iter().map(|p| p.path.clone()).collect()
+        self.parameters.iter().map(|p| p.field.path.clone()).collect()
     }
 
     /// The parameter values of case `i`, in parameter order.
@@ -541,9 +273,7 @@ impl Sweep {
 
     /// Every case: its index and `(path, value)` pairs.
     pub fn cases(&self) -> Vec<(usize, Vec<(String, f64)>)> {
-        (0..self.len())
-            .map(|i| (i, self.parameters.iter().map(|p| p.path.clone()).zip(self.values(i)).collect()))
-            .collect()
+        (0..self.len()).map(|i| (i, self.parameter_names().into_iter().zip(self.values(i)).collect())).collect()
     }
 
     /// `path = value, …` of case `i`, for messages.
@@ -551,50 +281,44 @@ impl Sweep {
         self.parameters
             .iter()
             .zip(self.values(i))
-            .map(|(p, v)| format!("{} = {v}", p.path))
+            .map(|(p, v)| format!("{} = {v}", p.path()))
             .collect::<Vec<_>>()
             .join(", ")
     }
 
     /// Identifies the model of case `i` up to the actuators' drives: the bits of its values
-    /// of the parameters that are not [`Parameter::drive_of`] an actuator. Cases with equal
+    /// of the parameters that are not [`Field::drive_of`] an actuator. Cases with equal
     /// keys assemble the same system (the voltage enters only the stack forces).
     pub fn model_key(&self, i: usize) -> Vec<u64> {
         self.parameters
             .iter()
             .zip(self.values(i))
-            .filter(|(p, _)| p.drive_of().is_none())
+            .filter(|(p, _)| p.field.drive_of().is_none())
             .map(|(_, v)| v.to_bits())
             .collect()
     }
 
     /// Actuators whose drive some parameter changes.
     pub fn driven_actuators(&self) -> Vec<usize> {
-        let mut a: Vec<usize> = self.parameters.iter().filter_map(Parameter::drive_of).collect();
+        let mut a: Vec<usize> = self.parameters.iter().filter_map(|p| p.field.drive_of()).collect();
         a.sort_unstable();
         a.dedup();
         a
+    }
+
+    /// Case `i`'s fields and values.
+    fn assignment(&self, i: usize) -> impl Iterator<Item = (&Field, f64)> {
+        self.parameters.iter().map(|p| &p.field).zip(self.values(i))
     }
 
     /// The voltage of actuator `a` in case `i`, as [`Sweep::case`] would build it (the base
     /// case's `actuator[a].voltage` with the case's values of the parameters under it set,
     /// loaded and validated), without expanding and checking the whole case.
     pub fn voltage(&self, i: usize, a: usize) -> Result<VoltageInput> {
-        let field = format!("actuator[{a}].voltage");
-        let file = format!("{} [sweep case {i}]", self.base_file);
-        let wrap = |reason: String| Error::input(&self.file, format!("case {i} ({})", self.describe(i)), reason);
-        let path = [Segment { key: "actuator".into(), index: Some(a) }, Segment { key: "voltage".into(), index: None }];
-        let mut val = get_path(&self.base_value, &path).cloned().unwrap_or(toml::Value::Table(Default::default()));
-        for (p, v) in self.parameters.iter().zip(self.values(i)) {
-            if p.drive_of() == Some(a) {
-                set_path(&mut val, &p.segments[2..], p.toml(v)).map_err(wrap)?;
-            }
-        }
-        let mut voltage: VoltageInput =
-            val.try_into().map_err(|e: toml::de::Error| wrap(e.message().trim_end().to_string()))?;
-        voltage.load(&self.base_dir, &file, &field).map_err(|e| wrap(e.to_string()))?;
-        voltage.validate(&file, &field).map_err(|e| wrap(e.to_string()))?;
-        Ok(voltage)
+        let label = format!("{} [sweep case {i}]", self.base.file);
+        self.base
+            .voltage_with(a, self.assignment(i), &label)
+            .map_err(|r| Error::input(&self.file, format!("case {i} ({})", self.describe(i)), r))
     }
 
     /// The case with index `i`: the base with the case's values set, deserialised and
@@ -607,14 +331,10 @@ impl Sweep {
                 format!("case {i} does not exist (the sweep has {})", self.len()),
             ));
         }
-        let mut val = self.base_value.clone();
-        let wrap = |reason: String| Error::input(&self.file, format!("case {i} ({})", self.describe(i)), reason);
-        for (p, v) in self.parameters.iter().zip(self.values(i)) {
-            set_path(&mut val, &p.segments, p.toml(v)).map_err(wrap)?;
-        }
-        let case: Case = val.try_into().map_err(|e: toml::de::Error| wrap(e.message().trim_end().to_string()))?;
-        let file = format!("{} [sweep case {i}]", self.base_file);
-        LoadedCase::from_case(case, &file, self.base_dir.clone()).map_err(|e| wrap(e.to_string()))
+        let label = format!("{} [sweep case {i}]", self.base.file);
+        self.base
+            .case_with(self.assignment(i), &label)
+            .map_err(|r| Error::input(&self.file, format!("case {i} ({})", self.describe(i)), r))
     }
 }
 
@@ -690,34 +410,6 @@ fn parameter_values(p: &ParameterFile, file: &str, field: &str) -> Result<Vec<f6
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn paths_parse() {
-        assert_eq!(
-            parse_path("actuator[0].voltage.frequency").unwrap(),
-            vec![
-                Segment { key: "actuator".into(), index: Some(0) },
-                Segment { key: "voltage".into(), index: None },
-                Segment { key: "frequency".into(), index: None },
-            ]
-        );
-        for bad in ["", "a..b", "a[x].b", "a[0", "a b", "[0]"] {
-            assert!(parse_path(bad).is_err(), "{bad}");
-        }
-    }
-
-    #[test]
-    fn set_path_creates_tables_but_not_array_entries() {
-        let mut v: toml::Value = toml::from_str("[[actuator]]\nx_e = 0.1\n").unwrap();
-        set_path(&mut v, &parse_path("damping.zeta").unwrap(), toml::Value::Float(0.02)).unwrap();
-        set_path(&mut v, &parse_path("actuator[0].voltage.frequency").unwrap(), toml::Value::Float(60.0)).unwrap();
-        assert_eq!(v["damping"]["zeta"].as_float(), Some(0.02));
-        assert_eq!(v["actuator"][0]["voltage"]["frequency"].as_float(), Some(60.0));
-        let e = set_path(&mut v, &parse_path("actuator[1].x_e").unwrap(), toml::Value::Float(0.2)).unwrap_err();
-        assert!(e.contains("1 entries in `actuator`"), "{e}");
-        let e = set_path(&mut v, &parse_path("sensor[0].x").unwrap(), toml::Value::Float(0.2)).unwrap_err();
-        assert!(e.contains("no `sensor`"), "{e}");
-    }
 
     #[test]
     fn hash_is_fnv1a() {

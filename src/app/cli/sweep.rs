@@ -55,7 +55,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         if shard == Shard::ALL { String::new() } else { format!(", shard {shard}: {n} of them") },
         s.analysis.as_str(),
         s.harmonics,
-        match s.cached_damping {
+        match s.base.cached_damping {
             Some(r) => format!(", Rayleigh a0 = {:.6e} 1/s, a1 = {:.6e} s computed once", r.a0, r.a1),
             None => String::new(),
         }

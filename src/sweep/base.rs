@@ -1,0 +1,237 @@
+//! The base case of a study (a sweep or an optimisation): read and checked once, its
+//! analyses removed (the study says what to solve), and turned into a case for any values
+//! of the fields the study varies. Every message names the study file or the base file.
+
+use super::field::{get_path, set_path, Field, Segment};
+use crate::assembly::system::Rayleigh;
+use crate::case::{ActuatorType, AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase};
+use crate::error::{Error, Result};
+use crate::signal::voltage::VoltageInput;
+use std::path::{Path, PathBuf};
+
+/// A study's base case.
+#[derive(Clone, Debug)]
+pub struct BaseCase {
+    /// The base case file (as resolved against the study file) and its text.
+    pub file: String,
+    pub text: String,
+    /// Directory the base case's relative paths resolve against.
+    pub dir: PathBuf,
+    /// The base case as loaded and validated (with its analyses).
+    pub case: Case,
+    /// Harmonics and samples per period of the base case's steady-state or transient
+    /// analysis (9 and none when it has neither).
+    pub harmonics: usize,
+    pub samples_per_period: Option<usize>,
+    /// Rayleigh coefficients computed once from the base case and used by every case
+    /// ([`BaseCase::cache_damping`]).
+    pub cached_damping: Option<Rayleigh>,
+    /// Actuator and link names of the base model, in model order.
+    pub actuators: Vec<String>,
+    pub links: Vec<String>,
+    /// The base document with the analyses removed (and the cached damping inserted).
+    value: toml::Value,
+}
+
+impl BaseCase {
+    /// Reads the base case `rel` (relative to `dir`, the study file's directory) named by
+    /// field `field` of `study`. It must be a valid case on its own (its errors name the
+    /// base file) and have at least one actuator.
+    pub fn load(study: &str, field: &str, dir: &Path, rel: &str) -> Result<BaseCase> {
+        let path = dir.join(rel);
+        let file = path.display().to_string();
+        let text = std::fs::read_to_string(&path)
+            .map_err(|e| Error::input(study, field, format!("cannot read the base case {file}: {e}")))?;
+        let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
+        let lc = LoadedCase::from_str(&text, &file, base_dir.clone())?;
+        let mut value: toml::Value = toml::from_str(&text)
+            .map_err(|e| Error::Parse { file: file.clone(), message: e.to_string().trim_end().to_string() })?;
+        if let Some(t) = value.as_table_mut() {
+            t.remove("analysis");
+        }
+        let (harmonics, samples_per_period) = lc
+            .case
+            .analysis
+            .iter()
+            .find_map(|a| match a {
+                AnalysisSpec::SteadyState { harmonics, samples_per_period, .. } => {
+                    Some((harmonics.unwrap_or(9), Some(*samples_per_period)))
+                }
+                AnalysisSpec::Transient { harmonics, .. } => Some((harmonics.unwrap_or(9), None)),
+                _ => None,
+            })
+            .unwrap_or((9, None));
+        let (actuators, links) = names(&lc.case);
+        if actuators.is_empty() {
+            return Err(Error::input(&file, "actuator", "a study's base case needs at least one actuator"));
+        }
+        Ok(BaseCase {
+            file,
+            text,
+            dir: base_dir,
+            case: lc.case,
+            harmonics,
+            samples_per_period,
+            cached_damping: None,
+            actuators,
+            links,
+            value,
+        })
+    }
+
+    /// The base document as the study uses it (analyses removed).
+    pub fn value(&self) -> &toml::Value {
+        &self.value
+    }
+
+    /// Checks `field` on the base case at each of `values`, alone: an unknown path, an
+    /// integer field given a fraction, or a value the case refuses fails here, before
+    /// anything runs, naming `study` and `name` (e.g. `parameter[0]`). Sets
+    /// [`Field::integer`] from the base (a field it leaves at its default may be an
+    /// integer: tried when the first value is whole).
+    pub fn check_field(&self, field: &mut Field, values: &[f64], study: &str, name: &str) -> Result<()> {
+        field.integer = matches!(get_path(&self.value, &field.segments), Some(toml::Value::Integer(_)));
+        for (k, &v) in values.iter().enumerate() {
+            let attempt = |f: &Field| -> Result<()> {
+                let mut val = self.value.clone();
+                set_path(&mut val, &f.segments, f.toml(v))
+                    .map_err(|r| Error::input(study, format!("{name}.path"), format!("`{}`: {r}", f.path)))?;
+                let case: Case = val.try_into().map_err(|e: toml::de::Error| {
+                    Error::input(
+                        study,
+                        format!("{name}.path"),
+                        format!("`{}` is not a case field the base case accepts: {}", f.path, e.message().trim_end()),
+                    )
+                })?;
+                case.validate(&self.file).map_err(|e| {
+                    Error::input(study, format!("{name}.values"), format!("{} = {v} is not acceptable: {e}", f.path))
+                })
+            };
+            match attempt(field) {
+                Ok(()) => {}
+                Err(e) if k == 0 && !field.integer && v.fract() == 0.0 => {
+                    let mut as_int = field.clone();
+                    as_int.integer = true;
+                    if attempt(&as_int).is_err() {
+                        return Err(e);
+                    }
+                    field.integer = true;
+                }
+                Err(e) => return Err(e),
+            }
+            if field.integer && v.fract() != 0.0 {
+                return Err(Error::input(
+                    study,
+                    format!("{name}.values"),
+                    format!("`{}` is an integer field, got {v}", field.path),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Computes the beam's Rayleigh damping once and puts it in the base, when none of
+    /// `varied` can change it (they leave `beam`, `damping` and `base` alone) and the base
+    /// asks for Rayleigh damping by ratio on a beam.
+    pub fn cache_damping(&mut self, varied: &[&Field]) -> Result<()> {
+        let touches_beam = varied.iter().any(|f| matches!(f.segments[0].key.as_str(), "beam" | "damping" | "base"));
+        if touches_beam || self.case.base != BaseKind::Beam || self.case.damping.kind != DampingKind::RayleighRatio {
+            return Ok(());
+        }
+        let stripped: Case = self.value.clone().try_into().map_err(|e: toml::de::Error| Error::Parse {
+            file: self.file.clone(),
+            message: e.message().trim_end().to_string(),
+        })?;
+        let lc = LoadedCase { case: stripped, file: self.file.clone(), dir: self.dir.clone(), text: String::new() };
+        let beam = crate::case::build::build_beam(&lc)?;
+        let d = &lc.case.damping;
+        let need = d.modes[0].max(d.modes[1]);
+        let m = crate::analysis::modes::bare_modes(&beam, need)?;
+        if m.count() < need {
+            return Err(Error::input(&self.file, "damping.modes", format!("the mesh has only {} modes", m.count())));
+        }
+        let r = Rayleigh::from_ratio(d.zeta, m.omega[d.modes[0] - 1], m.omega[d.modes[1] - 1]);
+        let mut t = toml::map::Map::new();
+        t.insert("kind".into(), toml::Value::String("rayleigh".into()));
+        t.insert("a0".into(), toml::Value::Float(r.a0));
+        t.insert("a1".into(), toml::Value::Float(r.a1));
+        self.value.as_table_mut().expect("a case is a table").insert("damping".into(), toml::Value::Table(t));
+        self.cached_damping = Some(r);
+        Ok(())
+    }
+
+    /// The base document with each `(field, value)` set.
+    pub fn document<'f>(
+        &self,
+        set: impl IntoIterator<Item = (&'f Field, f64)>,
+    ) -> std::result::Result<toml::Value, String> {
+        let mut val = self.value.clone();
+        for (f, v) in set {
+            set_path(&mut val, &f.segments, f.toml(v))?;
+        }
+        Ok(val)
+    }
+
+    /// The case with each `(field, value)` set, deserialised and validated; `label` names
+    /// it in messages of the case layer (e.g. `base.toml [sweep case 3]`). The error is
+    /// the reason, for the caller to place.
+    pub fn case_with<'f>(
+        &self,
+        set: impl IntoIterator<Item = (&'f Field, f64)>,
+        label: &str,
+    ) -> std::result::Result<LoadedCase, String> {
+        let val = self.document(set)?;
+        let case: Case = val.try_into().map_err(|e: toml::de::Error| e.message().trim_end().to_string())?;
+        LoadedCase::from_case(case, label, self.dir.clone()).map_err(|e| e.to_string())
+    }
+
+    /// The voltage of actuator `a` with the fields under `actuator[a].voltage` among `set`
+    /// applied, loaded and validated, without building the whole case.
+    pub fn voltage_with<'f>(
+        &self,
+        a: usize,
+        set: impl IntoIterator<Item = (&'f Field, f64)>,
+        label: &str,
+    ) -> std::result::Result<VoltageInput, String> {
+        let field = format!("actuator[{a}].voltage");
+        let path = [Segment { key: "actuator".into(), index: Some(a) }, Segment { key: "voltage".into(), index: None }];
+        let mut val = get_path(&self.value, &path).cloned().unwrap_or(toml::Value::Table(Default::default()));
+        for (f, v) in set {
+            if f.drive_of() == Some(a) {
+                set_path(&mut val, &f.segments[2..], f.toml(v))?;
+            }
+        }
+        let mut voltage: VoltageInput =
+            val.try_into().map_err(|e: toml::de::Error| e.message().trim_end().to_string())?;
+        voltage.load(&self.dir, label, &field).map_err(|e| e.to_string())?;
+        voltage.validate(label, &field).map_err(|e| e.to_string())?;
+        Ok(voltage)
+    }
+}
+
+/// Actuator names (given, or `inertial`/`frame`, numbered when there are several) and
+/// their links' names (`name.stack`, `name.left_leg`, `name.right_leg`).
+fn names(case: &Case) -> (Vec<String>, Vec<String>) {
+    let mut actuators = Vec::new();
+    let mut links = Vec::new();
+    for (i, a) in case.actuator.iter().enumerate() {
+        let name = a.name.clone().unwrap_or_else(|| {
+            let kind = match a.kind {
+                ActuatorType::Inertial => "inertial",
+                ActuatorType::Frame => "frame",
+            };
+            if case.actuator.len() > 1 {
+                format!("{kind}_{i}")
+            } else {
+                kind.to_string()
+            }
+        });
+        let l: &[&str] = match a.kind {
+            ActuatorType::Inertial => &["stack"],
+            ActuatorType::Frame => &["stack", "left_leg", "right_leg"],
+        };
+        links.extend(l.iter().map(|l| format!("{name}.{l}")));
+        actuators.push(name);
+    }
+    (actuators, links)
+}
