@@ -31,6 +31,7 @@ pub mod error;
 pub mod identify;
 pub mod io;
 pub mod linalg;
+pub mod optimize;
 pub mod power;
 pub mod report;
 pub mod signal;

@@ -7,5 +7,6 @@
 pub mod cli;
 pub mod commands;
 pub mod identify;
+pub mod optimize;
 pub mod paper;
 pub mod runner;

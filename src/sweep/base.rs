@@ -92,27 +92,12 @@ impl BaseCase {
     pub fn check_field(&self, field: &mut Field, values: &[f64], study: &str, name: &str) -> Result<()> {
         field.integer = matches!(get_path(&self.value, &field.segments), Some(toml::Value::Integer(_)));
         for (k, &v) in values.iter().enumerate() {
-            let attempt = |f: &Field| -> Result<()> {
-                let mut val = self.value.clone();
-                set_path(&mut val, &f.segments, f.toml(v))
-                    .map_err(|r| Error::input(study, format!("{name}.path"), format!("`{}`: {r}", f.path)))?;
-                let case: Case = val.try_into().map_err(|e: toml::de::Error| {
-                    Error::input(
-                        study,
-                        format!("{name}.path"),
-                        format!("`{}` is not a case field the base case accepts: {}", f.path, e.message().trim_end()),
-                    )
-                })?;
-                case.validate(&self.file).map_err(|e| {
-                    Error::input(study, format!("{name}.values"), format!("{} = {v} is not acceptable: {e}", f.path))
-                })
-            };
-            match attempt(field) {
+            match self.check_value(field, field.toml(v), study, name) {
                 Ok(()) => {}
                 Err(e) if k == 0 && !field.integer && v.fract() == 0.0 => {
                     let mut as_int = field.clone();
                     as_int.integer = true;
-                    if attempt(&as_int).is_err() {
+                    if self.check_value(&as_int, as_int.toml(v), study, name).is_err() {
                         return Err(e);
                     }
                     field.integer = true;
@@ -128,6 +113,24 @@ impl BaseCase {
             }
         }
         Ok(())
+    }
+
+    /// Checks the base case with `field` set to `value` alone (see [`BaseCase::check_field`]).
+    pub fn check_value(&self, field: &Field, value: toml::Value, study: &str, name: &str) -> Result<()> {
+        let shown = value.to_string();
+        let mut val = self.value.clone();
+        set_path(&mut val, &field.segments, value)
+            .map_err(|r| Error::input(study, format!("{name}.path"), format!("`{}`: {r}", field.path)))?;
+        let case: Case = val.try_into().map_err(|e: toml::de::Error| {
+            Error::input(
+                study,
+                format!("{name}.path"),
+                format!("`{}` is not a case field the base case accepts: {}", field.path, e.message().trim_end()),
+            )
+        })?;
+        case.validate(&self.file).map_err(|e| {
+            Error::input(study, format!("{name}.values"), format!("{} = {shown} is not acceptable: {e}", field.path))
+        })
     }
 
     /// Computes the beam's Rayleigh damping once and puts it in the base, when none of
@@ -163,11 +166,11 @@ impl BaseCase {
     /// The base document with each `(field, value)` set.
     pub fn document<'f>(
         &self,
-        set: impl IntoIterator<Item = (&'f Field, f64)>,
+        set: impl IntoIterator<Item = (&'f Field, toml::Value)>,
     ) -> std::result::Result<toml::Value, String> {
         let mut val = self.value.clone();
         for (f, v) in set {
-            set_path(&mut val, &f.segments, f.toml(v))?;
+            set_path(&mut val, &f.segments, v)?;
         }
         Ok(val)
     }
@@ -177,7 +180,7 @@ impl BaseCase {
     /// the reason, for the caller to place.
     pub fn case_with<'f>(
         &self,
-        set: impl IntoIterator<Item = (&'f Field, f64)>,
+        set: impl IntoIterator<Item = (&'f Field, toml::Value)>,
         label: &str,
     ) -> std::result::Result<LoadedCase, String> {
         let val = self.document(set)?;
@@ -190,7 +193,7 @@ impl BaseCase {
     pub fn voltage_with<'f>(
         &self,
         a: usize,
-        set: impl IntoIterator<Item = (&'f Field, f64)>,
+        set: impl IntoIterator<Item = (&'f Field, toml::Value)>,
         label: &str,
     ) -> std::result::Result<VoltageInput, String> {
         let field = format!("actuator[{a}].voltage");
@@ -198,7 +201,7 @@ impl BaseCase {
         let mut val = get_path(&self.value, &path).cloned().unwrap_or(toml::Value::Table(Default::default()));
         for (f, v) in set {
             if f.drive_of() == Some(a) {
-                set_path(&mut val, &f.segments[2..], f.toml(v))?;
+                set_path(&mut val, &f.segments[2..], v)?;
             }
         }
         let mut voltage: VoltageInput =

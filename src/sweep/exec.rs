@@ -220,7 +220,7 @@ impl<'a> Evaluator<'a> {
 /// A case's system as the sweep solves it: assembled, or with modal damping (steady-state
 /// sweeps only) the same model in the bare beam's complete modal basis, where that damping
 /// is a matrix. A transient sweep of a modal-damped case is refused.
-fn frequency_domain_system(built: &BuiltModel, file: &str, analysis: SweepAnalysis) -> Result<System> {
+pub fn frequency_domain_system(built: &BuiltModel, file: &str, analysis: SweepAnalysis) -> Result<System> {
     if analysis == SweepAnalysis::Transient {
         built.require_viscous_damping(file, "transient sweep")?;
     }

@@ -307,8 +307,8 @@ impl Sweep {
     }
 
     /// Case `i`'s fields and values.
-    fn assignment(&self, i: usize) -> impl Iterator<Item = (&Field, f64)> {
-        self.parameters.iter().map(|p| &p.field).zip(self.values(i))
+    fn assignment(&self, i: usize) -> impl Iterator<Item = (&Field, toml::Value)> {
+        self.parameters.iter().map(|p| &p.field).zip(self.values(i)).map(|(f, v)| (f, f.toml(v)))
     }
 
     /// The voltage of actuator `a` in case `i`, as [`Sweep::case`] would build it (the base

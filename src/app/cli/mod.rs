@@ -2,6 +2,7 @@
 //! thin call into the library.
 
 pub mod identify;
+pub mod optimize;
 pub mod sweep;
 
 use crate::error::Result;
@@ -63,6 +64,8 @@ pub enum Command {
     Sweep(sweep::SweepArgs),
     /// Joins sweep shards into one table.
     Merge(sweep::MergeArgs),
+    /// Finds the actuator placement (and drive) that maximises or minimises an objective.
+    Optimize(optimize::OptimizeArgs),
     /// Identifies stack and frame parameters from measurements.
     Identify(identify::IdentifyArgs),
     /// Makes synthetic measurements from a case, with noise.
@@ -167,6 +170,7 @@ fn dispatch(cmd: &Command) -> Result<()> {
         Command::Check { case } => crate::app::commands::check(case),
         Command::Sweep(a) => sweep::sweep(a),
         Command::Merge(a) => sweep::merge(a),
+        Command::Optimize(a) => optimize::optimize(a),
         Command::Identify(a) => identify::identify(a),
         Command::Synth(a) => identify::synth(a),
         Command::Completions { shell } => {

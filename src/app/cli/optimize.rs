@@ -1,0 +1,52 @@
+//! `beamflow optimize`.
+
+use crate::error::{Error, Result};
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `beamflow optimize`.
+#[derive(Args, Debug)]
+pub struct OptimizeArgs {
+    /// Optimisation file (TOML; see docs/optimize.md).
+    pub spec: PathBuf,
+    /// Output directory (default: out/<file name>).
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Worker threads (default: one per core). The result does not depend on it.
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Skip the figures.
+    #[arg(long)]
+    pub no_plots: bool,
+}
+
+pub fn optimize(args: &OptimizeArgs) -> Result<()> {
+    if args.threads == Some(0) {
+        return Err(Error::input("<cli>", "--threads", "must be at least 1"));
+    }
+    let name = args.spec.file_name().and_then(|s| s.to_str()).unwrap_or("optimize");
+    let stem = name.strip_suffix(".toml").unwrap_or(name).trim_end_matches(".opt");
+    let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(stem));
+    let (spec, r, files) = crate::app::optimize::optimize(&args.spec, &out, args.threads, !args.no_plots)?;
+    eprintln!(
+        "{}: {} variables, {} evaluations in {:.2} s ({:.0} per second)",
+        spec.file,
+        spec.variables.len(),
+        r.evaluations,
+        r.seconds,
+        r.evaluations as f64 / r.seconds.max(1e-9)
+    );
+    for p in &files {
+        crate::say!("wrote {}", p.display());
+    }
+    let what = if r.pareto.is_empty() { "Distinct optima" } else { "Distinct optima of the first objective" };
+    crate::say!("\n{what}:\n{}", crate::app::optimize::optima_table(&spec, &r.optima));
+    if !r.pareto.is_empty() {
+        crate::say!(
+            "\nPareto front ({} points):\n{}",
+            r.pareto.len(),
+            crate::app::optimize::optima_table(&spec, &r.pareto)
+        );
+    }
+    Ok(())
+}

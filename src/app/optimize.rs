@@ -1,0 +1,186 @@
+//! `beamflow optimize`: runs an optimisation and writes what it found — the best case as a
+//! runnable case file, the convergence history, the distinct optima (and the Pareto front
+//! for two objectives), a JSON summary and the figures that explain the optimum — as one
+//! output set (io::output_set).
+
+use crate::error::{Error, Result};
+use crate::io::atomic::write_atomic_string;
+use crate::optimize::evaluate::Evaluation;
+use crate::optimize::{self, RunOptions, RunResult, Spec};
+use crate::report::sweep::num;
+use crate::sweep::field::set_path;
+use std::path::{Path, PathBuf};
+
+/// Points per real variable in the profile figure.
+const PROFILE_POINTS: usize = 41;
+/// Bare-beam modes in the mode-resolved comparison.
+const FIGURE_MODES: usize = 8;
+
+/// Loads, runs and writes an optimisation into `out`; returns the result and the files.
+pub fn optimize(
+    file: &Path,
+    out: &Path,
+    threads: Option<usize>,
+    plots: bool,
+) -> Result<(Spec, RunResult, Vec<PathBuf>)> {
+    let spec = optimize::load(file)?;
+    let opts = RunOptions { threads, progress: true, ..Default::default() };
+    let r = optimize::run(&spec, &opts)?;
+    let set = crate::io::output_set::OutputSet::begin(out)?;
+    let dir = set.dir().to_path_buf();
+    let mut written = Vec::new();
+    let mut put = |name: &str, text: String| -> Result<()> {
+        let p = dir.join(name);
+        write_atomic_string(&p, &text)?;
+        written.push(p);
+        Ok(())
+    };
+    put("best.toml", best_case(&spec, &r.best)?)?;
+    put("history.csv", history_csv(&spec, &r.history))?;
+    put("optima.csv", table_csv(&spec, &r.optima))?;
+    if !r.pareto.is_empty() {
+        put("pareto.csv", table_csv(&spec, &r.pareto))?;
+    }
+    put("summary.json", serde_json::to_string_pretty(&summary(&spec, &r)).expect("plain data serialises"))?;
+    if plots {
+        let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .map_err(|e| Error::Numerical(format!("cannot start {threads} worker threads: {e}")))?;
+        let (profiles, modal) = pool.install(|| {
+            rayon::join(
+                || optimize::explain::profiles(&spec, &r.best, PROFILE_POINTS),
+                || optimize::explain::modal_comparison(&spec, &r.best, &r.history, FIGURE_MODES),
+            )
+        });
+        let o = &spec.objectives[0];
+        let p = dir.join("profiles.png");
+        crate::report::optimize::plot_profiles(&p, "Objective through the optimum", &o.label, &o.unit(), &profiles)?;
+        written.push(p);
+        if let Some(m) = modal {
+            let p = dir.join("modes.png");
+            crate::report::optimize::plot_modal(&p, &m)?;
+            written.push(p);
+        }
+    }
+    let finals = written.iter().map(|p| set.final_path(p)).collect();
+    set.commit()?;
+    Ok((spec, r, finals))
+}
+
+/// The base case as written (analyses and comments of values aside) with the best values
+/// set, and a steady-state analysis if it has none: a case `beamflow run` takes as it is.
+fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
+    let mut doc: toml::Value = toml::from_str(&spec.base.text)
+        .map_err(|e| Error::Parse { file: spec.base.file.clone(), message: e.to_string() })?;
+    for (f, v) in spec.assignment(&best.u) {
+        set_path(&mut doc, &f.segments, v).map_err(|r| Error::input(&spec.file, "variable", r))?;
+    }
+    let t = doc.as_table_mut().expect("a case is a table");
+    if !t.contains_key("analysis") {
+        let a: toml::Value =
+            toml::from_str(&format!("type = \"steady_state\"\nharmonics = {}\n", spec.harmonics)).expect("valid TOML");
+        t.insert("analysis".into(), toml::Value::Array(vec![a]));
+    }
+    let body = toml::to_string_pretty(&doc).map_err(|e| Error::input(&spec.file, "base", e.to_string()))?;
+    let values: Vec<String> = spec
+        .objectives
+        .iter()
+        .zip(&best.values)
+        .map(|(o, v)| format!("# {} = {} {}", o.label, num(*v), o.unit()))
+        .collect();
+    Ok(format!(
+        "# Best case of {} (base {}); relative file paths resolve against the base case's folder.\n# {}\n{}\n\n{body}",
+        spec.file,
+        spec.base.file,
+        spec.describe(&best.u),
+        values.join("\n")
+    ))
+}
+
+fn header(spec: &Spec) -> String {
+    let mut h: Vec<String> = spec.objectives.iter().map(|o| format!("{} ({})", o.label, o.unit())).collect();
+    h.extend(spec.variables.iter().map(|v| format!("{} ({})", v.name, v.unit())));
+    h.iter().map(|c| format!("\"{c}\"")).collect::<Vec<_>>().join(",")
+}
+
+fn row(spec: &Spec, e: &Evaluation) -> String {
+    let mut c: Vec<String> = e.values.iter().map(|v| format!("{v:e}")).collect();
+    c.extend(spec.variables.iter().zip(&e.u).map(|(v, &u)| format!("{}", v.number(u))));
+    c.join(",")
+}
+
+/// Every evaluation in order: whether it met the constraints, the best feasible value of the
+/// first objective so far, its objectives and variables.
+fn history_csv(spec: &Spec, h: &[Evaluation]) -> String {
+    let o = &spec.objectives[0];
+    let mut s = format!("evaluation,feasible,\"best so far ({})\",{}\n", o.unit(), header(spec));
+    let mut best = f64::NAN;
+    for (i, e) in h.iter().enumerate() {
+        if e.feasible() && (best.is_nan() || o.better(e.values[0], best)) {
+            best = e.values[0];
+        }
+        s += &format!("{i},{},{best:e},{}\n", e.feasible() as u8, row(spec, e));
+    }
+    s
+}
+
+fn table_csv(spec: &Spec, rows: &[Evaluation]) -> String {
+    let mut s = format!("rank,{}\n", header(spec));
+    for (i, e) in rows.iter().enumerate() {
+        s += &format!("{},{}\n", i + 1, row(spec, e));
+    }
+    s
+}
+
+fn candidate_json(spec: &Spec, e: &Evaluation) -> serde_json::Value {
+    let vars: serde_json::Map<String, serde_json::Value> = spec
+        .variables
+        .iter()
+        .zip(&e.u)
+        .map(|(v, &u)| (v.name.clone(), serde_json::to_value(v.value(u)).unwrap_or_default()))
+        .collect();
+    let objs: serde_json::Map<String, serde_json::Value> =
+        spec.objectives.iter().zip(&e.values).map(|(o, v)| (o.label.clone(), serde_json::json!(v))).collect();
+    serde_json::json!({ "variables": vars, "objectives": objs })
+}
+
+fn summary(spec: &Spec, r: &RunResult) -> serde_json::Value {
+    serde_json::json!({
+        "file": spec.file,
+        "title": spec.title,
+        "base": spec.base.file,
+        "seed": spec.search.seed,
+        "evaluations": r.evaluations,
+        "seconds": r.seconds,
+        "best": candidate_json(spec, &r.best),
+        "optima": r.optima.iter().map(|e| candidate_json(spec, e)).collect::<Vec<_>>(),
+        "pareto": r.pareto.iter().map(|e| candidate_json(spec, e)).collect::<Vec<_>>(),
+    })
+}
+
+/// The optima as an aligned text table.
+pub fn optima_table(spec: &Spec, rows: &[Evaluation]) -> String {
+    let mut s = format!("{:>4}", "rank");
+    for o in &spec.objectives {
+        s += &format!("  {:>14}", format!("{} ({})", o.label, o.unit()));
+    }
+    for v in &spec.variables {
+        s += &format!("  {:>14}", v.name);
+    }
+    for (i, e) in rows.iter().enumerate() {
+        s += &format!("\n{:>4}", i + 1);
+        for v in &e.values {
+            s += &format!("  {:>14}", num(*v));
+        }
+        for (v, &u) in spec.variables.iter().zip(&e.u) {
+            let shown = match v.value(u) {
+                toml::Value::Float(x) => num(x),
+                other => other.to_string(),
+            };
+            s += &format!("  {shown:>14}");
+        }
+    }
+    s
+}

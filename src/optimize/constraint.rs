@@ -1,0 +1,217 @@
+//! Constraints on a candidate: where the actuators stand (feet on the beam and off its
+//! supports, footprints apart), how hard the stacks are driven, and `quantity <= value` or
+//! `quantity >= value` over the results. The placement constraints are checked on the case
+//! before anything is solved; a candidate that breaks one is never solved.
+
+use super::quantity::{Outcome, Quantity};
+use crate::case::{ActuatorSpec, ActuatorType, BaseKind, Case, SupportKindSpec};
+use crate::signal::voltage::VoltageInput;
+
+/// The placement and drive limits (from the `[constraints]` table).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Limits {
+    /// Least distance (m) of every foot and leg from a support and from the beam's ends.
+    pub support_clearance: f64,
+    /// Least gap (m) between two actuators' footprints.
+    pub clearance: f64,
+    /// Largest peak drive voltage |V| of any stack (V), if limited.
+    pub max_voltage: Option<f64>,
+}
+
+/// `quantity <= value` or `quantity >= value`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bound {
+    /// As written, for messages.
+    pub text: String,
+    pub quantity: Quantity,
+    pub upper: bool,
+    pub value: f64,
+}
+
+impl Bound {
+    /// Parses `expression <= value` or `expression >= value`.
+    pub fn parse(text: &str) -> std::result::Result<Bound, String> {
+        let (lhs, rhs, upper) = if let Some((l, r)) = text.split_once("<=") {
+            (l, r, true)
+        } else if let Some((l, r)) = text.split_once(">=") {
+            (l, r, false)
+        } else {
+            return Err(format!("`{text}`: write `expression <= value` or `expression >= value`"));
+        };
+        let value = rhs.trim().parse::<f64>().map_err(|_| format!("`{}` is not a number", rhs.trim()))?;
+        if !value.is_finite() {
+            return Err(format!("the bound {value} is not finite"));
+        }
+        let quantity = Quantity::parse(lhs)?;
+        if upper && value < 0.0 && quantity.non_negative() {
+            return Err(format!("`{text}` can never hold: `{}` is never negative", lhs.trim()));
+        }
+        Ok(Bound { text: text.trim().to_string(), quantity, upper, value })
+    }
+
+    /// How far the outcome is outside the bound (0 inside), relative to max(|value|, |q|).
+    pub fn violation(&self, o: &Outcome) -> std::result::Result<f64, String> {
+        let q = o.value(&self.quantity)?;
+        let excess = if self.upper { q - self.value } else { self.value - q };
+        let scale = self.value.abs().max(q.abs()).max(f64::MIN_POSITIVE);
+        Ok(if excess > 0.0 { excess / scale } else { 0.0 })
+    }
+}
+
+/// A placement or drive limit a candidate breaks: which, and by how much (m or V).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Violation {
+    /// The constraint, as the spec file names it (e.g. `constraints.clearance`).
+    pub constraint: String,
+    pub detail: String,
+    pub amount: f64,
+}
+
+/// The interval [lo, hi] (m) a foot-print covers: the point x_E of an inertial actuator,
+/// the legs' span x_c ± a of a frame (x_c = x_E − e).
+pub fn footprint(a: &ActuatorSpec) -> (f64, f64) {
+    match a.kind {
+        ActuatorType::Inertial => (a.x_e, a.x_e),
+        ActuatorType::Frame => {
+            let xc = a.x_e - a.e();
+            (xc - a.a(), xc + a.a())
+        }
+    }
+}
+
+/// Where an actuator touches the beam: its stack foot, and a frame's legs.
+pub fn feet(a: &ActuatorSpec) -> Vec<(&'static str, f64)> {
+    match a.kind {
+        ActuatorType::Inertial => vec![("foot", a.x_e)],
+        ActuatorType::Frame => {
+            let (l, r) = footprint(a);
+            vec![("stack foot", a.x_e), ("left leg", l), ("right leg", r)]
+        }
+    }
+}
+
+/// Positions of the beam's supports (m): the listed ones that hold it (not `free`), or
+/// both ends when none is listed (clamped–clamped).
+pub fn supports(case: &Case) -> Vec<f64> {
+    if case.beam.support.is_empty() {
+        return vec![0.0, case.beam.length];
+    }
+    case.beam.support.iter().filter(|s| s.kind != SupportKindSpec::Free).map(|s| s.x).collect()
+}
+
+/// An upper bound of |V(t)| (V): exact for one sine, the sum of the amplitudes for several.
+pub fn peak_voltage(v: &VoltageInput) -> f64 {
+    match v {
+        VoltageInput::Sine { amplitude, offset, .. } | VoltageInput::Chirp { amplitude, offset, .. } => {
+            offset.abs() + amplitude.abs()
+        }
+        VoltageInput::Sines { offset, components } => {
+            offset.abs() + components.iter().map(|c| c.amplitude.abs()).sum::<f64>()
+        }
+        VoltageInput::Step { from, to, .. } => from.abs().max(to.abs()),
+        VoltageInput::Series { .. } => v.samples().map_or(0.0, |s| s.values().iter().fold(0.0, |m, x| m.max(x.abs()))),
+    }
+}
+
+impl Limits {
+    /// Every placement and drive limit `case` breaks (empty: it satisfies them all).
+    pub fn violations(&self, case: &Case) -> Vec<Violation> {
+        let mut out = Vec::new();
+        if case.base == BaseKind::Beam {
+            let length = case.beam.length;
+            let sup = supports(case);
+            let c = self.support_clearance;
+            for (i, a) in case.actuator.iter().enumerate() {
+                for (what, x) in feet(a) {
+                    let off = (c - x).max(x - (length - c)).max(0.0);
+                    if off > 0.0 {
+                        out.push(Violation {
+                            constraint: "constraints.support_clearance".into(),
+                            detail: format!(
+                                "actuator[{i}]'s {what} at x = {x:.4} m is not on the beam ({c} m from its ends)"
+                            ),
+                            amount: off,
+                        });
+                    }
+                    if let Some(&s) = sup.iter().find(|&&s| (x - s).abs() < c || x == s) {
+                        out.push(Violation {
+                            constraint: "constraints.support_clearance".into(),
+                            detail: format!(
+                                "actuator[{i}]'s {what} at x = {x:.4} m is within {c} m of the support at {s} m"
+                            ),
+                            amount: (c - (x - s).abs()).max(f64::MIN_POSITIVE),
+                        });
+                    }
+                }
+            }
+            for (i, a) in case.actuator.iter().enumerate() {
+                for (j, b) in case.actuator.iter().enumerate().skip(i + 1) {
+                    let (pa, pb) = (footprint(a), footprint(b));
+                    let gap = (pb.0 - pa.1).max(pa.0 - pb.1);
+                    if gap < self.clearance {
+                        out.push(Violation {
+                            constraint: "constraints.clearance".into(),
+                            detail: format!(
+                                "actuator[{i}] and actuator[{j}] stand {gap:.4} m apart, less than {} m",
+                                self.clearance
+                            ),
+                            amount: self.clearance - gap,
+                        });
+                    }
+                }
+            }
+        }
+        if let Some(vmax) = self.max_voltage {
+            for (i, a) in case.actuator.iter().enumerate() {
+                let v = peak_voltage(&a.voltage);
+                if v > vmax {
+                    out.push(Violation {
+                        constraint: "constraints.max_voltage".into(),
+                        detail: format!("actuator[{i}] is driven up to {v} V, above {vmax} V"),
+                        amount: v - vmax,
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn case(text: &str) -> Case {
+        toml::from_str(text).unwrap()
+    }
+
+    const TWO: &str = "[[actuator]]\ntype = \"frame\"\nx_e = 0.2\n[actuator.voltage]\nkind = \"sine\"\n\
+                       amplitude = 12.0\nfrequency = 60.0\n[[actuator]]\ntype = \"inertial\"\nx_e = XB\n\
+                       [actuator.voltage]\nkind = \"sine\"\namplitude = 200.0\nfrequency = 60.0\n";
+
+    #[test]
+    fn placement_and_voltage_limits() {
+        let lim = Limits { support_clearance: 0.01, clearance: 0.02, max_voltage: Some(150.0) };
+        // Frame legs at 0.199 ± 0.04 = [0.159, 0.239]; inertial at 0.25: gap 0.011 < 0.02.
+        let v = lim.violations(&case(&TWO.replace("XB", "0.25")));
+        let names: Vec<&str> = v.iter().map(|v| v.constraint.as_str()).collect();
+        assert_eq!(names, ["constraints.clearance", "constraints.max_voltage"], "{v:?}");
+        assert!((v[0].amount - 0.009).abs() < 1e-12);
+        // Inertial 5 mm from the clamped end at 0.73 m.
+        let v = lim.violations(&case(&TWO.replace("XB", "0.725")));
+        assert!(v.iter().any(|v| v.constraint == "constraints.support_clearance" && v.detail.contains("0.7250")));
+        let ok = Limits { max_voltage: Some(250.0), ..lim };
+        assert!(ok.violations(&case(&TWO.replace("XB", "0.4"))).is_empty());
+    }
+
+    #[test]
+    fn bounds_parse_and_measure() {
+        let b = Bound::parse("net_power[0] >= 0.5").unwrap();
+        let o = Outcome { net_power: vec![0.25], net_power_harmonic: vec![vec![0.0, 0.25]], ..Default::default() };
+        assert_eq!(b.violation(&o).unwrap(), 0.5);
+        let b = Bound::parse("net_power <= 0.5").unwrap();
+        assert_eq!(b.violation(&o).unwrap(), 0.0);
+        assert!(Bound::parse("dissipation <= -1").unwrap_err().contains("never"));
+        assert!(Bound::parse("net_power < 1").is_err());
+    }
+}

@@ -1,0 +1,84 @@
+//! What explains an optimum: the objective along each variable through it (the others held
+//! at the optimum), and the mode-resolved power of the optimum beside a poor placement.
+
+use super::evaluate::{Evaluation, Evaluator};
+use super::spec::{Domain, Spec};
+use rayon::prelude::*;
+
+/// The objective along one variable through the optimum.
+#[derive(Clone, Debug)]
+pub struct Profile {
+    pub variable: String,
+    pub unit: &'static str,
+    /// Variable values and the objective there (feasible candidates only).
+    pub x: Vec<f64>,
+    pub f: Vec<f64>,
+    /// The optimum's value of the variable.
+    pub x_best: f64,
+}
+
+/// Power into each bare-beam mode (W) of the best and of a poor candidate.
+#[derive(Clone, Debug)]
+pub struct ModalComparison {
+    pub mode_frequency_hz: Vec<f64>,
+    pub best: Vec<f64>,
+    pub poor: Vec<f64>,
+    /// The candidates, `path = value, …`, and their objective values.
+    pub best_label: String,
+    pub poor_label: String,
+}
+
+/// Profiles of objective 0 through `best`, `points` per real variable (one per value for
+/// integers and choices), evaluated in parallel on the caller's pool.
+pub fn profiles(spec: &Spec, best: &Evaluation, points: usize) -> Vec<Profile> {
+    let ev = Evaluator::new(spec);
+    spec.variables
+        .iter()
+        .enumerate()
+        .map(|(i, var)| {
+            let us: Vec<f64> = match &var.domain {
+                Domain::Real { .. } => (0..points).map(|j| j as f64 / (points - 1) as f64).collect(),
+                Domain::Integer { min, max } => (*min..=*max).map(|x| var.unit_of(x as f64)).collect(),
+                Domain::Choice(v) => (0..v.len()).map(|x| var.unit_of(x as f64)).collect(),
+            };
+            let evals: Vec<Evaluation> = us
+                .par_iter()
+                .map(|&x| {
+                    let mut u = best.u.clone();
+                    u[i] = x;
+                    ev.evaluate(&u)
+                })
+                .collect();
+            let (x, f): (Vec<f64>, Vec<f64>) =
+                evals.iter().filter(|e| e.feasible()).map(|e| (var.number(e.u[i]), e.values[0])).unzip();
+            Profile { variable: var.name.clone(), unit: var.unit(), x, f, x_best: var.number(best.u[i]) }
+        })
+        .collect()
+}
+
+/// The mode-resolved power of `best` and of the worst feasible candidate of `history`, in
+/// the first `modes` bare-beam modes. None if no candidate can be decomposed (no beam).
+pub fn modal_comparison(
+    spec: &Spec,
+    best: &Evaluation,
+    history: &[Evaluation],
+    modes: usize,
+) -> Option<ModalComparison> {
+    let poor = history.iter().filter(|e| e.feasible()).max_by(|a, b| a.cost(spec, 0).total_cmp(&b.cost(spec, 0)))?;
+    let ev = Evaluator::with_modes(spec, modes);
+    let (b, p) = rayon::join(|| ev.evaluate(&best.u), || ev.evaluate(&poor.u));
+    let (ob, op) = (b.outcome?, p.outcome?);
+    if ob.modal_power.is_empty() {
+        return None;
+    }
+    let label = |e: &Evaluation| {
+        format!("{}: {} {}", spec.describe(&e.u), crate::report::sweep::num(e.values[0]), spec.objectives[0].unit())
+    };
+    Some(ModalComparison {
+        mode_frequency_hz: ob.mode_frequency_hz,
+        best: ob.modal_power,
+        poor: op.modal_power,
+        best_label: label(best),
+        poor_label: label(poor),
+    })
+}

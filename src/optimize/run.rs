@@ -1,0 +1,289 @@
+//! Running an optimisation: the candidates of each generation evaluated in parallel on a
+//! local rayon pool, every evaluation kept in a deterministic order (the history), a
+//! progress bar showing the best objective, the distinct optima, and for two objectives
+//! the Pareto front.
+
+use super::evaluate::{penalised, Evaluation, Evaluator, Status};
+use super::search::{self, Cost, Options};
+use super::spec::Spec;
+use crate::error::{Error, Result};
+use std::io::IsTerminal;
+use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// How to run an optimisation.
+#[derive(Clone, Default)]
+pub struct RunOptions {
+    /// Worker threads (a local pool; `None`: one per available core).
+    pub threads: Option<usize>,
+    /// Show a progress bar on stderr (never drawn when stderr is not a terminal).
+    pub progress: bool,
+    /// Called after each evaluation (tests count them).
+    pub on_evaluated: Option<Arc<dyn Fn() + Send + Sync>>,
+}
+
+/// One evaluated candidate in the history.
+#[derive(Clone, Debug)]
+pub struct Optimum {
+    pub evaluation: Evaluation,
+    /// The objectives' costs with penalties (for a minimiser).
+    pub costs: Vec<f64>,
+}
+
+/// What an optimisation found.
+#[derive(Clone, Debug)]
+pub struct RunResult {
+    /// The best feasible candidate (two objectives: the front's point nearest the ideal).
+    pub best: Evaluation,
+    /// Up to `search.top` feasible optima at least `search.distinct` apart, best first.
+    pub optima: Vec<Evaluation>,
+    /// Every evaluation, in order (generation by generation).
+    pub history: Vec<Evaluation>,
+    /// Two objectives: the non-dominated feasible candidates, by the first objective.
+    pub pareto: Vec<Evaluation>,
+    /// Evaluations by the global search and by the polish.
+    pub evaluations: usize,
+    pub seconds: f64,
+}
+
+/// The scalar a search minimises: one objective, or the weighted Chebyshev distance of the
+/// two from the ideal point, each normalised by its range on the front.
+#[derive(Clone, Copy, Debug)]
+enum Scalar {
+    One(usize),
+    Chebyshev { w: [f64; 2], ideal: [f64; 2], range: [f64; 2] },
+}
+
+impl Scalar {
+    fn of(&self, spec: &Spec, e: &Evaluation) -> f64 {
+        match *self {
+            Scalar::One(k) => e.cost(spec, k),
+            Scalar::Chebyshev { w, ideal, range } => {
+                let c = |k: usize| spec.objectives[k].cost(e.values[k]);
+                let raw = (w[0] * (c(0) - ideal[0]) / range[0]).max(w[1] * (c(1) - ideal[1]) / range[1]);
+                penalised(&e.status, raw)
+            }
+        }
+    }
+}
+
+/// Evaluates candidates for a search and keeps them, stamped by generation.
+struct Recorder<'a> {
+    ev: &'a Evaluator<'a>,
+    scalar: Scalar,
+    stamp: AtomicU64,
+    records: Mutex<Vec<(u64, Evaluation)>>,
+    best: Mutex<f64>,
+    bar: &'a indicatif::ProgressBar,
+    on_evaluated: Option<Arc<dyn Fn() + Send + Sync>>,
+    count: AtomicUsize,
+}
+
+impl Cost for Recorder<'_> {
+    fn cost(&self, u: &[f64]) -> f64 {
+        let e = self.ev.evaluate(u);
+        let c = self.scalar.of(self.ev.spec, &e);
+        if e.feasible() {
+            let mut b = self.best.lock().expect("not poisoned");
+            let spec = self.ev.spec;
+            if b.is_nan() || spec.objectives[0].better(e.values[0], *b) {
+                *b = e.values[0];
+                self.bar.set_message(format!("{:.6e} {}", e.values[0], spec.objectives[0].unit()));
+            }
+        }
+        let stamp = self.stamp.load(Ordering::SeqCst);
+        self.records.lock().expect("not poisoned").push((stamp, e));
+        self.count.fetch_add(1, Ordering::Relaxed);
+        self.bar.inc(1);
+        if let Some(cb) = &self.on_evaluated {
+            cb();
+        }
+        c
+    }
+
+    fn generation(&self, _start: usize) {
+        self.stamp.fetch_add(1, Ordering::SeqCst);
+    }
+}
+
+impl Recorder<'_> {
+    /// The evaluations so far in a deterministic order: by generation, and within one by
+    /// the candidate's bits (the calls of a generation arrive in any order across threads;
+    /// the polish runs one candidate per generation).
+    fn take(self) -> Vec<Evaluation> {
+        let mut r = self.records.into_inner().expect("not poisoned");
+        r.sort_by(|a, b| {
+            a.0.cmp(&b.0).then_with(|| {
+                let ka: Vec<u64> = a.1.u.iter().map(|x| x.to_bits()).collect();
+                let kb: Vec<u64> = b.1.u.iter().map(|x| x.to_bits()).collect();
+                ka.cmp(&kb)
+            })
+        });
+        r.into_iter().map(|(_, e)| e).collect()
+    }
+}
+
+/// Runs an optimisation. Placement limits no candidate can meet are refused before anything
+/// is solved; when no solved candidate meets the constraints, the error names the one
+/// broken most often.
+pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
+    spec.check_limits_can_hold(2000)?;
+    let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if threads == 0 {
+        return Err(Error::input("<options>", "threads", "must be at least 1"));
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Numerical(format!("cannot start {threads} worker threads: {e}")))?;
+    let t0 = std::time::Instant::now();
+    let ev = Evaluator::new(spec);
+    let s = &spec.search;
+    let d = spec.variables.len();
+    let polish = if s.polish { (s.evaluations / 10).clamp(20 * d, 400) } else { 0 };
+    let scalarisations = if spec.objectives.len() == 2 { s.pareto_points } else { 1 };
+    let total = (s.evaluations + polish) * scalarisations;
+    let bar = progress_bar(opts.progress, total as u64);
+
+    let mut history: Vec<Evaluation> = Vec::new();
+    let mut evaluations = 0;
+    let mut search_with = |scalar: Scalar, seed: u64, evals: usize| -> Vec<Evaluation> {
+        let rec = Recorder {
+            ev: &ev,
+            scalar,
+            stamp: AtomicU64::new(0),
+            records: Mutex::new(Vec::new()),
+            best: Mutex::new(f64::NAN),
+            bar: &bar,
+            on_evaluated: opts.on_evaluated.clone(),
+            count: AtomicUsize::new(0),
+        };
+        let o = Options { seed, starts: s.starts, evaluations: evals, polish };
+        pool.install(|| search::minimize(d, &rec, &o));
+        evaluations += rec.count.load(Ordering::Relaxed);
+        rec.take()
+    };
+
+    let (best, pareto) = if spec.objectives.len() == 1 {
+        history = search_with(Scalar::One(0), s.seed, s.evaluations);
+        let best = best_of(spec, &history, Scalar::One(0)).ok_or_else(|| infeasible(spec, &history))?;
+        (best, Vec::new())
+    } else {
+        // The two single-objective optima fix the ideal point and the ranges; the
+        // scalarisations in between fill the front.
+        let per = s.evaluations;
+        for k in 0..2 {
+            history.extend(search_with(Scalar::One(k), s.seed.wrapping_add(k as u64), per));
+        }
+        let anchors: Vec<Evaluation> = (0..2)
+            .map(|k| best_of(spec, &history, Scalar::One(k)).ok_or_else(|| infeasible(spec, &history)))
+            .collect::<Result<_>>()?;
+        let c = |e: &Evaluation, k: usize| spec.objectives[k].cost(e.values[k]);
+        let ideal = [c(&anchors[0], 0), c(&anchors[1], 1)];
+        let range = [
+            (c(&anchors[1], 0) - ideal[0]).abs().max(f64::MIN_POSITIVE),
+            (c(&anchors[0], 1) - ideal[1]).abs().max(f64::MIN_POSITIVE),
+        ];
+        let n = s.pareto_points;
+        for j in 1..n - 1 {
+            let w0 = j as f64 / (n - 1) as f64;
+            let scalar = Scalar::Chebyshev { w: [w0, 1.0 - w0], ideal, range };
+            history.extend(search_with(scalar, s.seed.wrapping_add(2 + j as u64), per));
+        }
+        let front = pareto_front(spec, &history);
+        let knee = Scalar::Chebyshev { w: [0.5, 0.5], ideal, range };
+        let best = best_of(spec, &front, knee).expect("the front has the anchors");
+        (best, front)
+    };
+    bar.finish_and_clear();
+    let optima = distinct_optima(spec, &history, &best);
+    Ok(RunResult { best, optima, history, pareto, evaluations, seconds: t0.elapsed().as_secs_f64() })
+}
+
+fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {
+    if !(show && std::io::stderr().is_terminal()) {
+        return indicatif::ProgressBar::hidden();
+    }
+    let b = indicatif::ProgressBar::with_draw_target(Some(len), indicatif::ProgressDrawTarget::stderr());
+    b.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} evaluations, best {msg}",
+        )
+        .expect("valid template"),
+    );
+    b
+}
+
+/// The feasible evaluation with the least `scalar`.
+fn best_of(spec: &Spec, all: &[Evaluation], scalar: Scalar) -> Option<Evaluation> {
+    all.iter().filter(|e| e.feasible()).min_by(|a, b| scalar.of(spec, a).total_cmp(&scalar.of(spec, b))).cloned()
+}
+
+/// The error for a run in which no candidate met the constraints: the constraint broken
+/// by the most candidates, and by how much the closest came.
+fn infeasible(spec: &Spec, all: &[Evaluation]) -> Error {
+    let mut counts: Vec<(String, usize, String)> = Vec::new();
+    let mut add = |name: String, detail: String| match counts.iter_mut().find(|c| c.0 == name) {
+        Some(c) => c.1 += 1,
+        None => counts.push((name, 1, detail)),
+    };
+    for e in all {
+        match &e.status {
+            Status::Feasible => {}
+            Status::Limits(v) => v.iter().for_each(|x| add(x.constraint.clone(), x.detail.clone())),
+            Status::Bounds(b) => b.iter().for_each(|&(i, x)| {
+                add(
+                    format!("constraint[{i}].expression"),
+                    format!("`{}` missed by {:.3e} (relative)", spec.bounds[i].text, x),
+                )
+            }),
+            Status::Failed(r) => add("base".into(), r.clone()),
+        }
+    }
+    match counts.into_iter().max_by_key(|c| c.1) {
+        Some((name, n, detail)) => Error::input(
+            &spec.file,
+            name,
+            format!(
+                "infeasible: none of the {} candidates evaluated meets it ({n} break it; e.g. {detail})",
+                all.len()
+            ),
+        ),
+        None => Error::Numerical("the optimisation evaluated no candidate".into()),
+    }
+}
+
+/// The feasible candidates no other feasible candidate dominates (at least as good in both
+/// objectives and better in one), by the first objective's cost.
+fn pareto_front(spec: &Spec, all: &[Evaluation]) -> Vec<Evaluation> {
+    let c = |e: &Evaluation| [spec.objectives[0].cost(e.values[0]), spec.objectives[1].cost(e.values[1])];
+    let mut f: Vec<&Evaluation> = all.iter().filter(|e| e.feasible()).collect();
+    f.sort_by(|a, b| c(a)[0].total_cmp(&c(b)[0]).then(c(a)[1].total_cmp(&c(b)[1])));
+    let mut front: Vec<Evaluation> = Vec::new();
+    let mut best1 = f64::INFINITY;
+    for e in f {
+        if c(e)[1] < best1 {
+            best1 = c(e)[1];
+            front.push(e.clone());
+        }
+    }
+    front
+}
+
+/// Up to `top` feasible candidates, best first, each at least `distinct` (in the unit box,
+/// Euclidean) from those before it: the best, then the next best that is elsewhere.
+fn distinct_optima(spec: &Spec, all: &[Evaluation], best: &Evaluation) -> Vec<Evaluation> {
+    let mut f: Vec<&Evaluation> = all.iter().filter(|e| e.feasible()).collect();
+    f.sort_by(|a, b| a.cost(spec, 0).total_cmp(&b.cost(spec, 0)));
+    let mut out = vec![best.clone()];
+    let dist = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    for e in f {
+        if out.len() >= spec.search.top {
+            break;
+        }
+        if out.iter().all(|o| dist(&o.u, &e.u) >= spec.search.distinct) {
+            out.push(e.clone());
+        }
+    }
+    out
+}
