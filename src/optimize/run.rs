@@ -140,7 +140,7 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
     let ev = Evaluator::new(spec);
     let s = &spec.search;
     let d = spec.variables.len();
-    let polish = if s.polish { (s.evaluations / 10).clamp(20 * d, 400) } else { 0 };
+    let polish = if s.polish { (s.evaluations / 10).clamp(40 * d, 800) } else { 0 };
     let scalarisations = if spec.objectives.len() == 2 { s.pareto_points } else { 1 };
     let total = (s.evaluations + polish) * scalarisations;
     let bar = progress_bar(opts.progress, total as u64);

@@ -5,7 +5,7 @@
 //! candidate's cost depends on nothing else, so the result does not depend on the thread
 //! count.
 
-use argmin::core::{CostFunction, Executor, State};
+use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 
 /// How hard to search.
@@ -62,38 +62,80 @@ fn folded(x: &[f64]) -> Vec<f64> {
     x.iter().map(|&v| reflect(v)).collect()
 }
 
-/// A reproducible stream of start points: splitmix64 of the seed and start number.
-fn start_point(seed: u64, start: usize, d: usize) -> Vec<f64> {
-    let mut rng = crate::identify::pso::Rng::new(seed.wrapping_mul(0x9E37_79B9).wrapping_add(start as u64));
-    (0..d).map(|_| rng.uniform()).collect()
+/// A seeded Latin hypercube of `n` points in [0, 1]^d: each variable's range cut into n
+/// equal cells, one point in each, the cells paired across variables at random.
+fn latin_hypercube(seed: u64, n: usize, d: usize) -> Vec<Vec<f64>> {
+    let mut rng = crate::identify::pso::Rng::new(seed);
+    let mut pts = vec![vec![0.0; d]; n];
+    for j in 0..d {
+        let mut cells: Vec<usize> = (0..n).collect();
+        for i in (1..n).rev() {
+            let k = (rng.next_u64() % (i as u64 + 1)) as usize;
+            cells.swap(i, k);
+        }
+        for (p, c) in pts.iter_mut().zip(cells) {
+            p[j] = (c as f64 + rng.uniform()) / n as f64;
+        }
+    }
+    pts
 }
 
-/// Minimises `f` over [0, 1]^d: `opts.starts` CMA-ES runs, each from a seeded random mean
-/// with step 0.3 and its share of the evaluations (it stops early when its step falls
-/// below 1e-4 of the box or its costs stop changing), then Nelder–Mead from the best.
+/// Minimises `f` over [0, 1]^d in three phases: a seeded Latin hypercube (a fifth of the
+/// evaluations, at least four points per start) to see the whole box; CMA-ES from each of
+/// the `starts` best sample points that lie at least 0.1 apart (step 0.1, its share of the
+/// rest of the evaluations; it stops early when its step falls below 1e-4 of the box);
+/// then Nelder–Mead from the two best points found.
 pub fn minimize(d: usize, f: &dyn Cost, opts: &Options) -> Found {
-    let per_start = opts.evaluations / opts.starts.max(1);
-    let mut starts = Vec::with_capacity(opts.starts);
-    for s in 0..opts.starts {
-        starts.push(cmaes_start(d, f, opts.seed, s, per_start));
+    use rayon::prelude::*;
+    let n0 = (opts.evaluations * 2 / 5).max(4 * opts.starts);
+    let sample = latin_hypercube(opts.seed, n0, d);
+    f.generation(0);
+    let costs: Vec<f64> = sample.par_iter().map(|u| f.cost(u)).collect();
+    let mut order: Vec<usize> = (0..n0).collect();
+    order.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]));
+    let dist = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
+    let mut means: Vec<usize> = Vec::new();
+    for &i in &order {
+        if means.len() < opts.starts && means.iter().all(|&j| dist(&sample[i], &sample[j]) >= 0.1) {
+            means.push(i);
+        }
     }
-    let mut best = starts.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)).cloned().expect("at least one start");
+    // Too few distinct points (a tiny box sample): the next best ones.
+    for &i in &order {
+        if means.len() < opts.starts && !means.contains(&i) {
+            means.push(i);
+        }
+    }
+    let per_start = opts.evaluations.saturating_sub(n0) / opts.starts.max(1);
+    let mut starts = Vec::with_capacity(opts.starts);
+    for (s, &i) in means.iter().enumerate() {
+        let p = cmaes_start(f, &sample[i], opts.seed, s, per_start);
+        starts.push(if p.cost <= costs[i] { p } else { Point { u: sample[i].clone(), cost: costs[i] } });
+    }
+    // Near-equal optima in different places are told apart only once both are converged:
+    // the two best starts are polished (half the budget each).
+    let mut ranked: Vec<&Point> = starts.iter().collect();
+    ranked.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let mut best = ranked[0].clone();
     if opts.polish > 0 {
-        f.generation(opts.starts);
-        if let Some(p) = polish(&best, f, opts.polish) {
-            if p.cost < best.cost {
-                best = p;
+        let n = ranked.len().min(2);
+        for (k, p) in ranked.iter().take(n).enumerate() {
+            f.generation(opts.starts + 1 + k);
+            if let Some(q) = polish(p, f, opts.polish / n) {
+                if q.cost < best.cost {
+                    best = q;
+                }
             }
         }
     }
     Found { best, starts }
 }
 
-fn cmaes_start(d: usize, f: &dyn Cost, seed: u64, s: usize, budget: usize) -> Point {
+fn cmaes_start(f: &dyn Cost, mean: &[f64], seed: u64, s: usize, budget: usize) -> Point {
     use cmaes::{CMAESOptions, DVector};
-    let mean = start_point(seed, s, d);
+    let mean = mean.to_vec();
     let objective = |x: &DVector<f64>| f.cost(&folded(x.as_slice()));
-    let mut cma = CMAESOptions::new(mean.clone(), 0.3)
+    let mut cma = CMAESOptions::new(mean.clone(), 0.1)
         .seed(seed.wrapping_add(s as u64))
         .max_function_evals(budget)
         .tol_x(1e-4)
@@ -101,7 +143,7 @@ fn cmaes_start(d: usize, f: &dyn Cost, seed: u64, s: usize, budget: usize) -> Po
         .build(objective)
         .expect("valid CMA-ES options");
     loop {
-        f.generation(s);
+        f.generation(s + 1);
         if cma.next_parallel().is_some() {
             break;
         }
@@ -112,14 +154,30 @@ fn cmaes_start(d: usize, f: &dyn Cost, seed: u64, s: usize, budget: usize) -> Po
     }
 }
 
-/// Nelder–Mead in the box (reflected) from `start`, with a simplex of 2 % of the box.
+/// Nelder–Mead in the box (reflected) from `start`, with a simplex of 2 % of the box, for
+/// at most `budget` evaluations (the cost refuses more, which ends the run; the best point
+/// seen is kept here, not taken from the solver).
 fn polish(start: &Point, f: &dyn Cost, budget: usize) -> Option<Point> {
-    struct Folded<'a>(&'a dyn Cost);
-    impl CostFunction for Folded<'_> {
+    struct Budgeted<'a> {
+        f: &'a dyn Cost,
+        left: &'a std::sync::atomic::AtomicUsize,
+        best: &'a std::sync::Mutex<Option<Point>>,
+    }
+    impl CostFunction for Budgeted<'_> {
         type Param = Vec<f64>;
         type Output = f64;
         fn cost(&self, x: &Vec<f64>) -> Result<f64, argmin::core::Error> {
-            Ok(self.0.cost(&folded(x)))
+            use std::sync::atomic::Ordering;
+            if self.left.fetch_update(Ordering::SeqCst, Ordering::SeqCst, |n| n.checked_sub(1)).is_err() {
+                return Err(argmin::core::Error::msg("evaluation budget spent"));
+            }
+            let u = folded(x);
+            let c = self.f.cost(&u);
+            let mut b = self.best.lock().expect("not poisoned");
+            if b.as_ref().is_none_or(|p| c < p.cost) {
+                *b = Some(Point { u, cost: c });
+            }
+            Ok(c)
         }
     }
     let d = start.u.len();
@@ -130,12 +188,12 @@ fn polish(start: &Point, f: &dyn Cost, budget: usize) -> Option<Point> {
         simplex.push(p);
     }
     let nm = NelderMead::new(simplex).with_sd_tolerance(1e-12).ok()?;
-    // Each iteration costs one to d + 2 evaluations; stop on the budget of iterations.
-    let iters = (budget / 2).max(1) as u64;
-    let res = Executor::new(Folded(f), nm).configure(|s| s.max_iters(iters)).run().ok()?;
-    let st = res.state();
-    let u = folded(st.get_best_param()?);
-    Some(Point { u, cost: st.get_best_cost() })
+    let (left, best) = (budget.into(), None.into());
+    let problem = Budgeted { f, left: &left, best: &best };
+    // The run ends on the budget (an error by design) or on convergence: either way the
+    // best point is the one kept above.
+    let _ = Executor::new(problem, nm).configure(|s| s.max_iters(budget as u64)).run();
+    best.into_inner().expect("not poisoned")
 }
 
 #[cfg(test)]
