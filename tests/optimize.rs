@@ -207,3 +207,91 @@ fn same_seed_same_result_on_one_and_two_threads() {
     let (c, _) = run_counted(&other, 2);
     assert_ne!(a.history[0].u, c.history[0].u, "another seed starts elsewhere");
 }
+
+#[test]
+fn constraints_hold_for_every_reported_optimum() {
+    // The right frame must stay below 10 mW while the total is maximised, with 5 cm between
+    // the leg spans and 2 cm from the clamps.
+    let text = TWO
+        .replace("evaluations = 1500", "evaluations = 600")
+        .replace("support_clearance = 0.01", "support_clearance = 0.02")
+        .replace("\nclearance = 0.01\n", "\nclearance = 0.05\n")
+        + "[[constraint]]\nexpression = \"net_power[1] <= 0.01\"\n";
+    let s = spec(&text);
+    let (r, _) = run_counted(&s, 2);
+    assert!(r.optima.len() >= 2);
+    for e in &r.optima {
+        let x: Vec<f64> = s.variables.iter().zip(&e.u).map(|(v, &u)| v.number(u)).collect();
+        let (a, b) = (legs(x[0]), legs(x[1]));
+        let gap = (b.0 - a.1).max(a.0 - b.1);
+        assert!(gap >= 0.05, "gap {gap} at {x:?}");
+        for p in [x[0], a.0, a.1, x[1], b.0, b.1] {
+            assert!((0.02..=0.71).contains(&p), "{p} at {x:?}");
+        }
+        // The result bound, re-solved with the full steady state from the case file.
+        let doc = s.base.document(s.assignment(&e.u)).unwrap();
+        let text = toml::to_string(&doc).unwrap();
+        let lc = LoadedCase::from_str(&text, "optimum", cases()).unwrap();
+        let built = build_model(&lc).unwrap();
+        let sys = System::assemble(&built.model).unwrap();
+        let ss = steady_state::run(&built.model, &sys, 9, 1024).unwrap();
+        assert!(ss.net_power[1] <= 0.01, "right frame {} W at {x:?}", ss.net_power[1]);
+        assert!((ss.net_power.iter().sum::<f64>() - e.values[0]).abs() <= 1e-12 * e.values[0].abs().max(1e-30));
+    }
+    // The bound binds: without it the optimum puts more into the right frame.
+    let (free, _) = run_counted(&spec(&TWO.replace("evaluations = 1500", "evaluations = 600")), 2);
+    let o = free.best.outcome.as_ref().unwrap();
+    assert!(o.net_power[1] > 0.01, "{:?}", o.net_power);
+}
+
+#[test]
+fn infeasible_problems_name_the_constraint() {
+    // Two 8 cm frames cannot stand 0.7 m apart on a 0.73 m beam: refused before any solve.
+    let s = spec(&TWO.replace("\nclearance = 0.01\n", "\nclearance = 0.7\n"));
+    let n = Arc::new(AtomicUsize::new(0));
+    let c = n.clone();
+    let opts = RunOptions { on_evaluated: Some(Arc::new(move || { c.fetch_add(1, Ordering::Relaxed); })), ..Default::default() };
+    let e = optimize::run(&s, &opts).unwrap_err().to_string();
+    assert!(e.contains("test.opt.toml") && e.contains("constraints.clearance") && e.contains("can never hold"), "{e}");
+    assert_eq!(n.load(Ordering::Relaxed), 0);
+    // 1 kW from two 12 V stacks: every candidate is solved and none meets it.
+    let s = spec(&(TWO.replace("evaluations = 1500", "evaluations = 60") + "[[constraint]]\nexpression = \"net_power >= 1000\"\n"));
+    let e = optimize::run(&s, &RunOptions::default()).unwrap_err().to_string();
+    assert!(e.contains("constraint[0].expression") && e.contains("infeasible") && e.contains("net_power >= 1000"), "{e}");
+}
+
+#[test]
+fn bad_input_names_file_and_field_before_any_solve() {
+    let cases_ = [
+        (ONE_BASE.replace("actuator[0].x_e", "actuator[0].x_f"), "variable[0].path", "x_f"),
+        (ONE_BASE.replace("actuator[0].x_e", "actuator[3].x_e"), "variable[0].path", "1 entries"),
+        (ONE_BASE.replace("max = 0.68", "max = 0.05"), "variable[0].max", "empty"),
+        (ONE_BASE.replace("min = 0.05\n", ""), "variable[0].min", "missing"),
+        (ONE_BASE.replace("\"net_power\"", "\"power_flux\""), "objective[0].quantity", "names no result"),
+        (ONE_BASE.replace("\"net_power\"", "\"sensor.tip.velocity\""), "objective[0].quantity", "no sensor `tip`"),
+        (ONE_BASE.replace("\"net_power\"", "\"net_power[2]\""), "objective[0].quantity", "actuator 2"),
+        (ONE_BASE.to_string() + "[[constraint]]\nexpression = \"dissipation <= -1\"\n", "constraint[0].expression", "never"),
+        (ONE_BASE.to_string() + "[constraints]\nmax_voltage = 5.0\n", "constraints.max_voltage", "never hold"),
+        (ONE_BASE.replace("[[objective]]\nquantity = \"net_power\"\n", ""), "objective", "give one"),
+    ];
+    for (text, field, what) in cases_ {
+        let e = match Spec::from_str(&text, "test.opt.toml", &cases()) {
+            Err(e) => e.to_string(),
+            Ok(s) => optimize::run(&s, &RunOptions::default()).map(|_| ()).unwrap_err().to_string(),
+        };
+        assert!(e.starts_with("test.opt.toml: field `") && e.contains(field) && e.contains(what), "{field}: {e}");
+    }
+    let e = spec_err("base = \"missing.toml\"\n");
+    assert!(e.contains("test.opt.toml") && e.contains("base") && e.contains("missing.toml"), "{e}");
+}
+
+/// ONE over the shipped 60 Hz frame case (bad-input checks never solve it).
+const ONE_BASE: &str = r#"
+base = "placement-frame.toml"
+[[variable]]
+path = "actuator[0].x_e"
+min = 0.05
+max = 0.68
+[[objective]]
+quantity = "net_power"
+"#;

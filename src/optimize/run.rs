@@ -230,7 +230,15 @@ fn infeasible(spec: &Spec, all: &[Evaluation]) -> Error {
     for e in all {
         match &e.status {
             Status::Feasible => {}
-            Status::Limits(v) => v.iter().for_each(|x| add(x.constraint.clone(), x.detail.clone())),
+            Status::Limits(v) => {
+                let mut seen: Vec<&str> = Vec::new();
+                for x in v {
+                    if !seen.contains(&x.constraint.as_str()) {
+                        add(x.constraint.clone(), x.detail.clone());
+                        seen.push(&x.constraint);
+                    }
+                }
+            }
             Status::Bounds(b) => b.iter().for_each(|&(i, x)| {
                 add(
                     format!("constraint[{i}].expression"),

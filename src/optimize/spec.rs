@@ -543,7 +543,12 @@ impl Spec {
             if v.is_empty() {
                 return Ok(());
             }
+            let mut seen: Vec<String> = Vec::new();
             for x in v {
+                if seen.contains(&x.constraint) {
+                    continue;
+                }
+                seen.push(x.constraint.clone());
                 match counts.iter_mut().find(|c| c.0 == x.constraint) {
                     Some(c) => c.1 += 1,
                     None => counts.push((x.constraint, 1, x.detail)),
