@@ -157,7 +157,7 @@ fn cmaes_start(f: &dyn Cost, mean: &[f64], seed: u64, s: usize, budget: usize) -
 /// Nelder–Mead in the box (reflected) from `start`, with a simplex of 2 % of the box, for
 /// at most `budget` evaluations (the cost refuses more, which ends the run; the best point
 /// seen is kept here, not taken from the solver).
-fn polish(start: &Point, f: &dyn Cost, budget: usize) -> Option<Point> {
+pub fn polish(start: &Point, f: &dyn Cost, budget: usize) -> Option<Point> {
     struct Budgeted<'a> {
         f: &'a dyn Cost,
         left: &'a std::sync::atomic::AtomicUsize,
