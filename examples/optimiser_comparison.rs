@@ -43,7 +43,8 @@ fn pso(p: &Problem, d: usize, seed: u64, budget: usize, polish: usize) -> f64 {
     let iters = (budget / particles).saturating_sub(1) as u64;
     let r = Executor::new(p, solver).configure(|s| s.max_iters(iters)).run().expect("PSO runs");
     let st = r.state();
-    let best = search::Point { u: st.get_best_param().expect("a best point").position.clone(), cost: st.get_best_cost() };
+    let best =
+        search::Point { u: st.get_best_param().expect("a best point").position.clone(), cost: st.get_best_cost() };
     match search::polish(&best, p, polish) {
         Some(q) if q.cost < best.cost => q.cost,
         _ => best.cost,
@@ -71,7 +72,15 @@ fn main() {
             for seed in 1..=10u64 {
                 let p = Problem { ev: Evaluator::new(&spec), count: AtomicUsize::new(0) };
                 let best = pool.install(|| match method.starts_with("cmaes") {
-                    true => search::minimize(d, &p, &Options { seed, starts: spec.search.starts, evaluations: budget, polish: 40 * d }).best.cost,
+                    true => {
+                        search::minimize(
+                            d,
+                            &p,
+                            &Options { seed, starts: spec.search.starts, evaluations: budget, polish: 40 * d },
+                        )
+                        .best
+                        .cost
+                    }
                     false => pso(&p, d, seed, budget, 40 * d),
                 });
                 let f = -best;

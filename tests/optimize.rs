@@ -250,14 +250,25 @@ fn infeasible_problems_name_the_constraint() {
     let s = spec(&TWO.replace("\nclearance = 0.01\n", "\nclearance = 0.7\n"));
     let n = Arc::new(AtomicUsize::new(0));
     let c = n.clone();
-    let opts = RunOptions { on_evaluated: Some(Arc::new(move || { c.fetch_add(1, Ordering::Relaxed); })), ..Default::default() };
+    let opts = RunOptions {
+        on_evaluated: Some(Arc::new(move || {
+            c.fetch_add(1, Ordering::Relaxed);
+        })),
+        ..Default::default()
+    };
     let e = optimize::run(&s, &opts).unwrap_err().to_string();
     assert!(e.contains("test.opt.toml") && e.contains("constraints.clearance") && e.contains("can never hold"), "{e}");
     assert_eq!(n.load(Ordering::Relaxed), 0);
     // 1 kW from two 12 V stacks: every candidate is solved and none meets it.
-    let s = spec(&(TWO.replace("evaluations = 1500", "evaluations = 60") + "[[constraint]]\nexpression = \"net_power >= 1000\"\n"));
+    let s = spec(
+        &(TWO.replace("evaluations = 1500", "evaluations = 60")
+            + "[[constraint]]\nexpression = \"net_power >= 1000\"\n"),
+    );
     let e = optimize::run(&s, &RunOptions::default()).unwrap_err().to_string();
-    assert!(e.contains("constraint[0].expression") && e.contains("infeasible") && e.contains("net_power >= 1000"), "{e}");
+    assert!(
+        e.contains("constraint[0].expression") && e.contains("infeasible") && e.contains("net_power >= 1000"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -270,7 +281,11 @@ fn bad_input_names_file_and_field_before_any_solve() {
         (ONE_BASE.replace("\"net_power\"", "\"power_flux\""), "objective[0].quantity", "names no result"),
         (ONE_BASE.replace("\"net_power\"", "\"sensor.tip.velocity\""), "objective[0].quantity", "no sensor `tip`"),
         (ONE_BASE.replace("\"net_power\"", "\"net_power[2]\""), "objective[0].quantity", "actuator 2"),
-        (ONE_BASE.to_string() + "[[constraint]]\nexpression = \"dissipation <= -1\"\n", "constraint[0].expression", "never"),
+        (
+            ONE_BASE.to_string() + "[[constraint]]\nexpression = \"dissipation <= -1\"\n",
+            "constraint[0].expression",
+            "never",
+        ),
         (ONE_BASE.to_string() + "[constraints]\nmax_voltage = 5.0\n", "constraints.max_voltage", "never hold"),
         (ONE_BASE.replace("[[objective]]\nquantity = \"net_power\"\n", ""), "objective", "give one"),
     ];

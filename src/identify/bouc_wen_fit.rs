@@ -355,11 +355,11 @@ pub fn fit(data: &CycleData, opts: &FitOptions) -> Result<BoucWenFit> {
     let upper = [opts.alpha_range.1, opts.beta_range.1.log10(), 1.0];
     let d_p = opts.d_p;
     let feasible = |x: &[f64]| is_class_one(&candidate(d_p, x));
-    let mut violations = 0usize;
+    let violations = std::sync::atomic::AtomicUsize::new(0);
     let res = pso::minimize(&lower, &upper, &opts.pso, feasible, |x| {
         let model = candidate(d_p, x);
         if !is_class_one(&model) {
-            violations += 1;
+            violations.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
             return f64::INFINITY;
         }
         normalised_squared_error(&data.stroke, &simulate_cycle(&model, &data.voltage))
@@ -375,7 +375,7 @@ pub fn fit(data: &CycleData, opts: &FitOptions) -> Result<BoucWenFit> {
         evaluations: res.evaluations,
         stop: res.stop,
         seed: opts.pso.seed,
-        infeasible_candidates: violations,
+        infeasible_candidates: violations.into_inner(),
         file: data.file.clone(),
     })
 }

@@ -1,31 +1,29 @@
-//! A small, seeded, reproducible particle swarm optimiser (PSO) over a box, with a
+//! Seeded random numbers for identification and synthetic data ([`Rng`]), and the
+//! particle swarm that fits the Bouc–Wen parameters: `argmin`'s `ParticleSwarm`, seeded and
+//! run one iteration at a time here for its history and stop criterion, with a
 //! feasibility hook.
 //!
-//! Algorithm (global-best PSO with constriction-equivalent constants, Clerc & Kennedy):
+//! Update rule (global-best PSO; argmin's implementation):
 //!
 //! ```text
-//! v ← w·v + c₁·r₁·(p_best − x) + c₂·r₂·(g_best − x)      (r₁, r₂ ~ U(0,1) per component)
+//! v ← w·v + c₁·r₁·(p_best − x) + c₂·r₂·(g_best − x)      (r₁, r₂ ~ U(0, 1) per component)
 //! x ← x + v                                              (then clamped to the box)
 //! ```
 //!
 //! * `w` (inertia) = 0.7298, `c₁` (cognitive) = `c₂` (social) = 1.49618 by default: the
-//!   constriction factor χ = 0.7298 with φ = 4.1 written as inertia form; a well-tested setting
-//!   that converges without velocity explosion.
-//! * Each velocity component is limited to `v_max_fraction` × (box width) (default 0.5).
-//! * A position leaving the box is clamped onto its face and that velocity component is
-//!   zeroed.
-//! * Feasibility: a candidate for which `feasible(x)` is false is **never evaluated**; the
-//!   particle keeps moving but its personal best is not updated there ("preserve
-//!   feasibility"). The initial swarm is drawn uniformly in the box and redrawn until each
-//!   particle is feasible.
+//!   Clerc–Kennedy constriction values written in inertia form.
+//! * Feasibility: a candidate for which `feasible(x)` is false is **never evaluated**: its
+//!   cost is +∞, so it never becomes a particle's or the swarm's best.
 //! * Convergence criterion: after at least `window` iterations, stop when the best cost
 //!   improved by no more than `tol_abs + tol_rel·|best|` over the last `window` iterations;
 //!   otherwise stop at `max_iterations`. The reason is reported in [`StopReason`].
 //!
-//! The random numbers come from xoshiro256** seeded through splitmix64, so the same seed
-//! gives bit-identical results on every platform.
+//! The swarm's random numbers come from xoshiro256++ seeded by the seed (`rand_xoshiro`);
+//! [`Rng`] is xoshiro256** seeded through splitmix64. The same seed gives bit-identical
+//! results on every platform and thread count.
 
 use crate::error::{Error, Result};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Pseudo-random generator: xoshiro256** (Blackman & Vigna), seeded by splitmix64.
 #[derive(Clone, Debug)]
@@ -101,8 +99,6 @@ pub struct PsoOptions {
     pub cognitive: f64,
     /// Social constant c₂: pull towards the swarm's best (default 1.49618).
     pub social: f64,
-    /// Velocity limit per component as a fraction of the box width (default 0.5).
-    pub v_max_fraction: f64,
     /// Convergence window in iterations (default 40).
     pub window: usize,
     /// Absolute cost-change tolerance over the window (default 0).
@@ -121,7 +117,6 @@ impl Default for PsoOptions {
             inertia: 0.7298,
             cognitive: 1.49618,
             social: 1.49618,
-            v_max_fraction: 0.5,
             window: 40,
             tol_abs: 0.0,
             tol_rel: 1e-6,
@@ -147,9 +142,6 @@ impl PsoOptions {
             if !(v.is_finite() && v >= 0.0) {
                 return bad(name, "must be finite and non-negative");
             }
-        }
-        if !(self.v_max_fraction > 0.0 && self.v_max_fraction.is_finite()) {
-            return bad("v_max_fraction", "must be positive");
         }
         if !(self.tol_abs >= 0.0 && self.tol_rel >= 0.0) {
             return bad("tol_abs/tol_rel", "must be non-negative");
@@ -195,16 +187,23 @@ pub struct PsoResult {
     pub stop: StopReason,
 }
 
-/// Minimises `cost` over the box `lower ≤ x ≤ upper`, evaluating only points for which
-/// `feasible` holds. A non-finite cost counts as +∞ (that point is never a best).
+/// Minimises `cost` over the box `lower ≤ x ≤ upper` with `argmin`'s particle swarm,
+/// driven one iteration at a time for the history and the stop criterion. A point for
+/// which `feasible` is false is not evaluated (its cost is +∞, so it is never a best); a
+/// non-finite cost counts as +∞. The swarm's costs are evaluated in parallel on the
+/// current rayon pool; each depends on its point alone, so the result does not depend on
+/// the thread count.
 ///
-/// Errors: inconsistent bounds, invalid options, or no feasible initial point found after
-/// 1000 draws per particle.
-pub fn minimize<F, C>(lower: &[f64], upper: &[f64], opts: &PsoOptions, feasible: C, mut cost: F) -> Result<PsoResult>
+/// Errors: inconsistent bounds, invalid options, or no feasible point in the initial swarm.
+pub fn minimize<F, C>(lower: &[f64], upper: &[f64], opts: &PsoOptions, feasible: C, cost: F) -> Result<PsoResult>
 where
-    F: FnMut(&[f64]) -> f64,
-    C: Fn(&[f64]) -> bool,
+    F: Fn(&[f64]) -> f64 + Sync,
+    C: Fn(&[f64]) -> bool + Sync,
 {
+    use argmin::core::{PopulationState, Problem, Solver, State};
+    use argmin::solver::particleswarm::ParticleSwarm;
+    use rand::SeedableRng;
+
     opts.validate("<pso>")?;
     let d = lower.len();
     if d == 0 || upper.len() != d {
@@ -219,108 +218,56 @@ where
             ));
         }
     }
-    let width: Vec<f64> = (0..d).map(|i| upper[i] - lower[i]).collect();
-    let vmax: Vec<f64> = width.iter().map(|w| w * opts.v_max_fraction).collect();
-    let mut rng = Rng::new(opts.seed);
-    let n = opts.particles;
-    let mut evaluations = 0usize;
-    let mut eval = |x: &[f64], evaluations: &mut usize| -> f64 {
-        *evaluations += 1;
-        let c = cost(x);
-        if c.is_finite() {
-            c
-        } else {
-            f64::INFINITY
-        }
-    };
-
-    let mut pos = vec![vec![0.0; d]; n];
-    let mut vel = vec![vec![0.0; d]; n];
-    let mut pbest = vec![vec![0.0; d]; n];
-    let mut pcost = vec![f64::INFINITY; n];
-    for p in 0..n {
-        let mut found = false;
-        for _ in 0..1000 {
-            for i in 0..d {
-                pos[p][i] = rng.uniform_in(lower[i], upper[i]);
-            }
-            if feasible(&pos[p]) {
-                found = true;
-                break;
-            }
-        }
-        if !found {
-            return Err(Error::Numerical("PSO: no feasible point found in the search box after 1000 draws".into()));
-        }
-        for i in 0..d {
-            vel[p][i] = rng.uniform_in(-vmax[i], vmax[i]) * 0.5;
-        }
-        pbest[p].clone_from(&pos[p]);
-        pcost[p] = eval(&pos[p], &mut evaluations);
+    let evaluations = AtomicUsize::new(0);
+    let mut problem = Problem::new(Swarmed { cost: &cost, feasible: &feasible, evaluations: &evaluations });
+    let numerical = |e: argmin::core::Error| Error::Numerical(format!("particle swarm: {e}"));
+    let mut swarm = ParticleSwarm::new((lower.to_vec(), upper.to_vec()), opts.particles)
+        .with_inertia_factor(opts.inertia)
+        .and_then(|s| s.with_cognitive_factor(opts.cognitive))
+        .and_then(|s| s.with_social_factor(opts.social))
+        .map_err(numerical)?
+        .with_rng_generator(rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(opts.seed));
+    let (mut state, _) = swarm.init(&mut problem, PopulationState::new()).map_err(numerical)?;
+    if !state.cost.is_finite() {
+        return Err(Error::Numerical("PSO: no feasible point in the initial swarm".into()));
     }
-    let mut g = argmin(&pcost);
-    let mut gbest = pbest[g].clone();
-    let mut gcost = pcost[g];
-    let mut history = vec![gcost];
+    let mut history = vec![state.cost];
     let mut stop = StopReason::MaxIterations;
     let mut iterations = 0;
-
     for it in 1..=opts.max_iterations {
         iterations = it;
-        for p in 0..n {
-            for i in 0..d {
-                let r1 = rng.uniform();
-                let r2 = rng.uniform();
-                let mut v = opts.inertia * vel[p][i]
-                    + opts.cognitive * r1 * (pbest[p][i] - pos[p][i])
-                    + opts.social * r2 * (gbest[i] - pos[p][i]);
-                v = v.clamp(-vmax[i], vmax[i]);
-                let mut x = pos[p][i] + v;
-                if x < lower[i] {
-                    x = lower[i];
-                    v = 0.0;
-                } else if x > upper[i] {
-                    x = upper[i];
-                    v = 0.0;
-                }
-                vel[p][i] = v;
-                pos[p][i] = x;
-            }
-            if !feasible(&pos[p]) {
-                continue;
-            }
-            let c = eval(&pos[p], &mut evaluations);
-            if c < pcost[p] {
-                pcost[p] = c;
-                pbest[p].clone_from(&pos[p]);
-            }
-        }
-        g = argmin(&pcost);
-        if pcost[g] < gcost {
-            gcost = pcost[g];
-            gbest.clone_from(&pbest[g]);
-        }
-        history.push(gcost);
+        state = swarm.next_iter(&mut problem, state).map_err(numerical)?.0;
+        history.push(state.cost);
         if it >= opts.window {
-            let before = history[it - opts.window];
-            let change = before - gcost;
-            if change.is_finite() && change <= opts.tol_abs + opts.tol_rel * gcost.abs() {
+            let change = history[it - opts.window] - state.cost;
+            if change.is_finite() && change <= opts.tol_abs + opts.tol_rel * state.cost.abs() {
                 stop = StopReason::Converged { window: opts.window, change };
                 break;
             }
         }
     }
-    Ok(PsoResult { best: gbest, cost: gcost, history, iterations, evaluations, stop })
+    let best = state.individual.map(|p| p.position).ok_or_else(|| Error::Numerical("PSO: no best particle".into()))?;
+    Ok(PsoResult { best, cost: state.cost, history, iterations, evaluations: evaluations.into_inner(), stop })
 }
 
-fn argmin(v: &[f64]) -> usize {
-    let mut k = 0;
-    for (i, &x) in v.iter().enumerate() {
-        if x < v[k] {
-            k = i;
+/// The cost as the swarm sees it: +∞ at infeasible points, which are not evaluated.
+struct Swarmed<'a, F, C> {
+    cost: &'a F,
+    feasible: &'a C,
+    evaluations: &'a AtomicUsize,
+}
+
+impl<F: Fn(&[f64]) -> f64 + Sync, C: Fn(&[f64]) -> bool + Sync> argmin::core::CostFunction for Swarmed<'_, F, C> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, x: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
+        if !(self.feasible)(x) {
+            return Ok(f64::INFINITY);
         }
+        self.evaluations.fetch_add(1, Ordering::Relaxed);
+        let c = (self.cost)(x);
+        Ok(if c.is_finite() { c } else { f64::INFINITY })
     }
-    k
 }
 
 #[cfg(test)]
@@ -397,16 +344,16 @@ mod tests {
     fn infeasible_points_are_never_evaluated_and_constrained_optimum_is_found() {
         // Minimise (x-2)² + (y-2)² subject to x + y ≤ 2: optimum (1, 1).
         let feasible = |x: &[f64]| x[0] + x[1] <= 2.0;
-        let mut violations = 0;
+        let violations = AtomicUsize::new(0);
         let opts = PsoOptions { max_iterations: 1000, window: 100, tol_rel: 1e-12, ..Default::default() };
         let r = minimize(&[-3.0, -3.0], &[3.0, 3.0], &opts, feasible, |x| {
             if x[0] + x[1] > 2.0 {
-                violations += 1;
+                violations.fetch_add(1, Ordering::Relaxed);
             }
             (x[0] - 2.0).powi(2) + (x[1] - 2.0).powi(2)
         })
         .unwrap();
-        assert_eq!(violations, 0);
+        assert_eq!(violations.into_inner(), 0);
         assert!(feasible(&r.best));
         assert!((r.best[0] - 1.0).abs() < 1e-2 && (r.best[1] - 1.0).abs() < 1e-2, "{:?}", r.best);
     }
