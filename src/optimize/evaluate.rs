@@ -162,7 +162,7 @@ impl<'s> Evaluator<'s> {
         }
         let (mut modal_power, mut mode_frequency_hz) = (Vec::new(), Vec::new());
         if self.modes > 0 {
-            if let Some(m) = crate::analysis::modes::bare_modes_on(model, &sys, self.modes).map_err(s)? {
+            if let Some(m) = crate::analysis::modes::few_bare_modes_on(model, &sys, self.modes).map_err(s)? {
                 let interface: Vec<Vec<Complex64>> = r.spectra.iter().map(|sp| sp.interface.clone()).collect();
                 let d = decompose(&sys, &m, ModalDamping::of(&model.rayleigh, None), &solver.q, omega0, &interface);
                 modal_power = (0..m.count()).map(|k| d.point_power.iter().map(|p| p[k]).sum()).collect();
