@@ -27,5 +27,5 @@ pub mod run;
 pub mod search;
 pub mod spec;
 
-pub use run::{run, Optimum, RunOptions, RunResult};
+pub use run::{run, RunOptions, RunResult};
 pub use spec::{load, Spec};

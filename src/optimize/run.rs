@@ -22,14 +22,6 @@ pub struct RunOptions {
     pub on_evaluated: Option<Arc<dyn Fn() + Send + Sync>>,
 }
 
-/// One evaluated candidate in the history.
-#[derive(Clone, Debug)]
-pub struct Optimum {
-    pub evaluation: Evaluation,
-    /// The objectives' costs with penalties (for a minimiser).
-    pub costs: Vec<f64>,
-}
-
 /// What an optimisation found.
 #[derive(Clone, Debug)]
 pub struct RunResult {

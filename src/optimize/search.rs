@@ -65,16 +65,16 @@ fn folded(x: &[f64]) -> Vec<f64> {
 /// A seeded Latin hypercube of `n` points in [0, 1]^d: each variable's range cut into n
 /// equal cells, one point in each, the cells paired across variables at random.
 fn latin_hypercube(seed: u64, n: usize, d: usize) -> Vec<Vec<f64>> {
-    let mut rng = crate::identify::pso::Rng::new(seed);
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(seed);
     let mut pts = vec![vec![0.0; d]; n];
     for j in 0..d {
         let mut cells: Vec<usize> = (0..n).collect();
         for i in (1..n).rev() {
-            let k = (rng.next_u64() % (i as u64 + 1)) as usize;
-            cells.swap(i, k);
+            cells.swap(i, rng.random_range(0..=i));
         }
         for (p, c) in pts.iter_mut().zip(cells) {
-            p[j] = (c as f64 + rng.uniform()) / n as f64;
+            p[j] = (c as f64 + rng.random::<f64>()) / n as f64;
         }
     }
     pts

@@ -532,10 +532,11 @@ impl Spec {
     /// and if none passes, the limit most of them break is named.
     pub fn check_limits_can_hold(&self, samples: usize) -> Result<()> {
         let d = self.variables.len();
-        let mut rng = crate::identify::pso::Rng::new(self.search.seed ^ 0x5eed);
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(self.search.seed);
         let mut counts: Vec<(String, usize, String)> = Vec::new();
         for s in 0..=samples {
-            let u: Vec<f64> = if s == 0 { vec![0.5; d] } else { (0..d).map(|_| rng.uniform()).collect() };
+            let u: Vec<f64> = if s == 0 { vec![0.5; d] } else { (0..d).map(|_| rng.random::<f64>()).collect() };
             let case = self
                 .case_of(&u)
                 .map_err(|r| Error::input(&self.file, "variable", format!("{}: {r}", self.describe(&u))))?;
