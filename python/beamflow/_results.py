@@ -145,7 +145,7 @@ class Analysis(Group):
 
     ``kind`` is ``modes``, ``harmonic``, ``transient`` or ``steady_state``; ``index`` its
     place in the case's ``[[analysis]]`` list. Transient and steady-state analyses have
-    time histories (``t``, ``links``, ``bodies``, ``drives``, ``sensors``), spectra per link,
+    time histories (``t``, ``links``, ``bodies``, ``drives``, ``sensors``, ``loads``), spectra per link,
     mean and net powers; the steady state also its mode-resolved tables (``modal``).
     """
 
@@ -214,6 +214,18 @@ class Analysis(Group):
     def sensors(self) -> Dict[str, Group]:
         """Time histories per sensor: ``w`` (m), ``v`` (m/s), ``a`` (m/s²)."""
         return self._members("sensors")
+
+    @property
+    def loads(self) -> Dict[str, Group]:
+        """Per point load (``[[load]]``): ``force`` (N), ``w``/``v``/``a`` at its point, its
+        ``power_per_harmonic`` (W), attributes ``x_m`` and ``mean_power_W``."""
+        return self._members("loads")
+
+    @property
+    def load_power(self) -> Dict[str, float]:
+        """Mean power each point load puts into the beam (W), by load name."""
+        self._need("transient", "steady_state")
+        return {n: float(g.attrs["mean_power_W"]) for n, g in self.loads.items()}
 
     @property
     def drives(self) -> Dict[str, Group]:

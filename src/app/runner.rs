@@ -18,6 +18,24 @@ use std::cell::OnceCell;
 /// Modes in the mode-resolved tables of a run (the residual of the truncated sum is reported).
 pub const MODAL_TABLE_MODES: usize = 30;
 
+/// The forces of a harmonic analysis: its own `[[analysis.force]]`, or else the case's
+/// sine loads, each at its amplitude and phase. A load A·sin(ωt + φ) is the phasor
+/// A·e^{i(φ − π/2)} of the analysis's convention F(t) = Re(F̂·e^{iωt}).
+fn harmonic_forces(force: &[crate::case::ForceSpec], loads: &[crate::assembly::PointLoad]) -> Vec<PointForce> {
+    if !force.is_empty() {
+        return force.iter().map(|f| PointForce { x: f.x, amplitude: f.amplitude, phase: f.phase }).collect();
+    }
+    loads
+        .iter()
+        .filter_map(|l| match l.force {
+            crate::signal::voltage::VoltageInput::Sine { amplitude, phase, .. } => {
+                Some(PointForce { x: l.x, amplitude, phase: phase - std::f64::consts::FRAC_PI_2 })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
 /// The transient settings a case's analysis entry describes (`full_history`: the case's
 /// `[output] full_history`, every period kept rather than the last three).
 pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<TransientSettings> {
@@ -215,11 +233,11 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                     rayleigh: model.rayleigh,
                     actuators: Vec::new(),
                     sensors: model.sensors.clone(),
+                    loads: Vec::new(),
                     loss_factor: model.loss_factor,
                 };
                 let sys = System::assemble(&bare)?;
-                let forces: Vec<PointForce> =
-                    force.iter().map(|f| PointForce { x: f.x, amplitude: f.amplitude, phase: f.phase }).collect();
+                let forces = harmonic_forces(force, &model.loads);
                 let modal = match &built.modal_ratios {
                     Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r.clone())),
                     None => None,

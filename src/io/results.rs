@@ -6,7 +6,9 @@ use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
-use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
+use crate::analysis::series::{
+    BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
+};
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
 use crate::case::LoadedCase;
@@ -170,6 +172,27 @@ fn write_series<S: GroupSink>(
     Ok(())
 }
 
+/// Each point load's group: its series over the recorded window, its mean power into the
+/// beam and its power per harmonic.
+fn write_loads<S: GroupSink>(g: &S, series: &[LoadSeries], spectra: &[LoadSpectrum]) -> Result<()> {
+    for (l, sp) in series.iter().zip(spectra) {
+        let lg = g.group(&format!("loads/{}", l.name))?;
+        lg.attr_f64("x_m", l.x)?;
+        lg.attr_f64("mean_power_W", sp.power_total)?;
+        lg.write_f64("force", &l.force, &[l.force.len()], "N", "prescribed force on the beam, positive up")?;
+        lg.write_f64("w", &l.w, &[l.w.len()], "m", "beam displacement at the load")?;
+        lg.write_f64("v", &l.v, &[l.v.len()], "m/s", "beam velocity at the load")?;
+        lg.write_f64("a", &l.a, &[l.a.len()], "m/s^2", "beam acceleration at the load")?;
+        let n = sp.frequency.len();
+        lg.write_f64("frequency", &sp.frequency, &[n], "Hz", "harmonic frequencies k/T")?;
+        lg.write_f64("power_per_harmonic", &sp.power, &[n], "W", "1/2 Re(F_k conj V_k) into the beam")?;
+        let abs = |c: &[num_complex::Complex64]| c.iter().map(|x| x.norm()).collect::<Vec<_>>();
+        lg.write_f64("force_amplitude", &abs(&sp.force), &[n], "N", "|F_k|")?;
+        lg.write_f64("velocity_amplitude", &abs(&sp.velocity), &[n], "m/s", "|V_k| at the load")?;
+    }
+    Ok(())
+}
+
 fn write_spectra<S: GroupSink>(g: &S, links: &[LinkSeries], spectra: &[LinkSpectrum], run: &CaseRun) -> Result<()> {
     for (l, s) in links.iter().zip(spectra) {
         let sg = g.group(&format!("spectra/{}", link_group_name(run, l)))?;
@@ -235,6 +258,7 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
     }
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;
+    write_loads(g, &r.loads, &r.load_spectra)?;
     if beam {
         write_powers(g, &r.mean_power, &r.net_power, run)?;
         write_energy(g, "energy_run/beam", &r.energy_run.beam)?;
@@ -305,6 +329,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
     )?;
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;
+    write_loads(g, &r.loads, &r.load_spectra)?;
     write_powers(g, &r.mean_power, &r.net_power, run)?;
     if let Some(m) = &r.modal {
         let mg = g.group("modal")?;
@@ -333,6 +358,17 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
             "power per link (row, order of link_names) and mode (column)",
         )?;
         mg.write_f64("point_residual", &m.point_residual, &[nl], "W", "P_i minus the truncated modal sum")?;
+        let nj = m.load_power.len();
+        if nj > 0 {
+            mg.write_f64(
+                "load_power",
+                &m.load_power.concat(),
+                &[nj, nm],
+                "W",
+                "power per point load (row, order of the case's [[load]]) and mode (column)",
+            )?;
+            mg.write_f64("load_residual", &m.load_residual, &[nj], "W", "load power minus the truncated modal sum")?;
+        }
         mg.write_f64("dissipation", &m.dissipation, &[nm], "W", "modal dissipated power")?;
         mg.write_f64("kinetic_energy", &m.kinetic_energy, &[nm], "J", "time-averaged kinetic energy per mode")?;
         mg.write_f64("strain_energy", &m.strain_energy, &[nm], "J", "time-averaged strain energy per mode")?;

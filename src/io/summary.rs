@@ -1,6 +1,7 @@
 //! The headline numbers of a run, for people (text) and scripts (JSON).
 
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
+use crate::analysis::series::LoadSpectrum;
 use crate::case::LoadedCase;
 use serde_json::{json, Map, Value};
 
@@ -23,7 +24,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 let amp: Map<String, Value> = t.spectra.iter().enumerate().map(|(l, s)| (link_name(l), json!(s.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
                 let mut v = json!({"type": "transient", "dt_s": t.dt, "steps_per_period": t.steps_per_period, "harmonics": t.harmonics, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
                        "settling_estimate": finite_or_null(t.settling_estimate),
-                       "mean_power_w": points, "net_power_w": t.net_power, "transmitted_force_amplitude_at_drive_n": amp,
+                       "mean_power_w": points, "net_power_w": t.net_power, "load_power_w": load_powers(&t.load_spectra), "transmitted_force_amplitude_at_drive_n": amp,
                        "beam_dissipation_w": t.beam_dissipation,
                        "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}});
                 add_reduction(&mut v, t.reduction.as_ref());
@@ -35,8 +36,8 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                     points.insert(link_name(l), json!(p));
                 }
                 let amp: Map<String, Value> = s.spectra.iter().enumerate().map(|(l, sp)| (link_name(l), json!(sp.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
-                let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "modal_dissipation_w": m.dissipation}));
-                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "truncation_estimate": finite_or_null(s.truncation_estimate), "mean_power_w": points, "net_power_w": s.net_power, "modal": modal,
+                let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "load_residual_w": m.load_residual, "modal_dissipation_w": m.dissipation}));
+                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "truncation_estimate": finite_or_null(s.truncation_estimate), "mean_power_w": points, "net_power_w": s.net_power, "load_power_w": load_powers(&s.load_spectra), "modal": modal,
                        "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error});
                 add_reduction(&mut v, s.reduction.as_ref());
                 v
@@ -71,6 +72,11 @@ fn without_beam(a: &mut Value) {
     if let Some(m) = a.get_mut("modal") {
         *m = Value::Null;
     }
+}
+
+/// Each point load's mean power into the beam (W), by name.
+fn load_powers(loads: &[LoadSpectrum]) -> Value {
+    Value::Object(loads.iter().map(|l| (l.name.clone(), json!(l.power_total))).collect())
 }
 
 /// A number, or JSON null where it is not defined (NaN).
@@ -118,6 +124,12 @@ pub fn headline_text(v: &Value) -> String {
                             p.as_f64().unwrap_or(f64::NAN)
                         );
                     }
+                }
+                for (k, p) in a["load_power_w"].as_object().into_iter().flatten() {
+                    s += &format!(
+                        "  mean power into the beam by load {k:<19} {:>12.4e} W\n",
+                        p.as_f64().unwrap_or(f64::NAN)
+                    );
                 }
                 for (i, p) in a["net_power_w"].as_array().into_iter().flatten().enumerate() {
                     s += &format!(

@@ -19,7 +19,9 @@ use self::record::{PeriodRecord, Window};
 use self::settle::SettleCheck;
 use self::step::{EnergyLedger, StackHistories, Stepper};
 use super::drive::{DriveTiming, Step};
-use super::series::{Balances, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
+use super::series::{
+    Balances, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
+};
 use crate::assembly::{Model, System};
 use crate::error::Result;
 use crate::power::point::{mean_product, net_power};
@@ -93,6 +95,9 @@ pub struct TransientResult {
     pub bodies: Vec<BodySeries>,
     pub drives: Vec<DriveSeries>,
     pub sensors: Vec<SensorSeries>,
+    pub loads: Vec<LoadSeries>,
+    /// Per point load, its mean power into the beam over the last period and its harmonics.
+    pub load_spectra: Vec<LoadSpectrum>,
     /// Mean power into the base at each link's foot over the last period (W).
     pub mean_power: Vec<f64>,
     /// Net mean power into the base per actuator (W).
@@ -145,17 +150,19 @@ fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<Fu
     Ok(nm)
 }
 
-/// Starts the integrator at rest under the stack forces `f_p0` (N) at t = 0, with the
-/// consistent initial acceleration, and registers the drives' load patterns.
-fn start_at_rest(nm: &mut FusedNewmark, sys: &System, f_p0: &[f64]) -> Result<()> {
-    // F₀ = Σ_a b_a·F_p,a(0) as sparse pairs.
+/// Starts the integrator at rest under the forces `w0` at t = 0 (N: each stack's F_p,
+/// then each point load), with the consistent initial acceleration, and registers their
+/// load patterns.
+fn start_at_rest(nm: &mut FusedNewmark, sys: &System, w0: &[f64]) -> Result<()> {
+    let patterns: Vec<Vec<(usize, f64)>> = sys.drives.iter().chain(&sys.loads).cloned().collect();
+    // F₀ = Σ_j b_j·w_j(0) as sparse pairs.
     let loads: Vec<(usize, f64)> =
-        sys.drives.iter().zip(f_p0).flat_map(|(b, &fp)| b.iter().map(move |&(d, c)| (d, c * fp))).collect();
+        patterns.iter().zip(w0).flat_map(|(b, &w)| b.iter().map(move |&(d, c)| (d, c * w))).collect();
     let zeros = vec![0.0; sys.n()];
     let a0 = consistent_acceleration(&sys.m, &sys.c, &sys.k, &sys.envelope, &zeros, &zeros, &loads)?;
     nm.set_state(&zeros, &zeros, &a0, &loads);
-    nm.set_load_patterns(sys.drives.clone());
-    nm.set_previous_weights(f_p0);
+    nm.set_load_patterns(patterns);
+    nm.set_previous_weights(w0);
     Ok(())
 }
 
@@ -181,13 +188,13 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
     let mut stacks = StackHistories::new(model, &timing);
     let f_p0 = stacks.initial_forces();
-    start_at_rest(&mut nm, sys, &f_p0)?;
+    start_at_rest(&mut nm, sys, &stacks.initial_weights())?;
     let plan = PeriodPlan::new(&timing, s);
     let mut window = Window::new(plan.keep, timing.steps_per_period);
     let mut ledger = EnergyLedger::new(sys, &nm);
     nm.set_observations(layout.rows());
     let mut stepper = Stepper::new(&nm, sys, &layout, &f_p0, &timing);
-    let reference = if timing.periodic && s.steady_state && !model.actuators.is_empty() {
+    let reference = if timing.periodic && s.steady_state {
         Some(reference::periodic_metrics(model, sys, &s.scheme, &timing)?)
     } else {
         None
@@ -201,7 +208,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         let pb = stepper.period(&mut nm, sys, &layout, &stacks);
         ledger.close_period(&nm, pb);
         let n = timing.steps_per_period;
-        rec.store_drives(&stacks.times[..n], &stacks.v, &stacks.h, &stepper.f_p);
+        rec.store_drives(&stacks.times[..n], &stacks.v, &stacks.h, &stepper.f_p, &stacks.load_f);
         rec.store_readouts(&layout, &stepper.observed);
         periods_run = p + 1;
         // Every period kept for output must be settled, not only the last.
@@ -233,10 +240,26 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     let harmonics = timing.analysed_harmonics(s.harmonics);
     result.harmonics = harmonics;
     add_links(&mut result, sys, &all, harmonics);
+    add_loads(&mut result, model, &all, harmonics);
     result.net_power = net_power(&sys.links, &result.mean_power, model.actuators.len());
     result.t = all.t.clone();
-    (result.bodies, result.drives, result.sensors) = all.into_series(model, &layout, &stacks.stacks);
+    (result.bodies, result.drives, result.sensors, result.loads) = all.into_series(model, &layout, &stacks.stacks);
     Ok(result)
+}
+
+/// Adds each point load's mean power and spectrum over the last period.
+fn add_loads(result: &mut TransientResult, model: &Model, all: &PeriodRecord, harmonics_kept: usize) {
+    let n = result.steps_per_period;
+    for (j, l) in model.loads.iter().enumerate() {
+        let start = all.lf[j].len() - n;
+        let (f, v) = (&all.lf[j][start..], &all.lv[j][start..]);
+        let fh = harmonics(f);
+        let hmax = harmonics_kept.min(fh.len() - 1);
+        let mut sp = LoadSpectrum::new(&l.name, l.x, (result.period, n, hmax), fh, harmonics(v));
+        // The sample mean, as the links' mean powers are taken.
+        sp.power_total = mean_product(f, v);
+        result.load_spectra.push(sp);
+    }
 }
 
 /// Adds each link's series over the recorded window, and its mean power and spectrum
