@@ -244,6 +244,12 @@ class Analysis(Group):
         return self.groups.get("modal")
 
     @property
+    def record(self) -> Optional[Group]:
+        """A non-periodic transient's record analysis (energies, PSDs, H1 FRFs per point,
+        ``points/<name>``), or None for a periodic run."""
+        return self.groups.get("record")
+
+    @property
     def reduction(self) -> Optional[Group]:
         """The modal reduction used and its error estimate, or None for a full model."""
         return self.groups.get("reduction")

@@ -29,3 +29,15 @@ def test_load_power_equals_the_summary_and_the_series() -> None:
     direct = sum(x * y for x, y in zip(f, v)) / len(f)
     assert abs(direct - p) < 1e-9 * p
     assert p > 0
+
+
+def test_a_step_load_gives_a_record_not_harmonics() -> None:
+    case = CASE.replace('kind = "sine"\namplitude = 1.0\nfrequency = 60.0', 'kind = "step"\ntime = 0.0\nfrom = 0.0\nto = 1.0\nrise_time = 0.05')
+    case = case.replace('type = "steady_state"', 'type = "transient"\ndt = 1e-4\nduration = 0.2')
+    res = beamflow.Case.from_toml(case).run()
+    a = res.analysis(0)
+    s = res.summary["analyses"][0]
+    assert s["harmonics"] is None and s["mean_power_w"] is None
+    rec = a.record
+    assert rec is not None
+    assert rec["points/shaker"].attrs["energy_J"] == s["record"]["energy_j"]["shaker"]

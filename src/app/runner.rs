@@ -51,6 +51,7 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
         tolerance,
         max_periods,
         harmonics,
+        segment,
         reduction: _,
     } = spec
     {
@@ -70,6 +71,7 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
             tolerance: *tolerance,
             max_periods: *max_periods,
             harmonics: *harmonics,
+            segment: *segment,
             record_periods: 3,
             full_history,
         })
@@ -121,6 +123,7 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                     let s = transient_settings(spec, false).expect("transient");
                     let timing =
                         DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
+                    transient::record_segments(&timing, s.segment)?;
                     match reduction {
                         // Modal damping is a matrix only in modal coordinates.
                         None => {

@@ -541,6 +541,10 @@ pub enum AnalysisSpec {
         /// as many as the time step resolves at 20 steps per harmonic period.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         harmonics: Option<usize>,
+        /// A non-periodic record's Welch segment for PSDs and FRFs (s); default: the whole
+        /// record as one segment.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        segment: Option<f64>,
         /// Run on a modal-reduced model (see [`ReductionSpec`]); default: the full model.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         reduction: Option<ReductionSpec>,
@@ -958,8 +962,19 @@ impl Case {
                     harmonics,
                     scheme,
                     reduction,
+                    segment,
                     ..
                 } => {
+                    if let Some(seg) = segment {
+                        positive(file, &format!("{f}.segment"), *seg)?;
+                        if duration.is_some_and(|d| *seg > d) {
+                            return Err(Error::input(
+                                file,
+                                format!("{f}.segment"),
+                                format!("a segment of {seg} s is longer than the record (`duration`)"),
+                            ));
+                        }
+                    }
                     if let Some(r) = reduction {
                         r.validate(file, &format!("{f}.reduction"), self.base)?;
                     }

@@ -14,6 +14,7 @@ use crate::analysis::transient::TransientResult;
 use crate::case::LoadedCase;
 use crate::error::Result;
 use crate::power::balance::EnergyBalance;
+use crate::power::record::RecordAnalysis;
 use std::path::Path;
 
 /// Writes one self-describing file for a case run (atomically).
@@ -175,20 +176,77 @@ fn write_series<S: GroupSink>(
 /// Each point load's group: its series over the recorded window, its mean power into the
 /// beam and its power per harmonic.
 fn write_loads<S: GroupSink>(g: &S, series: &[LoadSeries], spectra: &[LoadSpectrum]) -> Result<()> {
-    for (l, sp) in series.iter().zip(spectra) {
+    for (j, l) in series.iter().enumerate() {
         let lg = g.group(&format!("loads/{}", l.name))?;
         lg.attr_f64("x_m", l.x)?;
-        lg.attr_f64("mean_power_W", sp.power_total)?;
         lg.write_f64("force", &l.force, &[l.force.len()], "N", "prescribed force on the beam, positive up")?;
         lg.write_f64("w", &l.w, &[l.w.len()], "m", "beam displacement at the load")?;
         lg.write_f64("v", &l.v, &[l.v.len()], "m/s", "beam velocity at the load")?;
         lg.write_f64("a", &l.a, &[l.a.len()], "m/s^2", "beam acceleration at the load")?;
+        // A non-periodic run has no harmonics: its record analysis stands in.
+        let Some(sp) = spectra.get(j) else { continue };
+        lg.attr_f64("mean_power_W", sp.power_total)?;
         let n = sp.frequency.len();
         lg.write_f64("frequency", &sp.frequency, &[n], "Hz", "harmonic frequencies k/T")?;
         lg.write_f64("power_per_harmonic", &sp.power, &[n], "W", "1/2 Re(F_k conj V_k) into the beam")?;
         let abs = |c: &[num_complex::Complex64]| c.iter().map(|x| x.norm()).collect::<Vec<_>>();
         lg.write_f64("force_amplitude", &abs(&sp.force), &[n], "N", "|F_k|")?;
         lg.write_f64("velocity_amplitude", &abs(&sp.velocity), &[n], "m/s", "|V_k| at the load")?;
+    }
+    Ok(())
+}
+
+/// A non-periodic run's record analysis: per drive its PSD, per point its energy, PSDs,
+/// power spectral density and H1 FRFs with coherence.
+fn write_record<S: GroupSink>(g: &S, r: &RecordAnalysis) -> Result<()> {
+    let rg = g.group("record")?;
+    rg.attr_f64("duration_s", r.duration)?;
+    rg.attr_f64("segment_s", r.segment_s)?;
+    rg.attr_i64("segments", r.segments as i64)?;
+    rg.attr_f64("overlap", r.welch.overlap)?;
+    rg.attr_str("window", if r.welch.hann { "hann" } else { "rectangular" })?;
+    let n = r.frequency.len();
+    rg.write_f64("frequency", &r.frequency, &[n], "Hz", "k / segment length")?;
+    rg.write_f64("net_energy", &r.net_energy, &[r.net_energy.len()], "J", "energy into the structure per actuator")?;
+    for d in &r.drives {
+        let dg = rg.group(&format!("drives/{}", d.name))?;
+        dg.write_f64("psd", &d.psd, &[n], &format!("{}^2/Hz", d.unit), "one-sided Welch PSD of the drive")?;
+    }
+    for p in &r.points {
+        let pg = rg.group(&format!("points/{}", p.name))?;
+        let unit = r.drives.iter().find(|d| d.name == p.drive).map_or("1", |d| d.unit.as_str());
+        pg.attr_str("drive", &p.drive)?;
+        pg.attr_f64("energy_J", p.energy)?;
+        pg.write_f64("power_density", &p.power_density, &[n], "W/Hz", "Re G_Fv: power into the structure per Hz")?;
+        pg.write_f64("force_psd", &p.force_psd, &[n], "N^2/Hz", "PSD of the force into the structure")?;
+        pg.write_f64("acceleration_psd", &p.acceleration_psd, &[n], "(m/s^2)^2/Hz", "PSD of the acceleration")?;
+        pg.write_c64("force_frf", &p.force_frf, &[n], &format!("N/{unit}"), "H1 from the drive to the force")?;
+        // One segment has no coherence: the datasets are there only for Welch averages.
+        if !p.force_coherence.is_empty() {
+            pg.write_f64("force_coherence", &p.force_coherence, &[n], "1", "coherence of force_frf")?;
+            pg.write_f64(
+                "acceleration_coherence",
+                &p.acceleration_coherence,
+                &[n],
+                "1",
+                "coherence of acceleration_frf",
+            )?;
+        }
+        pg.attr_f64("end_activity", p.end_activity)?;
+        pg.write_c64(
+            "acceleration_frf",
+            &p.acceleration_frf,
+            &[n],
+            &format!("(m/s^2)/{unit}"),
+            "H1 from the drive to the acceleration",
+        )?;
+        pg.write_f64(
+            "power_frf",
+            &p.power_frf,
+            &[n],
+            &format!("W/{unit}^2"),
+            "Re G_Fv / G_uu: a sine drive of amplitude A puts A^2/2 times this in",
+        )?;
     }
     Ok(())
 }
@@ -259,8 +317,13 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;
     write_loads(g, &r.loads, &r.load_spectra)?;
-    if beam {
+    if let Some(rec) = &r.record {
+        write_record(g, rec)?;
+    }
+    if beam && r.record.is_none() {
         write_powers(g, &r.mean_power, &r.net_power, run)?;
+    }
+    if beam {
         write_energy(g, "energy_run/beam", &r.energy_run.beam)?;
         write_energy(g, "energy_last_period/beam", &r.energy_last_period.beam)?;
     }

@@ -3,6 +3,7 @@
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::series::LoadSpectrum;
 use crate::case::LoadedCase;
+use crate::power::record::RecordAnalysis;
 use serde_json::{json, Map, Value};
 
 /// A JSON object with one entry per analysis.
@@ -28,6 +29,9 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                        "beam_dissipation_w": t.beam_dissipation,
                        "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}});
                 add_reduction(&mut v, t.reduction.as_ref());
+                if let Some(rec) = &t.record {
+                    as_record(&mut v, rec);
+                }
                 v
             }
             AnalysisResult::SteadyState(s) => {
@@ -74,6 +78,19 @@ fn without_beam(a: &mut Value) {
     }
 }
 
+/// A non-periodic run has no harmonics and no mean power: those keys are null (one shape
+/// for every transient), and `record` holds the energies delivered and the segmentation of
+/// the spectra in the HDF5 file.
+fn as_record(v: &mut Value, rec: &RecordAnalysis) {
+    for key in ["harmonics", "mean_power_w", "net_power_w", "load_power_w", "transmitted_force_amplitude_at_drive_n"] {
+        v[key] = Value::Null;
+    }
+    let energy: Map<String, Value> = rec.points.iter().map(|p| (p.name.clone(), json!(p.energy))).collect();
+    v["record"] = json!({"duration_s": rec.duration, "segment_s": rec.segment_s, "segments": rec.segments,
+        "overlap": rec.welch.overlap, "window": if rec.welch.hann { "hann" } else { "rectangular" },
+        "frequency_resolution_hz": 1.0 / rec.segment_s, "energy_j": energy, "net_energy_j": rec.net_energy});
+}
+
 /// Each point load's mean power into the beam (W), by name.
 fn load_powers(loads: &[LoadSpectrum]) -> Value {
     Value::Object(loads.iter().map(|l| (l.name.clone(), json!(l.power_total))).collect())
@@ -104,7 +121,7 @@ pub fn headline_text(v: &Value) -> String {
             Some(t @ ("transient" | "steady_state")) => {
                 s += &format!("{t}:\n");
                 if t == "transient" {
-                    s += &transient_status(a);
+                    s += &transient_status(a, &names);
                 } else {
                     s += &format!("  {} harmonics", a["harmonics"]);
                     match a["truncation_estimate"].as_f64() {
@@ -168,13 +185,16 @@ pub fn headline_text(v: &Value) -> String {
 
 /// How a transient ran: its step, the harmonics it analysed, and whether (and how well) it
 /// settled.
-fn transient_status(a: &Value) -> String {
+fn transient_status(a: &Value, names: &[Value]) -> String {
     let n = a["steps_per_period"].as_u64().unwrap_or(0);
     let mut s = format!(
         "  Δt = {:.4e} s ({n} steps per period), spectra to harmonic {} (20 steps per harmonic period)\n",
         a["dt_s"].as_f64().unwrap_or(f64::NAN),
         a["harmonics"]
     );
+    if let Some(r) = a.get("record") {
+        return record_status(a, r, names);
+    }
     let periods = a["periods_run"].as_u64().unwrap_or(0);
     match (a["converged"].as_bool(), a["settling_estimate"].as_f64()) {
         (Some(true), Some(e)) => {
@@ -186,6 +206,30 @@ fn transient_status(a: &Value) -> String {
         )
         }
         _ => s += &format!("  ran {periods} period(s)\n"),
+    }
+    s
+}
+
+/// A non-periodic run: its record, how its spectra are averaged, and the energy each point
+/// and each actuator delivered.
+fn record_status(a: &Value, r: &Value, actuators: &[Value]) -> String {
+    let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    let mut s = format!(
+        "  non-periodic drive: one record of {:.4} s at Δt = {:.4e} s; no harmonics. PSDs and H1 FRFs (with\n  \
+         coherence) from {} {} segments of {:.4} s, {:.0} % overlap (Δf = {:.4} Hz), in the HDF5 file\n",
+        f(&r["duration_s"]),
+        f(&a["dt_s"]),
+        r["segments"],
+        r["window"].as_str().unwrap_or("?"),
+        f(&r["segment_s"]),
+        100.0 * f(&r["overlap"]),
+        f(&r["frequency_resolution_hz"])
+    );
+    for (k, e) in r["energy_j"].as_object().into_iter().flatten() {
+        s += &format!("  energy delivered into the structure at {k:<22} {:>12.4e} J\n", f(e));
+    }
+    for (name, e) in actuators.iter().zip(r["net_energy_j"].as_array().into_iter().flatten()) {
+        s += &format!("  net energy of {:<46} {:>12.4e} J\n", name.as_str().unwrap_or("?"), f(e));
     }
     s
 }

@@ -9,6 +9,7 @@
 
 mod readout;
 mod record;
+mod records;
 mod reference;
 mod settle;
 mod stability;
@@ -25,6 +26,7 @@ use super::series::{
 use crate::assembly::{Model, System};
 use crate::error::Result;
 use crate::power::point::{mean_product, net_power};
+use crate::power::record::{RecordAnalysis, Welch};
 use crate::power::spectra::harmonics;
 use crate::solve::fused::FusedNewmark;
 use crate::solve::newmark::{consistent_acceleration, Scheme};
@@ -45,6 +47,8 @@ pub struct TransientSettings {
     /// Highest harmonic of the drive analysed (sets the Δt limit and the spectra length);
     /// None: as many as the time step resolves ([`DriveTiming::analysed_harmonics`]).
     pub harmonics: Option<usize>,
+    /// A non-periodic record's Welch segment (s); None: the whole record as one segment.
+    pub segment: Option<f64>,
     /// Periods kept at the end of the run for output (and run at least before the
     /// steady-state criterion may stop it).
     pub record_periods: usize,
@@ -64,6 +68,7 @@ impl Default for TransientSettings {
             tolerance: 1e-4,
             max_periods: 400,
             harmonics: None,
+            segment: None,
             record_periods: 3,
             full_history: false,
         }
@@ -115,6 +120,10 @@ pub struct TransientResult {
     /// Set when the run used a modal reduction: its basis and error estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reduction: Option<crate::analysis::reduction::ReductionReport>,
+    /// A non-periodic drive's record: energies, PSDs and FRFs instead of harmonics (whose
+    /// fields then stay empty).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub record: Option<RecordAnalysis>,
 }
 
 /// How many periods a run takes and keeps.
@@ -184,6 +193,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     }
     let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
     stability::check_step(sys, s.scheme, &timing)?;
+    let welch = record_segments(&timing, s.segment)?;
     let layout = Readout::new(model, sys)?;
     let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
     let mut stacks = StackHistories::new(model, &timing);
@@ -237,14 +247,38 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         ..Default::default()
     };
     let all = window.joined(&layout);
-    let harmonics = timing.analysed_harmonics(s.harmonics);
-    result.harmonics = harmonics;
-    add_links(&mut result, sys, &all, harmonics);
-    add_loads(&mut result, model, &all, harmonics);
-    result.net_power = net_power(&sys.links, &result.mean_power, model.actuators.len());
+    match welch {
+        None => {
+            let harmonics = timing.analysed_harmonics(s.harmonics);
+            result.harmonics = harmonics;
+            add_links(&mut result, sys, &all, harmonics);
+            add_loads(&mut result, model, &all, harmonics);
+            result.net_power = net_power(&sys.links, &result.mean_power, model.actuators.len());
+        }
+        Some(welch) => {
+            result.links = sys.links.iter().enumerate().map(|(l, lk)| all.link_series(l, lk)).collect();
+            result.record = Some(records::analyse(model, sys, &result.links, &all, timing.dt, welch));
+        }
+    }
     result.t = all.t.clone();
     (result.bodies, result.drives, result.sensors, result.loads) = all.into_series(model, &layout, &stacks.stacks);
     Ok(result)
+}
+
+/// How a non-periodic run's record is segmented for its spectra (None for a periodic
+/// drive): Welch segments of the case's `segment` (s), or the whole record as one; refused
+/// before the run when the record cannot hold the segment.
+pub fn record_segments(timing: &DriveTiming, segment: Option<f64>) -> Result<Option<Welch>> {
+    if timing.periodic {
+        return Ok(None);
+    }
+    let samples = timing.steps_per_period;
+    let welch = match segment {
+        Some(seg) => Welch::hann((seg / timing.dt).round() as usize),
+        None => Welch::whole(samples),
+    };
+    welch.check(samples, "<case>", "analysis.segment")?;
+    Ok(Some(welch))
 }
 
 /// Adds each point load's mean power and spectrum over the last period.
