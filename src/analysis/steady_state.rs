@@ -43,6 +43,9 @@ pub struct SteadyStateResult {
     pub truncation_estimate: f64,
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
+    /// Estimated relative round-off of the point powers from the mesh
+    /// ([`crate::analysis::roundoff::mesh_roundoff`]).
+    pub mesh_roundoff: f64,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
     pub frequency: Vec<f64>,
     /// Complex DOF amplitudes Q_k, k = 0..=harmonics (q(t) = Re Σ Q_k e^{ikω₀t}); empty in
@@ -189,6 +192,7 @@ pub fn run_with(
         harmonics: n_harm,
         truncation_estimate: f64::NAN,
         hysteresis_periods,
+        mesh_roundoff: super::roundoff::mesh_roundoff(model),
         frequency: (0..=n_harm).map(|k| k as f64 / period).collect(),
         spectra: link_spectra(sys, &solver.q, &f_p, &timing),
         beam_dissipation: solver.diss.iter().sum(),

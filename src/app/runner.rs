@@ -169,23 +169,17 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
     Ok(())
 }
 
-/// Most elements for which the harmonic, steady-state and transient solves hold point
-/// powers and mobilities to 1e-6.
-pub const MESH_ELEMENTS_LIMIT: usize = 650;
+pub use crate::analysis::roundoff::MESH_ELEMENTS_LIMIT;
 
-/// The solves factor the assembled K, whose condition number grows as elements⁴; against
-/// the exact continuous beam (`cargo run --release --example mesh_accuracy`) the point
-/// mobility's round-off error is 4.5e-6 at 1,000 elements and grows 16-fold per doubling
-/// (2,000: 9e-5; 20,000: order one), so 1e-6 holds up to ≈ 690 elements. Finer meshes are
-/// refused rather than answered wrongly; modes come from the elements' curvature rows and
-/// are not limited this way.
+/// Refuses a mesh whose round-off would exceed 1e-6 of the point powers (see
+/// [`crate::analysis::roundoff`]).
 fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
     let Some(beam) = &model.beam else { return Ok(()) };
     let n = beam.mesh.elements.len();
     if n <= MESH_ELEMENTS_LIMIT {
         return Ok(());
     }
-    let estimate = 4.5e-6 * (n as f64 / 1000.0).powi(4);
+    let estimate = crate::analysis::roundoff::mesh_roundoff(model);
     Err(Error::input(
         "<case>",
         "beam.mesh.elements",
@@ -317,6 +311,17 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 AnalysisResult::SteadyState(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
             }
         };
+        if let Some(q) = r.non_finite() {
+            return Err(Error::input(
+                &lc.file,
+                format!("analysis[{i}]"),
+                format!(
+                    "the result is not a finite number ({q}): the inputs are out of the range double precision \
+                     can carry (amplitudes, material constants or frequencies many orders of magnitude from \
+                     physical values) or the solution diverged; nothing was written"
+                ),
+            ));
+        }
         results.push(r);
     }
     Ok(CaseRun { model, system, results })

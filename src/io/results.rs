@@ -86,6 +86,7 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     let nf = r.frequency_hz.len();
     let np = r.point_x.len();
     let nforce = r.input_power.first().map_or(0, Vec::len);
+    g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     g.write_f64("frequency_hz", &r.frequency_hz, &[nf], "Hz", "analysis frequencies")?;
     g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, then sensors")?;
     g.write_str_list("point_names", &r.point_names)?;
@@ -301,6 +302,7 @@ fn write_powers<S: GroupSink>(g: &S, mean: &[f64], net: &[f64], run: &CaseRun) -
 fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> Result<()> {
     g.attr_f64("dt_s", r.dt)?;
     g.attr_f64("period_s", r.period)?;
+    g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     g.attr_i64("steps_per_period", r.steps_per_period as i64)?;
     g.attr_i64("periods_run", r.periods_run as i64)?;
     g.attr_i64("converged", r.converged as i64)?;
@@ -377,6 +379,7 @@ fn write_reduction<S: GroupSink>(g: &S, r: Option<&ReductionReport>) -> Result<(
 
 fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Result<()> {
     g.attr_f64("period_s", r.period)?;
+    g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     if r.truncation_estimate.is_finite() {
         g.attr_f64("truncation_estimate", r.truncation_estimate)?;
     }

@@ -94,6 +94,9 @@ pub struct TransientResult {
     /// mean powers and RMS forces from the exact periodic state of the same discrete system
     /// (NaN for a non-periodic drive).
     pub settling_estimate: f64,
+    /// Estimated relative round-off of the point powers from the mesh
+    /// ([`crate::analysis::roundoff::mesh_roundoff`]).
+    pub mesh_roundoff: f64,
     /// Times of the recorded window (s).
     pub t: Vec<f64>,
     pub links: Vec<LinkSeries>,
@@ -217,6 +220,22 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         ledger.open_period(&nm);
         let pb = stepper.period(&mut nm, sys, &layout, &stacks);
         ledger.close_period(&nm, pb);
+        if let Some(d) = nm.u().iter().chain(nm.v()).position(|x| !x.is_finite()) {
+            let n = sys.n();
+            return Err(crate::error::Error::input(
+                "<case>",
+                "analysis.dt",
+                format!(
+                    "the time integration diverged in period {} (by step {}): the {} of DOF {} is no longer a \
+                     finite number; a smaller `dt`, an unconditionally stable scheme or inputs nearer physical \
+                     values are needed",
+                    p + 1,
+                    (p + 1) * timing.steps_per_period,
+                    if d < n { "displacement" } else { "velocity" },
+                    d % n
+                ),
+            ));
+        }
         let n = timing.steps_per_period;
         rec.store_drives(&stacks.times[..n], &stacks.v, &stacks.h, &stepper.f_p, &stacks.load_f);
         rec.store_readouts(&layout, &stepper.observed);
@@ -240,6 +259,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         converged,
         final_change: settle.change(),
         settling_estimate: settle.remaining(),
+        mesh_roundoff: crate::analysis::roundoff::mesh_roundoff(model),
         energy_run: ledger.run,
         energy_last_period: ledger.last_period,
         beam_dissipation: ledger.last_period.beam.dissipated / timing.period,
