@@ -1,6 +1,6 @@
 //! Point mobility of the bare paper beam against the exact continuous beam as the mesh is
 //! refined: discretisation error falls as elements⁻⁴, round-off in the assembled K grows
-//! as elements⁴ (the measurement behind `app::runner::MESH_ELEMENTS_LIMIT`, so it calls
+//! as elements⁴ (the measurement behind `analysis::roundoff::MESH_ELEMENTS_LIMIT`, so it calls
 //! the harmonic analysis directly, past that limit). Usage:
 //! cargo run --release --example mesh_accuracy
 use beamflow::analysis::harmonic::{self, PointForce};

@@ -58,6 +58,7 @@ fn modes_are_mass_normalised_and_diagonalise_stiffness() {
         rayleigh: Default::default(),
         actuators: vec![],
         sensors: vec![],
+        loads: vec![],
         loss_factor: 0.0,
     };
     let sys = System::assemble(&model).unwrap();
@@ -103,6 +104,7 @@ fn cantilever_static_tip_deflection_is_exact() {
         rayleigh: Default::default(),
         actuators: vec![],
         sensors: vec![],
+        loads: vec![],
         loss_factor: 0.0,
     };
     let sys = System::assemble(&model).unwrap();
@@ -117,8 +119,7 @@ fn cantilever_static_tip_deflection_is_exact() {
 #[test]
 fn unsupported_beam_is_reported_not_solved() {
     let beam = beam_case(10, "[[beam.support]]\nx = 0.0\nkind = \"free\"");
-    let model =
-        Model { beam: Some(beam), rayleigh: Default::default(), actuators: vec![], sensors: vec![], loss_factor: 0.0 };
+    let model = Model::bare(beam);
     let sys = System::assemble(&model).unwrap();
     let err = sys.static_solve(&vec![1.0; sys.n()]).unwrap_err().to_string();
     assert!(err.contains("singular"), "{err}");
@@ -132,6 +133,7 @@ fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
         rayleigh: Default::default(),
         actuators: vec![],
         sensors: vec![],
+        loads: vec![],
         loss_factor: 0.0,
     };
     let sys = System::assemble(&model).unwrap();
@@ -215,6 +217,7 @@ fn square_root_path_matches_the_assembled_stiffness_on_an_irregular_beam() {
         rayleigh: Default::default(),
         actuators: vec![],
         sensors: vec![],
+        loads: vec![],
         loss_factor: 0.0,
     };
     let sys = System::assemble(&model).unwrap();
@@ -246,8 +249,7 @@ fn unsupported_fine_beam_is_still_reported_by_the_profile_solver() {
 #[test]
 fn zero_modes_is_an_argument_error_even_with_a_singular_stiffness() {
     let beam = beam_case(20, "[[beam.support]]\nx = 0.0\nkind = \"free\"\n[[beam.support]]\nx = 0.73\nkind = \"free\"");
-    let model =
-        Model { beam: Some(beam), rayleigh: Default::default(), actuators: vec![], sensors: vec![], loss_factor: 0.0 };
+    let model = Model::bare(beam);
     let sys = System::assemble(&model).unwrap();
     let err =
         beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 0, 0.0).unwrap_err().to_string();

@@ -162,6 +162,7 @@ fn actuator_replaced_by_its_force_pair_reproduces_the_harmonic_analysis() {
         rayleigh: model.rayleigh,
         actuators: vec![],
         sensors: vec![],
+        loads: vec![],
         loss_factor: 0.0,
     };
     let bsys = System::assemble(&bare).unwrap();

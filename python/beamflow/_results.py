@@ -145,7 +145,7 @@ class Analysis(Group):
 
     ``kind`` is ``modes``, ``harmonic``, ``transient`` or ``steady_state``; ``index`` its
     place in the case's ``[[analysis]]`` list. Transient and steady-state analyses have
-    time histories (``t``, ``links``, ``bodies``, ``drives``, ``sensors``), spectra per link,
+    time histories (``t``, ``links``, ``bodies``, ``drives``, ``sensors``, ``loads``), spectra per link,
     mean and net powers; the steady state also its mode-resolved tables (``modal``).
     """
 
@@ -216,6 +216,18 @@ class Analysis(Group):
         return self._members("sensors")
 
     @property
+    def loads(self) -> Dict[str, Group]:
+        """Per point load (``[[load]]``): ``force`` (N), ``w``/``v``/``a`` at its point, its
+        ``power_per_harmonic`` (W), attributes ``x_m`` and ``mean_power_W``."""
+        return self._members("loads")
+
+    @property
+    def load_power(self) -> Dict[str, float]:
+        """Mean power each point load puts into the beam (W), by load name."""
+        self._need("transient", "steady_state")
+        return {n: float(g.attrs["mean_power_W"]) for n, g in self.loads.items()}
+
+    @property
     def drives(self) -> Dict[str, Group]:
         """Per actuator: voltage (V), hysteretic displacement h (m), stroke (m), force f_p (N)."""
         return self._members("drives")
@@ -230,6 +242,12 @@ class Analysis(Group):
         """Mode-resolved tables of a steady state (``point_power`` per link and mode,
         ``power_participation``, modal ``dissipation``, …), or None."""
         return self.groups.get("modal")
+
+    @property
+    def record(self) -> Optional[Group]:
+        """A non-periodic transient's record analysis (energies, PSDs, H1 FRFs per point,
+        ``points/<name>``), or None for a periodic run."""
+        return self.groups.get("record")
 
     @property
     def reduction(self) -> Optional[Group]:

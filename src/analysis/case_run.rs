@@ -24,3 +24,43 @@ pub struct CaseRun {
     pub system: System,
     pub results: Vec<AnalysisResult>,
 }
+
+impl AnalysisResult {
+    /// The first reported quantity that is not a finite number (NaN or ±∞), named: such a
+    /// result is never reported as a success. Series are checked whole, headline numbers
+    /// one by one.
+    pub fn non_finite(&self) -> Option<String> {
+        let bad = |x: &f64| !x.is_finite();
+        let first = |name: &str, v: &[f64]| v.iter().position(bad).map(|i| format!("{name}[{i}] = {}", v[i]));
+        let one = |name: &str, x: f64| bad(&x).then(|| format!("{name} = {x}"));
+        match self {
+            AnalysisResult::Modes(m) => first("frequencies_hz", &m.frequencies_hz),
+            AnalysisResult::Harmonic(h) => h
+                .input_power
+                .iter()
+                .enumerate()
+                .find_map(|(f, p)| first(&format!("input_power at frequency {f}"), p))
+                .or_else(|| first("dissipated_power", &h.dissipated_power)),
+            AnalysisResult::Transient(t) => first("mean_power", &t.mean_power)
+                .or_else(|| first("net_power", &t.net_power))
+                .or_else(|| one("beam_dissipation", t.beam_dissipation))
+                .or_else(|| t.links.iter().find_map(|l| first(&format!("links.{}.interface", l.name), &l.interface)))
+                .or_else(|| {
+                    t.load_spectra.iter().find_map(|l| one(&format!("loads.{}.mean_power", l.name), l.power_total))
+                })
+                .or_else(|| t.loads.iter().find_map(|l| first(&format!("loads.{}.v", l.name), &l.v)))
+                .or_else(|| {
+                    t.record
+                        .as_ref()
+                        .and_then(|r| r.points.iter().find_map(|p| one(&format!("record.{}.energy", p.name), p.energy)))
+                }),
+            AnalysisResult::SteadyState(s) => first("mean_power", &s.mean_power)
+                .or_else(|| first("net_power", &s.net_power))
+                .or_else(|| one("beam_dissipation", s.beam_dissipation))
+                .or_else(|| {
+                    s.load_spectra.iter().find_map(|l| one(&format!("loads.{}.mean_power", l.name), l.power_total))
+                })
+                .or_else(|| s.links.iter().find_map(|l| first(&format!("links.{}.interface", l.name), &l.interface))),
+        }
+    }
+}

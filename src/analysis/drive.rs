@@ -83,11 +83,7 @@ impl DriveTiming {
             Step::Default => None,
         };
         if let (Some(p), None) = (period, duration) {
-            let fastest = model
-                .actuators
-                .iter()
-                .filter_map(|a| a.stack().voltage.fundamental_frequency())
-                .fold(1.0 / p, f64::max);
+            let fastest = model.drive_signals().filter_map(|s| s.fundamental_frequency()).fold(1.0 / p, f64::max);
             let resolve_hz = fastest * harmonics.unwrap_or(1) as f64;
             let n_min = (20.0 * resolve_hz * p * (1.0 - 1e-12)).ceil().max(1.0) as usize;
             let what = match harmonics {
@@ -134,7 +130,7 @@ impl DriveTiming {
         }
         let d = duration
             .ok_or_else(|| Error::input("<case>", "analysis.duration", "a non-periodic drive needs `duration`"))?;
-        let hf = model.actuators.iter().filter_map(|a| a.stack().voltage.highest_frequency()).fold(0.0, f64::max);
+        let hf = model.drive_signals().filter_map(|s| s.highest_frequency()).fold(0.0, f64::max);
         match (dt, hf > 0.0) {
             (Some(dt), _) => {
                 let n = (d / dt - 1e-9).ceil().max(1.0) as usize;
@@ -168,27 +164,42 @@ impl DriveTiming {
     }
 }
 
-/// The period the actuators' drives repeat with together (s): the longest of their
-/// voltages' periods, each commensurate with the first's; None when the first actuator's
-/// voltage does not repeat. Errors without actuators or with incommensurate periods.
+/// The period the model's drives — actuators' voltages and point loads' forces — repeat
+/// with together (s): the longest of their periods, each commensurate with the first's;
+/// None when any of them does not repeat. Errors without any drive or with incommensurate
+/// periods.
 pub fn common_period(model: &Model) -> Result<Option<f64>> {
-    let first = model.actuators.first().ok_or_else(|| {
-        Error::input("<case>", "actuator", "the analysis needs at least one actuator to drive the system")
-    })?;
-    let period = first.stack().voltage.period();
-    for (i, a) in model.actuators.iter().enumerate().skip(1) {
-        if let (Some(p0), Some(pi)) = (period, a.stack().voltage.period()) {
+    let fields: Vec<String> = (0..model.actuators.len())
+        .map(|i| format!("actuator[{i}].voltage"))
+        .chain((0..model.loads.len()).map(|i| format!("load[{i}].force")))
+        .collect();
+    let periods: Vec<Option<f64>> = model.drive_signals().map(|s| s.period()).collect();
+    let Some(&period) = periods.first() else {
+        return Err(Error::input(
+            "<case>",
+            "actuator",
+            "the analysis needs at least one actuator or [[load]] to drive the system",
+        ));
+    };
+    for (i, p) in periods.iter().enumerate().skip(1) {
+        if let (Some(p0), Some(pi)) = (period, *p) {
             let ratio = p0.max(pi) / p0.min(pi);
             if (ratio - ratio.round()).abs() > 1e-9 {
                 return Err(Error::input(
                     "<case>",
-                    format!("actuator[{i}].voltage"),
-                    "all actuators must share a common drive period for a periodic transient",
+                    &fields[i],
+                    format!(
+                        "its period {pi:e} s and the first drive's {p0:e} s have no common period: \
+                         every periodic drive must repeat with a whole multiple of the others"
+                    ),
                 ));
             }
         }
     }
-    Ok(period.map(|p| model.actuators.iter().filter_map(|a| a.stack().voltage.period()).fold(p, f64::max)))
+    if periods.iter().any(Option::is_none) {
+        return Ok(None);
+    }
+    Ok(period.map(|p| periods.iter().flatten().fold(p, |a, &b| a.max(b))))
 }
 
 /// The hysteresis cycle has settled when h at the end of a period repeats its start to

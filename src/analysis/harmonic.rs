@@ -23,6 +23,9 @@ pub struct PointForce {
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct HarmonicResult {
     pub frequency_hz: Vec<f64>,
+    /// Estimated relative round-off of the mobilities and powers from the mesh
+    /// ([`crate::analysis::roundoff::mesh_roundoff`]).
+    pub mesh_roundoff: f64,
     /// Positions (m) of the response points: the force points, then the sensors.
     pub point_x: Vec<f64>,
     pub point_names: Vec<String>,
@@ -66,6 +69,7 @@ pub fn run(
         frequency_hz: frequencies.to_vec(),
         point_x: points.iter().map(|p| p.0).collect(),
         point_names: points.iter().map(|p| p.1.clone()).collect(),
+        mesh_roundoff: super::roundoff::mesh_roundoff(model),
         ..Default::default()
     };
     let mut dynk = match modal {

@@ -10,6 +10,7 @@ pub mod drive;
 pub mod harmonic;
 pub mod modes;
 pub mod reduction;
+pub mod roundoff;
 pub mod series;
 pub mod steady_state;
 pub mod transient;

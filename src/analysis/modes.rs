@@ -2,7 +2,7 @@
 //! actuators): the modal analysis with closed-form references where they exist, and the
 //! modes other analyses need (Rayleigh calibration, the mode-resolved power flow).
 
-use crate::assembly::system::{structure_stiffness_root, Rayleigh};
+use crate::assembly::system::structure_stiffness_root;
 use crate::assembly::{Model, System};
 use crate::beam::analytic::{natural_frequencies_hz, End};
 use crate::beam::{Beam, SupportKind};
@@ -18,13 +18,7 @@ pub fn bare_modes(beam: &Beam, count: usize) -> Result<Modes> {
 /// The bare structure's assembled system (the beam with its supports and attachments, no
 /// actuators).
 pub fn bare_system(beam: &Beam) -> Result<System> {
-    System::assemble(&Model {
-        beam: Some(beam.clone()),
-        rayleigh: Rayleigh::default(),
-        actuators: Vec::new(),
-        sensors: Vec::new(),
-        loss_factor: 0.0,
-    })
+    System::assemble(&Model::bare(beam.clone()))
 }
 
 /// [`bare_modes`] with the bare system already assembled (`sys` from [`bare_system`]).

@@ -197,6 +197,62 @@ impl LinkSpectrum {
     }
 }
 
+/// A point load and the beam's motion at its point over a recorded window: force F (N),
+/// w (m), ẇ (m/s), ẅ (m/s²).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct LoadSeries {
+    pub name: String,
+    pub x: f64,
+    pub force: Vec<f64>,
+    pub w: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+}
+
+/// What a point load puts into the beam over one period: its mean power and its harmonic
+/// content, k = 0..=harmonics.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct LoadSpectrum {
+    pub name: String,
+    pub x: f64,
+    /// Frequencies k·f₀ (Hz).
+    pub frequency: Vec<f64>,
+    /// Force and velocity amplitudes F̂_k (N), V̂_k (m/s).
+    #[serde(skip)]
+    pub force: Vec<Complex64>,
+    #[serde(skip)]
+    pub velocity: Vec<Complex64>,
+    /// Power into the beam per harmonic, ½·Re(F̂_k·conj V̂_k) (W).
+    pub power: Vec<f64>,
+    /// Mean power into the beam: the sum over every harmonic given (W).
+    pub power_total: f64,
+}
+
+impl LoadSpectrum {
+    /// From the single-sided amplitudes of the force and of the velocity at its point over
+    /// one `period` (s) of `n_samples` samples, keeping k ≤ `hmax`.
+    pub fn new(
+        name: &str,
+        x: f64,
+        (period, n_samples, hmax): (f64, usize, usize),
+        mut force: Vec<Complex64>,
+        mut velocity: Vec<Complex64>,
+    ) -> Self {
+        let power = power_per_harmonic(&force, &velocity, n_samples);
+        force.truncate(hmax + 1);
+        velocity.truncate(hmax + 1);
+        LoadSpectrum {
+            name: name.to_string(),
+            x,
+            frequency: (0..=hmax).map(|k| k as f64 / period).collect(),
+            power_total: power.iter().sum(),
+            power: power[..=hmax].to_vec(),
+            force,
+            velocity,
+        }
+    }
+}
+
 /// Energy balances of the beam (interface work in) and of the whole system (stack work in).
 #[derive(Clone, Copy, Debug, Default, Serialize)]
 pub struct Balances {

@@ -13,13 +13,16 @@
 //! between cases that share a system.
 
 use super::drive::{force_harmonics, stack_cycle, DriveTiming, StackCycle, StackForceCache};
-use super::series::{body_dofs, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
+use super::series::{
+    body_dofs, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
+};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
 use crate::power::link::link_harmonic;
 use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
 use crate::power::point::{beam_dissipation, net_power};
+use crate::power::spectra::harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::Modes;
 use num_complex::Complex64;
@@ -40,6 +43,9 @@ pub struct SteadyStateResult {
     pub truncation_estimate: f64,
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
+    /// Estimated relative round-off of the point powers from the mesh
+    /// ([`crate::analysis::roundoff::mesh_roundoff`]).
+    pub mesh_roundoff: f64,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
     pub frequency: Vec<f64>,
     /// Complex DOF amplitudes Q_k, k = 0..=harmonics (q(t) = Re Σ Q_k e^{ikω₀t}); empty in
@@ -52,10 +58,12 @@ pub struct SteadyStateResult {
     pub spectra: Vec<LinkSpectrum>,
     pub mean_power: Vec<f64>,
     pub net_power: Vec<f64>,
+    /// Per point load, its mean power into the beam and its harmonics.
+    pub load_spectra: Vec<LoadSpectrum>,
     /// Beam dissipation per harmonic and in total (W).
     pub beam_dissipation_per_harmonic: Vec<f64>,
     pub beam_dissipation: f64,
-    /// |Σ interface power − beam dissipation| / beam dissipation (0 on a rigid base).
+    /// |Σ interface and load power − beam dissipation| / beam dissipation (0 on a rigid base).
     pub balance_error: f64,
     /// One period reconstructed from the harmonics, for plots and comparison (empty in
     /// [`Detail::Headline`]).
@@ -64,6 +72,7 @@ pub struct SteadyStateResult {
     pub bodies: Vec<BodySeries>,
     pub drives: Vec<DriveSeries>,
     pub sensors: Vec<SensorSeries>,
+    pub loads: Vec<LoadSeries>,
     /// Mode-resolved power flow (filled by the runner; costly for sweeps, so optional).
     pub modal: Option<ModalDecomposition>,
     /// Set when the run used a modal reduction: its basis and error estimate.
@@ -133,12 +142,14 @@ pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: u
 /// k = 0..=harmonics of `r` (0 past the last).
 fn tail_powers(r: &SteadyStateResult) -> Vec<f64> {
     let n = r.harmonics;
-    let scale = r.mean_power.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+    let loads = r.load_spectra.iter().map(|s| (s.power_total, &s.power));
+    let points: Vec<(f64, &Vec<f64>)> = r.spectra.iter().map(|s| (s.power_total, &s.power)).chain(loads).collect();
+    let scale = points.iter().fold(0.0f64, |m, p| m.max(p.0.abs()));
     let mut tails = vec![0.0f64; n + 1];
-    for sp in &r.spectra {
+    for (_, power) in &points {
         let mut sum = 0.0;
         for k in (0..n).rev() {
-            sum += sp.power[k + 1].abs();
+            sum += power[k + 1].abs();
             tails[k] = tails[k].max(sum);
         }
     }
@@ -170,14 +181,18 @@ pub fn run_with(
     }
     let StackForces { cycles, harmonics: f_p, periods: hysteresis_periods } =
         StackForces::of(model, &timing, n_harm, detail)?;
+    let load_samples = load_cycles(model, &timing);
+    let load_h: Vec<Vec<Complex64>> = load_samples.iter().map(|f| harmonics(f)[..=n_harm].to_vec()).collect();
     let period = timing.period;
-    solver.solve(|a, k| f_p[a][k], n_harm, 2.0 * PI / period)?;
+    let forcing: Vec<&[Complex64]> = f_p.iter().chain(&load_h).map(Vec::as_slice).collect();
+    solver.solve(|j, k| forcing[j][k], n_harm, 2.0 * PI / period)?;
     let sys = solver.system();
     let mut res = SteadyStateResult {
         period,
         harmonics: n_harm,
         truncation_estimate: f64::NAN,
         hysteresis_periods,
+        mesh_roundoff: super::roundoff::mesh_roundoff(model),
         frequency: (0..=n_harm).map(|k| k as f64 / period).collect(),
         spectra: link_spectra(sys, &solver.q, &f_p, &timing),
         beam_dissipation: solver.diss.iter().sum(),
@@ -186,9 +201,12 @@ pub fn run_with(
     };
     res.mean_power = res.spectra.iter().map(|s| s.power_total).collect();
     res.net_power = net_power(&sys.links, &res.mean_power, model.actuators.len());
-    res.balance_error = balance_error(res.mean_power.iter().sum(), res.beam_dissipation);
+    res.load_spectra = load_spectra(model, sys, &solver.q, load_h, &timing);
+    let load_power: f64 = res.load_spectra.iter().map(|s| s.power_total).sum();
+    res.balance_error = balance_error(res.mean_power.iter().sum::<f64>() + load_power, res.beam_dissipation);
     if let Detail::Full = detail {
         reconstruct(&mut res, model, sys, &solver.q, &f_p, cycles, samples)?;
+        reconstruct_loads(&mut res, model, sys, &solver.q, load_samples);
         res.q = std::mem::take(&mut solver.q);
     }
     res.f_p = f_p;
@@ -229,6 +247,35 @@ impl StackForces {
             }
         })
     }
+}
+
+/// One period of each point load's force (N) at the samples of `timing`.
+fn load_cycles(model: &Model, timing: &DriveTiming) -> Vec<Vec<f64>> {
+    let n = timing.steps_per_period;
+    model.loads.iter().map(|l| (0..n).map(|j| l.force.value(j as f64 * timing.dt)).collect()).collect()
+}
+
+/// Each point load's spectrum from the solved amplitudes `q[k]` and its force harmonics.
+fn load_spectra(
+    model: &Model,
+    sys: &System,
+    q: &[Vec<Complex64>],
+    load_h: Vec<Vec<Complex64>>,
+    timing: &DriveTiming,
+) -> Vec<LoadSpectrum> {
+    let w0 = 2.0 * PI / timing.period;
+    let n_harm = q.len() - 1;
+    model
+        .loads
+        .iter()
+        .zip(&sys.loads)
+        .zip(load_h)
+        .map(|((l, pattern), force)| {
+            let w = gather(q, pattern);
+            let v = w.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
+            LoadSpectrum::new(&l.name, l.x, (timing.period, timing.steps_per_period, n_harm), force, v)
+        })
+        .collect()
 }
 
 /// Each link's spectrum from the solved amplitudes `q[k]` and the stack forces `f_p[a][k]`.
@@ -338,6 +385,22 @@ fn reconstruct(
     Ok(())
 }
 
+/// Fills the result's period of each point load: its force `samples` and the beam's motion
+/// at its point.
+fn reconstruct_loads(
+    res: &mut SteadyStateResult,
+    model: &Model,
+    sys: &System,
+    q: &[Vec<Complex64>],
+    samples: Vec<Vec<f64>>,
+) {
+    let mut synth = PeriodSynthesis::new(res.t.len(), 2.0 * PI / res.period);
+    for ((l, pattern), force) in model.loads.iter().zip(&sys.loads).zip(samples) {
+        let [w, v, a] = synth.with_rates(&gather(q, pattern));
+        res.loads.push(LoadSeries { name: l.name.clone(), x: l.x, force, w, v, a });
+    }
+}
+
 impl SteadyStateResult {
     /// Moves the amplitudes Q_k of a run on a reduced system to the full model's DOFs.
     pub fn expand(&mut self, reduced: &System) {
@@ -367,7 +430,8 @@ impl SteadyStateResult {
     pub fn decompose_with(&mut self, sys: &System, modes: Option<&Modes>, damping: ModalDamping) {
         let interface: Vec<Vec<Complex64>> = self.spectra.iter().map(|s| s.interface.clone()).collect();
         let w0 = 2.0 * PI / self.period;
-        self.modal = modes.map(|m| decompose(sys, m, damping, &self.q, w0, &interface));
+        let loads: Vec<Vec<Complex64>> = self.load_spectra.iter().map(|s| s.force.clone()).collect();
+        self.modal = modes.map(|m| decompose(sys, m, damping, (&self.q, w0), &interface, &loads));
     }
 }
 
@@ -427,8 +491,9 @@ impl<'s> HarmonicSolver<'s> {
         self.sys
     }
 
-    /// Solves for k = 0..=n_harm at ω_k = k·ω₀ (rad/s), `fp_h(a, k)` = F̂_p,a,k (N), into
-    /// [`HarmonicSolver::q`] and [`HarmonicSolver::diss`].
+    /// Solves for k = 0..=n_harm at ω_k = k·ω₀ (rad/s) into [`HarmonicSolver::q`] and
+    /// [`HarmonicSolver::diss`]. `fp_h(j, k)` (N) is harmonic k of forcing j: the stack
+    /// force F̂_p of actuator j, then (j ≥ actuators) the force of point load j − actuators.
     pub fn solve(&mut self, fp_h: impl Fn(usize, usize) -> Complex64, n_harm: usize, w0: f64) -> Result<()> {
         let sys = self.sys;
         let n = sys.n();
@@ -437,9 +502,9 @@ impl<'s> HarmonicSolver<'s> {
         for (k, rhs) in self.q.iter_mut().enumerate() {
             rhs.clear();
             rhs.resize(n, Complex64::default());
-            for (a, b) in sys.drives.iter().enumerate() {
+            for (j, b) in sys.drives.iter().chain(&sys.loads).enumerate() {
                 for &(d, c) in b {
-                    rhs[d] += fp_h(a, k) * c;
+                    rhs[d] += fp_h(j, k) * c;
                 }
             }
         }
@@ -447,7 +512,8 @@ impl<'s> HarmonicSolver<'s> {
         // not solved: its Q_k is zero. For a sine drive these are the even harmonics (and
         // the mean), which the hysteresis's odd symmetry makes zero up to the FFT's
         // round-off; skipping them halves the work of a steady state.
-        let size = |k: usize| (0..sys.drives.len()).map(|a| fp_h(a, k).norm()).fold(0.0f64, f64::max);
+        let forcings = sys.drives.len() + sys.loads.len();
+        let size = |k: usize| (0..forcings).map(|j| fp_h(j, k).norm()).fold(0.0f64, f64::max);
         let largest = (0..=n_harm).map(size).fold(0.0f64, f64::max);
         let mut active = Vec::with_capacity(n_harm + 1);
         for k in 0..=n_harm {

@@ -65,11 +65,12 @@ pub fn check(case: &Path) -> Result<()> {
     crate::app::runner::preflight(&lc, &built, &sys)?;
     let elements = built.model.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
     crate::say!(
-        "{}: ok — {} elements, {} DOFs, {} actuator(s), {} analysis(es)",
+        "{}: ok — {} elements, {} DOFs, {} actuator(s), {} load(s), {} analysis(es)",
         lc.file,
         elements,
         sys.n(),
         built.model.actuators.len(),
+        built.model.loads.len(),
         lc.case.analysis.len()
     );
     Ok(())

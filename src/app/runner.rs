@@ -18,6 +18,24 @@ use std::cell::OnceCell;
 /// Modes in the mode-resolved tables of a run (the residual of the truncated sum is reported).
 pub const MODAL_TABLE_MODES: usize = 30;
 
+/// The forces of a harmonic analysis: its own `[[analysis.force]]`, or else the case's
+/// sine loads, each at its amplitude and phase. A load A·sin(ωt + φ) is the phasor
+/// A·e^{i(φ − π/2)} of the analysis's convention F(t) = Re(F̂·e^{iωt}).
+fn harmonic_forces(force: &[crate::case::ForceSpec], loads: &[crate::assembly::PointLoad]) -> Vec<PointForce> {
+    if !force.is_empty() {
+        return force.iter().map(|f| PointForce { x: f.x, amplitude: f.amplitude, phase: f.phase }).collect();
+    }
+    loads
+        .iter()
+        .filter_map(|l| match l.force {
+            crate::signal::voltage::VoltageInput::Sine { amplitude, phase, .. } => {
+                Some(PointForce { x: l.x, amplitude, phase: phase - std::f64::consts::FRAC_PI_2 })
+            }
+            _ => None,
+        })
+        .collect()
+}
+
 /// The transient settings a case's analysis entry describes (`full_history`: the case's
 /// `[output] full_history`, every period kept rather than the last three).
 pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<TransientSettings> {
@@ -33,6 +51,7 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
         tolerance,
         max_periods,
         harmonics,
+        segment,
         reduction: _,
     } = spec
     {
@@ -52,6 +71,7 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
             tolerance: *tolerance,
             max_periods: *max_periods,
             harmonics: *harmonics,
+            segment: *segment,
             record_periods: 3,
             full_history,
         })
@@ -103,6 +123,7 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                     let s = transient_settings(spec, false).expect("transient");
                     let timing =
                         DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
+                    transient::record_segments(&timing, s.segment)?;
                     match reduction {
                         // Modal damping is a matrix only in modal coordinates.
                         None => {
@@ -148,23 +169,17 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
     Ok(())
 }
 
-/// Most elements for which the harmonic, steady-state and transient solves hold point
-/// powers and mobilities to 1e-6.
-pub const MESH_ELEMENTS_LIMIT: usize = 650;
+pub use crate::analysis::roundoff::MESH_ELEMENTS_LIMIT;
 
-/// The solves factor the assembled K, whose condition number grows as elements⁴; against
-/// the exact continuous beam (`cargo run --release --example mesh_accuracy`) the point
-/// mobility's round-off error is 4.5e-6 at 1,000 elements and grows 16-fold per doubling
-/// (2,000: 9e-5; 20,000: order one), so 1e-6 holds up to ≈ 690 elements. Finer meshes are
-/// refused rather than answered wrongly; modes come from the elements' curvature rows and
-/// are not limited this way.
+/// Refuses a mesh whose round-off would exceed 1e-6 of the point powers (see
+/// [`crate::analysis::roundoff`]).
 fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
     let Some(beam) = &model.beam else { return Ok(()) };
     let n = beam.mesh.elements.len();
     if n <= MESH_ELEMENTS_LIMIT {
         return Ok(());
     }
-    let estimate = 4.5e-6 * (n as f64 / 1000.0).powi(4);
+    let estimate = crate::analysis::roundoff::mesh_roundoff(model);
     Err(Error::input(
         "<case>",
         "beam.mesh.elements",
@@ -215,11 +230,11 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                     rayleigh: model.rayleigh,
                     actuators: Vec::new(),
                     sensors: model.sensors.clone(),
+                    loads: Vec::new(),
                     loss_factor: model.loss_factor,
                 };
                 let sys = System::assemble(&bare)?;
-                let forces: Vec<PointForce> =
-                    force.iter().map(|f| PointForce { x: f.x, amplitude: f.amplitude, phase: f.phase }).collect();
+                let forces = harmonic_forces(force, &model.loads);
                 let modal = match &built.modal_ratios {
                     Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r.clone())),
                     None => None,
@@ -296,6 +311,17 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 AnalysisResult::SteadyState(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
             }
         };
+        if let Some(q) = r.non_finite() {
+            return Err(Error::input(
+                &lc.file,
+                format!("analysis[{i}]"),
+                format!(
+                    "the result is not a finite number ({q}): the inputs are out of the range double precision \
+                     can carry (amplitudes, material constants or frequencies many orders of magnitude from \
+                     physical values) or the solution diverged; nothing was written"
+                ),
+            ));
+        }
         results.push(r);
     }
     Ok(CaseRun { model, system, results })

@@ -10,4 +10,4 @@ pub mod dofs;
 pub mod system;
 
 pub use dofs::DofMap;
-pub use system::{dof_rows, DofRow, LinkDofs, Model, Projection, System};
+pub use system::{dof_rows, DofRow, LinkDofs, Model, PointLoad, Projection, System};

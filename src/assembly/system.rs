@@ -5,6 +5,7 @@ use crate::actuator::{Actuator, Component, FootBase};
 use crate::beam::{element_mass, element_stiffness, element_stiffness_rows, Beam, SupportKind};
 use crate::error::{Error, Result};
 use crate::linalg::{BandedR, Csr, Skyline};
+use crate::signal::voltage::VoltageInput;
 use num_complex::Complex64;
 use std::sync::Arc;
 
@@ -38,16 +39,48 @@ pub struct Sensor {
     pub x: f64,
 }
 
-/// What is simulated: the structure (a beam, or none for a rigid base) and the actuators.
+/// A prescribed point force on the beam: F(t) (N, along w) at x (m).
+#[derive(Clone, Debug)]
+pub struct PointLoad {
+    pub name: String,
+    /// Position along the beam (m); a mesh node.
+    pub x: f64,
+    /// The force's time history (N).
+    pub force: VoltageInput,
+}
+
+/// What is simulated: the structure (a beam, or none for a rigid base), the actuators and
+/// the prescribed point loads.
 #[derive(Clone, Debug)]
 pub struct Model {
     pub beam: Option<Beam>,
     pub rayleigh: Rayleigh,
     pub actuators: Vec<Actuator>,
     pub sensors: Vec<Sensor>,
+    pub loads: Vec<PointLoad>,
     /// Hysteretic (structural) loss factor η of the beam: its stiffness is K_beam·(1 + iη)
     /// in the frequency domain (spec §3); 0 without.
     pub loss_factor: f64,
+}
+
+impl Model {
+    /// The bare structure: the beam alone, undamped, with nothing on it.
+    pub fn bare(beam: Beam) -> Self {
+        Model {
+            beam: Some(beam),
+            rayleigh: Rayleigh::default(),
+            actuators: Vec::new(),
+            sensors: Vec::new(),
+            loads: Vec::new(),
+            loss_factor: 0.0,
+        }
+    }
+
+    /// The signals that drive the model, actuators' voltages first, then the loads' forces:
+    /// together they set its period and the frequencies a run must resolve.
+    pub fn drive_signals(&self) -> impl Iterator<Item = &VoltageInput> {
+        self.actuators.iter().map(|a| &a.stack().voltage).chain(self.loads.iter().map(|l| &l.force))
+    }
 }
 
 /// A link with its global DOFs resolved.
@@ -93,6 +126,8 @@ pub struct System {
     pub links: Vec<LinkDofs>,
     /// For each actuator, the load pattern b of its stack's F_p (top minus foot).
     pub drives: Vec<Vec<(usize, f64)>>,
+    /// For each point load, its pattern: the beam's w at its point.
+    pub loads: Vec<Vec<(usize, f64)>>,
     /// Skyline envelope covering the pattern of M, C and K.
     pub envelope: Vec<usize>,
     /// For a reduced system, how its coordinates map to the full model's; None for the
@@ -272,7 +307,17 @@ impl System {
             m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
         );
         let k_loss = (model.loss_factor > 0.0).then(|| k_beam.scaled(model.loss_factor));
-        Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, k_loss, links, drives, envelope, projection: None })
+        let mut loads = Vec::with_capacity(model.loads.len());
+        for (i, l) in model.loads.iter().enumerate() {
+            let field = format!("load[{i}].x");
+            let beam = beam.ok_or_else(|| Error::input("<model>", &field, "a point load needs a beam"))?;
+            let node = beam
+                .mesh
+                .node_at(l.x)
+                .ok_or_else(|| Error::input("<model>", &field, format!("x = {} m is not on a mesh node", l.x)))?;
+            loads.push(dofs.w[node].map(|d| vec![(d, 1.0)]).unwrap_or_default());
+        }
+        Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, k_loss, links, drives, loads, envelope, projection: None })
     }
 
     /// The w DOF of the beam node at x, if free. Errors if x is not on a node, or if this
@@ -406,6 +451,7 @@ mod tests {
                 rayleigh: Rayleigh::default(),
                 actuators: vec![],
                 sensors: vec![],
+                loads: vec![],
                 loss_factor: 0.0,
             };
             let sys = System::assemble(&model).unwrap();
@@ -438,6 +484,7 @@ mod tests {
             rayleigh: Rayleigh::default(),
             actuators: vec![],
             sensors: vec![],
+            loads: vec![],
             loss_factor: 0.0,
         };
         let sys = System::assemble(&model).unwrap();

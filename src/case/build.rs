@@ -4,7 +4,7 @@ use super::schema::*;
 use super::LoadedCase;
 use crate::actuator::{Actuator, FootBase, Frame, Inertial, Leg, Stack};
 use crate::analysis::modes::bare_modes;
-use crate::assembly::system::{Model, Rayleigh, Sensor};
+use crate::assembly::system::{Model, PointLoad, Rayleigh, Sensor};
 use crate::beam::mesh::RequiredPoint;
 use crate::beam::{Beam, GroundedSpring, MassKind, Material, Mesh, PointMass, Section, Support, SupportKind};
 use crate::error::{Error, Result};
@@ -65,6 +65,9 @@ pub fn required_points(case: &Case) -> Vec<RequiredPoint> {
     }
     for (i, s) in case.sensor.iter().enumerate() {
         add(s.x, format!("sensor[{i}].x"));
+    }
+    for (i, l) in case.load.iter().enumerate() {
+        add(l.x, format!("load[{i}].x"));
     }
     for (i, an) in case.analysis.iter().enumerate() {
         if let AnalysisSpec::Harmonic { force, .. } = an {
@@ -211,9 +214,15 @@ pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {
         });
     }
     let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), x: s.x }).collect();
+    let mut loads = Vec::with_capacity(case.load.len());
+    for (i, l) in case.load.iter().enumerate() {
+        let mut force = l.force.clone();
+        force.load(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
+        loads.push(PointLoad { name: l.effective_name(i), x: l.x, force });
+    }
     let loss_factor = match (&beam, d.kind) {
         (Some(_), DampingKind::Hysteretic) => d.eta,
         _ => 0.0,
     };
-    Ok(BuiltModel { model: Model { beam, rayleigh, actuators, sensors, loss_factor }, modal_ratios })
+    Ok(BuiltModel { model: Model { beam, rayleigh, actuators, sensors, loads, loss_factor }, modal_ratios })
 }

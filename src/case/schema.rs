@@ -25,6 +25,9 @@ pub struct Case {
     pub actuator: Vec<ActuatorSpec>,
     #[serde(default)]
     pub sensor: Vec<SensorSpec>,
+    /// Prescribed point forces on the beam (transient and steady-state analyses).
+    #[serde(default)]
+    pub load: Vec<LoadSpec>,
     #[serde(default)]
     pub analysis: Vec<AnalysisSpec>,
     #[serde(default)]
@@ -361,6 +364,27 @@ pub struct SensorSpec {
     pub x: f64,
 }
 
+/// A prescribed point force on the beam: F(t) (N, upward) at x (m), any signal the
+/// actuators' voltages can follow (values in N instead of V).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadSpec {
+    /// Name in results (default `load<i>`, 1-based).
+    #[serde(default)]
+    pub name: Option<String>,
+    /// Position on the beam (m).
+    pub x: f64,
+    /// The force's time history (N).
+    pub force: VoltageInput,
+}
+
+impl LoadSpec {
+    /// The name results use: as given, or `load<i+1>`.
+    pub fn effective_name(&self, i: usize) -> String {
+        self.name.clone().unwrap_or_else(|| format!("load{}", i + 1))
+    }
+}
+
 /// A point force for harmonic analysis: amplitude (N) and phase (rad) at x (m).
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -517,6 +541,10 @@ pub enum AnalysisSpec {
         /// as many as the time step resolves at 20 steps per harmonic period.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         harmonics: Option<usize>,
+        /// A non-periodic record's Welch segment for PSDs and FRFs (s); default: the whole
+        /// record as one segment.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        segment: Option<f64>,
         /// Run on a modal-reduced model (see [`ReductionSpec`]); default: the full model.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         reduction: Option<ReductionSpec>,
@@ -757,6 +785,15 @@ impl Case {
             }
         }
         let mut seen = std::collections::HashMap::new();
+        for (i, l) in self.load.iter().enumerate() {
+            let field = format!("load[{i}].name");
+            let name = l.effective_name(i);
+            valid_name(file, &field, &name)?;
+            if let Some(first) = seen.insert(name.clone(), field.clone()) {
+                return Err(Error::input(file, field, format!("{name:?} is already the name of {first}")));
+            }
+        }
+        let mut seen = std::collections::HashMap::new();
         for (i, s) in self.sensor.iter().enumerate() {
             let field = format!("sensor[{i}].name");
             valid_name(file, &field, &s.name)?;
@@ -858,6 +895,17 @@ impl Case {
         for (i, s) in self.sensor.iter().enumerate() {
             on_beam(file, &format!("sensor[{i}].x"), s.x, b.length)?;
         }
+        for (i, l) in self.load.iter().enumerate() {
+            if self.base == BaseKind::Rigid {
+                return Err(Error::input(
+                    file,
+                    format!("load[{i}]"),
+                    "a point load acts on the beam, and base = \"rigid\" has none",
+                ));
+            }
+            on_beam(file, &format!("load[{i}].x"), l.x, b.length)?;
+            l.force.validate(file, &format!("load[{i}].force"))?;
+        }
         self.validate_names(file)?;
         for (i, an) in self.analysis.iter().enumerate() {
             let f = format!("analysis[{i}]");
@@ -869,12 +917,27 @@ impl Case {
                 }
                 AnalysisSpec::Harmonic { frequencies, force } => {
                     frequencies.validate(file, &format!("{f}.frequencies"))?;
-                    if force.is_empty() {
+                    if force.is_empty() && self.load.is_empty() {
                         return Err(Error::input(
                             file,
                             format!("{f}.force"),
-                            "a harmonic analysis needs at least one [[analysis.force]]",
+                            "a harmonic analysis needs at least one [[analysis.force]] (or [[load]])",
                         ));
+                    }
+                    if force.is_empty() {
+                        for (j, l) in self.load.iter().enumerate() {
+                            if !matches!(l.force, VoltageInput::Sine { .. }) {
+                                return Err(Error::input(
+                                    file,
+                                    format!("load[{j}].force.kind"),
+                                    format!(
+                                        "{f} applies the case's loads as sinusoids at each of its frequencies, \
+                                         so each needs kind = \"sine\" (its amplitude and phase are used): give \
+                                         the analysis its own [[analysis.force]] instead"
+                                    ),
+                                ));
+                            }
+                        }
                     }
                     for (j, p) in force.iter().enumerate() {
                         on_beam(file, &format!("{f}.force[{j}].x"), p.x, b.length)?;
@@ -899,8 +962,19 @@ impl Case {
                     harmonics,
                     scheme,
                     reduction,
+                    segment,
                     ..
                 } => {
+                    if let Some(seg) = segment {
+                        positive(file, &format!("{f}.segment"), *seg)?;
+                        if duration.is_some_and(|d| *seg > d) {
+                            return Err(Error::input(
+                                file,
+                                format!("{f}.segment"),
+                                format!("a segment of {seg} s is longer than the record (`duration`)"),
+                            ));
+                        }
+                    }
                     if let Some(r) = reduction {
                         r.validate(file, &format!("{f}.reduction"), self.base)?;
                     }

@@ -35,6 +35,7 @@ use num_complex::Complex64;
 use rustfft::FftPlanner;
 
 use crate::error::{Error, Result};
+use crate::power::record::{Transforms, Welch};
 
 /// How the records are cut into segments.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -340,38 +341,8 @@ pub fn welch_psd(file: &str, field: &str, x: &[f64], dt: f64, length: usize, ove
     if !(0.0..1.0).contains(&overlap) {
         return Err(Error::input(file, "segmentation.overlap", "must lie in [0, 1)"));
     }
-    let step = ((length as f64) * (1.0 - overlap)).round().max(1.0) as usize;
-    let w: Vec<f64> = (0..length)
-        .map(|n| if hann { 0.5 - 0.5 * (2.0 * std::f64::consts::PI * n as f64 / length as f64).cos() } else { 1.0 })
-        .collect();
-    let w2: f64 = w.iter().map(|v| v * v).sum();
-    let nf = length / 2 + 1;
-    let mut sxx = vec![0.0; nf];
-    let fft = FftPlanner::new().plan_fft_forward(length);
-    let mut buf = vec![Complex64::new(0.0, 0.0); length];
-    let mut segments = 0;
-    let mut s = 0;
-    while s + length <= x.len() {
-        let seg = &x[s..s + length];
-        let m = crate::identify::mean(seg);
-        for n in 0..length {
-            buf[n] = Complex64::new((seg[n] - m) * w[n], 0.0);
-        }
-        fft.process(&mut buf);
-        for k in 0..nf {
-            sxx[k] += buf[k].norm_sqr();
-        }
-        segments += 1;
-        s += step;
-    }
-    let fs = 1.0 / dt;
-    let psd = (0..nf)
-        .map(|k| {
-            let one_sided = if k == 0 || 2 * k == length { 1.0 } else { 2.0 };
-            one_sided * sxx[k] / (segments as f64 * fs * w2)
-        })
-        .collect();
-    Ok(Psd { freq: (0..nf).map(|k| k as f64 * fs / length as f64).collect(), psd, segments })
+    let t = Transforms::new(&[x], dt, &Welch { length, overlap, hann, rates: false });
+    Ok(Psd { psd: t.psd(0), freq: t.frequency, segments: t.segments })
 }
 
 impl Frf {

@@ -6,12 +6,15 @@ use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
-use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
+use crate::analysis::series::{
+    BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
+};
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
 use crate::case::LoadedCase;
 use crate::error::Result;
 use crate::power::balance::EnergyBalance;
+use crate::power::record::RecordAnalysis;
 use std::path::Path;
 
 /// Writes one self-describing file for a case run (atomically).
@@ -83,6 +86,7 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     let nf = r.frequency_hz.len();
     let np = r.point_x.len();
     let nforce = r.input_power.first().map_or(0, Vec::len);
+    g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     g.write_f64("frequency_hz", &r.frequency_hz, &[nf], "Hz", "analysis frequencies")?;
     g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, then sensors")?;
     g.write_str_list("point_names", &r.point_names)?;
@@ -170,6 +174,84 @@ fn write_series<S: GroupSink>(
     Ok(())
 }
 
+/// Each point load's group: its series over the recorded window, its mean power into the
+/// beam and its power per harmonic.
+fn write_loads<S: GroupSink>(g: &S, series: &[LoadSeries], spectra: &[LoadSpectrum]) -> Result<()> {
+    for (j, l) in series.iter().enumerate() {
+        let lg = g.group(&format!("loads/{}", l.name))?;
+        lg.attr_f64("x_m", l.x)?;
+        lg.write_f64("force", &l.force, &[l.force.len()], "N", "prescribed force on the beam, positive up")?;
+        lg.write_f64("w", &l.w, &[l.w.len()], "m", "beam displacement at the load")?;
+        lg.write_f64("v", &l.v, &[l.v.len()], "m/s", "beam velocity at the load")?;
+        lg.write_f64("a", &l.a, &[l.a.len()], "m/s^2", "beam acceleration at the load")?;
+        // A non-periodic run has no harmonics: its record analysis stands in.
+        let Some(sp) = spectra.get(j) else { continue };
+        lg.attr_f64("mean_power_W", sp.power_total)?;
+        let n = sp.frequency.len();
+        lg.write_f64("frequency", &sp.frequency, &[n], "Hz", "harmonic frequencies k/T")?;
+        lg.write_f64("power_per_harmonic", &sp.power, &[n], "W", "1/2 Re(F_k conj V_k) into the beam")?;
+        let abs = |c: &[num_complex::Complex64]| c.iter().map(|x| x.norm()).collect::<Vec<_>>();
+        lg.write_f64("force_amplitude", &abs(&sp.force), &[n], "N", "|F_k|")?;
+        lg.write_f64("velocity_amplitude", &abs(&sp.velocity), &[n], "m/s", "|V_k| at the load")?;
+    }
+    Ok(())
+}
+
+/// A non-periodic run's record analysis: per drive its PSD, per point its energy, PSDs,
+/// power spectral density and H1 FRFs with coherence.
+fn write_record<S: GroupSink>(g: &S, r: &RecordAnalysis) -> Result<()> {
+    let rg = g.group("record")?;
+    rg.attr_f64("duration_s", r.duration)?;
+    rg.attr_f64("segment_s", r.segment_s)?;
+    rg.attr_i64("segments", r.segments as i64)?;
+    rg.attr_f64("overlap", r.welch.overlap)?;
+    rg.attr_str("window", if r.welch.hann { "hann" } else { "rectangular" })?;
+    let n = r.frequency.len();
+    rg.write_f64("frequency", &r.frequency, &[n], "Hz", "k / segment length")?;
+    rg.write_f64("net_energy", &r.net_energy, &[r.net_energy.len()], "J", "energy into the structure per actuator")?;
+    for d in &r.drives {
+        let dg = rg.group(&format!("drives/{}", d.name))?;
+        dg.write_f64("psd", &d.psd, &[n], &format!("{}^2/Hz", d.unit), "one-sided Welch PSD of the drive")?;
+    }
+    for p in &r.points {
+        let pg = rg.group(&format!("points/{}", p.name))?;
+        let unit = r.drives.iter().find(|d| d.name == p.drive).map_or("1", |d| d.unit.as_str());
+        pg.attr_str("drive", &p.drive)?;
+        pg.attr_f64("energy_J", p.energy)?;
+        pg.write_f64("power_density", &p.power_density, &[n], "W/Hz", "Re G_Fv: power into the structure per Hz")?;
+        pg.write_f64("force_psd", &p.force_psd, &[n], "N^2/Hz", "PSD of the force into the structure")?;
+        pg.write_f64("acceleration_psd", &p.acceleration_psd, &[n], "(m/s^2)^2/Hz", "PSD of the acceleration")?;
+        pg.write_c64("force_frf", &p.force_frf, &[n], &format!("N/{unit}"), "H1 from the drive to the force")?;
+        // One segment has no coherence: the datasets are there only for Welch averages.
+        if !p.force_coherence.is_empty() {
+            pg.write_f64("force_coherence", &p.force_coherence, &[n], "1", "coherence of force_frf")?;
+            pg.write_f64(
+                "acceleration_coherence",
+                &p.acceleration_coherence,
+                &[n],
+                "1",
+                "coherence of acceleration_frf",
+            )?;
+        }
+        pg.attr_f64("end_activity", p.end_activity)?;
+        pg.write_c64(
+            "acceleration_frf",
+            &p.acceleration_frf,
+            &[n],
+            &format!("(m/s^2)/{unit}"),
+            "H1 from the drive to the acceleration",
+        )?;
+        pg.write_f64(
+            "power_frf",
+            &p.power_frf,
+            &[n],
+            &format!("W/{unit}^2"),
+            "Re G_Fv / G_uu: a sine drive of amplitude A puts A^2/2 times this in",
+        )?;
+    }
+    Ok(())
+}
+
 fn write_spectra<S: GroupSink>(g: &S, links: &[LinkSeries], spectra: &[LinkSpectrum], run: &CaseRun) -> Result<()> {
     for (l, s) in links.iter().zip(spectra) {
         let sg = g.group(&format!("spectra/{}", link_group_name(run, l)))?;
@@ -220,6 +302,7 @@ fn write_powers<S: GroupSink>(g: &S, mean: &[f64], net: &[f64], run: &CaseRun) -
 fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> Result<()> {
     g.attr_f64("dt_s", r.dt)?;
     g.attr_f64("period_s", r.period)?;
+    g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     g.attr_i64("steps_per_period", r.steps_per_period as i64)?;
     g.attr_i64("periods_run", r.periods_run as i64)?;
     g.attr_i64("converged", r.converged as i64)?;
@@ -235,8 +318,14 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
     }
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;
-    if beam {
+    write_loads(g, &r.loads, &r.load_spectra)?;
+    if let Some(rec) = &r.record {
+        write_record(g, rec)?;
+    }
+    if beam && r.record.is_none() {
         write_powers(g, &r.mean_power, &r.net_power, run)?;
+    }
+    if beam {
         write_energy(g, "energy_run/beam", &r.energy_run.beam)?;
         write_energy(g, "energy_last_period/beam", &r.energy_last_period.beam)?;
     }
@@ -290,6 +379,7 @@ fn write_reduction<S: GroupSink>(g: &S, r: Option<&ReductionReport>) -> Result<(
 
 fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Result<()> {
     g.attr_f64("period_s", r.period)?;
+    g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     if r.truncation_estimate.is_finite() {
         g.attr_f64("truncation_estimate", r.truncation_estimate)?;
     }
@@ -305,6 +395,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
     )?;
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;
+    write_loads(g, &r.loads, &r.load_spectra)?;
     write_powers(g, &r.mean_power, &r.net_power, run)?;
     if let Some(m) = &r.modal {
         let mg = g.group("modal")?;
@@ -333,6 +424,17 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
             "power per link (row, order of link_names) and mode (column)",
         )?;
         mg.write_f64("point_residual", &m.point_residual, &[nl], "W", "P_i minus the truncated modal sum")?;
+        let nj = m.load_power.len();
+        if nj > 0 {
+            mg.write_f64(
+                "load_power",
+                &m.load_power.concat(),
+                &[nj, nm],
+                "W",
+                "power per point load (row, order of the case's [[load]]) and mode (column)",
+            )?;
+            mg.write_f64("load_residual", &m.load_residual, &[nj], "W", "load power minus the truncated modal sum")?;
+        }
         mg.write_f64("dissipation", &m.dissipation, &[nm], "W", "modal dissipated power")?;
         mg.write_f64("kinetic_energy", &m.kinetic_energy, &[nm], "J", "time-averaged kinetic energy per mode")?;
         mg.write_f64("strain_energy", &m.strain_energy, &[nm], "J", "time-averaged strain energy per mode")?;

@@ -1,7 +1,9 @@
 //! The headline numbers of a run, for people (text) and scripts (JSON).
 
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
+use crate::analysis::series::LoadSpectrum;
 use crate::case::LoadedCase;
+use crate::power::record::RecordAnalysis;
 use serde_json::{json, Map, Value};
 
 /// A JSON object with one entry per analysis.
@@ -14,7 +16,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     for r in &run.results {
         analyses.push(match r {
             AnalysisResult::Modes(m) => json!({"type": "modes", "frequencies_hz": m.frequencies_hz, "analytic_hz": m.analytic_hz, "relative_error": m.relative_error}),
-            AnalysisResult::Harmonic(h) => json!({"type": "harmonic", "frequency_hz": h.frequency_hz, "total_power_w": h.total_power, "dissipated_power_w": h.dissipated_power, "max_balance_error": h.balance_error.iter().fold(0.0f64, |a, b| a.max(*b))}),
+            AnalysisResult::Harmonic(h) => json!({"type": "harmonic", "frequency_hz": h.frequency_hz, "total_power_w": h.total_power, "dissipated_power_w": h.dissipated_power, "max_balance_error": h.balance_error.iter().fold(0.0f64, |a, b| a.max(*b)), "mesh_roundoff": h.mesh_roundoff}),
             AnalysisResult::Transient(t) => {
                 let mut points = Map::new();
                 for (l, p) in t.mean_power.iter().enumerate() {
@@ -22,11 +24,14 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 }
                 let amp: Map<String, Value> = t.spectra.iter().enumerate().map(|(l, s)| (link_name(l), json!(s.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
                 let mut v = json!({"type": "transient", "dt_s": t.dt, "steps_per_period": t.steps_per_period, "harmonics": t.harmonics, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
-                       "settling_estimate": finite_or_null(t.settling_estimate),
-                       "mean_power_w": points, "net_power_w": t.net_power, "transmitted_force_amplitude_at_drive_n": amp,
+                       "settling_estimate": finite_or_null(t.settling_estimate), "mesh_roundoff": t.mesh_roundoff,
+                       "mean_power_w": points, "net_power_w": t.net_power, "load_power_w": load_powers(&t.load_spectra), "transmitted_force_amplitude_at_drive_n": amp,
                        "beam_dissipation_w": t.beam_dissipation,
                        "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}});
                 add_reduction(&mut v, t.reduction.as_ref());
+                if let Some(rec) = &t.record {
+                    as_record(&mut v, rec);
+                }
                 v
             }
             AnalysisResult::SteadyState(s) => {
@@ -35,8 +40,8 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                     points.insert(link_name(l), json!(p));
                 }
                 let amp: Map<String, Value> = s.spectra.iter().enumerate().map(|(l, sp)| (link_name(l), json!(sp.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
-                let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "modal_dissipation_w": m.dissipation}));
-                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "truncation_estimate": finite_or_null(s.truncation_estimate), "mean_power_w": points, "net_power_w": s.net_power, "modal": modal,
+                let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "load_residual_w": m.load_residual, "modal_dissipation_w": m.dissipation}));
+                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "truncation_estimate": finite_or_null(s.truncation_estimate), "mesh_roundoff": s.mesh_roundoff, "mean_power_w": points, "net_power_w": s.net_power, "load_power_w": load_powers(&s.load_spectra), "modal": modal,
                        "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error});
                 add_reduction(&mut v, s.reduction.as_ref());
                 v
@@ -73,6 +78,24 @@ fn without_beam(a: &mut Value) {
     }
 }
 
+/// A non-periodic run has no harmonics and no mean power: those keys are null (one shape
+/// for every transient), and `record` holds the energies delivered and the segmentation of
+/// the spectra in the HDF5 file.
+fn as_record(v: &mut Value, rec: &RecordAnalysis) {
+    for key in ["harmonics", "mean_power_w", "net_power_w", "load_power_w", "transmitted_force_amplitude_at_drive_n"] {
+        v[key] = Value::Null;
+    }
+    let energy: Map<String, Value> = rec.points.iter().map(|p| (p.name.clone(), json!(p.energy))).collect();
+    v["record"] = json!({"duration_s": rec.duration, "segment_s": rec.segment_s, "segments": rec.segments,
+        "overlap": rec.welch.overlap, "window": if rec.welch.hann { "hann" } else { "rectangular" },
+        "frequency_resolution_hz": 1.0 / rec.segment_s, "energy_j": energy, "net_energy_j": rec.net_energy});
+}
+
+/// Each point load's mean power into the beam (W), by name.
+fn load_powers(loads: &[LoadSpectrum]) -> Value {
+    Value::Object(loads.iter().map(|l| (l.name.clone(), json!(l.power_total))).collect())
+}
+
 /// A number, or JSON null where it is not defined (NaN).
 fn finite_or_null(x: f64) -> Value {
     if x.is_finite() {
@@ -98,7 +121,7 @@ pub fn headline_text(v: &Value) -> String {
             Some(t @ ("transient" | "steady_state")) => {
                 s += &format!("{t}:\n");
                 if t == "transient" {
-                    s += &transient_status(a);
+                    s += &transient_status(a, &names);
                 } else {
                     s += &format!("  {} harmonics", a["harmonics"]);
                     match a["truncation_estimate"].as_f64() {
@@ -118,6 +141,12 @@ pub fn headline_text(v: &Value) -> String {
                             p.as_f64().unwrap_or(f64::NAN)
                         );
                     }
+                }
+                for (k, p) in a["load_power_w"].as_object().into_iter().flatten() {
+                    s += &format!(
+                        "  mean power into the beam by load {k:<19} {:>12.4e} W\n",
+                        p.as_f64().unwrap_or(f64::NAN)
+                    );
                 }
                 for (i, p) in a["net_power_w"].as_array().into_iter().flatten().enumerate() {
                     s += &format!(
@@ -156,13 +185,16 @@ pub fn headline_text(v: &Value) -> String {
 
 /// How a transient ran: its step, the harmonics it analysed, and whether (and how well) it
 /// settled.
-fn transient_status(a: &Value) -> String {
+fn transient_status(a: &Value, names: &[Value]) -> String {
     let n = a["steps_per_period"].as_u64().unwrap_or(0);
     let mut s = format!(
         "  Δt = {:.4e} s ({n} steps per period), spectra to harmonic {} (20 steps per harmonic period)\n",
         a["dt_s"].as_f64().unwrap_or(f64::NAN),
         a["harmonics"]
     );
+    if let Some(r) = a.get("record") {
+        return record_status(a, r, names);
+    }
     let periods = a["periods_run"].as_u64().unwrap_or(0);
     match (a["converged"].as_bool(), a["settling_estimate"].as_f64()) {
         (Some(true), Some(e)) => {
@@ -174,6 +206,30 @@ fn transient_status(a: &Value) -> String {
         )
         }
         _ => s += &format!("  ran {periods} period(s)\n"),
+    }
+    s
+}
+
+/// A non-periodic run: its record, how its spectra are averaged, and the energy each point
+/// and each actuator delivered.
+fn record_status(a: &Value, r: &Value, actuators: &[Value]) -> String {
+    let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    let mut s = format!(
+        "  non-periodic drive: one record of {:.4} s at Δt = {:.4e} s; no harmonics. PSDs and H1 FRFs (with\n  \
+         coherence) from {} {} segments of {:.4} s, {:.0} % overlap (Δf = {:.4} Hz), in the HDF5 file\n",
+        f(&r["duration_s"]),
+        f(&a["dt_s"]),
+        r["segments"],
+        r["window"].as_str().unwrap_or("?"),
+        f(&r["segment_s"]),
+        100.0 * f(&r["overlap"]),
+        f(&r["frequency_resolution_hz"])
+    );
+    for (k, e) in r["energy_j"].as_object().into_iter().flatten() {
+        s += &format!("  energy delivered into the structure at {k:<22} {:>12.4e} J\n", f(e));
+    }
+    for (name, e) in actuators.iter().zip(r["net_energy_j"].as_array().into_iter().flatten()) {
+        s += &format!("  net energy of {:<46} {:>12.4e} J\n", name.as_str().unwrap_or("?"), f(e));
     }
     s
 }

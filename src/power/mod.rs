@@ -16,10 +16,12 @@
 //! | balance | [`balance::EnergyBalance`] | [`balance::balance_error`] |
 //! | stored energy | [`energy::StoredEnergy`] | — |
 //! | modes | — | [`modal::decompose`] |
+//! | non-periodic records | [`record::energy`], [`record::point_record`] (PSDs, H1 FRFs) | — |
 
 pub mod balance;
 pub mod energy;
 pub mod link;
 pub mod modal;
 pub mod point;
+pub mod record;
 pub mod spectra;

@@ -65,12 +65,17 @@ pub struct ModalDecomposition {
     pub point_power: Vec<Vec<f64>>,
     /// P_i − Σ_r P_{i,r} (W) per link: what the truncated modal sum misses.
     pub point_residual: Vec<f64>,
+    /// Point-load power per mode, summed over harmonics (W), [load][r], and what the
+    /// truncated sum misses per load (W).
+    pub load_power: Vec<Vec<f64>>,
+    pub load_residual: Vec<f64>,
     /// Modal dissipated power, summed over harmonics (W), [r].
     pub dissipation: Vec<f64>,
     /// Time-averaged kinetic and strain energy per mode, summed over harmonics (J), [r].
     pub kinetic_energy: Vec<f64>,
     pub strain_energy: Vec<f64>,
-    /// Share of the net input power carried by each mode (Σ over links of P_{i,r} / Σ P_i).
+    /// Share of the net input power carried by each mode (Σ over links and loads of
+    /// P_{i,r} / Σ P_i).
     pub power_participation: Vec<f64>,
     /// Share of the response: Σ_k |η_r,k|² ω_k² normalised (kinetic-energy share).
     pub response_participation: Vec<f64>,
@@ -79,14 +84,15 @@ pub struct ModalDecomposition {
 /// Decomposes harmonic amplitudes `q[k]` at frequencies `k·omega0` (rad/s) of the system
 /// `sys` with the bare structure's mass-normalised `modes`, their rows numbered on `sys`'s
 /// DOFs (see `analysis::modes::bare_modes_on`). `interface[l][k]` are the links'
-/// interface-force amplitudes (N); `damping` how the structure's damping acts on the modes.
+/// interface-force amplitudes (N), `loads[j][k]` the point loads' (N, at `sys.loads`);
+/// `damping` how the structure's damping acts on the modes.
 pub fn decompose(
     sys: &System,
     modes: &Modes,
     damping: ModalDamping,
-    q: &[Vec<Complex64>],
-    omega0: f64,
+    (q, omega0): (&[Vec<Complex64>], f64),
     interface: &[Vec<Complex64>],
+    loads: &[Vec<Complex64>],
 ) -> ModalDecomposition {
     let n = sys.n();
     let nm = modes.count();
@@ -96,6 +102,7 @@ pub fn decompose(
         mode_frequency_hz: modes.frequencies_hz(),
         frequency: (0..q.len()).map(|k| k as f64 * omega0 / (2.0 * std::f64::consts::PI)).collect(),
         point_power: vec![vec![0.0; nm]; nl],
+        load_power: vec![vec![0.0; nm]; loads.len()],
         dissipation: vec![0.0; nm],
         kinetic_energy: vec![0.0; nm],
         strain_energy: vec![0.0; nm],
@@ -134,6 +141,12 @@ pub fn decompose(
                 }
             }
         }
+        for (j, pattern) in sys.loads.iter().enumerate() {
+            for r in 0..nm {
+                let phi_x: f64 = pattern.iter().map(|&(d, c)| c * phi[r][d]).sum();
+                out.load_power[j][r] += mean_power(loads[j][k], iw * phi_x * eta[r]);
+            }
+        }
         for (r, (&wr, &eta_r)) in modes.omega.iter().zip(&eta).enumerate().take(nm) {
             let e2 = eta_r.norm_sqr();
             out.dissipation[r] += modal_dissipated_power(w, damping.coefficient(r, wr), eta_r);
@@ -150,10 +163,19 @@ pub fn decompose(
             .sum();
         out.point_residual.push(full - out.point_power[l].iter().sum::<f64>());
     }
-    let total_in: f64 = out.point_power.iter().flatten().sum();
-    out.power_participation = (0..nm)
-        .map(|r| out.point_power.iter().map(|p| p[r]).sum::<f64>() / if total_in != 0.0 { total_in } else { 1.0 })
-        .collect();
+    for (j, pattern) in sys.loads.iter().enumerate() {
+        let full: f64 = (1..q.len())
+            .map(|k| {
+                let w: Complex64 = pattern.iter().map(|&(d, c)| q[k][d] * c).sum();
+                mean_power(loads[j][k], Complex64::new(0.0, k as f64 * omega0) * w)
+            })
+            .sum();
+        out.load_residual.push(full - out.load_power[j].iter().sum::<f64>());
+    }
+    let points = || out.point_power.iter().chain(&out.load_power);
+    let total_in: f64 = points().flatten().sum();
+    out.power_participation =
+        (0..nm).map(|r| points().map(|p| p[r]).sum::<f64>() / if total_in != 0.0 { total_in } else { 1.0 }).collect();
     let ke: f64 = out.kinetic_energy.iter().sum();
     out.response_participation = out.kinetic_energy.iter().map(|e| e / if ke != 0.0 { ke } else { 1.0 }).collect();
     out

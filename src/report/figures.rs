@@ -198,15 +198,114 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                 let links: Vec<LinkSeries> = t.links.iter().map(|l| l.tail(n)).collect();
                 let drives: Vec<DriveSeries> = t.drives.iter().map(|d| d.tail(n)).collect();
                 let time = &t.t[t.t.len() - n..];
-                out.extend(periodic_figures(dir, &tag, run, time, &links, &t.spectra, &t.mean_power, &drives)?)
+                match &t.record {
+                    None => {
+                        out.extend(periodic_figures(dir, &tag, run, time, &links, &t.spectra, &t.mean_power, &drives)?)
+                    }
+                    Some(rec) => {
+                        // The drives' band, with a margin: beyond it the FRFs divide noise by noise.
+                        let band = run.model.drive_signals().filter_map(|s| s.highest_frequency()).fold(0.0, f64::max);
+                        out.extend(record_figures(dir, &tag, time, &links, rec, 1.25 * band)?)
+                    }
+                }
+                out.extend(load_figures(dir, &tag, time, &t.loads, &t.load_spectra)?);
             }
             AnalysisResult::SteadyState(s) => {
                 out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?);
+                out.extend(load_figures(dir, &tag, &s.t, &s.loads, &s.load_spectra)?);
                 if let Some(m) = &s.modal {
                     out.extend(save(&modal_power_figure(m, run), dir, &format!("{tag}_power_by_mode"))?);
                 }
             }
         }
+    }
+    Ok(out)
+}
+
+/// A non-periodic run's figures: the transmitted forces over the record, and per point its
+/// accelerance FRF from the drive, the power density into the structure and (with Welch
+/// segments) the coherence.
+fn record_figures(
+    dir: &Path,
+    tag: &str,
+    t: &[f64],
+    links: &[LinkSeries],
+    rec: &crate::power::record::RecordAnalysis,
+    f_max: f64,
+) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    if !links.is_empty() {
+        let refs: Vec<&LinkSeries> = links.iter().collect();
+        out.extend(save(
+            &forces_panel("transmitted forces over the record", t, &refs),
+            dir,
+            &format!("{tag}_record_time"),
+        )?);
+    }
+    let f = &rec.frequency;
+    let shown = |&(a, _): &(f64, f64)| f_max <= 0.0 || a <= f_max;
+    let band =
+        |y: &[f64]| -> (Vec<f64>, Vec<f64>) { f.iter().zip(y).skip(1).map(|(&a, &b)| (a, b)).filter(shown).unzip() };
+    let mut frf = LinePlot::new("accelerance from the drive", "frequency (Hz)", "|H1| ((m/s²) per V or N)");
+    frf.log_y = true;
+    let mut pd = LinePlot::new("power into the structure per hertz", "frequency (Hz)", "Re G_Fv (W/Hz)");
+    let mut coh = LinePlot::new("coherence of the accelerance", "frequency (Hz)", "γ²");
+    for p in &rec.points {
+        let mag: Vec<f64> = p.acceleration_frf.iter().map(|h| h.norm().max(1e-300)).collect();
+        let (x, y) = band(&mag);
+        frf.series.push(Series::line(p.name.clone(), x, y));
+        let (x, y) = band(&p.power_density);
+        pd.series.push(Series::line(p.name.clone(), x, y));
+        if !p.acceleration_coherence.is_empty() {
+            let (x, y) = band(&p.acceleration_coherence);
+            coh.series.push(Series::line(p.name.clone(), x, y));
+        }
+    }
+    let mut panels = vec![frf, pd];
+    if !coh.series.is_empty() {
+        panels.push(coh);
+    }
+    let title =
+        format!("non-periodic record of {:.3} s: {} segment(s) of {:.3} s", rec.duration, rec.segments, rec.segment_s);
+    out.extend(save(&MultiPanel::new(title, panels), dir, &format!("{tag}_record_spectra"))?);
+    Ok(out)
+}
+
+/// Each point load's figure: its force and the beam's velocity at its point, and (periodic
+/// runs) its power per harmonic.
+fn load_figures(
+    dir: &Path,
+    tag: &str,
+    t: &[f64],
+    loads: &[crate::analysis::series::LoadSeries],
+    spectra: &[crate::analysis::series::LoadSpectrum],
+) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    let x = ms_axis(t);
+    for (j, l) in loads.iter().enumerate() {
+        let tail = |v: &[f64]| v[v.len() - t.len()..].to_vec();
+        let mut force = LinePlot::new(format!("{}: force at x = {} m", l.name, l.x), "time (ms)", "force (N)");
+        force.series.push(Series::line("F", x.clone(), tail(&l.force)));
+        let mut vel = LinePlot::new(format!("{}: beam velocity at the load", l.name), "time (ms)", "velocity (m/s)");
+        vel.series.push(Series::line("v", x.clone(), tail(&l.v)));
+        let mut panels = vec![force, vel];
+        if let Some(sp) = spectra.get(j) {
+            let mut pp = LinePlot::new(
+                format!("{}: power per harmonic, {:.4e} W in total", l.name, sp.power_total),
+                "frequency (Hz)",
+                "power (W)",
+            );
+            pp.series.push(
+                Series::line("P_k", sp.frequency[1..].to_vec(), sp.power[1..].to_vec())
+                    .with_style(crate::report::plot::SeriesStyle::Stems),
+            );
+            panels.push(pp);
+        }
+        out.extend(save(
+            &MultiPanel::new(format!("point load {}", l.name), panels),
+            dir,
+            &format!("{tag}_{}_load", l.name),
+        )?);
     }
     Ok(out)
 }
@@ -297,6 +396,9 @@ pub fn modal_power_figure(m: &crate::power::modal::ModalDecomposition, run: &Cas
             })
             .collect();
         bar.groups.push((act.name().to_string(), v));
+    }
+    for (load, p) in run.model.loads.iter().zip(&m.load_power) {
+        bar.groups.push((load.name.clone(), p[..nm].to_vec()));
     }
     bar
 }

@@ -148,6 +148,7 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
         .iter()
         .flat_map(|l| l.stretch.iter().map(|&(d, _)| d))
         .chain(full.drives.iter().flatten().map(|&(d, _)| d))
+        .chain(full.loads.iter().flatten().map(|&(d, _)| d))
         .filter(|&d| is_beam[d])
         .collect();
     attach.sort_unstable();
@@ -317,6 +318,7 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
         .map(|l| LinkDofs { stretch: reduce_vec(&l.stretch), foot: reduce_vec(&l.foot), foot_dof: None, ..l.clone() })
         .collect();
     let drives: Vec<Vec<(usize, f64)>> = full.drives.iter().map(|b| reduce_vec(b)).collect();
+    let loads: Vec<Vec<(usize, f64)>> = full.loads.iter().map(|b| reduce_vec(b)).collect();
 
     let mut next = nm + np;
     let dofs = DofMap {
@@ -351,6 +353,7 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
         k_loss: None,
         links,
         drives,
+        loads,
         envelope,
         projection: Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr })),
     };

@@ -9,6 +9,7 @@
 
 mod readout;
 mod record;
+mod records;
 mod reference;
 mod settle;
 mod stability;
@@ -19,10 +20,13 @@ use self::record::{PeriodRecord, Window};
 use self::settle::SettleCheck;
 use self::step::{EnergyLedger, StackHistories, Stepper};
 use super::drive::{DriveTiming, Step};
-use super::series::{Balances, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, SensorSeries};
+use super::series::{
+    Balances, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
+};
 use crate::assembly::{Model, System};
 use crate::error::Result;
 use crate::power::point::{mean_product, net_power};
+use crate::power::record::{RecordAnalysis, Welch};
 use crate::power::spectra::harmonics;
 use crate::solve::fused::FusedNewmark;
 use crate::solve::newmark::{consistent_acceleration, Scheme};
@@ -43,6 +47,8 @@ pub struct TransientSettings {
     /// Highest harmonic of the drive analysed (sets the Δt limit and the spectra length);
     /// None: as many as the time step resolves ([`DriveTiming::analysed_harmonics`]).
     pub harmonics: Option<usize>,
+    /// A non-periodic record's Welch segment (s); None: the whole record as one segment.
+    pub segment: Option<f64>,
     /// Periods kept at the end of the run for output (and run at least before the
     /// steady-state criterion may stop it).
     pub record_periods: usize,
@@ -62,6 +68,7 @@ impl Default for TransientSettings {
             tolerance: 1e-4,
             max_periods: 400,
             harmonics: None,
+            segment: None,
             record_periods: 3,
             full_history: false,
         }
@@ -87,12 +94,18 @@ pub struct TransientResult {
     /// mean powers and RMS forces from the exact periodic state of the same discrete system
     /// (NaN for a non-periodic drive).
     pub settling_estimate: f64,
+    /// Estimated relative round-off of the point powers from the mesh
+    /// ([`crate::analysis::roundoff::mesh_roundoff`]).
+    pub mesh_roundoff: f64,
     /// Times of the recorded window (s).
     pub t: Vec<f64>,
     pub links: Vec<LinkSeries>,
     pub bodies: Vec<BodySeries>,
     pub drives: Vec<DriveSeries>,
     pub sensors: Vec<SensorSeries>,
+    pub loads: Vec<LoadSeries>,
+    /// Per point load, its mean power into the beam over the last period and its harmonics.
+    pub load_spectra: Vec<LoadSpectrum>,
     /// Mean power into the base at each link's foot over the last period (W).
     pub mean_power: Vec<f64>,
     /// Net mean power into the base per actuator (W).
@@ -110,6 +123,10 @@ pub struct TransientResult {
     /// Set when the run used a modal reduction: its basis and error estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub reduction: Option<crate::analysis::reduction::ReductionReport>,
+    /// A non-periodic drive's record: energies, PSDs and FRFs instead of harmonics (whose
+    /// fields then stay empty).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub record: Option<RecordAnalysis>,
 }
 
 /// How many periods a run takes and keeps.
@@ -145,17 +162,19 @@ fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<Fu
     Ok(nm)
 }
 
-/// Starts the integrator at rest under the stack forces `f_p0` (N) at t = 0, with the
-/// consistent initial acceleration, and registers the drives' load patterns.
-fn start_at_rest(nm: &mut FusedNewmark, sys: &System, f_p0: &[f64]) -> Result<()> {
-    // F₀ = Σ_a b_a·F_p,a(0) as sparse pairs.
+/// Starts the integrator at rest under the forces `w0` at t = 0 (N: each stack's F_p,
+/// then each point load), with the consistent initial acceleration, and registers their
+/// load patterns.
+fn start_at_rest(nm: &mut FusedNewmark, sys: &System, w0: &[f64]) -> Result<()> {
+    let patterns: Vec<Vec<(usize, f64)>> = sys.drives.iter().chain(&sys.loads).cloned().collect();
+    // F₀ = Σ_j b_j·w_j(0) as sparse pairs.
     let loads: Vec<(usize, f64)> =
-        sys.drives.iter().zip(f_p0).flat_map(|(b, &fp)| b.iter().map(move |&(d, c)| (d, c * fp))).collect();
+        patterns.iter().zip(w0).flat_map(|(b, &w)| b.iter().map(move |&(d, c)| (d, c * w))).collect();
     let zeros = vec![0.0; sys.n()];
     let a0 = consistent_acceleration(&sys.m, &sys.c, &sys.k, &sys.envelope, &zeros, &zeros, &loads)?;
     nm.set_state(&zeros, &zeros, &a0, &loads);
-    nm.set_load_patterns(sys.drives.clone());
-    nm.set_previous_weights(f_p0);
+    nm.set_load_patterns(patterns);
+    nm.set_previous_weights(w0);
     Ok(())
 }
 
@@ -177,17 +196,18 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     }
     let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
     stability::check_step(sys, s.scheme, &timing)?;
+    let welch = record_segments(&timing, s.segment)?;
     let layout = Readout::new(model, sys)?;
     let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
     let mut stacks = StackHistories::new(model, &timing);
     let f_p0 = stacks.initial_forces();
-    start_at_rest(&mut nm, sys, &f_p0)?;
+    start_at_rest(&mut nm, sys, &stacks.initial_weights())?;
     let plan = PeriodPlan::new(&timing, s);
     let mut window = Window::new(plan.keep, timing.steps_per_period);
     let mut ledger = EnergyLedger::new(sys, &nm);
     nm.set_observations(layout.rows());
     let mut stepper = Stepper::new(&nm, sys, &layout, &f_p0, &timing);
-    let reference = if timing.periodic && s.steady_state && !model.actuators.is_empty() {
+    let reference = if timing.periodic && s.steady_state {
         Some(reference::periodic_metrics(model, sys, &s.scheme, &timing)?)
     } else {
         None
@@ -200,8 +220,24 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         ledger.open_period(&nm);
         let pb = stepper.period(&mut nm, sys, &layout, &stacks);
         ledger.close_period(&nm, pb);
+        if let Some(d) = nm.u().iter().chain(nm.v()).position(|x| !x.is_finite()) {
+            let n = sys.n();
+            return Err(crate::error::Error::input(
+                "<case>",
+                "analysis.dt",
+                format!(
+                    "the time integration diverged in period {} (by step {}): the {} of DOF {} is no longer a \
+                     finite number; a smaller `dt`, an unconditionally stable scheme or inputs nearer physical \
+                     values are needed",
+                    p + 1,
+                    (p + 1) * timing.steps_per_period,
+                    if d < n { "displacement" } else { "velocity" },
+                    d % n
+                ),
+            ));
+        }
         let n = timing.steps_per_period;
-        rec.store_drives(&stacks.times[..n], &stacks.v, &stacks.h, &stepper.f_p);
+        rec.store_drives(&stacks.times[..n], &stacks.v, &stacks.h, &stepper.f_p, &stacks.load_f);
         rec.store_readouts(&layout, &stepper.observed);
         periods_run = p + 1;
         // Every period kept for output must be settled, not only the last.
@@ -223,6 +259,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         converged,
         final_change: settle.change(),
         settling_estimate: settle.remaining(),
+        mesh_roundoff: crate::analysis::roundoff::mesh_roundoff(model),
         energy_run: ledger.run,
         energy_last_period: ledger.last_period,
         beam_dissipation: ledger.last_period.beam.dissipated / timing.period,
@@ -230,13 +267,53 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         ..Default::default()
     };
     let all = window.joined(&layout);
-    let harmonics = timing.analysed_harmonics(s.harmonics);
-    result.harmonics = harmonics;
-    add_links(&mut result, sys, &all, harmonics);
-    result.net_power = net_power(&sys.links, &result.mean_power, model.actuators.len());
+    match welch {
+        None => {
+            let harmonics = timing.analysed_harmonics(s.harmonics);
+            result.harmonics = harmonics;
+            add_links(&mut result, sys, &all, harmonics);
+            add_loads(&mut result, model, &all, harmonics);
+            result.net_power = net_power(&sys.links, &result.mean_power, model.actuators.len());
+        }
+        Some(welch) => {
+            result.links = sys.links.iter().enumerate().map(|(l, lk)| all.link_series(l, lk)).collect();
+            result.record = Some(records::analyse(model, sys, &result.links, &all, timing.dt, welch));
+        }
+    }
     result.t = all.t.clone();
-    (result.bodies, result.drives, result.sensors) = all.into_series(model, &layout, &stacks.stacks);
+    (result.bodies, result.drives, result.sensors, result.loads) = all.into_series(model, &layout, &stacks.stacks);
     Ok(result)
+}
+
+/// How a non-periodic run's record is segmented for its spectra (None for a periodic
+/// drive): Welch segments of the case's `segment` (s), or the whole record as one; refused
+/// before the run when the record cannot hold the segment.
+pub fn record_segments(timing: &DriveTiming, segment: Option<f64>) -> Result<Option<Welch>> {
+    if timing.periodic {
+        return Ok(None);
+    }
+    let samples = timing.steps_per_period;
+    let welch = match segment {
+        Some(seg) => Welch::hann((seg / timing.dt).round() as usize),
+        None => Welch::whole(samples),
+    };
+    welch.check(samples, "<case>", "analysis.segment")?;
+    Ok(Some(welch))
+}
+
+/// Adds each point load's mean power and spectrum over the last period.
+fn add_loads(result: &mut TransientResult, model: &Model, all: &PeriodRecord, harmonics_kept: usize) {
+    let n = result.steps_per_period;
+    for (j, l) in model.loads.iter().enumerate() {
+        let start = all.lf[j].len() - n;
+        let (f, v) = (&all.lf[j][start..], &all.lv[j][start..]);
+        let fh = harmonics(f);
+        let hmax = harmonics_kept.min(fh.len() - 1);
+        let mut sp = LoadSpectrum::new(&l.name, l.x, (result.period, n, hmax), fh, harmonics(v));
+        // The sample mean, as the links' mean powers are taken.
+        sp.power_total = mean_product(f, v);
+        result.load_spectra.push(sp);
+    }
 }
 
 /// Adds each link's series over the recorded window, and its mean power and spectrum

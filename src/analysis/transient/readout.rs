@@ -1,6 +1,6 @@
 //! The read-outs a run asks the integrator for: after every step the integrator evaluates
 //! each row g as (gᵀu, gᵀv, gᵀa). [`Readout`] lays the rows out — each link's stretch and
-//! foot, each drive, each sensor, each body DOF, in that order — and says where each
+//! foot, each drive, each sensor, each body DOF, each point load, in that order — and says where each
 //! quantity sits, so that nothing else counts offsets.
 
 use crate::analysis::series::{body_dofs, BodyDof};
@@ -13,6 +13,7 @@ pub(super) struct Readout {
     links: usize,
     drives: usize,
     sensors: usize,
+    loads: usize,
     /// The body DOFs, in the order of their rows.
     pub bodies: Vec<BodyDof>,
 }
@@ -31,7 +32,8 @@ impl Readout {
         let sensors = sensor_rows.len();
         rows.extend(sensor_rows);
         rows.extend(bodies.iter().map(|b| vec![(b.dof, 1.0)]));
-        Ok(Readout { rows, links: sys.links.len(), drives: sys.drives.len(), sensors, bodies })
+        rows.extend(sys.loads.iter().cloned());
+        Ok(Readout { rows, links: sys.links.len(), drives: sys.drives.len(), sensors, loads: sys.loads.len(), bodies })
     }
 
     /// Every row, for the integrator's `set_observations`.
@@ -53,6 +55,10 @@ impl Readout {
 
     pub fn sensors(&self) -> usize {
         self.sensors
+    }
+
+    pub fn loads(&self) -> usize {
+        self.loads
     }
 
     /// Row of link l's stretch u = z_top − z_foot (value, rate, acceleration).
@@ -78,6 +84,11 @@ impl Readout {
     /// Row of body DOF b (the order of [`Readout::bodies`]).
     pub fn body(&self, b: usize) -> usize {
         2 * self.links + self.drives + self.sensors + b
+    }
+
+    /// Row of the beam's w at point load j.
+    pub fn load(&self, j: usize) -> usize {
+        2 * self.links + self.drives + self.sensors + self.bodies.len() + j
     }
 }
 

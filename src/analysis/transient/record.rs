@@ -4,7 +4,7 @@
 
 use super::readout::Readout;
 use crate::actuator::Stack;
-use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, SensorSeries};
+use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, LoadSeries, SensorSeries};
 use crate::assembly::{LinkDofs, Model};
 use crate::power::link::{interface_force, pzt_force, transmitted_force};
 use std::collections::VecDeque;
@@ -30,6 +30,11 @@ pub(super) struct PeriodRecord {
     pub sw: Vec<Vec<f64>>,
     pub sv: Vec<Vec<f64>>,
     pub sa: Vec<Vec<f64>>,
+    /// [point load] → samples: force, and w, ẇ, ẅ at its point.
+    pub lf: Vec<Vec<f64>>,
+    pub lw: Vec<Vec<f64>>,
+    pub lv: Vec<Vec<f64>>,
+    pub la: Vec<Vec<f64>>,
 }
 
 impl PeriodRecord {
@@ -38,6 +43,7 @@ impl PeriodRecord {
         // Not vec![Vec::with_capacity(cap); k]: clones of a Vec do not keep its capacity.
         let mk = |k: usize| (0..k).map(|_| Vec::with_capacity(cap)).collect::<Vec<Vec<f64>>>();
         let (nl, nb, na, ns) = (layout.links(), layout.bodies.len(), layout.drives(), layout.sensors());
+        let np = layout.loads();
         PeriodRecord {
             t: Vec::with_capacity(cap),
             u: mk(nl),
@@ -53,10 +59,14 @@ impl PeriodRecord {
             sw: mk(ns),
             sv: mk(ns),
             sa: mk(ns),
+            lf: mk(np),
+            lw: mk(np),
+            lv: mk(np),
+            la: mk(np),
         }
     }
 
-    fn channels_mut(&mut self) -> [&mut Vec<Vec<f64>>; 13] {
+    fn channels_mut(&mut self) -> [&mut Vec<Vec<f64>>; 17] {
         [
             &mut self.u,
             &mut self.ud,
@@ -71,13 +81,17 @@ impl PeriodRecord {
             &mut self.sw,
             &mut self.sv,
             &mut self.sa,
+            &mut self.lf,
+            &mut self.lw,
+            &mut self.lv,
+            &mut self.la,
         ]
     }
 
-    fn channels(&self) -> [&Vec<Vec<f64>>; 13] {
+    fn channels(&self) -> [&Vec<Vec<f64>>; 17] {
         [
             &self.u, &self.ud, &self.fv, &self.fa, &self.q, &self.qd, &self.qdd, &self.v, &self.h, &self.fp, &self.sw,
-            &self.sv, &self.sa,
+            &self.sv, &self.sa, &self.lf, &self.lw, &self.lv, &self.la,
         ]
     }
 
@@ -98,11 +112,14 @@ impl PeriodRecord {
         }
     }
 
-    /// Stores the drives of a period: sample times, each stack's voltage and h, and the
-    /// stack forces F_p as they stood at each sample (`f_p`: one block of one value per
-    /// actuator per sample).
-    pub fn store_drives(&mut self, t: &[f64], v: &[Vec<f64>], h: &[Vec<f64>], f_p: &[f64]) {
+    /// Stores the drives of a period: sample times, each stack's voltage and h, the stack
+    /// forces F_p as they stood at each sample (`f_p`: one block of one value per actuator
+    /// per sample), and each point load's force (`loads`, at least as long as `t`).
+    pub fn store_drives(&mut self, t: &[f64], v: &[Vec<f64>], h: &[Vec<f64>], f_p: &[f64], loads: &[Vec<f64>]) {
         let n = t.len();
+        for (series, f) in self.lf.iter_mut().zip(loads) {
+            series.extend_from_slice(&f[..n]);
+        }
         self.t.extend_from_slice(t);
         for (a, (va, ha)) in v.iter().zip(h).enumerate() {
             self.v[a].extend_from_slice(&va[..n]);
@@ -139,6 +156,12 @@ impl PeriodRecord {
         for s in 0..layout.sensors() {
             let row = layout.sensor(s);
             for (q, series) in [&mut self.sw[s], &mut self.sv[s], &mut self.sa[s]].into_iter().enumerate() {
+                series.extend(samples().map(|o| o[row][q]));
+            }
+        }
+        for j in 0..layout.loads() {
+            let row = layout.load(j);
+            for (q, series) in [&mut self.lw[j], &mut self.lv[j], &mut self.la[j]].into_iter().enumerate() {
                 series.extend(samples().map(|o| o[row][q]));
             }
         }
@@ -179,7 +202,7 @@ impl PeriodRecord {
         model: &Model,
         layout: &Readout,
         stacks: &[&Stack],
-    ) -> (Vec<BodySeries>, Vec<DriveSeries>, Vec<SensorSeries>) {
+    ) -> (Vec<BodySeries>, Vec<DriveSeries>, Vec<SensorSeries>, Vec<LoadSeries>) {
         let take = std::mem::take::<Vec<f64>>;
         let bodies = layout
             .bodies
@@ -212,7 +235,20 @@ impl PeriodRecord {
                 a: take(&mut self.sa[s]),
             })
             .collect();
-        (bodies, drives, sensors)
+        let loads = model
+            .loads
+            .iter()
+            .enumerate()
+            .map(|(j, l)| LoadSeries {
+                name: l.name.clone(),
+                x: l.x,
+                force: take(&mut self.lf[j]),
+                w: take(&mut self.lw[j]),
+                v: take(&mut self.lv[j]),
+                a: take(&mut self.la[j]),
+            })
+            .collect();
+        (bodies, drives, sensors, loads)
     }
 }
 

@@ -15,7 +15,7 @@
 //! while a lightly damped mode beats against the drive.
 
 use super::record::PeriodRecord;
-use super::settle::period_metrics;
+use super::settle::{period_metrics, Metrics};
 use crate::analysis::drive::{stack_cycle, DriveTiming};
 use crate::analysis::steady_state::NEGLIGIBLE_HARMONIC;
 use crate::assembly::{Model, System};
@@ -56,17 +56,22 @@ fn samples(x: &[Complex64], n: usize) -> Vec<f64> {
         .collect()
 }
 
-/// The per-period metrics (mean interface power and RMS transmitted force per link, as
-/// [`period_metrics`] takes them from a run) of the periodic state of `sys` stepped by
-/// `scheme` at `timing`.
-pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, timing: &DriveTiming) -> Result<Vec<f64>> {
+/// The per-period metrics (as [`period_metrics`] takes them from a run) of the periodic
+/// state of `sys` stepped by `scheme` at `timing`.
+pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, timing: &DriveTiming) -> Result<Metrics> {
     let n = timing.steps_per_period;
     let mut rec = PeriodRecord::default();
-    let mut loads = Vec::with_capacity(model.actuators.len());
+    // Every forcing's harmonics: the stacks' F_p, then the point loads'.
+    let mut loads = Vec::with_capacity(model.actuators.len() + model.loads.len());
     for a in &model.actuators {
         let cycle = stack_cycle(a.stack(), timing.period, n)?;
         loads.push(harmonics(&cycle.f_p));
         rec.fp.push(cycle.f_p);
+    }
+    for l in &model.loads {
+        let f: Vec<f64> = (0..n).map(|j| l.force.value(j as f64 * timing.dt)).collect();
+        loads.push(harmonics(&f));
+        rec.lf.push(f);
     }
     let kmax = n / 2;
     let size = |k: usize| loads.iter().map(|f| f[k].norm()).fold(0.0f64, f64::max);
@@ -75,14 +80,15 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
     let nl = sys.links.len();
     let zero = vec![Complex64::default(); kmax + 1];
     let (mut u, mut ud, mut fv, mut fa) =
-        (vec![zero.clone(); nl], vec![zero.clone(); nl], vec![zero.clone(); nl], vec![zero; nl]);
+        (vec![zero.clone(); nl], vec![zero.clone(); nl], vec![zero.clone(); nl], vec![zero.clone(); nl]);
+    let mut lv = vec![zero; sys.loads.len()];
     for k in 0..=kmax {
         let Some((c_m, sigma, alpha)) = coefficients(scheme, timing.dt, k, n) else { continue };
         if size(k) <= NEGLIGIBLE_HARMONIC * largest {
             continue;
         }
         let mut q = vec![Complex64::default(); sys.n()];
-        for (b, f) in sys.drives.iter().zip(&loads) {
+        for (b, f) in sys.drives.iter().chain(&sys.loads).zip(&loads) {
             for &(d, c) in b {
                 q[d] += f[k] * c;
             }
@@ -94,6 +100,9 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
             let foot: Complex64 = lk.foot.iter().map(|&(d, c)| q[d] * c).sum();
             (u[l][k], ud[l][k], fv[l][k], fa[l][k]) = (stretch, sigma * stretch, sigma * foot, alpha * foot);
         }
+        for (j, pattern) in sys.loads.iter().enumerate() {
+            lv[j][k] = sigma * pattern.iter().map(|&(d, c)| q[d] * c).sum::<Complex64>();
+        }
     }
     for l in 0..nl {
         rec.u.push(samples(&u[l], n));
@@ -101,6 +110,7 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
         rec.fv.push(samples(&fv[l], n));
         rec.fa.push(samples(&fa[l], n));
     }
+    rec.lv = lv.iter().map(|v| samples(v, n)).collect();
     Ok(period_metrics(&sys.links, &rec))
 }
 

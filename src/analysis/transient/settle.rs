@@ -4,7 +4,7 @@
 //! the mean power is still several per cent off (mode 1 at 49.9 Hz against 60 Hz: about 19
 //! periods per beat, decaying by 5 % a period). So the run is compared with the exact
 //! periodic state of the same discrete system ([`super::reference`]): after each period the
-//! mean power at every interface point and the RMS of every transmitted force are compared
+//! mean power at every interface point and point load and the RMS of every transmitted force are compared
 //! with that state's, each difference relative to the largest of its kind, and the run has
 //! settled when the largest difference — the start-up transient that remains — is below
 //! the tolerance. The change between neighbouring periods is kept too, for non-periodic
@@ -18,8 +18,8 @@ use crate::power::point::mean_product;
 pub(super) struct SettleCheck {
     tolerance: f64,
     /// The periodic state's metrics, when the drive has one.
-    reference: Option<Vec<f64>>,
-    previous: Option<Vec<f64>>,
+    reference: Option<Metrics>,
+    previous: Option<Metrics>,
     change: f64,
     remaining: f64,
 }
@@ -28,7 +28,7 @@ impl SettleCheck {
     /// A check that the run has settled to `tolerance` (relative), against the periodic
     /// state's metrics `reference` ([`period_metrics`] of it) or, without one, between
     /// neighbouring periods.
-    pub fn new(tolerance: f64, reference: Option<Vec<f64>>) -> Self {
+    pub fn new(tolerance: f64, reference: Option<Metrics>) -> Self {
         SettleCheck { tolerance, reference, previous: None, change: f64::NAN, remaining: f64::NAN }
     }
 
@@ -62,31 +62,41 @@ impl SettleCheck {
     }
 }
 
-/// Per link, the mean interface power (W) and the RMS transmitted force (N) over the
-/// period: [P₀, F₀, P₁, F₁, …].
-pub(super) fn period_metrics(links: &[LinkDofs], rec: &PeriodRecord) -> Vec<f64> {
-    let mut metrics = Vec::with_capacity(2 * links.len());
+/// What a period is judged by: the mean power at each interface point, then at each point
+/// load (W), and the RMS transmitted force of each link (N).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct Metrics {
+    pub powers: Vec<f64>,
+    pub forces: Vec<f64>,
+}
+
+/// The metrics of a period's record.
+pub(super) fn period_metrics(links: &[LinkDofs], rec: &PeriodRecord) -> Metrics {
+    let mut m = Metrics::default();
     for (l, lk) in links.iter().enumerate() {
         let (transmitted, interface) = rec.link_forces(l, lk);
-        metrics.push(mean_product(&interface, &rec.fv[l]));
-        metrics.push(mean_product(&transmitted, &transmitted).sqrt());
+        m.powers.push(mean_product(&interface, &rec.fv[l]));
+        m.forces.push(mean_product(&transmitted, &transmitted).sqrt());
     }
-    metrics
+    for (f, v) in rec.lf.iter().zip(&rec.lv) {
+        m.powers.push(mean_product(f, v));
+    }
+    m
 }
 
 /// The largest change of a metric between two periods, relative to the largest metric of
 /// its kind (powers, forces) in the newer period.
-fn relative_change(metrics: &[f64], prev: &[f64]) -> f64 {
-    let pscale = metrics.iter().step_by(2).fold(0.0f64, |m, x| m.max(x.abs()));
-    let fscale = metrics.iter().skip(1).step_by(2).fold(0.0f64, |m, x| m.max(x.abs()));
-    let mut change = 0.0f64;
-    for (k, (a, b)) in metrics.iter().zip(prev).enumerate() {
-        let scale = if k % 2 == 0 { pscale } else { fscale };
+fn relative_change(metrics: &Metrics, prev: &Metrics) -> f64 {
+    let kind = |now: &[f64], before: &[f64]| {
+        let scale = now.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let worst = now.iter().zip(before).fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
         if scale > 0.0 {
-            change = change.max((a - b).abs() / scale);
+            worst / scale
+        } else {
+            0.0
         }
-    }
-    change
+    };
+    kind(&metrics.powers, &prev.powers).max(kind(&metrics.forces, &prev.forces))
 }
 
 #[cfg(test)]

@@ -11,13 +11,17 @@ use crate::assembly::{LinkDofs, Model, System};
 use crate::power::energy::StoredEnergy;
 use crate::power::link::{interface_force, transmitted_force};
 use crate::power::point::{damper_dissipation, midpoint_work};
+use crate::signal::voltage::VoltageInput;
 use crate::solve::fused::FusedNewmark;
 
-/// The stacks' drives over the current period: voltage and h at its N + 1 sample times.
-/// F_p depends on the voltage alone, so h is integrated exactly (in voltage space) for the
-/// whole period before it is stepped.
+/// The drives over the current period: each stack's voltage and h, and each point load's
+/// force, at its N + 1 sample times. F_p depends on the voltage alone, so h is integrated
+/// exactly (in voltage space) for the whole period before it is stepped.
 pub(super) struct StackHistories<'m> {
     pub stacks: Vec<&'m Stack>,
+    pub loads: Vec<&'m VoltageInput>,
+    /// Each point load's force at `times` (N).
+    pub load_f: Vec<Vec<f64>>,
     /// h at the start of the next period, per stack (m).
     h_now: Vec<f64>,
     /// The period's sample times, both ends included (s).
@@ -34,6 +38,8 @@ impl<'m> StackHistories<'m> {
         StackHistories {
             h_now: stacks.iter().map(|st| st.h0).collect(),
             stacks,
+            loads: model.loads.iter().map(|l| &l.force).collect(),
+            load_f: vec![Vec::new(); model.loads.len()],
             times: vec![0.0; timing.steps_per_period + 1],
             v: vec![Vec::new(); na],
             h: vec![Vec::new(); na],
@@ -47,6 +53,13 @@ impl<'m> StackHistories<'m> {
             .zip(&self.h_now)
             .map(|(st, &h)| st.active_force(st.voltage.value(0.0), if st.hysteresis_on { h } else { 0.0 }))
             .collect()
+    }
+
+    /// The integrator's load weights at t = 0: each F_p (N), then each point load (N).
+    pub fn initial_weights(&self) -> Vec<f64> {
+        let mut w = self.initial_forces();
+        w.extend(self.loads.iter().map(|f| f.value(0.0)));
+        w
     }
 
     /// Fills the histories of period `p` (from p·T).
@@ -67,6 +80,10 @@ impl<'m> StackHistories<'m> {
                 hh.resize(self.times.len(), 0.0);
             }
             self.h_now[a] = hh[n];
+        }
+        for (f, series) in self.loads.iter().zip(&mut self.load_f) {
+            series.clear();
+            series.extend(self.times.iter().map(|&t| f.value(t)));
         }
     }
 
@@ -103,6 +120,10 @@ pub(super) struct Stepper {
     drive_v: Vec<f64>,
     fp_prev: Vec<f64>,
     fp_step: Vec<f64>,
+    /// The point loads' velocities after the latest step (m/s), and the integrator's load
+    /// weights (F_p, then point loads) of the step.
+    load_v: Vec<f64>,
+    weights: Vec<f64>,
     /// The read-outs and stack forces at the start of each step of the period.
     pub observed: Vec<[f64; 3]>,
     pub f_p: Vec<f64>,
@@ -121,6 +142,8 @@ impl Stepper {
                 .map(|(l, lk)| link_state(nm, layout, l, lk, f_p0[lk.actuator]))
                 .collect(),
             drive_v: (0..layout.drives()).map(|a| nm.observed()[layout.drive(a)][1]).collect(),
+            load_v: (0..layout.loads()).map(|j| nm.observed()[layout.load(j)][1]).collect(),
+            weights: vec![0.0; f_p0.len() + layout.loads()],
             fp_prev: f_p0.to_vec(),
             fp_step: vec![0.0; f_p0.len()],
             observed: Vec::with_capacity(n * layout.len()),
@@ -146,10 +169,15 @@ impl Stepper {
             // The state at t_j as it stands, sorted into series once the period is over.
             self.observed.extend_from_slice(nm.observed());
             self.f_p.extend_from_slice(&self.fp_prev);
+            let na = self.fp_step.len();
             for (a, f) in self.fp_step.iter_mut().enumerate() {
                 *f = stacks.force(a, j + 1);
             }
-            nm.step_weighted(&self.fp_step);
+            self.weights[..na].copy_from_slice(&self.fp_step);
+            for (w, f) in self.weights[na..].iter_mut().zip(&stacks.load_f) {
+                *w = f[j + 1];
+            }
+            nm.step_weighted(&self.weights);
             let (mut d_links, mut w_beam) = (0.0, 0.0);
             for (l, lk) in sys.links.iter().enumerate() {
                 let new = link_state(nm, layout, l, lk, self.fp_step[lk.actuator]);
@@ -163,6 +191,13 @@ impl Stepper {
                 let gv = nm.observed()[layout.drive(a)][1];
                 w_sys += midpoint_work(self.dt, self.fp_prev[a], self.fp_step[a], self.drive_v[a], gv);
                 self.drive_v[a] = gv;
+            }
+            for (l, f) in stacks.load_f.iter().enumerate() {
+                let v = nm.observed()[layout.load(l)][1];
+                let w = midpoint_work(self.dt, f[j], f[j + 1], self.load_v[l], v);
+                w_beam += w;
+                w_sys += w;
+                self.load_v[l] = v;
             }
             self.fp_prev.copy_from_slice(&self.fp_step);
             pb.beam.input += w_beam;

@@ -1,0 +1,354 @@
+//! Power flow of a record that does not repeat (a chirp, a step, a measured series): no
+//! harmonics exist, so what an engineer reads instead is the energy delivered over the
+//! record, power spectral densities, and frequency response functions from the drive.
+//!
+//! Two segmentations:
+//!
+//! * **the whole record** (the default), one rectangular segment. A run starts at rest, so
+//!   a drive that has died out within the record (a burst, an impact, a ramp to a held
+//!   value) leaves rates that vanish at both ends: the FRFs are then taken between the
+//!   first differences of drive and response (Δx_n = x_n − x_{n−1}, x_{−1} = 0), whose DFTs
+//!   are related by the stepped system's transfer function exactly, without leakage.
+//!   What the rates still carry at the end of the record ([`PointRecord::end_activity`])
+//!   says how far that holds; coherence is not defined for one segment.
+//! * **Welch averaging** for long stationary records: segments of `length` samples
+//!   overlapping by `overlap`, a Hann window (w_n = ½ − ½·cos(2πn/N)).
+//!
+//! Each segment's mean is removed, and with X_k = Σ_n w_n·x_n·e^{−2πikn/N} the one-sided
+//! densities
+//!
+//! ```text
+//! G_xy(f_k) = c_k · mean_segments(conj(X_k)·Y_k) / (f_s · Σ w²),   c_k = 2 (1 at DC and Nyquist)
+//! H1 = G_uy / G_uu,   γ² = |G_uy|² / (G_uu·G_yy)
+//! ```
+//!
+//! so Σ_k Re G_fv(f_k)·Δf is the mean of f·v over the windowed segments: the power
+//! spectral density of the power into the structure (W/Hz). For a drive u and a point
+//! where force F and velocity v respond linearly, `Re(G_Fv)/G_uu = Re(conj(H_F)·H_v)`: a
+//! sine drive of amplitude A at f puts ½·A²·that into the structure (the power FRF).
+//! Coherence below one says the response is not linear in the drive there (hysteresis,
+//! other drives, the start-up transient, leakage at sharp resonances).
+
+use super::point::midpoint_work;
+use crate::error::{Error, Result};
+use num_complex::Complex64;
+use rustfft::FftPlanner;
+use serde::Serialize;
+use std::f64::consts::PI;
+
+/// How a record is cut into segments for Welch averaging.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Welch {
+    /// Segment length (samples).
+    pub length: usize,
+    /// Fraction of a segment shared with the next, in [0, 1).
+    pub overlap: f64,
+    /// Hann window on every segment (false: rectangular).
+    pub hann: bool,
+    /// FRFs from the first differences of the signals (the whole-record segmentation).
+    pub rates: bool,
+}
+
+impl Welch {
+    /// Hann-windowed segments of `length` samples overlapping by half.
+    pub fn hann(length: usize) -> Self {
+        Welch { length, overlap: 0.5, hann: true, rates: false }
+    }
+
+    /// One rectangular segment of the whole record of `samples` samples, FRFs from rates.
+    pub fn whole(samples: usize) -> Self {
+        Welch { length: samples, overlap: 0.0, hann: false, rates: true }
+    }
+
+    /// Checks the segmentation against a record of `samples` samples; `file`/`field` name
+    /// the setting in errors.
+    pub fn check(&self, samples: usize, file: &str, field: &str) -> Result<()> {
+        if self.length < 8 || self.length > samples {
+            return Err(Error::input(
+                file,
+                field,
+                format!("a segment of {} samples must lie in [8, {samples}] (the record length)", self.length),
+            ));
+        }
+        if !(0.0..1.0).contains(&self.overlap) {
+            return Err(Error::input(file, field, format!("overlap {} must lie in [0, 1)", self.overlap)));
+        }
+        Ok(())
+    }
+
+    fn window(&self) -> Vec<f64> {
+        let n = self.length;
+        (0..n).map(|j| if self.hann { 0.5 - 0.5 * (2.0 * PI * j as f64 / n as f64).cos() } else { 1.0 }).collect()
+    }
+
+    /// Start sample of each segment in a record of `samples` samples.
+    fn starts(&self, samples: usize) -> Vec<usize> {
+        let step = ((self.length as f64) * (1.0 - self.overlap)).round().max(1.0) as usize;
+        (0..).map(|s| s * step).take_while(|&s| s + self.length <= samples).collect()
+    }
+}
+
+/// The Welch transforms of a set of channels, kept so that any pair's cross spectrum is a
+/// product: X[channel][segment][k], k = 0..=N/2.
+pub struct Transforms {
+    x: Vec<Vec<Vec<Complex64>>>,
+    /// Frequencies k·f_s/N (Hz).
+    pub frequency: Vec<f64>,
+    /// Segments averaged.
+    pub segments: usize,
+    /// c_k / (segments · f_s · Σw²): the one-sided density scale per bin.
+    scale: Vec<f64>,
+}
+
+impl Transforms {
+    /// Transforms `channels` (each sampled at `dt` s, all of one length) by `welch`.
+    pub fn new(channels: &[&[f64]], dt: f64, welch: &Welch) -> Self {
+        let n = welch.length;
+        let starts = welch.starts(channels.first().map_or(0, |c| c.len()));
+        let w = welch.window();
+        let w2: f64 = w.iter().map(|v| v * v).sum();
+        let fft = FftPlanner::new().plan_fft_forward(n);
+        let nf = n / 2 + 1;
+        let mut buf = vec![Complex64::default(); n];
+        let x = channels
+            .iter()
+            .map(|c| {
+                starts
+                    .iter()
+                    .map(|&s| {
+                        let seg = &c[s..s + n];
+                        let mean = seg.iter().sum::<f64>() / n as f64;
+                        for (b, (&v, &wj)) in buf.iter_mut().zip(seg.iter().zip(&w)) {
+                            *b = Complex64::new((v - mean) * wj, 0.0);
+                        }
+                        fft.process(&mut buf);
+                        buf[..nf].to_vec()
+                    })
+                    .collect()
+            })
+            .collect();
+        let fs = 1.0 / dt;
+        let segments = starts.len();
+        let scale = (0..nf)
+            .map(|k| {
+                let c = if k == 0 || 2 * k == n { 1.0 } else { 2.0 };
+                c / (segments.max(1) as f64 * fs * w2)
+            })
+            .collect();
+        Transforms { x, frequency: (0..nf).map(|k| k as f64 * fs / n as f64).collect(), segments, scale }
+    }
+
+    /// One-sided cross-spectral density G_ab (units_a·units_b/Hz) of channels a and b.
+    pub fn cross(&self, a: usize, b: usize) -> Vec<Complex64> {
+        (0..self.scale.len())
+            .map(|k| {
+                let s: Complex64 = self.x[a].iter().zip(&self.x[b]).map(|(xa, xb)| xa[k].conj() * xb[k]).sum();
+                s * self.scale[k]
+            })
+            .collect()
+    }
+
+    /// One-sided power spectral density G_aa (units²/Hz) of channel a.
+    pub fn psd(&self, a: usize) -> Vec<f64> {
+        self.cross(a, a).into_iter().map(|c| c.re).collect()
+    }
+
+    /// The H1 estimate G_uy/G_uu of the response y to the drive u, and its coherence.
+    pub fn h1(&self, u: usize, y: usize) -> (Vec<Complex64>, Vec<f64>) {
+        let (guu, gyy, guy) = (self.psd(u), self.psd(y), self.cross(u, y));
+        let h = guy.iter().zip(&guu).map(|(c, &p)| if p > 0.0 { c / p } else { Complex64::default() }).collect();
+        let coh = guy
+            .iter()
+            .zip(guu.iter().zip(&gyy))
+            .map(|(c, (&p, &q))| if p * q > 0.0 { (c.norm_sqr() / (p * q)).min(1.0) } else { 0.0 })
+            .collect();
+        (h, coh)
+    }
+}
+
+/// A record's analysis: how it was segmented, each drive's PSD, each point's energy,
+/// spectra and FRFs.
+#[derive(Clone, Debug, Serialize)]
+pub struct RecordAnalysis {
+    /// Record length and sample interval (s).
+    pub duration: f64,
+    pub dt: f64,
+    /// The segmentation, its length (s) and the number of segments averaged.
+    pub welch: Welch,
+    pub segment_s: f64,
+    pub segments: usize,
+    /// Frequencies of every spectrum (Hz), k/segment_s.
+    pub frequency: Vec<f64>,
+    /// Each drive's PSD (V²/Hz for a voltage, N²/Hz for a load), actuators then loads.
+    pub drives: Vec<DriveRecord>,
+    /// Each link's foot, then each load.
+    pub points: Vec<PointRecord>,
+    /// Energy delivered into the structure per actuator (its links' feet together, J).
+    pub net_energy: Vec<f64>,
+}
+
+/// A drive signal's PSD over a record.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct DriveRecord {
+    pub name: String,
+    /// `V` or `N`.
+    pub unit: String,
+    pub psd: Vec<f64>,
+}
+
+/// What one point of a structure takes from the drives over a record.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct PointRecord {
+    /// The point (a link `<actuator>_<link>` or a load) and the drive its FRFs refer to.
+    pub name: String,
+    pub drive: String,
+    /// Energy delivered into the structure at the point over the record, ∫F·v dt (J).
+    pub energy: f64,
+    /// Power spectral density of the power into the structure, Re G_Fv (W/Hz).
+    pub power_density: Vec<f64>,
+    /// PSDs of the force (N²/Hz) and of the acceleration ((m/s²)²/Hz) at the point.
+    pub force_psd: Vec<f64>,
+    pub acceleration_psd: Vec<f64>,
+    /// H1 from the drive to the force (N per drive unit) and to the acceleration
+    /// ((m/s²) per drive unit), with their coherences (empty for one segment).
+    #[serde(skip)]
+    pub force_frf: Vec<Complex64>,
+    pub force_coherence: Vec<f64>,
+    #[serde(skip)]
+    pub acceleration_frf: Vec<Complex64>,
+    pub acceleration_coherence: Vec<f64>,
+    /// Re G_Fv / G_uu: the power a sine drive of unit amplitude would put in, times two
+    /// (W per drive unit²).
+    pub power_frf: Vec<f64>,
+    /// RMS of the rates (first differences) of drive, force and acceleration over the
+    /// record's last twentieth, relative to their RMS over the record, the largest of the
+    /// three: ≈ 0 when the record holds the whole response, so that one-segment FRFs are
+    /// exact; of order one when a drive or a response continues past the record's end.
+    pub end_activity: f64,
+}
+
+/// The channels of one point: force F (N), velocity v (m/s) and acceleration a (m/s²)
+/// samples, and the drive u its FRFs refer to.
+pub struct PointChannels<'a> {
+    pub name: String,
+    pub drive_name: String,
+    pub drive: &'a [f64],
+    pub force: &'a [f64],
+    pub velocity: &'a [f64],
+    pub acceleration: &'a [f64],
+}
+
+/// The record analysis of one point, sampled at `dt` (s).
+pub fn point_record(p: &PointChannels, dt: f64, welch: &Welch) -> PointRecord {
+    let t = Transforms::new(&[p.drive, p.force, p.velocity, p.acceleration], dt, welch);
+    let rates = welch.rates.then(|| {
+        let r = [rate(p.drive), rate(p.force), rate(p.velocity), rate(p.acceleration)];
+        (Transforms::new(&[&r[0], &r[1], &r[2], &r[3]], dt, welch), r)
+    });
+    let ft = rates.as_ref().map_or(&t, |(rt, _)| rt);
+    let (force_frf, mut force_coherence) = ft.h1(0, 1);
+    let (acceleration_frf, mut acceleration_coherence) = ft.h1(0, 3);
+    if ft.segments < 2 {
+        force_coherence.clear();
+        acceleration_coherence.clear();
+    }
+    let end_activity = match &rates {
+        Some((_, r)) => r.iter().filter(|x| x.len() >= 20).map(|x| end_rms_ratio(x)).fold(0.0f64, f64::max),
+        None => f64::NAN,
+    };
+    let power_density: Vec<f64> = t.cross(1, 2).iter().map(|c| c.re).collect();
+    // Re(G_Fv)/G_uu; on rates the factors |1 − e^{−iωΔt}|² of both cancel.
+    let power_frf = ft.cross(1, 2).iter().zip(ft.psd(0)).map(|(c, u)| if u > 0.0 { c.re / u } else { 0.0 }).collect();
+    PointRecord {
+        name: p.name.clone(),
+        drive: p.drive_name.clone(),
+        energy: energy(p.force, p.velocity, dt),
+        force_psd: t.psd(1),
+        acceleration_psd: t.psd(3),
+        power_density,
+        force_frf,
+        force_coherence,
+        acceleration_frf,
+        acceleration_coherence,
+        power_frf,
+        end_activity,
+    }
+}
+
+/// First differences x_n − x_{n−1} with x_{−1} = 0 (a run starts at rest).
+fn rate(x: &[f64]) -> Vec<f64> {
+    let mut prev = 0.0;
+    x.iter()
+        .map(|&v| {
+            let d = v - prev;
+            prev = v;
+            d
+        })
+        .collect()
+}
+
+/// RMS over the last twentieth of `x` relative to its RMS over all of it (0 for zeros).
+fn end_rms_ratio(x: &[f64]) -> f64 {
+    let rms = |s: &[f64]| (s.iter().map(|v| v * v).sum::<f64>() / s.len() as f64).sqrt();
+    let all = rms(x);
+    if all > 0.0 {
+        rms(&x[x.len() - x.len() / 20..]) / all
+    } else {
+        0.0
+    }
+}
+
+/// ∫F·v dt over the samples (J), step by step by the midpoint rule the run's energy
+/// balance uses ([`midpoint_work`]).
+pub fn energy(force: &[f64], velocity: &[f64], dt: f64) -> f64 {
+    force.windows(2).zip(velocity.windows(2)).map(|(f, v)| midpoint_work(dt, f[0], f[1], v[0], v[1])).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Parseval: the PSD integrates to the windowed mean square, the cross density of F
+    /// and v to the windowed mean product.
+    #[test]
+    fn densities_integrate_to_mean_squares() {
+        let dt = 1e-3;
+        let f: Vec<f64> = (0..4096).map(|j| (j as f64 * 0.37).sin() + 0.3 * (j as f64 * 1.1).cos()).collect();
+        let v: Vec<f64> = (0..4096).map(|j| 0.5 * (j as f64 * 0.37 + 0.4).sin()).collect();
+        let welch = Welch::whole(4096);
+        let t = Transforms::new(&[&f, &v], dt, &welch);
+        let df = t.frequency[1];
+        let mf = f.iter().sum::<f64>() / 4096.0;
+        let ms: f64 = f.iter().map(|x| (x - mf) * (x - mf)).sum::<f64>() / 4096.0;
+        let integral: f64 = t.psd(0).iter().sum::<f64>() * df;
+        assert!((integral - ms).abs() < 1e-12 * ms, "{integral} vs {ms}");
+        let mv = v.iter().sum::<f64>() / 4096.0;
+        let mp: f64 = f.iter().zip(&v).map(|(a, b)| (a - mf) * (b - mv)).sum::<f64>() / 4096.0;
+        let cross: f64 = t.cross(0, 1).iter().map(|c| c.re).sum::<f64>() * df;
+        assert!((cross - mp).abs() < 1e-12 * mp.abs(), "{cross} vs {mp}");
+    }
+
+    /// A pure gain with a delay of whole samples is recovered exactly by H1 on periodic
+    /// segments, with unit coherence.
+    #[test]
+    fn h1_recovers_a_linear_relation() {
+        let n = 1024;
+        let u: Vec<f64> = (0..4 * n).map(|j| ((j * 7919) % 1000) as f64 / 1000.0 - 0.5).collect();
+        let y: Vec<f64> = u.iter().map(|x| 3.0 * x).collect();
+        let t = Transforms::new(&[&u, &y], 1e-3, &Welch::hann(n));
+        let (h, coh) = t.h1(0, 1);
+        for k in 1..n / 2 {
+            assert!((h[k] - 3.0).norm() < 1e-9, "bin {k}: {}", h[k]);
+            assert!((coh[k] - 1.0).abs() < 1e-9, "bin {k}: {}", coh[k]);
+        }
+        assert_eq!(t.segments, 7);
+    }
+
+    #[test]
+    fn energy_is_the_midpoint_integral() {
+        // F = 2 N, v = t m/s over 1 s: ∫ = 1 J, exact for a linear integrand.
+        let v: Vec<f64> = (0..=100).map(|j| j as f64 * 0.01).collect();
+        let f = vec![2.0; 101];
+        assert!((energy(&f, &v, 0.01) - 1.0).abs() < 1e-12);
+    }
+}
