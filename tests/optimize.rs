@@ -428,3 +428,25 @@ fn choice_and_integer_variables_take_their_values() {
     );
     assert!(e.contains("variable[0].integer") && e.contains("integer = true"), "{e}");
 }
+
+#[test]
+fn the_written_best_case_reproduces_the_optimum() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::copy(cases().join("two-frames.toml"), dir.path().join("two-frames.toml")).unwrap();
+    let file = dir.path().join("t.opt.toml");
+    std::fs::write(&file, TWO.replace("evaluations = 1500", "evaluations = 200")).unwrap();
+    let out = dir.path().join("out");
+    let (_, r, files) = beamflow::app::optimize::optimize(&file, &out, Some(2), false).unwrap();
+    for f in ["best.toml", "history.csv", "optima.csv", "summary.json"] {
+        assert!(files.contains(&out.join(f)), "{f} missing in {files:?}");
+    }
+    let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
+    assert_eq!(history.lines().count(), r.history.len() + 1);
+    // `beamflow run` of best.toml solves the same steady state.
+    let lc = LoadedCase::load(&out.join("best.toml")).unwrap();
+    let built = build_model(&lc).unwrap();
+    let sys = System::assemble(&built.model).unwrap();
+    let ss = steady_state::run(&built.model, &sys, 9, 1024).unwrap();
+    let p: f64 = ss.net_power.iter().sum();
+    assert!((p - r.best.values[0]).abs() <= 1e-9 * p, "{p} vs {}", r.best.values[0]);
+}

@@ -155,6 +155,8 @@ fn summary(spec: &Spec, r: &RunResult) -> serde_json::Value {
         "evaluations": r.evaluations,
         "seconds": r.seconds,
         "best": candidate_json(spec, &r.best),
+        "best_balance_error": r.best.outcome.as_ref().map(|o| o.balance_error),
+        "harmonics": spec.harmonics,
         "optima": r.optima.iter().map(|e| candidate_json(spec, e)).collect::<Vec<_>>(),
         "pareto": r.pareto.iter().map(|e| candidate_json(spec, e)).collect::<Vec<_>>(),
     })

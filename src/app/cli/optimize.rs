@@ -36,6 +36,12 @@ pub fn optimize(args: &OptimizeArgs) -> Result<()> {
         r.seconds,
         r.evaluations as f64 / r.seconds.max(1e-9)
     );
+    if let Some(o) = &r.best.outcome {
+        eprintln!(
+            "best: {} harmonics solved, energy balance |Σ P − dissipation| / dissipation = {:.1e}",
+            spec.harmonics, o.balance_error
+        );
+    }
     for p in &files {
         crate::say!("wrote {}", p.display());
     }
