@@ -16,7 +16,10 @@ import pytest
 import beamflow
 
 REPO = Path(__file__).resolve().parents[2]
-CASES = sorted(p for p in (REPO / "cases").glob("*.toml") if not p.name.endswith(".sweep.toml"))
+# Case files only: sweep and optimisation specs sit beside them with their own suffixes.
+CASES = sorted(
+    p for p in (REPO / "cases").glob("*.toml") if not p.name.endswith((".sweep.toml", ".opt.toml"))
+)
 
 
 @pytest.fixture(autouse=True)
