@@ -53,14 +53,7 @@ fn frequency_error_converges_at_fourth_order_under_mesh_halving() {
 #[test]
 fn modes_are_mass_normalised_and_diagonalise_stiffness() {
     let beam = beam_case(60, "");
-    let model = Model {
-        beam: Some(beam.clone()),
-        rayleigh: Default::default(),
-        actuators: vec![],
-        sensors: vec![],
-        loads: vec![],
-        loss_factor: 0.0,
-    };
+    let model = Model::bare(beam.clone());
     let sys = System::assemble(&model).unwrap();
     let r = modes::run(&beam, 12).unwrap();
     let n = sys.n();
@@ -99,14 +92,7 @@ fn pinned_pinned_and_cantilever_frequencies() {
 #[test]
 fn cantilever_static_tip_deflection_is_exact() {
     let beam = beam_case(7, "[[beam.support]]\nx = 0.0\nkind = \"clamped\"");
-    let model = Model {
-        beam: Some(beam.clone()),
-        rayleigh: Default::default(),
-        actuators: vec![],
-        sensors: vec![],
-        loads: vec![],
-        loss_factor: 0.0,
-    };
+    let model = Model::bare(beam.clone());
     let sys = System::assemble(&model).unwrap();
     let tip = sys.dofs.w[beam.mesh.n_nodes() - 1].unwrap();
     let mut f = vec![0.0; sys.n()];
@@ -128,14 +114,7 @@ fn unsupported_beam_is_reported_not_solved() {
 #[test]
 fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
     let beam = beam_case(200, "");
-    let model = Model {
-        beam: Some(beam.clone()),
-        rayleigh: Default::default(),
-        actuators: vec![],
-        sensors: vec![],
-        loads: vec![],
-        loss_factor: 0.0,
-    };
+    let model = Model::bare(beam.clone());
     let sys = System::assemble(&model).unwrap();
     let lz = beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 20, 0.0).unwrap();
     let dense = modes::run(&beam, 20).unwrap();
@@ -212,14 +191,7 @@ fn square_root_path_matches_the_assembled_stiffness_on_an_irregular_beam() {
     for (i, e) in beam.mesh.elements.iter_mut().enumerate() {
         e.ei *= 1.0 + 0.5 * (i as f64 * 0.01).sin();
     }
-    let model = Model {
-        beam: Some(beam.clone()),
-        rayleigh: Default::default(),
-        actuators: vec![],
-        sensors: vec![],
-        loads: vec![],
-        loss_factor: 0.0,
-    };
+    let model = Model::bare(beam.clone());
     let sys = System::assemble(&model).unwrap();
     assert!(sys.n() > beamflow::analysis::modes::DENSE_EIGEN_LIMIT);
     let root = structure_stiffness_root(&beam, &sys.dofs).unwrap();

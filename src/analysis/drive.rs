@@ -252,6 +252,12 @@ pub fn stack_cycle(stack: &Stack, period: f64, samples: usize) -> Result<StackCy
     Ok(StackCycle { voltage, h, f_p, periods })
 }
 
+/// One period of each point load's force (N) at the samples of `timing`, t_j = j·Δt.
+pub fn load_cycles(model: &Model, timing: &DriveTiming) -> Vec<Vec<f64>> {
+    let n = timing.steps_per_period;
+    model.loads.iter().map(|l| (0..n).map(|j| l.force.value(j as f64 * timing.dt)).collect()).collect()
+}
+
 /// The stack forces' harmonics F̂_p,k (N), k = 0..=n_harm, of a cycle (single-sided, see
 /// [`crate::power::spectra`]).
 pub fn force_harmonics(cycle: &StackCycle, n_harm: usize) -> Vec<Complex64> {

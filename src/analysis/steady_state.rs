@@ -12,7 +12,7 @@
 //! stack-force harmonics from a cache shared by the cases and the [`HarmonicSolver`] kept
 //! between cases that share a system.
 
-use super::drive::{force_harmonics, stack_cycle, DriveTiming, StackCycle, StackForceCache};
+use super::drive::{force_harmonics, load_cycles, stack_cycle, DriveTiming, StackCycle, StackForceCache};
 use super::series::{
     body_dofs, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
 };
@@ -247,12 +247,6 @@ impl StackForces {
             }
         })
     }
-}
-
-/// One period of each point load's force (N) at the samples of `timing`.
-fn load_cycles(model: &Model, timing: &DriveTiming) -> Vec<Vec<f64>> {
-    let n = timing.steps_per_period;
-    model.loads.iter().map(|l| (0..n).map(|j| l.force.value(j as f64 * timing.dt)).collect()).collect()
 }
 
 /// Each point load's spectrum from the solved amplitudes `q[k]` and its force harmonics.

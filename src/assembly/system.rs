@@ -446,14 +446,7 @@ mod tests {
     #[test]
     fn stiffness_root_squares_to_the_assembled_stiffness_and_is_banded() {
         for beam in odd_beams() {
-            let model = Model {
-                beam: Some(beam.clone()),
-                rayleigh: Rayleigh::default(),
-                actuators: vec![],
-                sensors: vec![],
-                loads: vec![],
-                loss_factor: 0.0,
-            };
+            let model = Model::bare(beam.clone());
             let sys = System::assemble(&model).unwrap();
             let r = structure_stiffness_root(&beam, &sys.dofs).unwrap();
             let n = sys.n();
@@ -479,14 +472,7 @@ mod tests {
         let mut beam = odd_beams().remove(0);
         beam.supports.clear();
         beam.springs.clear();
-        let model = Model {
-            beam: Some(beam.clone()),
-            rayleigh: Rayleigh::default(),
-            actuators: vec![],
-            sensors: vec![],
-            loads: vec![],
-            loss_factor: 0.0,
-        };
+        let model = Model::bare(beam.clone());
         let sys = System::assemble(&model).unwrap();
         let err = structure_stiffness_root(&beam, &sys.dofs).unwrap_err().to_string();
         assert!(err.contains("singular"), "{err}");

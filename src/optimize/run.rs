@@ -120,14 +120,7 @@ impl Recorder<'_> {
 /// broken most often.
 pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
     spec.check_limits_can_hold(2000)?;
-    let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    if threads == 0 {
-        return Err(Error::input("<options>", "threads", "must be at least 1"));
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Numerical(format!("cannot start {threads} worker threads: {e}")))?;
+    let pool = crate::sweep::exec::thread_pool(opts.threads)?;
     let t0 = std::time::Instant::now();
     let ev = Evaluator::new(spec);
     let s = &spec.search;

@@ -317,6 +317,18 @@ fn open_checkpoint(dir: &Path, sweep: &Sweep) -> Result<()> {
     crate::io::atomic::write_atomic_string(&id, &text)
 }
 
+/// The worker threads of a run: `threads`, or one per available core.
+pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
+    let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    if threads == 0 {
+        return Err(Error::input("<options>", "threads", "must be at least 1"));
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::Numerical(format!("cannot start {threads} worker threads: {e}")))
+}
+
 /// Runs (a shard of) a sweep and returns its table, rows sorted by case index. Cases
 /// already in the checkpoint directory are read, not recomputed. If cancelled, the table
 /// lacks the cases not run ([`SweepTable::missing`]).
@@ -328,14 +340,7 @@ fn open_checkpoint(dir: &Path, sweep: &Sweep) -> Result<()> {
 pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
     let mut table = SweepTable::new(sweep, opts.shard);
     let indices = opts.shard.indices(sweep.len());
-    let threads = opts.threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    if threads == 0 {
-        return Err(Error::input("<options>", "threads", "must be at least 1"));
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::Numerical(format!("cannot start {threads} worker threads: {e}")))?;
+    let pool = thread_pool(opts.threads)?;
     let shape = table.shape();
 
     let mut done: Vec<Row> = Vec::new();
@@ -369,7 +374,7 @@ pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
     // Cases that differ only in their drives share one assembled system (most of a case's
     // cost otherwise). Groups are cut so that there are at least ≈ 8 per thread.
     let groups = if ev.shares_systems() {
-        group_cases(sweep, &todo, todo.len().div_ceil(8 * threads).max(16))
+        group_cases(sweep, &todo, todo.len().div_ceil(8 * pool.current_num_threads()).max(16))
     } else {
         todo.iter().map(|&i| vec![i]).collect()
     };

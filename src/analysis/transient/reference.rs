@@ -16,7 +16,7 @@
 
 use super::record::PeriodRecord;
 use super::settle::{period_metrics, Metrics};
-use crate::analysis::drive::{stack_cycle, DriveTiming};
+use crate::analysis::drive::{load_cycles, stack_cycle, DriveTiming};
 use crate::analysis::steady_state::NEGLIGIBLE_HARMONIC;
 use crate::assembly::{Model, System};
 use crate::error::Result;
@@ -68,8 +68,7 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
         loads.push(harmonics(&cycle.f_p));
         rec.fp.push(cycle.f_p);
     }
-    for l in &model.loads {
-        let f: Vec<f64> = (0..n).map(|j| l.force.value(j as f64 * timing.dt)).collect();
+    for f in load_cycles(model, timing) {
         loads.push(harmonics(&f));
         rec.lf.push(f);
     }
