@@ -7,7 +7,7 @@ use beamflow::analysis::modes;
 use beamflow::assembly::System;
 use beamflow::case::build::build_beam;
 use beamflow::case::{build_model, LoadedCase};
-use beamflow::solve::fused::FusedNewmark;
+use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::{Newmark, Scheme};
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::path::PathBuf;
@@ -48,18 +48,21 @@ fn newmark(c: &mut Criterion) {
     let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
     let f = vec![1.0; sys.n()];
     c.bench_function(&format!("newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| nm.step(&f)));
-    let mut fused =
-        FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
-    assert!(fused.use_proportional_damping(model.rayleigh.a0, model.rayleigh.a1));
+    let band = |options: StepOptions| {
+        BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5, options).unwrap()
+    };
+    let rayleigh = StepOptions { rayleigh: Some((model.rayleigh.a0, model.rayleigh.a1)), ..StepOptions::default() };
+    let mut fused = band(rayleigh);
+    assert!(fused.uses_proportional_damping());
     let load: Vec<(usize, f64)> = sys.drives[0].clone();
     c.bench_function(&format!("fused newmark step: beam + frame ({} DOFs)", sys.n()), |b| b.iter(|| fused.step(&load)));
-    fused.track_dissipation = true;
+    let mut fused = band(StepOptions { track_dissipation: true, ..rayleigh });
     c.bench_function(&format!("fused newmark step with dissipation: beam + frame ({} DOFs)", sys.n()), |b| {
         b.iter(|| fused.step(&load))
     });
     // The same with the three band products M·w₁ + C·w₂ − K·u (the step without the
     // proportional form, as for damping that is not Rayleigh plus a few entries).
-    fused.disable_proportional_damping();
+    let mut fused = band(StepOptions { track_dissipation: true, ..StepOptions::default() });
     c.bench_function(
         &format!("fused newmark step with dissipation, three-product right-hand side: beam + frame ({} DOFs)", sys.n()),
         |b| b.iter(|| fused.step(&load)),

@@ -14,7 +14,7 @@
 
 use beamflow::assembly::System;
 use beamflow::case::{build_model, LoadedCase};
-use beamflow::solve::fused::FusedNewmark;
+use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::Scheme;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
 use std::path::PathBuf;
@@ -44,9 +44,11 @@ fn scaling(c: &mut Criterion) {
     for elements in [50usize, 500, 5_000, 50_000, 500_000] {
         let (sys, d) = bare_beam(elements);
         let n = sys.n();
+        let options = StepOptions { rayleigh: Some((A0, A1)), ..StepOptions::default() };
         let mut nm =
-            FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap();
-        assert!(nm.use_proportional_damping(A0, A1));
+            BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4, options)
+                .unwrap();
+        assert!(nm.uses_proportional_damping());
         eprintln!(
             "{n} DOFs: band half-width {}, integrator storage {:.1} bytes per DOF, FMA build: {}",
             nm.band_width(),
@@ -71,9 +73,11 @@ fn anchor(c: &mut Criterion) {
     g.sample_size(10);
     g.bench_function("bare_paper_beam_20000_steps", |b| {
         b.iter(|| {
+            let options = StepOptions { rayleigh: Some((A0, A1)), ..StepOptions::default() };
             let mut nm =
-                FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap();
-            assert!(nm.use_proportional_damping(A0, A1));
+                BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4, options)
+                    .unwrap();
+            assert!(nm.uses_proportional_damping());
             let mut w = Vec::with_capacity(20_000);
             for k in 1..=20_000 {
                 let t = k as f64 * 1e-4;

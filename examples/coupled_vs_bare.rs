@@ -26,7 +26,7 @@
 use beamflow::analysis::transient::{self, TransientSettings};
 use beamflow::assembly::System;
 use beamflow::case::{build_model, LoadedCase};
-use beamflow::solve::fused::FusedNewmark;
+use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::Scheme;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -70,9 +70,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                       diss: bool|
      -> Result<f64, Box<dyn std::error::Error>> {
         let t0 = Instant::now();
-        let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4)?;
-        assert!(nm.use_proportional_damping(rayleigh.0, rayleigh.1));
-        nm.track_dissipation = diss;
+        let options = StepOptions { rayleigh: Some(rayleigh), track_dissipation: diss, ..StepOptions::default() };
+        let mut nm =
+            BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4, options)?;
+        assert!(nm.uses_proportional_damping());
         let probe = load[0].0;
         let mut w = Vec::with_capacity(STEPS);
         let mut f = load.to_vec();
@@ -108,7 +109,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("coupled run ({} DOFs):   {:.2?}", coupled.n(), quartiles(tc));
     println!("coupled / bare, per pair: {:.3?}", quartiles(ratio));
     let factor_rows = |sys: &System| -> Result<usize, Box<dyn std::error::Error>> {
-        let nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4)?;
+        let scheme = Scheme::average_acceleration();
+        let nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4, StepOptions::default())?;
         Ok(nm.periodic_factor_rows())
     };
     println!("periodic factor rows:     bare {}, coupled {}", factor_rows(&bare)?, factor_rows(&coupled)?);

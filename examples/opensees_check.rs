@@ -15,7 +15,7 @@
 
 use beamflow::assembly::System;
 use beamflow::case::{build_model, LoadedCase};
-use beamflow::solve::fused::FusedNewmark;
+use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::{Newmark, Scheme};
 use std::path::PathBuf;
 
@@ -39,8 +39,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let sys = System::assemble(&model)?;
     let d = sys.w_at(&model, x_load, "sensor")?[0].0;
     let (dt, f_hz) = (1e-4, 60.0);
-    let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt)?;
-    nm.use_proportional_damping(model.rayleigh.a0, model.rayleigh.a1);
+    let options = StepOptions { rayleigh: Some((model.rayleigh.a0, model.rayleigh.a1)), ..StepOptions::default() };
+    let mut nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt, options)?;
     // The textbook step on CSR and profile storage, as a measure of beamflow's own round-off.
     let mut tb = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt)?;
     let zeros = vec![0.0; sys.n()];

@@ -15,7 +15,7 @@
 
 use beamflow::assembly::System;
 use beamflow::case::{build_model, LoadedCase};
-use beamflow::solve::fused::FusedNewmark;
+use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::Scheme;
 use std::path::PathBuf;
 use std::time::Instant;
@@ -37,17 +37,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let lc = LoadedCase::from_str(&text, "step_cost.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")))?;
     let sys = System::assemble(&build_model(&lc)?.model)?;
     let n = sys.n();
-    let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4)?;
-    nm.track_dissipation = dissipation;
-    if !runs {
-        nm.disable_periodic_runs();
-    }
-    if !wide {
-        nm.disable_avx512();
-    }
-    if proportional {
-        assert!(nm.use_proportional_damping(5.29, 9.96e-6));
-    }
+    let options = StepOptions {
+        rayleigh: proportional.then_some((5.29, 9.96e-6)),
+        track_dissipation: dissipation,
+        periodic_runs: runs,
+        avx512: wide,
+        ..StepOptions::default()
+    };
+    let mut nm =
+        BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4, options)?;
+    assert_eq!(nm.uses_proportional_damping(), proportional);
     let steps = (4_000_000 / n).max(20);
     let load = n / 3;
     let mut best = f64::INFINITY;

@@ -35,6 +35,7 @@ pub mod optimize;
 pub mod power;
 pub mod report;
 pub mod signal;
+pub mod simd;
 pub mod solve;
 pub mod sweep;
 

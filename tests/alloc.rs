@@ -4,7 +4,7 @@
 
 use beamflow::assembly::System;
 use beamflow::case::{build_model, LoadedCase};
-use beamflow::solve::fused::FusedNewmark;
+use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::Scheme;
 use std::alloc::{GlobalAlloc, Layout, System as Heap};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -42,10 +42,10 @@ fn steps_allocate_nothing() {
     let sys = System::assemble(&model).unwrap();
     let rayleigh = (model.rayleigh.a0, model.rayleigh.a1);
     for scheme in [Scheme::average_acceleration(), Scheme::generalized_alpha(0.8)] {
-        let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4).unwrap();
+        let options = StepOptions { rayleigh: Some(rayleigh), track_dissipation: true, ..StepOptions::default() };
+        let mut nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4, options).unwrap();
         // The proportional form's R term (the frame's entries) must not allocate either.
-        assert!(nm.use_proportional_damping(rayleigh.0, rayleigh.1));
-        nm.track_dissipation = true;
+        assert!(nm.uses_proportional_damping());
         nm.set_load_patterns(sys.drives.clone());
         let pairs: Vec<(usize, f64)> = sys.drives[0].clone();
         // Warm up: the first steps size the load bookkeeping (with α_f a step also reloads
@@ -74,8 +74,8 @@ fn integrator_memory_is_linear_in_dofs() {
         let sys = system(&format!(
             "[beam.mesh]\nelements = {elements}\n[damping]\nkind = \"rayleigh\"\na0 = 5.0\na1 = 1e-5\n"
         ));
-        let nm =
-            FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap();
+        let scheme = Scheme::average_acceleration();
+        let nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4, StepOptions::default()).unwrap();
         nm.memory_bytes() as f64 / sys.n() as f64
     };
     let (small, large) = (per_dof(500), per_dof(50_000));

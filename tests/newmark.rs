@@ -201,7 +201,7 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
     use beamflow::analysis::reduction::{self, Cutoff, ReductionSettings};
     use beamflow::assembly::System;
     use beamflow::case::{build_model, LoadedCase};
-    use beamflow::solve::fused::FusedNewmark;
+    use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
     let text =
         "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
     let lc = LoadedCase::from_str(text, "fused.toml", std::env::temp_dir()).unwrap();
@@ -259,20 +259,17 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                 // All of them in the proportional form of the right-hand side (the beam's
                 // Rayleigh damping; the frame's dashpots, masses and springs as R), which
                 // the band step takes and the dense step declines.
-                let integrator = || {
-                    let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt).unwrap();
-                    if build == 1 {
-                        nm.disable_avx512();
-                    }
-                    if !fma {
-                        nm.disable_fma();
-                    }
-                    assert_eq!(nm.use_proportional_damping(a0, a1), !dense, "{n} DOFs");
+                let build_options =
+                    StepOptions { rayleigh: Some((a0, a1)), fma, avx512: build == 0, ..StepOptions::default() };
+                let with = |options: StepOptions| {
+                    let nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt, options).unwrap();
+                    assert_eq!(nm.uses_proportional_damping(), !dense && options.rayleigh.is_some(), "{n} DOFs");
                     nm
                 };
-                let mut fast = integrator();
+                let integrator = || with(build_options);
+                let tracked = StepOptions { track_dissipation: true, ..build_options };
+                let mut fast = with(tracked);
                 assert_eq!(fast.is_dense(), dense, "{n} DOFs");
-                fast.track_dissipation = true;
                 // The same build without the dissipation (which then skips v̄): the state must
                 // come out bit for bit the same.
                 let mut plain = integrator();
@@ -282,22 +279,14 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                 // by row instead of in grouped pairs of rows, with and without the runs,
                 // which must agree with each other to the bit and with the grouped sweeps to
                 // round-off (the pairs substitute one row into the other).
-                let reference = |runs: bool, groups: bool| {
-                    let mut nm = integrator();
-                    if !runs {
-                        nm.disable_periodic_runs();
-                    }
-                    if !groups {
-                        nm.disable_grouped_sweeps();
-                    }
-                    nm.track_dissipation = true;
-                    nm
+                let reference = |periodic_runs: bool, grouped_sweeps: bool| {
+                    with(StepOptions { periodic_runs, grouped_sweeps, ..tracked })
                 };
                 let mut no_runs = reference(false, true);
                 let mut by_rows = [reference(true, false), reference(false, false)];
                 // And the three-product right-hand side, to round-off.
-                let mut three = reference(true, true);
-                three.disable_proportional_damping();
+                let three_options = StepOptions { rayleigh: None, ..tracked };
+                let mut three = with(three_options);
                 if fma && !dense {
                     assert!(fast.periodic_rows() > n / 2, "{n} DOFs: only {} periodic rows", fast.periodic_rows());
                 }
@@ -352,9 +341,20 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
                         once.step(&sparse);
                         let du: Vec<f64> = once.u().iter().zip(&u0).map(|(a, b)| a - b).collect();
                         let scale = max_abs(&du);
-                        let (mut rows_once, mut three_once) = (fast.clone(), fast.clone());
-                        rows_once.disable_grouped_sweeps();
-                        three_once.disable_proportional_damping();
+                        // The same state in integrators of the other forms (for α_f schemes
+                        // with the last load as F_n).
+                        let from_here = |options: StepOptions| {
+                            let mut nm = with(options);
+                            nm.set_state(
+                                fast.u(),
+                                fast.v(),
+                                fast.a(),
+                                if scheme.alpha_f != 0.0 { &sparse } else { &[] },
+                            );
+                            nm
+                        };
+                        let rows_once = from_here(StepOptions { grouped_sweeps: false, ..tracked });
+                        let three_once = from_here(three_options);
                         let u_scale = max_abs(once.u());
                         for (mut other, what, bound) in [
                             (rows_once, "pairs vs rows", 1e-12 * scale),
@@ -453,16 +453,17 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
 
 /// The 512-bit right-hand side is used where the processor has AVX-512F and the system
 /// is in-cache sized; above ≈ 3·10⁵ DOFs the state streams from memory, where the 256-bit
-/// kernel measured faster (the comment on `WIDE_RHS_MAX_DOFS` in `solve/fused.rs`).
+/// kernel measured faster (the comment on `WIDE_RHS_MAX_DOFS` in `solve/band_newmark`).
 #[test]
 fn wide_kernel_only_for_systems_that_fit_in_cache() {
     use beamflow::assembly::System;
     use beamflow::case::build_model;
-    use beamflow::solve::fused::FusedNewmark;
+    use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
     let fused = |elements: usize| {
         let lc = common::bare_beam(elements, [5.29, 9.96e-6]);
         let sys = System::assemble(&build_model(&lc).unwrap().model).unwrap();
-        FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap()
+        let scheme = Scheme::average_acceleration();
+        BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4, StepOptions::default()).unwrap()
     };
     #[cfg(target_arch = "x86_64")]
     let wide = std::arch::is_x86_feature_detected!("avx512f")
@@ -477,26 +478,27 @@ fn wide_kernel_only_for_systems_that_fit_in_cache() {
 }
 
 /// The proportional form is taken only where C really is a₀·M + a₁·K plus a few entries:
-/// given coefficients that do not fit the damping (here a₀ off by 1e-6 of itself, so every
-/// entry of C leaves a remainder), the integrator declines it, and a decline after an
-/// acceptance restores the three-product step to the bit.
+/// given coefficients that do not fit the damping (a₀ off by 1e-6 of itself, so every entry
+/// of C leaves a remainder; or a₁ doubled), the integrator declines it and steps with the
+/// three products, to the bit.
 #[test]
 fn proportional_form_declined_where_damping_does_not_fit() {
     use beamflow::assembly::System;
     use beamflow::case::build_model;
-    use beamflow::solve::fused::FusedNewmark;
+    use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
     let (a0, a1) = (5.29, 9.96e-6);
     let sys = System::assemble(&build_model(&common::bare_beam(100, [a0, a1])).unwrap().model).unwrap();
-    let fused =
-        || FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4).unwrap();
-    let (mut three, mut declined, mut switched) = (fused(), fused(), fused());
-    assert!(!declined.use_proportional_damping(a0 * (1.0 + 1e-6), a1));
+    let fused = |rayleigh: Option<(f64, f64)>| {
+        let options = StepOptions { rayleigh, ..StepOptions::default() };
+        BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4, options).unwrap()
+    };
+    let (mut three, mut declined, mut switched) =
+        (fused(None), fused(Some((a0 * (1.0 + 1e-6), a1))), fused(Some((a0, a1 * 2.0))));
+    assert!(!three.uses_proportional_damping());
     assert!(!declined.uses_proportional_damping());
-    assert!(switched.use_proportional_damping(a0, a1) && switched.uses_proportional_damping());
-    assert!(!switched.use_proportional_damping(a0, a1 * 2.0));
     assert!(!switched.uses_proportional_damping());
-    let mut accepted = fused();
-    assert!(accepted.use_proportional_damping(a0, a1));
+    let mut accepted = fused(Some((a0, a1)));
+    assert!(accepted.uses_proportional_damping());
     let probe = sys.n() / 3;
     for k in 1..=200 {
         let f = [(probe, (k as f64 * 0.0377).sin())];

@@ -10,7 +10,7 @@
 
 use beamflow::assembly::System;
 use beamflow::case::build_model;
-use beamflow::solve::fused::FusedNewmark;
+use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::{Newmark, Scheme};
 
 mod common;
@@ -229,10 +229,12 @@ fn transient_agrees_with_a_double_double_reference() {
 
     // The fused step as transient::run takes it (the proportional form of the right-hand
     // side) and with its three band products.
-    let fused =
-        || FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt).unwrap();
-    let (mut fast, mut three) = (fused(), fused());
-    assert!(fast.use_proportional_damping(a0, a1));
+    let fused = |rayleigh| {
+        let options = StepOptions { rayleigh, ..StepOptions::default() };
+        BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt, options).unwrap()
+    };
+    let (mut fast, mut three) = (fused(Some((a0, a1))), fused(None));
+    assert!(fast.uses_proportional_damping());
     let mut textbook = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt).unwrap();
     let zeros = vec![0.0; sys.n()];
     textbook.initialize(&zeros, &zeros, &zeros, &mut []).unwrap();

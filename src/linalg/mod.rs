@@ -4,6 +4,7 @@
 //! and a banded square-root factor of the stiffness built from its element rows without
 //! forming K (see [`banded_qr`]), for modes of very fine meshes.
 
+pub mod band;
 pub mod banded_qr;
 pub mod scalar;
 pub mod skyline;

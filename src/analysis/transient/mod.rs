@@ -28,7 +28,7 @@ use crate::error::Result;
 use crate::power::point::{mean_product, net_power};
 use crate::power::record::{RecordAnalysis, Welch};
 use crate::power::spectra::harmonics;
-use crate::solve::fused::FusedNewmark;
+use crate::solve::band_newmark::{BandNewmark, StepOptions};
 use crate::solve::newmark::{consistent_acceleration, Scheme};
 use serde::Serialize;
 
@@ -153,19 +153,21 @@ impl PeriodPlan {
 }
 
 /// The integrator of a run, built and set up in one place.
-fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<FusedNewmark> {
-    let mut nm = FusedNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt)?;
+fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<BandNewmark> {
     // The structure's Rayleigh damping lets the band step drop its C product (a reduced,
     // dense system declines: its C is no longer banded).
-    nm.use_proportional_damping(model.rayleigh.a0, model.rayleigh.a1);
-    nm.track_dissipation = true;
-    Ok(nm)
+    let options = StepOptions {
+        rayleigh: Some((model.rayleigh.a0, model.rayleigh.a1)),
+        track_dissipation: true,
+        ..StepOptions::default()
+    };
+    BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt, options)
 }
 
 /// Starts the integrator at rest under the forces `w0` at t = 0 (N: each stack's F_p,
 /// then each point load), with the consistent initial acceleration, and registers their
 /// load patterns.
-fn start_at_rest(nm: &mut FusedNewmark, sys: &System, w0: &[f64]) -> Result<()> {
+fn start_at_rest(nm: &mut BandNewmark, sys: &System, w0: &[f64]) -> Result<()> {
     let patterns: Vec<Vec<(usize, f64)>> = sys.drives.iter().chain(&sys.loads).cloned().collect();
     // F₀ = Σ_j b_j·w_j(0) as sparse pairs.
     let loads: Vec<(usize, f64)> =

@@ -12,7 +12,7 @@ use crate::power::energy::StoredEnergy;
 use crate::power::link::{interface_force, transmitted_force};
 use crate::power::point::{damper_dissipation, midpoint_work};
 use crate::signal::voltage::VoltageInput;
-use crate::solve::fused::FusedNewmark;
+use crate::solve::band_newmark::BandNewmark;
 
 /// The drives over the current period: each stack's voltage and h, and each point load's
 /// force, at its N + 1 sample times. F_p depends on the voltage alone, so h is integrated
@@ -104,7 +104,7 @@ struct LinkState {
 }
 
 /// Link l's state from the integrator's current read-outs, F_p of its actuator `f_p` (N).
-fn link_state(nm: &FusedNewmark, layout: &Readout, l: usize, lk: &LinkDofs, f_p: f64) -> LinkState {
+fn link_state(nm: &BandNewmark, layout: &Readout, l: usize, lk: &LinkDofs, f_p: f64) -> LinkState {
     let (stretch, foot) = (nm.observed()[layout.stretch(l)], nm.observed()[layout.foot(l)]);
     let ft = transmitted_force(lk, stretch[0], stretch[1], f_p);
     LinkState { ud: stretch[1], fv: foot[1], fi: interface_force(lk, ft, foot[2]) }
@@ -131,7 +131,7 @@ pub(super) struct Stepper {
 
 impl Stepper {
     /// Starts from the integrator's current state under the stack forces `f_p0` (N).
-    pub fn new(nm: &FusedNewmark, sys: &System, layout: &Readout, f_p0: &[f64], timing: &DriveTiming) -> Self {
+    pub fn new(nm: &BandNewmark, sys: &System, layout: &Readout, f_p0: &[f64], timing: &DriveTiming) -> Self {
         let n = timing.steps_per_period;
         Stepper {
             dt: timing.dt,
@@ -157,7 +157,7 @@ impl Stepper {
     /// system's dissipation Σ Δt·v̄ᵀ·C·v̄, and C = C_beam + Σ c_l·g_l·g_lᵀ.
     pub fn period(
         &mut self,
-        nm: &mut FusedNewmark,
+        nm: &mut BandNewmark,
         sys: &System,
         layout: &Readout,
         stacks: &StackHistories,
@@ -222,7 +222,7 @@ pub(super) struct EnergyLedger {
 }
 
 impl EnergyLedger {
-    pub fn new(sys: &System, nm: &FusedNewmark) -> Self {
+    pub fn new(sys: &System, nm: &BandNewmark) -> Self {
         let energy = StoredEnergy::new(sys);
         let start = energy.beam_and_system(nm.u(), nm.v());
         EnergyLedger {
@@ -236,13 +236,13 @@ impl EnergyLedger {
     }
 
     /// Marks the start of a period.
-    pub fn open_period(&mut self, nm: &FusedNewmark) {
+    pub fn open_period(&mut self, nm: &BandNewmark) {
         self.dissipated_before = nm.dissipated();
     }
 
     /// Closes the period whose work and link dissipation the stepper returned (`pb`): adds
     /// the system's dissipation and the change of the stored energies.
-    pub fn close_period(&mut self, nm: &FusedNewmark, mut pb: Balances) {
+    pub fn close_period(&mut self, nm: &BandNewmark, mut pb: Balances) {
         let d_sys = nm.dissipated() - self.dissipated_before;
         pb.system.dissipated = d_sys;
         pb.beam.dissipated += d_sys;

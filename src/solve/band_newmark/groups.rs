@@ -15,7 +15,7 @@
 //! (`PairRows`: four multipliers instead of three, computed once from the factor). The
 //! chain is then one multiply–add per two rows; the step measured 0.91 (bare paper beam)
 //! to 0.94 (10⁴–10⁵ DOFs) of its time before, in alternating pairs (`scripts/paired.sh`). The substitution rounds differently from the row-by-row sweeps in
-//! `fused.rs`, so the two agree to round-off, not to the bit (`tests/newmark.rs`); the
+//! `sweeps.rs`, so the two agree to round-off, not to the bit (`tests/newmark.rs`); the
 //! error against an extended-precision reference is unchanged (`tests/precision.rs`).
 //! The substituted multipliers stay small: at most 1 in magnitude on meshes of 38 to 10⁵
 //! DOFs with or without the frame (where L itself reaches 5·10⁴, w and θ rows differing
@@ -27,12 +27,12 @@
 //! must not be swept yet; with B ≥ 3 those columns lie below the group of the row. A group
 //! with a long row in it goes row by row. Other widths (no beam has them) sweep row by row.
 
-use super::{madd, update_row, Coeffs, FactorRun, FusedNewmark, Width};
+use super::factor_runs::FactorRun;
+use super::{BandNewmark, Width};
+use crate::simd::madd;
+use crate::simd::update::{store_group, update_group, update_row, StepCoeffs, G};
 
-/// Rows per group.
-const G: usize = 4;
-
-impl FusedNewmark {
+impl BandNewmark {
     /// Whether the grouped sweeps apply to half-width `b`.
     #[inline(always)]
     pub(super) fn groups_apply(b: usize) -> bool {
@@ -44,11 +44,11 @@ impl FusedNewmark {
     pub(super) fn forward_groups<W: Width, const FMA: bool>(&mut self, w: W) {
         let (n, b) = (self.n, w.b());
         debug_assert!(Self::groups_apply(b));
-        let l = &self.l[..n * b];
-        let d_inv = &self.d_inv[..n];
+        let l = &self.factor.l[..n * b];
+        let d_inv = &self.factor.d_inv[..n];
         let z = &mut self.z[..n + b];
         let x = &mut self.x[..n + b];
-        let (long, l_tail) = (&self.long[..], &self.l_tail[..]);
+        let (long, l_tail) = (&self.factor.long[..], &self.factor.l_tail[..]);
         let mut lp = 0;
         // win.s = y_{i−1−s}: the unknowns row i reads, newest first (zero before row 0). A
         // tuple, not an array: an array indexed in a loop stayed in memory.
@@ -155,14 +155,14 @@ impl FusedNewmark {
     /// Lᵀ·x = y/d and each row's Newmark update, in groups of four rows (see the module).
     /// With `VBAR` the step's mean velocity is stored in x, as `backward` does.
     #[inline(always)]
-    pub(super) fn backward_groups<W: Width, const FMA: bool, const VBAR: bool>(&mut self, w: W, k: Coeffs) {
+    pub(super) fn backward_groups<W: Width, const FMA: bool, const VBAR: bool>(&mut self, w: W, k: StepCoeffs) {
         let (n, b) = (self.n, w.b());
         debug_assert!(Self::groups_apply(b));
-        let l = &self.l[..(n + b) * b];
+        let l = &self.factor.l[..(n + b) * b];
         let x = &mut self.x[b..b + n];
         let (u, v, a) = (&mut self.u[b..b + n], &mut self.v[..n], &mut self.a[..n]);
         let (w1, w2) = (&mut self.w1[b..b + n], &mut self.w2[b..b + n]);
-        let (long, l_tail) = (&self.long[..], &self.l_tail[..]);
+        let (long, l_tail) = (&self.factor.long[..], &self.factor.l_tail[..]);
         let mut lp = long.len();
         // win.s = x_{i+1+s}: the unknowns row i reads, newest first (zero past row n − 1).
         let mut win = (0.0f64, 0.0f64, 0.0f64);
@@ -284,92 +284,6 @@ fn pair_rows<const FMA: bool>(
     (first, second)
 }
 
-/// A group's y into `z` and y/d (as y·(1/d)) into `x`; one vector each in the FMA build.
-#[inline(always)]
-fn store_group<const FMA: bool>(z: &mut [f64], x: &mut [f64], ys: [f64; 4], d_inv: [f64; 4]) {
-    assert!(z.len() == G && x.len() == G);
-    #[cfg(target_arch = "x86_64")]
-    if FMA {
-        // SAFETY: as in `update_group`; both slices hold four numbers.
-        unsafe { store_group_avx2(z, x, ys, d_inv) };
-        return;
-    }
-    for j in 0..G {
-        z[j] = ys[j];
-        x[j] = ys[j] * d_inv[j];
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-unsafe fn store_group_avx2(z: &mut [f64], x: &mut [f64], ys: [f64; 4], d_inv: [f64; 4]) {
-    use std::arch::x86_64::{
-        _mm256_loadu_pd as load, _mm256_mul_pd as mul, _mm256_set_pd as set, _mm256_storeu_pd as store,
-    };
-    let y = set(ys[3], ys[2], ys[1], ys[0]);
-    store(z.as_mut_ptr(), y);
-    store(x.as_mut_ptr(), mul(y, load(d_inv.as_ptr())));
-}
-
-/// `update_row` of rows g..g + 4 from their increments `xs`; one AVX2 vector per
-/// quantity in the FMA build, with the same operations per lane (so the same bits).
-#[inline(always)]
-fn update_group<const FMA: bool, const VBAR: bool>(
-    k: Coeffs,
-    g: usize,
-    xs: [f64; 4],
-    [u, v, a]: [&mut [f64]; 3],
-    vbar: &mut [f64],
-    [w1, w2]: [&mut [f64]; 2],
-) {
-    #[cfg(target_arch = "x86_64")]
-    if FMA {
-        assert!(g + G <= u.len().min(v.len()).min(a.len()).min(vbar.len()).min(w1.len()).min(w2.len()));
-        // SAFETY: the FMA build runs only where AVX2 and FMA were detected (`dispatch`); the
-        // bounds are checked above.
-        unsafe { update_group_avx2::<VBAR>(k, g, xs, [u, v, a], vbar, [w1, w2]) };
-        return;
-    }
-    for j in 0..G {
-        update_row::<FMA, VBAR>(k, g + j, xs[j], u, v, a, vbar, w1, w2);
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-#[inline]
-unsafe fn update_group_avx2<const VBAR: bool>(
-    k: Coeffs,
-    g: usize,
-    xs: [f64; 4],
-    [u, v, a]: [&mut [f64]; 3],
-    vbar: &mut [f64],
-    [w1, w2]: [&mut [f64]; 2],
-) {
-    use std::arch::x86_64::{
-        _mm256_add_pd as add, _mm256_fmadd_pd as fmadd, _mm256_loadu_pd as load, _mm256_mul_pd as mul,
-        _mm256_set1_pd as splat, _mm256_set_pd as set, _mm256_storeu_pd as store, _mm256_sub_pd as sub,
-    };
-    let x = set(xs[3], xs[2], xs[1], xs[0]);
-    let (ui, vi, ai) = (load(u.as_ptr().add(g)), load(v.as_ptr().add(g)), load(a.as_ptr().add(g)));
-    // As update_row: a = (x − Δt·v)·ab − a_old·a, v = va_new·a_new + (va_old·a + v), u += x.
-    let a_new = fmadd(sub(x, mul(splat(k.dt), vi)), splat(k.ab), mul(splat(-k.a_old), ai));
-    let v_new = fmadd(splat(k.va_new), a_new, fmadd(splat(k.va_old), ai, vi));
-    let u_new = add(ui, x);
-    store(u.as_mut_ptr().add(g), u_new);
-    store(v.as_mut_ptr().add(g), v_new);
-    store(a.as_mut_ptr().add(g), a_new);
-    if VBAR {
-        store(vbar.as_mut_ptr().add(g), mul(splat(0.5), add(vi, v_new)));
-    }
-    // As Coeffs::history.
-    let h1 = fmadd(splat(k.cv), v_new, mul(splat(k.ca), a_new));
-    let h2 = fmadd(splat(k.ev), v_new, fmadd(splat(k.ea), a_new, mul(splat(k.eu), u_new)));
-    store(w1.as_mut_ptr().add(g), h1);
-    store(w2.as_mut_ptr().add(g), h2);
-}
-
 /// The sweeps' row pairs (2p, 2p + 1) with one row substituted into the other, so that both
 /// rows of a pair are computed from the same three unknowns before it (see the module).
 #[derive(Clone, Debug, Default)]
@@ -386,7 +300,7 @@ impl PairRows {
     /// From the factor rows `l` (B per row, B zero rows past n); empty unless the grouped
     /// sweeps apply to `b`.
     pub(super) fn new(n: usize, b: usize, l: &[f64]) -> Self {
-        if !FusedNewmark::groups_apply(b) {
+        if !BandNewmark::groups_apply(b) {
             return Self::default();
         }
         // −L(r, r − 3 + t), t ∈ 0..3, and −L(r + s, r), s ∈ 1..=3 (index 0 unused).
