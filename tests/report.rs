@@ -78,3 +78,79 @@ fn figures_are_named_by_analysis_type() {
         assert!(names.iter().any(|n| n == want), "{want} not among {names:?}");
     }
 }
+
+/// The `data-value` numbers of a page (exact values of its table cells).
+fn data_values(html: &str) -> Vec<f64> {
+    html.split("data-value=\"").skip(1).filter_map(|s| s.split('"').next()?.parse().ok()).collect()
+}
+
+/// Every number of a JSON value.
+fn json_numbers(v: &serde_json::Value, out: &mut Vec<f64>) {
+    match v {
+        serde_json::Value::Number(n) => out.push(n.as_f64().unwrap()),
+        serde_json::Value::Array(a) => a.iter().for_each(|x| json_numbers(x, out)),
+        serde_json::Value::Object(m) => m.values().for_each(|x| json_numbers(x, out)),
+        _ => {}
+    }
+}
+
+/// `beamflow run` writes report.html beside its other outputs: every figure inline, every
+/// number of the JSON summary exactly, the case text, and nothing it would have to fetch.
+#[test]
+fn the_report_holds_every_figure_and_every_number_of_the_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml");
+    let out = dir.path().join("out");
+    beamflow::app::commands::run(&case, Some(&out), None, true).unwrap();
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let svgs: Vec<String> = std::fs::read_dir(&out)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".svg"))
+        .collect();
+    assert!(svgs.len() >= 10, "{svgs:?}");
+    assert_eq!(html.matches("<svg").count(), svgs.len());
+    for s in &svgs {
+        let caption = format!("<figcaption>{}</figcaption>", s.replace(".svg", ".{png,svg}"));
+        assert!(html.contains(&caption), "{s} is not in the report");
+    }
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("beam-frame-12V-60Hz.json")).unwrap()).unwrap();
+    let mut numbers = Vec::new();
+    json_numbers(&summary, &mut numbers);
+    let shown = data_values(&html);
+    assert!(numbers.len() > 100, "{}", numbers.len());
+    // serde_json reads a float back to within an ulp or two (without its `float_roundtrip`
+    // feature), so "exactly" is to 10⁻¹⁵ here.
+    for v in numbers {
+        assert!(shown.iter().any(|s| (s - v).abs() <= 1e-15 * v.abs()), "{v:e} of the JSON is not in the report");
+    }
+    // The headline: the net power with its unit, and the case file itself.
+    let net = summary["analyses"][0]["net_power_w"][0].as_f64().unwrap();
+    assert!(html.contains(&format!("data-value=\"{net:e}\" title=\"{net:e}\">6.323 µW<")), "net power {net:e}");
+    assert!(html.contains("x_e = 0.150") && html.contains("<pre>"));
+    assert!(!html.contains("<script") && !html.contains(" src=") && !html.contains("https://"));
+}
+
+/// Text from the case (title, names, the file) is escaped: a title holding markup shows as
+/// text and cannot inject any.
+#[test]
+fn the_report_escapes_what_the_user_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("c&<x>.toml");
+    std::fs::write(
+        &case,
+        "title = \"<script>alert('t')</script> & <b>\"\n[beam.mesh]\nelements = 10\n\
+         [[actuator]]\ntype = \"inertial\"\nx_e = 0.2\n\
+         [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n\
+         [[analysis]]\ntype = \"steady_state\"\nharmonics = 3\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    beamflow::app::commands::run(&case, Some(&out), None, false).unwrap();
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(!html.contains("<script") && !html.contains("<b>") && !html.contains("<x>"), "{html}");
+    assert!(html.contains("&lt;script&gt;alert(&#39;t&#39;)&lt;/script&gt; &amp; &lt;b&gt;"));
+    assert!(html.contains("c&amp;&lt;x&gt;.toml"));
+}

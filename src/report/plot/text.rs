@@ -48,15 +48,21 @@ fn sub_px(px: u32) -> u32 {
     ((px as f64 * SUB_SIZE).round() as u32).max(1)
 }
 
+/// Width of one run; a subscript gets a little room after it, since its glyphs sit low
+/// and close to what follows.
+fn run_width<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, t: &str, sub: bool, px: u32) -> i32 {
+    let size = if sub { sub_px(px) } else { px };
+    let w = area.estimate_text_size(t, &font(size)).map_or(0, |(w, _)| w as i32);
+    if sub {
+        w + (px as i32 + 7) / 8
+    } else {
+        w
+    }
+}
+
 /// Width in pixels of a label drawn at `px`.
 pub fn width<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, s: &str, px: u32) -> u32 {
-    runs(s)
-        .iter()
-        .map(|(t, sub)| {
-            let f = font(if *sub { sub_px(px) } else { px });
-            area.estimate_text_size(t, &f).map_or(0, |(w, _)| w)
-        })
-        .sum()
+    runs(s).iter().map(|(t, sub)| run_width(area, t, *sub, px) as u32).sum()
 }
 
 /// Draws a label with its subscripts, `h` aligned on `at` horizontally (along the text)
@@ -90,7 +96,7 @@ pub fn draw<DB: DrawingBackend>(
             (at.0 + u, at.1 + v)
         };
         area.draw_text(&t, &style, pos).map_err(de)?;
-        u += area.estimate_text_size(&t, &font(size)).map_or(0, |(w, _)| w as i32);
+        u += run_width(area, &t, sub, px);
     }
     Ok(())
 }
