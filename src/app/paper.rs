@@ -260,9 +260,41 @@ pub fn run(out: &Path) -> Result<()> {
     let md_path = out.join("summary.md");
     write_atomic_string(&md_path, &md)?;
     written.push(md_path);
+    let report_path = out.join(crate::report::run_page::FILE);
+    write_atomic_string(&report_path, &report_page(&md, &written, &[&rigid_lc, &bi_lc, &bf_lc])?)?;
+    written.push(report_path);
     crate::say!("{md}");
     crate::say!("wrote {} files to {}", written.len(), out.display());
     Ok(())
+}
+
+/// The paper report: the summary's claims beside ours, every figure inline, the cases.
+fn report_page(md: &str, written: &[PathBuf], cases: &[&LoadedCase]) -> Result<String> {
+    use crate::report::html::{escape, figure, markdown, Page};
+    let mut p = Page::new();
+    p.section("claims", "The paper's claims, measured");
+    let body = markdown(md);
+    p.push(body.split_once("</h2>\n").map_or(body.as_str(), |(_, rest)| rest));
+    p.section("figures", "Figures 8–16");
+    for svg in written.iter().filter(|f| f.extension().is_some_and(|e| e == "svg")) {
+        p.push(&figure(svg)?);
+    }
+    p.section("cases", "Case files");
+    for lc in cases {
+        p.push(&format!("<h3><code>{}</code></h3>\n<pre>{}</pre>\n", escape(&lc.file), escape(&lc.text)));
+    }
+    p.para("Fig. 11's cases are the rigid-base case with the frame actuator removed and the top mass m_{t} set.");
+    p.section("files", "Files");
+    let names: String = written
+        .iter()
+        .filter_map(|f| f.file_name())
+        .map(|n| format!("<li><code>{}</code></li>", escape(&n.to_string_lossy())))
+        .collect();
+    p.push(&format!("<ul>{names}</ul>\n"));
+    Ok(p.finish(
+        "beamflow — the paper's experiments",
+        &format!("Jiang, Wang, Zheng &amp; Pan, Figs. 8–16, with the default parameters · beamflow {}", env!("CARGO_PKG_VERSION")),
+    ))
 }
 
 /// The two strongest lines (Hz) of a power spectrum, by |power| per harmonic.

@@ -226,6 +226,11 @@ impl LinePlot {
     pub fn render(&self, path: impl AsRef<Path>) -> Result<()> {
         render_figure(self, path.as_ref())
     }
+
+    /// The figure as SVG text (`name` names it in error messages).
+    pub fn svg(&self, name: &str) -> Result<String> {
+        svg_string(self, name)
+    }
 }
 
 /// Several [`LinePlot`]s in one figure, e.g. force above acceleration: stacked
@@ -255,6 +260,11 @@ impl MultiPanel {
     /// Writes the figure to `path` (`.png` or `.svg`).
     pub fn render(&self, path: impl AsRef<Path>) -> Result<()> {
         render_figure(self, path.as_ref())
+    }
+
+    /// The figure as SVG text (`name` names it in error messages).
+    pub fn svg(&self, name: &str) -> Result<String> {
+        svg_string(self, name)
     }
 }
 
@@ -292,6 +302,11 @@ impl BarChart {
     /// Writes the figure to `path` (`.png` or `.svg`).
     pub fn render(&self, path: impl AsRef<Path>) -> Result<()> {
         render_figure(self, path.as_ref())
+    }
+
+    /// The figure as SVG text (`name` names it in error messages).
+    pub fn svg(&self, name: &str) -> Result<String> {
+        svg_string(self, name)
     }
 }
 
@@ -339,6 +354,11 @@ impl HeatMap {
     pub fn render(&self, path: impl AsRef<Path>) -> Result<()> {
         render_figure(self, path.as_ref())
     }
+
+    /// The figure as SVG text (`name` names it in error messages).
+    pub fn svg(&self, name: &str) -> Result<String> {
+        svg_string(self, name)
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -365,19 +385,64 @@ fn render_figure<F: Drawable>(fig: &F, path: &Path) -> Result<()> {
     if !(16..=20_000).contains(&size.0) || !(16..=20_000).contains(&size.1) {
         return Err(Error::input(file, "size", format!("{size:?} px is outside 16..=20000 px")));
     }
+    if ext == "svg" {
+        return crate::io::atomic::write_atomic_string(path, &svg_string(fig, &file)?);
+    }
     fig.validate(&file)?;
     ensure_font()?;
-    let scale = if ext == "png" { PNG_DPI.load(Ordering::Relaxed) as f64 / 100.0 } else { 1.0 };
+    let scale = PNG_DPI.load(Ordering::Relaxed) as f64 / 100.0;
     let _scaled = Scaled::set(scale);
     let size = ((size.0 as f64 * scale).round() as u32, (size.1 as f64 * scale).round() as u32);
     write_atomic(path, |tmp| {
-        let drawn = if ext == "png" {
-            draw_on(BitMapBackend::new(tmp, size).into_drawing_area(), fig)
-        } else {
-            draw_on(SVGBackend::new(tmp, size).into_drawing_area(), fig)
-        };
-        drawn.map_err(|m| Error::io(path, std::io::Error::other(format!("drawing figure: {m}"))))
+        draw_on(BitMapBackend::new(tmp, size).into_drawing_area(), fig)
+            .map_err(|m| Error::io(path, std::io::Error::other(format!("drawing figure: {m}"))))
     })
+}
+
+/// The figure as SVG text (`name` names it in messages).
+fn svg_string<F: Drawable>(fig: &F, name: &str) -> Result<String> {
+    fig.validate(name)?;
+    ensure_font()?;
+    let _scaled = Scaled::set(1.0);
+    let mut out = String::new();
+    draw_on(SVGBackend::with_string(&mut out, fig.size()).into_drawing_area(), fig)
+        .map_err(|m| Error::io(name, std::io::Error::other(format!("drawing figure: {m}"))))?;
+    Ok(tight_text(&out))
+}
+
+/// Plotters sizes SVG text at px/1.24 em but lays it out (and draws bitmaps) with the font
+/// scaled so that ascent + descent = px, which for DejaVu Sans (1901 + 483 of 2048 units)
+/// is px/1.164 em: SVG text would come out 6 % narrower than measured, opening gaps
+/// between the runs of a label with subscripts.
+const SVG_FONT_FIX: f64 = 1.24 * 2048.0 / (1901.0 + 483.0);
+
+/// Text elements as laid out: without the line breaks plotters puts around their content
+/// (browsers draw them as a leading space, which shifts every piece of text), at the font
+/// size the layout measured ([`SVG_FONT_FIX`]).
+fn tight_text(svg: &str) -> String {
+    let mut out = String::with_capacity(svg.len());
+    let mut rest = svg;
+    while let Some(i) = rest.find("<text ") {
+        let Some(open_end) = rest[i..].find('>').map(|j| i + j + 1) else { break };
+        let Some(close) = rest[open_end..].find("</text>").map(|j| open_end + j) else { break };
+        out.push_str(&rest[..i]);
+        out.push_str(&fix_font_size(&rest[i..open_end]));
+        out.push_str(rest[open_end..close].trim_matches('\n'));
+        rest = &rest[close..];
+    }
+    out.push_str(rest);
+    out
+}
+
+/// A `<text …>` tag with its `font-size` scaled by [`SVG_FONT_FIX`].
+fn fix_font_size(tag: &str) -> String {
+    const KEY: &str = "font-size=\"";
+    let Some(i) = tag.find(KEY).map(|i| i + KEY.len()) else { return tag.to_string() };
+    let Some(j) = tag[i..].find('"').map(|j| i + j) else { return tag.to_string() };
+    match tag[i..j].parse::<f64>() {
+        Ok(size) => format!("{}{:.3}{}", &tag[..i], size * SVG_FONT_FIX, &tag[j..]),
+        Err(_) => tag.to_string(),
+    }
 }
 
 fn draw_on<DB: DrawingBackend, F: Drawable>(root: DrawingArea<DB, Shift>, fig: &F) -> DrawResult {
@@ -672,6 +737,19 @@ mod tests {
         );
         assert!(m.render(&path).unwrap_err().to_string().contains("panels[1]"));
         assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 0);
+    }
+
+    #[test]
+    fn svg_text_has_no_line_breaks_around_it() {
+        let svg = "<svg>\n<text x=\"1\" font-size=\"12.4\">\nF\n</text>\n<text x=\"3\">\n T\n</text>\n</svg>";
+        assert_eq!(
+            tight_text(svg),
+            "<svg>\n<text x=\"1\" font-size=\"13.209\">F</text>\n<text x=\"3\"> T</text>\n</svg>"
+        );
+        let mut p = LinePlot::new("F_{T} over time", "t (s)", "F (N)");
+        p.series.push(Series::line("F_{T}", vec![0.0, 1.0], vec![0.0, 1.0]));
+        let s = p.svg("t.svg").unwrap();
+        assert!(s.contains(">F</text>") && s.contains(">T</text>") && !s.contains(">\nF"), "{s}");
     }
 
     #[test]
