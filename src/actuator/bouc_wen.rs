@@ -349,8 +349,7 @@ impl BoucWen {
         max_periods: usize,
     ) -> Result<PeriodicCycle> {
         let Some(period) = input.period() else {
-            return Err(Error::input(
-                "<case>",
+            return Err(Error::argument(
                 "voltage",
                 "a periodic cycle needs a periodic voltage (a sine, or sines with commensurate frequencies)",
             ));
@@ -380,13 +379,13 @@ impl BoucWen {
         max_periods: usize,
     ) -> Result<PeriodicCycle> {
         if samples_per_period < 2 {
-            return Err(Error::input("<case>", "samples_per_period", format!("must be ≥ 2, got {samples_per_period}")));
+            return Err(Error::argument("samples_per_period", format!("must be ≥ 2, got {samples_per_period}")));
         }
         if max_periods == 0 {
-            return Err(Error::input("<case>", "max_periods", "must be ≥ 1"));
+            return Err(Error::argument("max_periods", "must be ≥ 1"));
         }
         if !(tol.is_finite() && tol >= 0.0) {
-            return Err(Error::input("<case>", "tol", format!("must be a finite number ≥ 0, got {tol}")));
+            return Err(Error::argument("tol", format!("must be a finite number ≥ 0, got {tol}")));
         }
         let scale = self.bound(h0).max(f64::MIN_POSITIVE);
         // Period p runs from p·T to (p + 1)·T, starting at h_start.

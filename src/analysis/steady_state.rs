@@ -119,9 +119,8 @@ pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: u
         HarmonicCount::Fixed(n) => n.min(all),
         HarmonicCount::Tolerance(tol) => {
             let k = (1..=all).find(|&k| estimate(k) <= tol).ok_or_else(|| {
-                Error::input(
-                    "<case>",
-                    "analysis.samples_per_period",
+                Error::analysis_setting(
+                    "samples_per_period",
                     format!(
                         "{samples} samples per period resolve {all} harmonics, and what lies beyond them \
                          ({:.1e} of the largest point power) exceeds the tolerance {tol:e}: raise \
@@ -173,9 +172,8 @@ pub fn run_with(
 ) -> Result<SteadyStateResult> {
     let timing = DriveTiming::sampled(model, samples)?;
     if samples < 2 * n_harm + 2 {
-        return Err(Error::input(
-            "<case>",
-            "analysis.samples_per_period",
+        return Err(Error::analysis_setting(
+            "samples_per_period",
             format!("at least {} samples are needed for {n_harm} harmonics", 2 * n_harm + 2),
         ));
     }
@@ -404,17 +402,10 @@ impl SteadyStateResult {
     }
 
     /// Adds the mode-resolved decomposition with the first `count` bare-structure modes
-    /// (`sys` is the full system the amplitudes Q_k belong to; `modal_ratios` the case's
-    /// modal damping ratios, if any).
-    pub fn decompose_modes(
-        &mut self,
-        model: &Model,
-        sys: &System,
-        count: usize,
-        modal_ratios: Option<&[f64]>,
-    ) -> Result<()> {
+    /// (`sys` is the full system the amplitudes Q_k belong to).
+    pub fn decompose_modes(&mut self, model: &Model, sys: &System, count: usize) -> Result<()> {
         let modes = super::modes::bare_modes_on(model, sys, count)?;
-        self.decompose_with(sys, modes.as_ref(), ModalDamping::of(&model.rayleigh, modal_ratios));
+        self.decompose_with(sys, modes.as_ref(), ModalDamping::of(&model.damping));
         Ok(())
     }
 

@@ -219,7 +219,7 @@ impl FitOptions {
         if !(b0 > 0.0 && b1 >= b0 && b1.is_finite()) {
             return Err(Error::input(file, "beta_range", format!("need 0 < lower ≤ upper, got ({b0}, {b1})")));
         }
-        self.pso.validate(file)
+        self.pso.validate().map_err(|e| e.in_file(file))
     }
 }
 

@@ -36,8 +36,8 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
     f.group("case")?.write_str("toml", &lc.text)?;
     let m = f.group("model")?;
     m.attr_i64("n_dofs", run.system.n() as i64)?;
-    m.attr_f64("rayleigh_a0", run.model.rayleigh.a0)?;
-    m.attr_f64("rayleigh_a1", run.model.rayleigh.a1)?;
+    m.attr_f64("rayleigh_a0", run.model.rayleigh().a0)?;
+    m.attr_f64("rayleigh_a1", run.model.rayleigh().a1)?;
     if let Some(b) = &run.model.beam {
         m.write_f64("node_x", &b.mesh.x, &[b.mesh.x.len()], "m", "beam node coordinates")?;
     }

@@ -3,7 +3,7 @@
 //! of the fields the study varies. Every message names the study file or the base file.
 
 use super::field::{get_path, set_path, Field, Segment};
-use crate::assembly::system::Rayleigh;
+use crate::assembly::Rayleigh;
 use crate::case::{ActuatorType, AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase};
 use crate::error::{Error, Result};
 use crate::signal::voltage::VoltageInput;
@@ -148,12 +148,8 @@ impl BaseCase {
         let lc = LoadedCase { case: stripped, file: self.file.clone(), dir: self.dir.clone(), text: String::new() };
         let beam = crate::case::build::build_beam(&lc)?;
         let d = &lc.case.damping;
-        let need = d.modes[0].max(d.modes[1]);
-        let m = crate::analysis::modes::bare_modes(&beam, need)?;
-        if m.count() < need {
-            return Err(Error::input(&self.file, "damping.modes", format!("the mesh has only {} modes", m.count())));
-        }
-        let r = Rayleigh::from_ratio(d.zeta, m.omega[d.modes[0] - 1], m.omega[d.modes[1] - 1]);
+        let r =
+            crate::analysis::plan::rayleigh_from_ratio(&beam, d.zeta, d.modes).map_err(|e| e.in_file(&self.file))?;
         let mut t = toml::map::Map::new();
         t.insert("kind".into(), toml::Value::String("rayleigh".into()));
         t.insert("a0".into(), toml::Value::Float(r.a0));
