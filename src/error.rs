@@ -107,6 +107,17 @@ impl Error {
         }
     }
 
+    /// Names the file and the table (`table`, e.g. `actuator[0].stack`) a setting came from:
+    /// its field becomes `table.field`; other errors pass through.
+    pub fn in_table(self, file: &str, table: &str) -> Self {
+        match self {
+            Error::Setting { field, reason, .. } => {
+                Error::Input { file: file.to_string(), field: format!("{table}.{field}"), reason }
+            }
+            e => e,
+        }
+    }
+
     /// Names the file every setting came from (analysis settings keep their bare name).
     pub fn in_file(self, file: &str) -> Self {
         match self {

@@ -183,7 +183,10 @@ impl NativeCase {
         d.set_item("actuators", built.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>())?;
         d.set_item(
             "links",
-            sys.links.iter().map(|l| format!("{}_{}", built.actuators[l.actuator].name(), l.name)).collect::<Vec<_>>(),
+            sys.links
+                .iter()
+                .map(|l| beamflow::actuator::link_id(built.actuators[l.actuator].name(), &l.name))
+                .collect::<Vec<_>>(),
         )?;
         d.set_item("modal_damping", built.modal_ratios().is_some())?;
         Ok(d)

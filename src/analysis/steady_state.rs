@@ -23,6 +23,7 @@ use crate::power::link::link_harmonic;
 use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
 use crate::power::point::{beam_dissipation, net_power};
 use crate::power::spectra::harmonics;
+use crate::signal::sampling::resolved_harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::Modes;
 use num_complex::Complex64;
@@ -111,7 +112,7 @@ pub enum HarmonicCount {
 /// `samples` resolve: they are all solved once, the point powers per harmonic decide the
 /// count, and the run keeps that many and reports what the rest carry.
 pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: usize) -> Result<SteadyStateResult> {
-    let all = (samples.max(4) - 2) / 2;
+    let all = resolved_harmonics(samples.max(4));
     let full = run(model, sys, all, samples)?;
     let tails = tail_powers(&full);
     let estimate = |k: usize| tails[k] + tails[all - all / 4];
@@ -171,10 +172,10 @@ pub fn run_with(
     detail: Detail,
 ) -> Result<SteadyStateResult> {
     let timing = DriveTiming::sampled(model, samples)?;
-    if samples < 2 * n_harm + 2 {
+    if n_harm > resolved_harmonics(samples) {
         return Err(Error::analysis_setting(
             "samples_per_period",
-            format!("at least {} samples are needed for {n_harm} harmonics", 2 * n_harm + 2),
+            format!("{samples} samples per period resolve {} harmonics, not {n_harm}", resolved_harmonics(samples)),
         ));
     }
     let StackForces { cycles, harmonics: f_p, periods: hysteresis_periods } =

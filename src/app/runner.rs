@@ -12,6 +12,7 @@ use crate::assembly::{Model, System};
 use crate::case::{AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::power::modal::ModalDamping;
+use crate::signal::sampling::samples_for_harmonics;
 use crate::solve::newmark::Scheme;
 use std::cell::OnceCell;
 
@@ -252,7 +253,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                                 reference()?,
                                 &red,
                                 h,
-                                ESTIMATE_SAMPLES.max(4 * h + 2),
+                                ESTIMATE_SAMPLES.max(samples_for_harmonics(h).unwrap_or(usize::MAX)),
                             )?);
                         }
                         r.reduction = Some(report);

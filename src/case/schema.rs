@@ -3,6 +3,7 @@
 
 use crate::actuator::bouc_wen::BoucWen;
 use crate::error::{Error, Result};
+use crate::signal::sampling::samples_for_harmonics;
 use crate::signal::voltage::VoltageInput;
 use serde::{Deserialize, Serialize};
 
@@ -1044,13 +1045,13 @@ impl Case {
                     if *harmonics == 0 {
                         return Err(Error::input(file, format!("{f}.harmonics"), "must be at least 1"));
                     }
-                    if *samples_per_period < 4 * harmonics + 2 {
+                    if samples_for_harmonics(*harmonics).is_none_or(|n| *samples_per_period < n) {
                         return Err(Error::input(
                             file,
                             format!("{f}.samples_per_period"),
                             format!(
                                 "must be at least 4·harmonics + 2 = {} to resolve the harmonics",
-                                4 * harmonics + 2
+                                4 * (*harmonics as u128) + 2
                             ),
                         ));
                     }
@@ -1146,7 +1147,7 @@ impl ActuatorSpec {
         if !s.h0.is_finite() {
             return Err(Error::input(file, format!("{f}.stack.h0"), "must be finite"));
         }
-        s.bouc_wen().validate(file, &format!("{f}.stack"))?;
+        s.bouc_wen().validate().map_err(|e| e.in_table(file, &format!("{f}.stack")))?;
         self.voltage.validate(file, &format!("{f}.voltage"))?;
         Ok(())
     }

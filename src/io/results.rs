@@ -2,6 +2,7 @@
 
 use super::hdf5::{utc_timestamp, ResultsFile};
 use super::sink::GroupSink;
+use crate::actuator::link_id;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
@@ -116,7 +117,7 @@ fn write_energy<S: GroupSink>(g: &S, name: &str, e: &EnergyBalance) -> Result<()
 }
 
 fn link_group_name(run: &CaseRun, l: &LinkSeries) -> String {
-    format!("{}_{}", run.model.actuators[l.actuator].name(), l.name)
+    link_id(run.model.actuators[l.actuator].name(), &l.name)
 }
 
 fn write_series<S: GroupSink>(
@@ -290,11 +291,7 @@ fn write_powers<S: GroupSink>(g: &S, mean: &[f64], net: &[f64], run: &CaseRun) -
     )?;
     g.write_str_list(
         "link_names",
-        &run.system
-            .links
-            .iter()
-            .map(|l| format!("{}_{}", run.model.actuators[l.actuator].name(), l.name))
-            .collect::<Vec<_>>(),
+        &run.system.links.iter().map(|l| link_id(run.model.actuators[l.actuator].name(), &l.name)).collect::<Vec<_>>(),
     )?;
     g.write_f64("net_power", net, &[net.len()], "W", "net power into the base per actuator")
 }

@@ -3,6 +3,7 @@
 //! of the fields the study varies. Every message names the study file or the base file.
 
 use super::field::{get_path, set_path, Field, Segment};
+use crate::actuator::{link_id, Frame, Inertial};
 use crate::assembly::Rayleigh;
 use crate::case::{ActuatorType, AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase};
 use crate::error::{Error, Result};
@@ -209,27 +210,17 @@ impl BaseCase {
 }
 
 /// Actuator names (given, or `inertial`/`frame`, numbered when there are several) and
-/// their links' names (`name.stack`, `name.left_leg`, `name.right_leg`).
+/// their links' identifiers ([`link_id`]: `name_stack`, `name_left_leg`, `name_right_leg`).
 fn names(case: &Case) -> (Vec<String>, Vec<String>) {
     let mut actuators = Vec::new();
     let mut links = Vec::new();
     for (i, a) in case.actuator.iter().enumerate() {
-        let name = a.name.clone().unwrap_or_else(|| {
-            let kind = match a.kind {
-                ActuatorType::Inertial => "inertial",
-                ActuatorType::Frame => "frame",
-            };
-            if case.actuator.len() > 1 {
-                format!("{kind}_{i}")
-            } else {
-                kind.to_string()
-            }
-        });
+        let name = a.effective_name(i, case.actuator.len());
         let l: &[&str] = match a.kind {
-            ActuatorType::Inertial => &["stack"],
-            ActuatorType::Frame => &["stack", "left_leg", "right_leg"],
+            ActuatorType::Inertial => &Inertial::LINKS,
+            ActuatorType::Frame => &Frame::LINKS,
         };
-        links.extend(l.iter().map(|l| format!("{name}.{l}")));
+        links.extend(l.iter().map(|l| link_id(&name, l)));
         actuators.push(name);
     }
     (actuators, links)
