@@ -140,8 +140,7 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
     };
     let mut actuators = Vec::new();
     for (i, a) in case.actuator.iter().enumerate() {
-        let mut voltage = a.voltage.clone();
-        voltage.load(&lc.dir, &lc.file, &format!("actuator[{i}].voltage"))?;
+        let voltage = a.voltage.build(&lc.dir, &lc.file, &format!("actuator[{i}].voltage"))?;
         let s = &a.stack;
         let stack = Stack {
             k_p: s.k_p,
@@ -178,8 +177,7 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
     let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), x: s.x }).collect();
     let mut loads = Vec::with_capacity(case.load.len());
     for (i, l) in case.load.iter().enumerate() {
-        let mut force = l.force.clone();
-        force.load(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
+        let force = l.force.build(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
         loads.push(PointLoad { name: l.effective_name(i), x: l.x, force });
     }
     Ok(Model { beam, damping, actuators, sensors, loads })

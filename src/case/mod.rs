@@ -7,6 +7,7 @@
 
 pub mod build;
 pub mod schema;
+pub mod signal;
 
 pub use build::build_model;
 pub use schema::*;

@@ -1,10 +1,10 @@
 //! The case-file schema. Field names follow the physics spec (k_p, c_p, d_p, m_t, …);
 //! units are SI throughout and given on each field.
 
+use super::signal::SignalSpec;
 use crate::actuator::bouc_wen::BoucWen;
 use crate::error::{Error, Result};
 use crate::signal::sampling::samples_for_harmonics;
-use crate::signal::voltage::VoltageInput;
 use serde::{Deserialize, Serialize};
 
 /// One simulation case.
@@ -280,7 +280,7 @@ pub struct ActuatorSpec {
     pub c_l_right: Option<f64>,
     #[serde(default)]
     pub stack: StackSpec,
-    pub voltage: VoltageInput,
+    pub voltage: SignalSpec,
 }
 
 fn d_x_e() -> f64 {
@@ -376,7 +376,7 @@ pub struct LoadSpec {
     /// Position on the beam (m).
     pub x: f64,
     /// The force's time history (N).
-    pub force: VoltageInput,
+    pub force: SignalSpec,
 }
 
 impl LoadSpec {
@@ -927,7 +927,7 @@ impl Case {
                     }
                     if force.is_empty() {
                         for (j, l) in self.load.iter().enumerate() {
-                            if !matches!(l.force, VoltageInput::Sine { .. }) {
+                            if !matches!(l.force, SignalSpec::Sine { .. }) {
                                 return Err(Error::input(
                                     file,
                                     format!("load[{j}].force.kind"),

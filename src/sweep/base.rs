@@ -5,6 +5,7 @@
 use super::field::{get_path, set_path, Field, Segment};
 use crate::actuator::{link_id, Frame, Inertial};
 use crate::assembly::Rayleigh;
+use crate::case::signal::SignalSpec;
 use crate::case::{ActuatorType, AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase};
 use crate::error::{Error, Result};
 use crate::signal::voltage::VoltageInput;
@@ -201,11 +202,9 @@ impl BaseCase {
                 set_path(&mut val, &f.segments[2..], v)?;
             }
         }
-        let mut voltage: VoltageInput =
-            val.try_into().map_err(|e: toml::de::Error| e.message().trim_end().to_string())?;
-        voltage.load(&self.dir, label, &field).map_err(|e| e.to_string())?;
-        voltage.validate(label, &field).map_err(|e| e.to_string())?;
-        Ok(voltage)
+        let spec: SignalSpec = val.try_into().map_err(|e: toml::de::Error| e.message().trim_end().to_string())?;
+        spec.validate(label, &field).map_err(|e| e.to_string())?;
+        spec.build(&self.dir, label, &field).map_err(|e| e.to_string())
     }
 }
 
