@@ -52,24 +52,29 @@ fn link_index(run: &CaseRun, actuator: usize, name: &str) -> usize {
     run.system.links.iter().position(|l| l.actuator == actuator && l.name == name).expect("link exists")
 }
 
-fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
+/// Runs a case and writes its HDF5 file (and, with `csv`, its CSV tables) into `out`.
+fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, csv: bool, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
     eprintln!("running {stem} …");
     let run = run_case(lc)?;
     let h5 = out.join(format!("{stem}.h5"));
     crate::io::results::write(&h5, lc, &run)?;
     written.push(h5);
+    if csv {
+        written.extend(crate::io::results_csv::write(out, stem, lc, &run)?);
+    }
     Ok(run)
 }
 
-/// Runs everything and writes figures, HDF5 files and the summaries into `out`.
-pub fn run(out: &Path) -> Result<()> {
+/// Runs everything and writes figures, HDF5 files (and, with `csv`, CSV tables) and the
+/// summaries into `out`.
+pub fn run(out: &Path, csv: bool) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
     let mut written = Vec::new();
     let mut max_balance = 0.0f64;
 
     // Rigid base, 48 V, 30 Hz: Figs. 8, 9, 10, 12.
     let rigid_lc = load("rigid-base-48V-30Hz.toml")?;
-    let rigid = run_and_store(&rigid_lc, out, "rigid-base-48V-30Hz", &mut written)?;
+    let rigid = run_and_store(&rigid_lc, out, "rigid-base-48V-30Hz", csv, &mut written)?;
     let rt = transient(&rigid)?;
     max_balance = max_balance.max(rt.energy_run.system.relative_error());
     let (i_stack, f_stack, f_left, f_right) = (
@@ -137,7 +142,7 @@ pub fn run(out: &Path) -> Result<()> {
         case.actuator[0].m_t = Some(m_t);
         case.title = format!("Rigid base, 48 V, 30 Hz, inertial actuator, m_t = {m_t} kg");
         let lc = LoadedCase::from_case(case, &format!("{} (m_t = {m_t})", rigid_lc.file), rigid_lc.dir.clone())?;
-        let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), &mut written)?;
+        let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), csv, &mut written)?;
         let t = transient(&run)?;
         max_balance = max_balance.max(t.energy_run.system.relative_error());
         fig11.series.push(Series::line(format!("m_t = {m_t} kg"), ms_axis(&t.t), t.links[0].transmitted.clone()));
@@ -147,9 +152,9 @@ pub fn run(out: &Path) -> Result<()> {
 
     // Beam, 12 V, 60 Hz: Figs. 13–16.
     let bi_lc = load("beam-inertial-12V-60Hz.toml")?;
-    let bi = run_and_store(&bi_lc, out, "beam-inertial-12V-60Hz", &mut written)?;
+    let bi = run_and_store(&bi_lc, out, "beam-inertial-12V-60Hz", csv, &mut written)?;
     let bf_lc = load("beam-frame-12V-60Hz.toml")?;
-    let bf = run_and_store(&bf_lc, out, "beam-frame-12V-60Hz", &mut written)?;
+    let bf = run_and_store(&bf_lc, out, "beam-frame-12V-60Hz", csv, &mut written)?;
     let (bit, bis, bft, bfs) = (transient(&bi)?, steady(&bi)?, transient(&bf)?, steady(&bf)?);
     for t in [bit, bft] {
         max_balance = max_balance

@@ -406,6 +406,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
             "Hz",
             "bare-beam natural frequencies of the modes used",
         )?;
+        mg.write_f64("frequency", &m.frequency, &[nk], "Hz", "harmonic frequencies k/T of the rows of eta_abs")?;
         mg.write_f64(
             "eta_abs",
             &m.eta_abs.concat(),
@@ -423,6 +424,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
         mg.write_f64("point_residual", &m.point_residual, &[nl], "W", "P_i minus the truncated modal sum")?;
         let nj = m.load_power.len();
         if nj > 0 {
+            mg.write_str_list("load_names", &r.loads.iter().map(|l| l.name.clone()).collect::<Vec<_>>())?;
             mg.write_f64(
                 "load_power",
                 &m.load_power.concat(),
