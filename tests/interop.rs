@@ -1,5 +1,6 @@
-//! Data for other tools: the Matrix Market matrices and the DOF map beside them name each
-//! row, checked against element stiffnesses computed here.
+//! Data for other tools and the console: the Matrix Market matrices and the DOF map beside
+//! them name each row (checked against element stiffnesses computed here); CSV tables equal
+//! the HDF5 file; JSON on standard output; help and progress reports.
 
 mod common;
 
@@ -350,4 +351,70 @@ fn sweep_csv_equals_the_sweep_table() {
         assert_eq!(num(&row[col(&format!("force_amplitude {}", t.links[0]))]), r.force_amplitude[0]);
         assert_eq!(num(&row[col("balance_error")]), r.balance_error);
     }
+}
+
+#[test]
+fn every_positional_argument_has_help() {
+    use clap::CommandFactory;
+    fn walk(cmd: &clap::Command, path: &str, missing: &mut Vec<String>) {
+        for a in cmd.get_positionals() {
+            if a.get_help().is_none() && a.get_long_help().is_none() {
+                missing.push(format!("{path} <{}>", a.get_id()));
+            }
+        }
+        for sub in cmd.get_subcommands() {
+            walk(sub, &format!("{path} {}", sub.get_name()), missing);
+        }
+    }
+    let mut missing = Vec::new();
+    walk(&beamflow::app::cli::Cli::command(), "beamflow", &mut missing);
+    assert!(missing.is_empty(), "positional arguments without help: {missing:?}");
+}
+
+/// Each task reported: its label, its total and its (position, message) updates.
+type TaskLog = std::rc::Rc<std::cell::RefCell<Vec<(String, Option<u64>, Vec<(u64, String)>)>>>;
+
+/// Records what tasks report.
+#[derive(Default)]
+struct Recorder(TaskLog);
+
+struct RecorderBar(TaskLog, usize);
+
+impl beamflow::progress::Observer for Recorder {
+    fn start(&self, label: &str, total: Option<u64>, _unit: &str) -> Box<dyn beamflow::progress::Bar> {
+        let mut log = self.0.borrow_mut();
+        log.push((label.to_string(), total, Vec::new()));
+        Box::new(RecorderBar(self.0.clone(), log.len() - 1))
+    }
+}
+
+impl beamflow::progress::Bar for RecorderBar {
+    fn update(&self, position: u64, message: &str) {
+        self.0.borrow_mut()[self.1].2.push((position, message.to_string()));
+    }
+}
+
+#[test]
+fn long_runs_report_periods_settling_and_harmonics() {
+    use beamflow::analysis::case_run::AnalysisResult;
+    let lc = common::case(
+        "[beam.mesh]\nelements = 20\n[damping]\nkind = \"rayleigh\"\na0 = 5.0\na1 = 1e-5\n\
+         [[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n\
+         [[analysis]]\ntype = \"steady_state\"\nharmonics = 5\nsamples_per_period = 64\n\
+         [[analysis]]\ntype = \"transient\"\nmax_periods = 300\n",
+    );
+    let rec = Recorder::default();
+    let log = rec.0.clone();
+    let run = beamflow::progress::observe(std::rc::Rc::new(rec), || beamflow::app::runner::run_case(&lc)).unwrap();
+    let AnalysisResult::Transient(t) = &run.results[1] else { panic!("transient second") };
+    let log = log.borrow();
+    let (_, total, updates) = log.iter().find(|(l, _, _)| l == "transient").expect("a transient task");
+    assert_eq!(*total, Some(300));
+    let (last, message) = updates.last().unwrap();
+    assert_eq!(*last as usize, t.periods_run);
+    assert!(t.converged && message.contains(&format!("{:.1e}", t.settling_estimate)), "{message}");
+    // The steady state's harmonic solves: the odd harmonics of the sine drive, counted.
+    assert!(log.iter().any(|(l, total, _)| l == "steady state" && total.is_some_and(|n| n >= 3)), "{:?}", *log);
+    // Nothing is reported once the observer is gone.
+    assert!(!beamflow::progress::Task::start("after", None, "x").watched());
 }

@@ -3,6 +3,7 @@
 
 pub mod identify;
 pub mod optimize;
+pub mod progress;
 pub mod sweep;
 
 use crate::error::Result;
@@ -158,7 +159,13 @@ pub fn main() -> ExitCode {
     } else {
         Status::Stdout
     });
-    match dispatch(&cli.command) {
+    // Progress bars for the long computations of this thread, where someone can see them.
+    let result = if !cli.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        crate::progress::observe(std::rc::Rc::new(progress::ConsoleBars::new()), || dispatch(&cli.command))
+    } else {
+        dispatch(&cli.command)
+    };
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// Arguments of `beamflow sweep`.
 #[derive(Args, Debug)]
 pub struct SweepArgs {
-    /// Sweep file (TOML).
+    /// Sweep file (TOML; see docs/sweeps.md).
     pub sweep: PathBuf,
     /// Output HDF5 table. Checkpoints of finished cases are kept in FILE.h5.parts/ until
     /// the table is written; rerunning the same command resumes from them.
