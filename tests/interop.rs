@@ -199,7 +199,8 @@ fn read_csv(path: &Path) -> Csv {
 
 /// Columns that name or count rows rather than measure something: the only ones without a
 /// unit.
-const KEYS: [&str; 9] = ["link", "load", "point", "kind", "actuator", "drive", "harmonic", "mode", "case_index"];
+const KEYS: [&str; 10] =
+    ["link", "load", "point", "kind", "actuator", "drive", "measurement", "harmonic", "mode", "case_index"];
 
 fn num(cell: &str) -> f64 {
     cell.parse().unwrap_or_else(|_| panic!("not a number: {cell}"))

@@ -66,6 +66,9 @@ pub fn tables(root: &Group) -> Vec<(String, Table)> {
                 add("modal_point_power", modal_point_power(m, g));
                 add("modal_harmonics", modal_harmonics(m, &actuators));
             }
+            for q in ["force", "acceleration", "power"] {
+                add(&format!("measurements_{q}"), measurements(g, q));
+            }
             if let Some(r) = g.group("record") {
                 add("record_points", record(r, "points", "point"));
                 add("record_drives", record(r, "drives", "drive"));
@@ -279,6 +282,31 @@ fn record(r: &Group, coll: &str, key: &str) -> Option<Table> {
         t.columns.extend(columns("frequency", f, n));
         for (name, d) in &mg.datasets {
             t.columns.extend(columns(name, d, n));
+        }
+        table.append(t);
+    }
+    Some(table)
+}
+
+/// Each measurement of `quantity` against the prediction: one row per measurement and
+/// harmonic compared.
+fn measurements(g: &Group, quantity: &str) -> Option<Table> {
+    let mut table = Table::default();
+    for (name, mg) in &g.group("measurements")?.groups {
+        let Some(q) = mg.groups.get(quantity) else { continue };
+        let n = q.datasets.get("harmonic")?.shape[0];
+        let point = match q.attrs.get("point") {
+            Some(Attr::Str(p)) => p.clone(),
+            _ => String::new(),
+        };
+        let mut t = Table::default();
+        t.push(Column::text("measurement", vec![name.clone(); n]));
+        t.push(Column::text("point", vec![point; n]));
+        if let Some(Data::I64(k)) = q.datasets.get("harmonic").map(|d| &d.data) {
+            t.push(Column::int("harmonic", k.clone()));
+        }
+        for d in ["frequency", "measured", "predicted", "error_db", "phase_error"] {
+            t.columns.extend(q.datasets.get(d).map(|ds| columns(d, ds, n)).unwrap_or_default());
         }
         table.append(t);
     }
