@@ -9,6 +9,7 @@ use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSetting
 use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{Model, System};
+use crate::case::measured::Measured;
 use crate::case::{AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::power::modal::ModalDamping;
@@ -85,8 +86,9 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
 /// need, points on nodes, time steps (as given, resolving the drive, stable for the
 /// scheme), periodic drives where the analysis needs one, damping the analysis can apply.
 /// `beamflow check` runs it, and [`run_case`] before its first analysis, so both refuse the
-/// same cases with the same messages.
-pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<()> {
+/// same cases with the same messages. Returns the case's measurements (`[[measurement]]`),
+/// read and checked against the model.
+pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<Vec<Measured>> {
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
         let need_beam = || {
@@ -164,7 +166,15 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<()> 
         };
         check().map_err(|e| e.in_analysis(&lc.file, &field))?;
     }
-    Ok(())
+    let measured = crate::case::measured::load_measurements(lc)?;
+    let periodic = lc
+        .case
+        .analysis
+        .iter()
+        .filter(|a| matches!(a, AnalysisSpec::Transient { .. } | AnalysisSpec::SteadyState { .. }))
+        .count();
+    crate::analysis::measured::check(&measured, model, system, periodic).map_err(|e| e.in_file(&lc.file))?;
+    Ok(measured)
 }
 
 pub use crate::analysis::roundoff::MESH_ELEMENTS_LIMIT;
@@ -191,7 +201,7 @@ fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
 /// Builds the model and runs the case's analyses in order, after [`preflight`].
 pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     let (model, system) = plan::model_and_system(lc)?;
-    preflight(lc, &model, &system)?;
+    let measured = preflight(lc, &model, &system)?;
     let mut run =
         Runner { model: &model, system: &system, reduced: ReducedCache::default(), complete: OnceCell::new() };
     let mut results = Vec::new();
@@ -235,7 +245,11 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
         }
         results.push(r);
     }
-    Ok(CaseRun { model, system, results })
+    let link_name =
+        |l: &crate::analysis::series::LinkSeries| crate::actuator::link_id(model.actuators[l.actuator].name(), &l.name);
+    let measured =
+        crate::analysis::measured::compare_all(&results, &measured, &link_name).map_err(|e| e.in_file(&lc.file))?;
+    Ok(CaseRun { model, system, results, measured })
 }
 
 /// A case's analyses against one model and its assembled system, sharing what they build.

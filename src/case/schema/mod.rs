@@ -37,6 +37,9 @@ pub struct Case {
     pub load: Vec<LoadSpec>,
     #[serde(default)]
     pub analysis: Vec<AnalysisSpec>,
+    /// Measured data to set beside the predictions (docs/case-format.md, `[[measurement]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub measurement: Vec<super::measured::MeasurementSpec>,
     #[serde(default)]
     pub output: OutputSpec,
 }
