@@ -52,9 +52,18 @@ pub fn tables(root: &Group) -> Vec<(String, Table)> {
         if gname.ends_with("_modes") {
             add("modes", modes(g));
             add("mode_shapes", mode_shapes(g));
+            if let Some(c) = g.group("coupled") {
+                add("coupled_modes", per_index(c, "frequencies_hz", "mode"));
+                add(
+                    "coupled_mode_shapes",
+                    g.datasets.get("node_x").and_then(|x| shapes(x, c.datasets.get("shapes_w")?)),
+                );
+            }
         } else if gname.ends_with("_harmonic") {
             add("harmonic", harmonic(g));
             add("harmonic_points", harmonic_points(g));
+            add("transfer_velocity", transfer(g, "transfer_velocity", "point_names", "point"));
+            add("transfer_interface", transfer(g, "transfer_interface", "link_names", "link"));
         } else {
             add("series", series(g));
             add("spectra", Some(long(g.group("spectra"), "link", "frequency")));
@@ -323,8 +332,11 @@ fn modes(g: &Group) -> Option<Table> {
 
 /// Mode shapes: node coordinate, then one column per mode.
 fn mode_shapes(g: &Group) -> Option<Table> {
-    let x = g.datasets.get("node_x")?;
-    let s = g.datasets.get("shapes_w")?;
+    shapes(g.datasets.get("node_x")?, g.datasets.get("shapes_w")?)
+}
+
+/// Node coordinates `x` and a modes × nodes matrix `s` as columns.
+fn shapes(x: &Dataset, s: &Dataset) -> Option<Table> {
     let (&[nm, nx], Some(v)) = (s.shape.as_slice(), real(s)) else { return None };
     let mut t = Table::default();
     t.columns.extend(columns("node_x", x, nx));
@@ -347,6 +359,37 @@ fn harmonic(g: &Group) -> Option<Table> {
             t.push(Column::num(format!("input_power {}", names.get(j).map_or("?", String::as_str)), &d.unit, col));
         }
     }
+    Some(t)
+}
+
+/// A coupled system's transfer functions `name` (frequency × (output · input)) in long
+/// form: output (`key`, named by `labels`), input, frequency; the complex value as real
+/// and imaginary parts, magnitude and phase.
+fn transfer(g: &Group, name: &str, labels: &str, key: &str) -> Option<Table> {
+    let d = g.datasets.get(name)?;
+    let Data::C64(v) = &d.data else { return None };
+    let (outputs, inputs) = (strings(g, labels), strings(g, "transfer_inputs"));
+    let f = real(g.datasets.get("frequency_hz")?)?;
+    let (nf, no, ni) = (f.len(), outputs.len(), inputs.len());
+    if d.shape != [nf, no * ni] {
+        return None;
+    }
+    let rows = nf * no * ni;
+    // Row order: output, input, frequency (each output's FRFs contiguous).
+    let at = |r: usize| (r / (ni * nf), (r / nf) % ni, r % nf);
+    let value: Vec<num_complex::Complex64> = (0..rows)
+        .map(|r| {
+            let (o, i, k) = at(r);
+            v[k * no * ni + o * ni + i]
+        })
+        .collect();
+    let mut t = Table::default();
+    t.push(Column::text(key, (0..rows).map(|r| outputs[at(r).0].clone()).collect()));
+    t.push(Column::text("input", (0..rows).map(|r| inputs[at(r).1].clone()).collect()));
+    t.push(Column::num("frequency_hz", "Hz", (0..rows).map(|r| f[at(r).2]).collect()));
+    t.columns.extend(Column::complex(name, &d.unit, &value));
+    t.push(Column::num(format!("|{name}|"), &d.unit, value.iter().map(|c| c.norm()).collect()));
+    t.push(Column::num(format!("{name} phase"), "rad", value.iter().map(|c| c.arg()).collect()));
     Some(t)
 }
 
