@@ -53,7 +53,7 @@ pub fn tables(root: &Group) -> Vec<(String, Table)> {
             add("modes", modes(g));
             add("mode_shapes", mode_shapes(g));
             if let Some(c) = g.group("coupled") {
-                add("coupled_modes", per_index(c, "frequencies_hz", "mode"));
+                add("coupled_modes", per_index(c, "frequencies_hz", Some("mode"), &[]));
                 add(
                     "coupled_mode_shapes",
                     g.datasets.get("node_x").and_then(|x| shapes(x, c.datasets.get("shapes_w")?)),
@@ -71,7 +71,9 @@ pub fn tables(root: &Group) -> Vec<(String, Table)> {
             add("point_power", point_power(g));
             add("net_power", net_power(g, &actuators));
             if let Some(m) = g.group("modal") {
-                add("modal_modes", per_index(m, "mode_frequency_hz", "mode"));
+                let per_mode =
+                    ["dissipation", "kinetic_energy", "strain_energy", "power_participation", "response_participation"];
+                add("modal_modes", per_index(m, "mode_frequency_hz", Some("mode"), &per_mode));
                 add("modal_point_power", modal_point_power(m, g));
                 add("modal_harmonics", modal_harmonics(m, &actuators));
             }
@@ -207,16 +209,19 @@ fn net_power(g: &Group, actuators: &[String]) -> Option<Table> {
     Some(t)
 }
 
-/// One row per entry of `index` (a 1-D dataset of `g`), numbered from 1 in `counter`,
-/// with every 1-D dataset of `g` of the same length.
-fn per_index(g: &Group, index: &str, counter: &str) -> Option<Table> {
+/// One row per entry of `index` (a 1-D dataset of `g`), numbered from 1 in `counter`
+/// (None: no counter), with the datasets `others` of `g` (those present, of the same
+/// length; named, since another of the same length may index something else).
+fn per_index(g: &Group, index: &str, counter: Option<&str>, others: &[&str]) -> Option<Table> {
     let ix = g.datasets.get(index)?;
     let n = ix.shape[0];
     let mut t = Table::default();
-    t.push(Column::int(counter, one_based(n)));
+    if let Some(c) = counter {
+        t.push(Column::int(c, one_based(n)));
+    }
     t.columns.extend(columns(index, ix, n));
-    for (name, d) in g.datasets.iter().filter(|(name, _)| name.as_str() != index) {
-        t.columns.extend(columns(name, d, n));
+    for name in others {
+        t.columns.extend(g.datasets.get(*name).map(|d| columns(name, d, n)).unwrap_or_default());
     }
     Some(t)
 }
@@ -324,10 +329,7 @@ fn measurements(g: &Group, quantity: &str) -> Option<Table> {
 
 /// The bare beam's natural frequencies, with the closed-form ones where they exist.
 fn modes(g: &Group) -> Option<Table> {
-    per_index(g, "frequencies_hz", "mode").map(|mut t| {
-        t.columns.retain(|c| c.name != "node_x");
-        t
-    })
+    per_index(g, "frequencies_hz", Some("mode"), &["analytic_hz", "relative_error"])
 }
 
 /// Mode shapes: node coordinate, then one column per mode.
@@ -348,8 +350,7 @@ fn shapes(x: &Dataset, s: &Dataset) -> Option<Table> {
 
 /// Per analysis frequency: powers and balance, and the input power of each force point.
 fn harmonic(g: &Group) -> Option<Table> {
-    let mut t = per_index(g, "frequency_hz", "step")?;
-    t.columns.remove(0);
+    let mut t = per_index(g, "frequency_hz", None, &["total_power", "dissipated_power", "balance_error"])?;
     let n = t.rows();
     let names = strings(g, "point_names");
     let d = g.datasets.get("input_power")?;
