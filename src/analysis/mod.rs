@@ -8,7 +8,9 @@
 pub mod case_run;
 pub mod drive;
 pub mod harmonic;
+pub mod measured;
 pub mod modes;
+pub mod plan;
 pub mod reduction;
 pub mod roundoff;
 pub mod series;

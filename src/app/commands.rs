@@ -45,6 +45,12 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
             _ => s += &format!("{:>4}  {:>14.6}  {:>14}  {:>11}\n", i + 1, f, "–", "–"),
         }
     }
+    if let Some(c) = &r.coupled {
+        s += &format!("coupled with the actuators ({}):\n{:>4}  {:>14}\n", c.body_names.join(", "), "mode", "f (Hz)");
+        for (i, f) in c.frequencies_hz.iter().enumerate() {
+            s += &format!("{:>4}  {:>14.6}\n", i + 1, f);
+        }
+    }
     if let Some(&bound) = r.roundoff_bound.first() {
         if bound > 1e-3 {
             s += &format!(
@@ -60,17 +66,16 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
 /// `beamflow check`: loads and builds the model, prints what it contains.
 pub fn check(case: &Path) -> Result<()> {
     let lc = LoadedCase::load(case)?;
-    let built = crate::case::build_model(&lc)?;
-    let sys = crate::assembly::System::assemble(&built.model)?;
+    let (built, sys) = crate::analysis::plan::model_and_system(&lc)?;
     crate::app::runner::preflight(&lc, &built, &sys)?;
-    let elements = built.model.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
+    let elements = built.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
     crate::say!(
         "{}: ok — {} elements, {} DOFs, {} actuator(s), {} load(s), {} analysis(es)",
         lc.file,
         elements,
         sys.n(),
-        built.model.actuators.len(),
-        built.model.loads.len(),
+        built.actuators.len(),
+        built.loads.len(),
         lc.case.analysis.len()
     );
     Ok(())
@@ -104,8 +109,8 @@ pub fn default_out(case: &Path) -> PathBuf {
     PathBuf::from("out").join(case.file_stem().unwrap_or_default())
 }
 
-/// `beamflow run`.
-pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) -> Result<()> {
+/// `beamflow run` (`csv`: also write the results as tidy CSV tables).
+pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, csv: bool) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
     let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
@@ -143,6 +148,9 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) ->
         let p = set.dir().join(format!("{stem}_dofs.csv"));
         crate::io::mtx::write_dof_map(&p, &crate::assembly::dof_rows(&run.model, &run.system))?;
         written.push(p);
+    }
+    if csv {
+        written.extend(crate::io::results_csv::write(set.dir(), stem, &lc, &run)?);
     }
     if plots && lc.case.output.plots {
         written.extend(crate::report::figures::plot_run(set.dir(), stem, &run)?);

@@ -26,15 +26,12 @@ use crate::identify::synth::{self, SynthKind, SynthOptions, Truth};
 use crate::io::atomic::write_atomic_string;
 use crate::report::identify as plots;
 
-/// Replaces a placeholder file label (`<frf>`, `<identify>`, `<pso>`) in an input error by
-/// the measurement file, and puts the file in front of a numerical failure.
+/// Names the measurement file in an identification step's errors: the settings it could
+/// not accept, and any numerical failure.
 fn attribute(e: Error, file: &str) -> Error {
     match e {
-        Error::Input { file: f, field, reason } if f.starts_with('<') && f != "<cli>" => {
-            Error::Input { file: file.to_string(), field, reason }
-        }
         Error::Numerical(m) => Error::Numerical(format!("{file}: {m}")),
-        other => other,
+        other => other.in_file(file),
     }
 }
 

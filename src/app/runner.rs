@@ -4,14 +4,16 @@ use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
 use crate::analysis::modes;
+use crate::analysis::plan;
 use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
 use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{Model, System};
-use crate::case::build::BuiltModel;
-use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
+use crate::case::measured::Measured;
+use crate::case::{AnalysisSpec, HarmonicSystem, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::power::modal::ModalDamping;
+use crate::signal::sampling::samples_for_harmonics;
 use crate::solve::newmark::Scheme;
 use std::cell::OnceCell;
 
@@ -84,9 +86,9 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
 /// need, points on nodes, time steps (as given, resolving the drive, stable for the
 /// scheme), periodic drives where the analysis needs one, damping the analysis can apply.
 /// `beamflow check` runs it, and [`run_case`] before its first analysis, so both refuse the
-/// same cases with the same messages.
-pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result<()> {
-    let model = &built.model;
+/// same cases with the same messages. Returns the case's measurements (`[[measurement]]`),
+/// read and checked against the model.
+pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<Vec<Measured>> {
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
         let need_beam = || {
@@ -102,8 +104,16 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
             }
             match spec {
                 AnalysisSpec::Modes { .. } => need_beam(),
-                AnalysisSpec::Harmonic { force, .. } => {
+                AnalysisSpec::Harmonic { force, system, .. } => {
                     need_beam()?;
+                    if *system == HarmonicSystem::Coupled && model.modal_ratios().is_some() {
+                        return Err(Error::analysis_setting(
+                            "system",
+                            "the coupled system has no damping matrix with modal damping (its ratios belong to the \
+                             bare beam's modes): give the beam Rayleigh or hysteretic damping, or analyse the bare \
+                             beam",
+                        ));
+                    }
                     let mesh = &model.beam.as_ref().expect("checked").mesh;
                     for (j, f) in force.iter().enumerate() {
                         if mesh.node_at(f.x).is_none() {
@@ -117,8 +127,8 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                     Ok(())
                 }
                 AnalysisSpec::Transient { reduction, .. } => {
-                    if model.loss_factor > 0.0 {
-                        return Err(Error::input(&lc.file, "damping.kind", transient::HYSTERETIC_IN_TIME));
+                    if model.loss_factor() > 0.0 {
+                        return Err(Error::case_field("damping.kind", transient::HYSTERETIC_IN_TIME));
                     }
                     let s = transient_settings(spec, false).expect("transient");
                     let timing =
@@ -127,7 +137,7 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                     match reduction {
                         // Modal damping is a matrix only in modal coordinates.
                         None => {
-                            built.require_viscous_damping(&lc.file, "transient analysis without `reduction`")?;
+                            plan::require_viscous_damping(model, "transient analysis without `reduction`")?;
                             transient::check_time_step(system, s.scheme, &timing)
                         }
                         Some(r) if r.modes_up_to_hz.is_none() && !timing.periodic => {
@@ -138,21 +148,19 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                 }
                 AnalysisSpec::SteadyState { samples_per_period, reduction, .. } => {
                     DriveTiming::sampled(model, *samples_per_period)?;
-                    if model.loss_factor > 0.0 && reduction.is_some() {
-                        return Err(Error::input(
-                            "<case>",
-                            "analysis.reduction",
+                    if model.loss_factor() > 0.0 && reduction.is_some() {
+                        return Err(Error::analysis_setting(
+                            "reduction",
                             "a modal reduction is not available with hysteretic damping: run the full model",
                         ));
                     }
                     let beam_dofs = system.dofs.beam_dofs().len();
-                    if built.modal_ratios.is_some()
+                    if model.modal_ratios().is_some()
                         && reduction.is_none()
                         && beam_dofs > reduction::COMPLETE_BASIS_LIMIT
                     {
-                        return Err(Error::input(
-                            "<case>",
-                            "analysis.reduction",
+                        return Err(Error::analysis_setting(
+                            "reduction",
                             format!(
                                 "modal damping without a reduction needs all {beam_dofs} modes of the beam (dense, \
                                  above the {} this computes); give `reduction = \"auto\"` or a cut-off",
@@ -164,9 +172,17 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                 }
             }
         };
-        check().map_err(|e| relabel(e, &lc.file, &field))?;
+        check().map_err(|e| e.in_analysis(&lc.file, &field))?;
     }
-    Ok(())
+    let measured = crate::case::measured::load_measurements(lc)?;
+    let periodic = lc
+        .case
+        .analysis
+        .iter()
+        .filter(|a| matches!(a, AnalysisSpec::Transient { .. } | AnalysisSpec::SteadyState { .. }))
+        .count();
+    crate::analysis::measured::check(&measured, model, system, periodic).map_err(|e| e.in_file(&lc.file))?;
+    Ok(measured)
 }
 
 pub use crate::analysis::roundoff::MESH_ELEMENTS_LIMIT;
@@ -180,8 +196,7 @@ fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
         return Ok(());
     }
     let estimate = crate::analysis::roundoff::mesh_roundoff(model);
-    Err(Error::input(
-        "<case>",
+    Err(Error::case_field(
         "beam.mesh.elements",
         format!(
             "{n} elements: the round-off of the assembled stiffness would reach ≈ {estimate:.0e} of the point \
@@ -193,25 +208,10 @@ fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
 
 /// Builds the model and runs the case's analyses in order, after [`preflight`].
 pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
-    let built = build_model(lc)?;
-    let system = System::assemble(&built.model)?;
-    preflight(lc, &built, &system)?;
-    let modal_ratios = built.modal_ratios.clone();
-    let model = built.model;
-    let mut reduced = ReducedCache::default();
-    // Built at most once per case run (an eigen-analysis and a dense basis).
-    let complete: OnceCell<System> = OnceCell::new();
-    let reference = || -> Result<&System> {
-        match &modal_ratios {
-            None => Ok(&system),
-            Some(r) => {
-                if complete.get().is_none() {
-                    let _ = complete.set(reduction::complete_modal_basis(&system, r)?);
-                }
-                Ok(complete.get().expect("set above"))
-            }
-        }
-    };
+    let (model, system) = plan::model_and_system(lc)?;
+    let measured = preflight(lc, &model, &system)?;
+    let mut run =
+        Runner { model: &model, system: &system, reduced: ReducedCache::default(), complete: OnceCell::new() };
     let mut results = Vec::new();
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
@@ -222,93 +222,34 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 .ok_or_else(|| Error::input(&lc.file, &field, "this analysis needs a beam, but base = \"rigid\""))
         };
         let r = match spec {
-            AnalysisSpec::Modes { count } => AnalysisResult::Modes(modes::run(need_beam()?, *count)?),
-            AnalysisSpec::Harmonic { frequencies, force } => {
-                let beam = need_beam()?;
-                let bare = Model {
-                    beam: Some(beam.clone()),
-                    rayleigh: model.rayleigh,
-                    actuators: Vec::new(),
-                    sensors: model.sensors.clone(),
-                    loads: Vec::new(),
-                    loss_factor: model.loss_factor,
-                };
-                let sys = System::assemble(&bare)?;
+            AnalysisSpec::Modes { count } => {
+                let mut r = modes::run(need_beam()?, *count)?;
+                r.coupled = modes::coupled_modes(&model, &system, *count)?;
+                AnalysisResult::Modes(r)
+            }
+            AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Coupled } => {
+                need_beam()?;
                 let forces = harmonic_forces(force, &model.loads);
-                let modal = match &built.modal_ratios {
-                    Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r.clone())),
-                    None => None,
-                };
-                AnalysisResult::Harmonic(harmonic::run(
-                    &bare,
-                    &sys,
-                    &frequencies.list(),
-                    &forces,
-                    modal.as_ref().map(|(m, r)| (m, r.as_slice())),
-                )?)
+                AnalysisResult::Harmonic(
+                    harmonic::run(&model, &system, &frequencies.list(), &forces, None)
+                        .map_err(|e| e.in_analysis(&lc.file, &field))?,
+                )
+            }
+            AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Bare } => {
+                AnalysisResult::Harmonic(run.harmonic(need_beam()?, &frequencies.list(), force)?)
             }
             AnalysisSpec::Transient { reduction, .. } => {
                 let s = transient_settings(spec, lc.case.output.full_history).expect("transient");
-                let r = match reduction {
-                    None => transient::run(&model, &system, &s),
-                    Some(rs) => (|| {
-                        let rs = reduction_settings(rs, modal_ratios.as_deref());
-                        let timing =
-                            DriveTiming::stepped(&model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
-                        let h = timing.analysed_harmonics(s.harmonics);
-                        let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
-                        let mut r = transient::run(&model, &red, &s)?;
-                        if rs.error_estimate {
-                            report.error = Some(reduction::estimate_error(
-                                &model,
-                                reference()?,
-                                &red,
-                                h,
-                                ESTIMATE_SAMPLES.max(4 * h + 2),
-                            )?);
-                        }
-                        r.reduction = Some(report);
-                        Ok(r)
-                    })(),
-                };
-                AnalysisResult::Transient(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
+                let r = run.transient(&s, reduction.as_ref());
+                AnalysisResult::Transient(Box::new(r.map_err(|e| e.in_analysis(&lc.file, &field))?))
             }
             AnalysisSpec::SteadyState { harmonics, harmonic_tolerance, samples_per_period, reduction } => {
-                let n = *samples_per_period;
-                // A reduced model's cut-off follows the harmonic count, so it needs one first.
-                let h = harmonics.unwrap_or(REDUCED_HARMONICS);
                 let count = match harmonics {
                     Some(h) => HarmonicCount::Fixed(*h),
                     None => HarmonicCount::Tolerance(*harmonic_tolerance),
                 };
-                let r = match reduction {
-                    None => (|| {
-                        let fd = reference()?;
-                        let mut s = steady_state::run_counted(&model, fd, count, n)?;
-                        s.expand(fd);
-                        // The mode-resolved view has viscous modal dampers only.
-                        let bare = if model.loss_factor > 0.0 {
-                            None
-                        } else {
-                            modes::bare_modes_on(&model, &system, MODAL_TABLE_MODES)?
-                        };
-                        let damping = ModalDamping::of(&model.rayleigh, modal_ratios.as_deref());
-                        s.decompose_with(&system, bare.as_ref(), damping);
-                        Ok(s)
-                    })(),
-                    Some(rs) => (|| {
-                        let rs = reduction_settings(rs, modal_ratios.as_deref());
-                        let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
-                        let mut r = steady_state::run_counted(&model, &red, HarmonicCount::Fixed(h), n)?;
-                        if rs.error_estimate {
-                            let full = steady_state::run(&model, reference()?, h, n)?;
-                            report.error = Some(reduction::compare(&full, &r));
-                        }
-                        r.reduction = Some(report);
-                        Ok(r)
-                    })(),
-                };
-                AnalysisResult::SteadyState(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
+                let r = run.steady_state(count, *samples_per_period, reduction.as_ref());
+                AnalysisResult::SteadyState(Box::new(r.map_err(|e: Error| e.in_analysis(&lc.file, &field))?))
             }
         };
         if let Some(q) = r.non_finite() {
@@ -324,11 +265,120 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
         }
         results.push(r);
     }
-    Ok(CaseRun { model, system, results })
+    let link_name =
+        |l: &crate::analysis::series::LinkSeries| crate::actuator::link_id(model.actuators[l.actuator].name(), &l.name);
+    let measured =
+        crate::analysis::measured::compare_all(&results, &measured, &link_name).map_err(|e| e.in_file(&lc.file))?;
+    Ok(CaseRun { model, system, results, measured })
 }
 
-/// Harmonics of a modal-reduced steady state that does not name its count.
-const REDUCED_HARMONICS: usize = 9;
+/// A case's analyses against one model and its assembled system, sharing what they build.
+struct Runner<'a> {
+    model: &'a Model,
+    system: &'a System,
+    reduced: ReducedCache,
+    /// The model in the bare beam's complete modal basis, where modal damping is a matrix:
+    /// built at most once per case run (an eigen-analysis and a dense basis).
+    complete: OnceCell<System>,
+}
+
+impl Runner<'_> {
+    /// The full-order system the frequency-domain analyses solve: the assembled one, or
+    /// with modal damping its complete modal basis.
+    fn reference(&self) -> Result<&System> {
+        match self.model.modal_ratios() {
+            None => Ok(self.system),
+            Some(r) => {
+                if self.complete.get().is_none() {
+                    let _ = self.complete.set(reduction::complete_modal_basis(self.system, r)?);
+                }
+                Ok(self.complete.get().expect("set above"))
+            }
+        }
+    }
+
+    /// The bare beam (with the case's sensors and damping) under the harmonic analysis's
+    /// forces, or the case's sine loads.
+    fn harmonic(
+        &self,
+        beam: &crate::beam::Beam,
+        hz: &[f64],
+        force: &[crate::case::ForceSpec],
+    ) -> Result<harmonic::HarmonicResult> {
+        let model = self.model;
+        let bare = Model {
+            beam: Some(beam.clone()),
+            damping: model.damping.clone(),
+            actuators: Vec::new(),
+            sensors: model.sensors.clone(),
+            loads: Vec::new(),
+        };
+        let sys = System::assemble(&bare)?;
+        let forces = harmonic_forces(force, &model.loads);
+        let modal = match model.modal_ratios() {
+            Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r)),
+            None => None,
+        };
+        let modal = modal.as_ref().map(|(m, r)| (m, *r));
+        harmonic::run(&bare, &sys, hz, &forces, modal)
+    }
+
+    fn transient(
+        &mut self,
+        s: &TransientSettings,
+        reduction: Option<&ReductionSpec>,
+    ) -> Result<transient::TransientResult> {
+        let model = self.model;
+        let Some(rs) = reduction else { return transient::run(model, self.system, s) };
+        let rs = reduction_settings(rs, model.modal_ratios());
+        let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
+        let h = timing.analysed_harmonics(s.harmonics);
+        let (red, mut report) = self.reduced.get(model, self.system, &rs, h)?;
+        let mut r = transient::run(model, &red, s)?;
+        if rs.error_estimate {
+            let samples = ESTIMATE_SAMPLES.max(samples_for_harmonics(h).unwrap_or(usize::MAX));
+            report.error = Some(reduction::estimate_error(model, self.reference()?, &red, h, samples)?);
+        }
+        r.reduction = Some(report);
+        Ok(r)
+    }
+
+    fn steady_state(
+        &mut self,
+        count: HarmonicCount,
+        samples: usize,
+        reduction: Option<&ReductionSpec>,
+    ) -> Result<steady_state::SteadyStateResult> {
+        let model = self.model;
+        let Some(rs) = reduction else {
+            let fd = self.reference()?;
+            let mut s = steady_state::run_counted(model, fd, count, samples)?;
+            s.expand(fd);
+            // The mode-resolved view has viscous modal dampers only.
+            let bare = if model.loss_factor() > 0.0 {
+                None
+            } else {
+                modes::bare_modes_on(model, self.system, MODAL_TABLE_MODES)?
+            };
+            s.decompose_with(self.system, bare.as_ref(), ModalDamping::of(&model.damping));
+            return Ok(s);
+        };
+        // A reduced model's cut-off follows the harmonic count, so it needs one first.
+        let h = match count {
+            HarmonicCount::Fixed(h) => h,
+            HarmonicCount::Tolerance(_) => crate::case::DEFAULT_HARMONICS,
+        };
+        let rs = reduction_settings(rs, model.modal_ratios());
+        let (red, mut report) = self.reduced.get(model, self.system, &rs, h)?;
+        let mut r = steady_state::run_counted(model, &red, HarmonicCount::Fixed(h), samples)?;
+        if rs.error_estimate {
+            let full = steady_state::run(model, self.reference()?, h, samples)?;
+            report.error = Some(reduction::compare(&full, &r));
+        }
+        r.reduction = Some(report);
+        Ok(r)
+    }
+}
 
 /// Samples per period of the frequency-domain runs behind a reduction's error estimate.
 const ESTIMATE_SAMPLES: usize = 1024;
@@ -370,16 +420,5 @@ impl ReducedCache {
         let (s, r) = reduction::reduce(model, full, rs, hz)?;
         self.built.push((key, s.clone(), r.clone()));
         Ok((s, r))
-    }
-}
-
-/// Analyses report input problems against `<case>`/`analysis`; name the real file and entry.
-fn relabel(e: Error, file: &str, field: &str) -> Error {
-    match e {
-        Error::Input { file: f, field: fl, reason } if f == "<case>" => {
-            let fl = fl.strip_prefix("analysis.").map(|s| format!("{field}.{s}")).unwrap_or(fl);
-            Error::Input { file: file.to_string(), field: fl, reason }
-        }
-        e => e,
     }
 }

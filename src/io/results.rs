@@ -2,8 +2,10 @@
 
 use super::hdf5::{utc_timestamp, ResultsFile};
 use super::sink::GroupSink;
+use crate::actuator::link_id;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
+use crate::analysis::measured::Comparison;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
 use crate::analysis::series::{
@@ -11,6 +13,7 @@ use crate::analysis::series::{
 };
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
+use crate::case::measured::MeasuredQuantity;
 use crate::case::LoadedCase;
 use crate::error::Result;
 use crate::power::balance::EnergyBalance;
@@ -36,8 +39,8 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
     f.group("case")?.write_str("toml", &lc.text)?;
     let m = f.group("model")?;
     m.attr_i64("n_dofs", run.system.n() as i64)?;
-    m.attr_f64("rayleigh_a0", run.model.rayleigh.a0)?;
-    m.attr_f64("rayleigh_a1", run.model.rayleigh.a1)?;
+    m.attr_f64("rayleigh_a0", run.model.rayleigh().a0)?;
+    m.attr_f64("rayleigh_a1", run.model.rayleigh().a1)?;
     if let Some(b) = &run.model.beam {
         m.write_f64("node_x", &b.mesh.x, &[b.mesh.x.len()], "m", "beam node coordinates")?;
     }
@@ -53,7 +56,52 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
             AnalysisResult::SteadyState(x) => write_steady(&f.group(&format!("analysis_{i}_steady_state"))?, x, run)?,
         }
     }
+    for c in &run.measured {
+        let kind = match run.results[c.analysis] {
+            AnalysisResult::Transient(_) => "transient",
+            _ => "steady_state",
+        };
+        write_measured(&f.group(&format!("analysis_{}_{kind}/measurements/{}", c.analysis, c.name))?, c)?;
+    }
     Ok(())
+}
+
+/// A measurement against the analysis' prediction, under `measurements/<name>/<quantity>`.
+fn write_measured<S: GroupSink>(g: &S, c: &Comparison) -> Result<()> {
+    let q = g.group(c.quantity.name())?;
+    q.attr_str("file", &c.file)?;
+    q.attr_str("point", &c.point)?;
+    q.attr_str("unit", c.unit())?;
+    q.attr_f64("max_abs_error_db", c.max_abs_error_db())?;
+    if c.rms_error.is_finite() {
+        q.attr_f64("rms_error", c.rms_error)?;
+        q.attr_f64("relative_rms_error", c.relative_rms_error)?;
+    }
+    if let (Some(t), Some(ok)) = (c.tolerance_db, c.agrees()) {
+        q.attr_f64("tolerance_db", t)?;
+        q.attr_i64("agrees", ok as i64)?;
+    }
+    let n = c.harmonic.len();
+    q.write_i64(
+        "harmonic",
+        &c.harmonic.iter().map(|&k| k as i64).collect::<Vec<_>>(),
+        &[n],
+        "1",
+        "harmonics compared: present in both within 60 dB of their largest line",
+    )?;
+    q.write_f64("frequency", &c.frequency, &[n], "Hz", "k/T")?;
+    if c.quantity == MeasuredQuantity::Power {
+        let re = |v: &[num_complex::Complex64]| v.iter().map(|x| x.re).collect::<Vec<_>>();
+        q.write_f64("measured", &re(&c.measured), &[n], "W", "measured power per harmonic -0.5*Im(F*conj(A))/w")?;
+        q.write_f64("predicted", &re(&c.predicted), &[n], "W", "predicted power per harmonic, the same way")?;
+        q.write_f64("error_db", &c.error_db, &[n], "dB", "10*log10|measured/predicted|")?;
+        q.write_f64("phase_error", &c.phase_error, &[n], "rad", "0 where the signs agree, pi where they differ")
+    } else {
+        q.write_c64("measured", &c.measured, &[n], c.unit(), "measured complex amplitude (least-squares fit)")?;
+        q.write_c64("predicted", &c.predicted, &[n], c.unit(), "predicted complex amplitude")?;
+        q.write_f64("error_db", &c.error_db, &[n], "dB", "20*log10|measured/predicted|")?;
+        q.write_f64("phase_error", &c.phase_error, &[n], "rad", "arg(measured/predicted)")
+    }
 }
 
 fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
@@ -79,7 +127,28 @@ fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
         &[n, nx],
         "m/sqrt(kg)",
         "mass-normalised mode shapes: w at each node, one row per mode",
-    )
+    )?;
+    if let Some(c) = &r.coupled {
+        let cg = g.group("coupled")?;
+        let n = c.frequencies_hz.len();
+        cg.write_f64("frequencies_hz", &c.frequencies_hz, &[n], "Hz", "natural frequencies of beam and actuators")?;
+        cg.write_f64(
+            "shapes_w",
+            &c.shapes_w.concat(),
+            &[n, nx],
+            "m/sqrt(kg)",
+            "coupled mode shapes, mass-normalised over the whole system: w at each node, one row per mode",
+        )?;
+        cg.write_str_list("body_names", &c.body_names)?;
+        cg.write_f64(
+            "body_shapes",
+            &c.body_shapes.concat(),
+            &[n, c.body_names.len()],
+            "m/sqrt(kg)",
+            "each mode on the actuators' body DOFs (columns: body_names; rad/sqrt(kg) for rotations)",
+        )?;
+    }
+    Ok(())
 }
 
 fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
@@ -88,7 +157,7 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     let nforce = r.input_power.first().map_or(0, Vec::len);
     g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     g.write_f64("frequency_hz", &r.frequency_hz, &[nf], "Hz", "analysis frequencies")?;
-    g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, then sensors")?;
+    g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, sensors, then (coupled) link feet")?;
     g.write_str_list("point_names", &r.point_names)?;
     let mob: Vec<_> = r.mobility.iter().flat_map(|m| m.iter().flatten().copied()).collect();
     g.write_c64(
@@ -103,8 +172,38 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     let pin: Vec<f64> = r.input_power.iter().flatten().copied().collect();
     g.write_f64("input_power", &pin, &[nf, nforce], "W", "time-averaged input power per force point")?;
     g.write_f64("total_power", &r.total_power, &[nf], "W", "sum over force points")?;
-    g.write_f64("dissipated_power", &r.dissipated_power, &[nf], "W", "beam dissipation 0.5*w^2*Q^H*C*Q")?;
-    g.write_f64("balance_error", &r.balance_error, &[nf], "1", "|total - dissipated|/dissipated")
+    g.write_f64(
+        "dissipated_power",
+        &r.dissipated_power,
+        &[nf],
+        "W",
+        "dissipation 0.5*w^2*Q^H*C*Q (beam, and the links' dampers)",
+    )?;
+    g.write_f64("balance_error", &r.balance_error, &[nf], "1", "|total - dissipated|/dissipated")?;
+    let ni = r.transfer_inputs.len();
+    if ni > 0 {
+        let nl = r.link_names.len();
+        g.write_str_list("transfer_inputs", &r.transfer_inputs)?;
+        g.write_str_list("link_names", &r.link_names)?;
+        let flat = |t: &[Vec<Vec<num_complex::Complex64>>]| {
+            t.iter().flat_map(|m| m.iter().flatten().copied()).collect::<Vec<_>>()
+        };
+        g.write_c64(
+            "transfer_velocity",
+            &flat(&r.transfer_velocity),
+            &[nf, np * ni],
+            "m/(N*s)",
+            "coupled system: velocity at point i per unit input j (a foot force or a stack force); column i*n_inputs + j",
+        )?;
+        g.write_c64(
+            "transfer_interface",
+            &flat(&r.transfer_interface),
+            &[nf, nl * ni],
+            "1",
+            "coupled system: interface force under link l per unit input j (N/N); column l*n_inputs + j",
+        )?;
+    }
+    Ok(())
 }
 
 fn write_energy<S: GroupSink>(g: &S, name: &str, e: &EnergyBalance) -> Result<()> {
@@ -116,7 +215,7 @@ fn write_energy<S: GroupSink>(g: &S, name: &str, e: &EnergyBalance) -> Result<()
 }
 
 fn link_group_name(run: &CaseRun, l: &LinkSeries) -> String {
-    format!("{}_{}", run.model.actuators[l.actuator].name(), l.name)
+    link_id(run.model.actuators[l.actuator].name(), &l.name)
 }
 
 fn write_series<S: GroupSink>(
@@ -290,11 +389,7 @@ fn write_powers<S: GroupSink>(g: &S, mean: &[f64], net: &[f64], run: &CaseRun) -
     )?;
     g.write_str_list(
         "link_names",
-        &run.system
-            .links
-            .iter()
-            .map(|l| format!("{}_{}", run.model.actuators[l.actuator].name(), l.name))
-            .collect::<Vec<_>>(),
+        &run.system.links.iter().map(|l| link_id(run.model.actuators[l.actuator].name(), &l.name)).collect::<Vec<_>>(),
     )?;
     g.write_f64("net_power", net, &[net.len()], "W", "net power into the base per actuator")
 }
@@ -409,6 +504,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
             "Hz",
             "bare-beam natural frequencies of the modes used",
         )?;
+        mg.write_f64("frequency", &m.frequency, &[nk], "Hz", "harmonic frequencies k/T of the rows of eta_abs")?;
         mg.write_f64(
             "eta_abs",
             &m.eta_abs.concat(),
@@ -426,6 +522,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
         mg.write_f64("point_residual", &m.point_residual, &[nl], "W", "P_i minus the truncated modal sum")?;
         let nj = m.load_power.len();
         if nj > 0 {
+            mg.write_str_list("load_names", &r.loads.iter().map(|l| l.name.clone()).collect::<Vec<_>>())?;
             mg.write_f64(
                 "load_power",
                 &m.load_power.concat(),

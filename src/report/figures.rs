@@ -265,8 +265,14 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
     for (r, kind) in run.results.iter().zip(analysis_tags(run)) {
         let tag = format!("{stem}_{kind}");
         match r {
-            AnalysisResult::Modes(m) => out.extend(save(&modes_figure(m), dir, &tag)?),
-            AnalysisResult::Harmonic(h) => out.extend(save(&harmonic_figure(h), dir, &tag)?),
+            AnalysisResult::Modes(m) => {
+                out.extend(save(&modes_figure(m), dir, &tag)?);
+                out.extend(super::coupled::modes_figure(dir, &tag, m)?);
+            }
+            AnalysisResult::Harmonic(h) => {
+                out.extend(save(&harmonic_figure(h), dir, &tag)?);
+                out.extend(super::coupled::transfer_figure(dir, &tag, h)?);
+            }
             AnalysisResult::Transient(t) => {
                 // Figures show the last periods (a whole history, `[output] full_history`,
                 // is in the HDF5 file; drawn it would be hundreds of periods per panel).
@@ -295,6 +301,7 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
             }
         }
     }
+    out.extend(super::measured::figures(dir, stem, &analysis_tags(run), &run.measured)?);
     Ok(out)
 }
 

@@ -28,6 +28,7 @@ use crate::error::Result;
 use crate::power::point::{mean_product, net_power};
 use crate::power::record::{RecordAnalysis, Welch};
 use crate::power::spectra::harmonics;
+use crate::progress::Task;
 use crate::solve::band_newmark::{BandNewmark, StepOptions};
 use crate::solve::newmark::{consistent_acceleration, Scheme};
 use serde::Serialize;
@@ -157,7 +158,7 @@ fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<Ba
     // The structure's Rayleigh damping lets the band step drop its C product (a reduced,
     // dense system declines: its C is no longer banded).
     let options = StepOptions {
-        rayleigh: Some((model.rayleigh.a0, model.rayleigh.a1)),
+        rayleigh: Some((model.rayleigh().a0, model.rayleigh().a1)),
         track_dissipation: true,
         ..StepOptions::default()
     };
@@ -194,7 +195,7 @@ pub fn check_time_step(sys: &System, scheme: Scheme, timing: &DriveTiming) -> Re
 /// Runs the transient.
 pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<TransientResult> {
     if sys.k_loss.is_some() {
-        return Err(crate::error::Error::input("<case>", "damping.kind", HYSTERETIC_IN_TIME));
+        return Err(crate::error::Error::case_field("damping.kind", HYSTERETIC_IN_TIME));
     }
     let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
     stability::check_step(sys, s.scheme, &timing)?;
@@ -216,17 +217,22 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     };
     let mut settle = SettleCheck::new(s.tolerance, reference);
     let (mut converged, mut periods_run, mut settled_run) = (false, 0, 0);
+    // A periodic run counts periods; a record, its steps.
+    let task = if timing.periodic {
+        Task::start("transient", Some(plan.total as u64), "periods")
+    } else {
+        Task::start("transient record", Some(timing.steps_per_period as u64), "steps")
+    };
     for p in 0..plan.total {
         stacks.advance(p, &timing);
         let mut rec = window.next_record(&layout);
         ledger.open_period(&nm);
-        let pb = stepper.period(&mut nm, sys, &layout, &stacks);
+        let pb = stepper.period(&mut nm, sys, &layout, &stacks, (!timing.periodic).then_some(&task));
         ledger.close_period(&nm, pb);
         if let Some(d) = nm.u().iter().chain(nm.v()).position(|x| !x.is_finite()) {
             let n = sys.n();
-            return Err(crate::error::Error::input(
-                "<case>",
-                "analysis.dt",
+            return Err(crate::error::Error::analysis_setting(
+                "dt",
                 format!(
                     "the time integration diverged in period {} (by step {}): the {} of DOF {} is no longer a \
                      finite number; a smaller `dt`, an unconditionally stable scheme or inputs nearer physical \
@@ -244,6 +250,9 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         periods_run = p + 1;
         // Every period kept for output must be settled, not only the last.
         settled_run = if settle.settled_after(&sys.links, &rec) { settled_run + 1 } else { 0 };
+        if timing.periodic {
+            task.set_with(periods_run as u64, || settling_message(&settle, s.tolerance));
+        }
         window.push(rec);
         if timing.periodic && s.steady_state && settled_run >= plan.min {
             converged = true;
@@ -287,6 +296,18 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     Ok(result)
 }
 
+/// How far a periodic run has settled, for its progress bar.
+fn settling_message(settle: &SettleCheck, tolerance: f64) -> String {
+    let (left, change) = (settle.remaining(), settle.change());
+    if left.is_finite() {
+        format!("start-up transient left {left:.1e} (target {tolerance:.0e})")
+    } else if change.is_finite() {
+        format!("change over the last period {change:.1e}")
+    } else {
+        String::new()
+    }
+}
+
 /// How a non-periodic run's record is segmented for its spectra (None for a periodic
 /// drive): Welch segments of the case's `segment` (s), or the whole record as one; refused
 /// before the run when the record cannot hold the segment.
@@ -299,7 +320,7 @@ pub fn record_segments(timing: &DriveTiming, segment: Option<f64>) -> Result<Opt
         Some(seg) => Welch::hann((seg / timing.dt).round() as usize),
         None => Welch::whole(samples),
     };
-    welch.check(samples, "<case>", "analysis.segment")?;
+    welch.check(samples).map_err(|r| crate::error::Error::analysis_setting("segment", r))?;
     Ok(Some(welch))
 }
 
