@@ -101,7 +101,7 @@ fn the_report_holds_every_figure_and_every_number_of_the_summary() {
     let dir = tempfile::tempdir().unwrap();
     let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml");
     let out = dir.path().join("out");
-    beamflow::app::commands::run(&case, Some(&out), None, true).unwrap();
+    beamflow::app::commands::run(&case, Some(&out), None, true, false).unwrap();
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     let svgs: Vec<String> = std::fs::read_dir(&out)
         .unwrap()
@@ -148,7 +148,7 @@ fn the_report_escapes_what_the_user_wrote() {
     )
     .unwrap();
     let out = dir.path().join("out");
-    beamflow::app::commands::run(&case, Some(&out), None, false).unwrap();
+    beamflow::app::commands::run(&case, Some(&out), None, false, false).unwrap();
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(!html.contains("<script") && !html.contains("<b>") && !html.contains("<x>"), "{html}");
     assert!(html.contains("&lt;script&gt;alert(&#39;t&#39;)&lt;/script&gt; &amp; &lt;b&gt;"));

@@ -193,7 +193,7 @@ pub fn loop_panel(title: &str, d: &DriveSeries) -> LinePlot {
 }
 
 fn modes_figure(m: &ModesResult) -> LinePlot {
-    let mut p = LinePlot::new("Mode shapes of the bare beam (mass-normalised)", "x (m)", "w (1/√kg)");
+    let mut p = LinePlot::new("Mode shapes of the bare beam (mass-normalised)", "x (m)", "w (m/√kg)");
     for (r, w) in m.shapes_w.iter().enumerate().take(6) {
         p.series.push(Series::line(
             format!("mode {}: {:.2} Hz", r + 1, m.frequencies_hz[r]),

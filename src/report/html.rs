@@ -9,7 +9,7 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::report::plot::text::{eng, si};
+use crate::report::plot::text::{eng, si, significant};
 pub use crate::report::plot::text::{escape, html as label};
 
 /// The page's style: readable text width, tables with aligned numbers, figures that shrink
@@ -18,7 +18,7 @@ const CSS: &str = "\
 body{font-family:'DejaVu Sans',Verdana,sans-serif;margin:0 auto;max-width:1100px;padding:1em 1.5em;color:#222;line-height:1.45}\
 h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.8em}\
 h3{margin-top:1.4em}.meta{color:#555}\
-table{border-collapse:collapse;margin:.6em 0}th,td{border:1px solid #ddd;padding:.25em .6em;vertical-align:top}\
+table{border-collapse:collapse;margin:.6em 0;display:block;overflow-x:auto;max-width:100%}th,td{border:1px solid #ddd;padding:.25em .6em;vertical-align:top}\
 th{background:#f4f4f4;text-align:left}td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}\
 figure{margin:1.2em 0}figure svg{max-width:100%;height:auto;border:1px solid #eee}\
 figcaption{color:#555;font-size:.9em}pre{background:#f7f7f7;padding:.8em;overflow-x:auto;border:1px solid #e4e4e4}\
@@ -83,8 +83,11 @@ impl Default for Page {
 pub fn num(v: f64, unit: &str) -> String {
     let text = if !v.is_finite() {
         "–".to_string()
-    } else if crate::report::plot::text::prefixable(&format!("x ({unit})")).is_some() {
+    } else if unit == "Hz" || crate::report::plot::text::prefixable(&format!("x ({unit})")).is_some() {
         si(v, unit, 4)
+    } else if (unit.is_empty() || unit == "1") && (1e-3..1e4).contains(&v.abs()) {
+        // Ratios such as a MAC of 0.9999 read best as plain decimals.
+        significant(v, 4)
     } else if unit.is_empty() || unit == "1" {
         eng(v, 4)
     } else {
@@ -222,6 +225,7 @@ mod tests {
         assert!(num(3.5e-11, "").contains(">35e-12<"));
         assert!(num(f64::NAN, "W").contains(">–<"));
         assert!(num(2.0, "m/s²").contains("2 m/s²"));
+        assert!(num(0.99987, "").contains(">0.9999<") && num(1237.8, "Hz").contains(">1.238 kHz<"));
     }
 
     #[test]

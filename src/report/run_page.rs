@@ -68,6 +68,7 @@ impl RunReport<'_> {
         for (i, (r, tag)) in self.run.results.iter().zip(&tags).enumerate() {
             p.section(&format!("analysis-{tag}"), &format!("Analysis {}: {}", i + 1, tag.replace('_', " ")));
             p.push(&self.analysis_tables(r));
+            p.push(&self.measurements(i));
             let stem = self.stem();
             let prefix = format!("{stem}_{tag}");
             for svg in self.files.iter().filter(|f| f.extension().is_some_and(|e| e == "svg")) {
@@ -150,7 +151,9 @@ impl RunReport<'_> {
                     .into_iter()
                     .flatten()
                     .enumerate()
-                    .max_by(|x, y| f(x.1).abs().total_cmp(&f(y.1).abs()));
+                    .max_by(|x, y| f(x.1).abs().total_cmp(&f(y.1).abs()))
+                    .filter(|(_, p)| f(p) != 0.0);
+                // Without forces (transfer functions only) no power goes in: no row.
                 if let Some((k, p)) = peak {
                     row(format!("largest input power (at {} Hz)", crate::report::sweep::num(f(&fr[k]))), p, "W");
                 }
@@ -205,6 +208,54 @@ impl RunReport<'_> {
         table(&["analysis", "estimate", "value", "meaning"], &rows)
     }
 
+    /// The measurements compared in analysis `i`: where, what, and the errors.
+    fn measurements(&self, i: usize) -> String {
+        let rows: Vec<Vec<String>> = self
+            .run
+            .measured
+            .iter()
+            .filter(|c| c.analysis == i)
+            .map(|c| {
+                let verdict = match (c.agrees(), c.tolerance_db) {
+                    (Some(true), Some(t)) => format!("agrees (within {t} dB)"),
+                    (Some(false), Some(t)) => format!("DIFFERS (more than {t} dB)"),
+                    _ => "–".into(),
+                };
+                let rms = if c.quantity == crate::case::measured::MeasuredQuantity::Power {
+                    cell("–")
+                } else {
+                    num(c.relative_rms_error, "")
+                };
+                vec![
+                    cell(&c.name),
+                    cell(&c.point),
+                    cell(c.quantity.name()),
+                    cell(&c.harmonic.len().to_string()),
+                    c.drive_error_db().map_or(cell("–"), |e| num(e, "dB")),
+                    num(c.max_abs_error_db(), "dB"),
+                    rms,
+                    cell(&verdict),
+                    cell(&c.file),
+                ]
+            })
+            .collect();
+        if rows.is_empty() {
+            return String::new();
+        }
+        let head = [
+            "measurement",
+            "point",
+            "quantity",
+            "harmonics compared",
+            "level error at the drive frequency",
+            "largest |level error|",
+            "RMS error (relative)",
+            "verdict",
+            "file",
+        ];
+        format!("<h3>Measured beside predicted</h3>\n{}", table(&head, &rows))
+    }
+
     /// Warnings a reader should not miss, from the stated accuracies.
     pub fn warnings(&self) -> Vec<String> {
         let mut w = Vec::new();
@@ -246,6 +297,16 @@ impl RunReport<'_> {
                 ));
             }
         }
+        for c in self.run.measured.iter().filter(|c| c.agrees() == Some(false)) {
+            w.push(format!(
+                "{}: measured {} at {} differs from the prediction by up to {:.2} dB (tolerance {} dB).",
+                c.name,
+                c.quantity.name(),
+                c.point,
+                c.max_abs_error_db(),
+                c.tolerance_db.unwrap_or(f64::NAN)
+            ));
+        }
         if self.summary["base"] == "rigid" {
             w.push("Rigid base: nothing moves the base, so no power flows into it; the transmitted forces carry the result.".into());
         }
@@ -274,6 +335,9 @@ impl RunReport<'_> {
                     .collect();
                 s += &format!("<p>Reference: {}</p>\n", escape(&m.reference));
                 s += &table(&["mode", "f", "closed form", "relative error"], &rows);
+                if let Some(c) = &m.coupled {
+                    s += &coupled_modes(m, c);
+                }
             }
             AnalysisResult::Harmonic(h) => {
                 let rows: Vec<Vec<String>> = (0..h.frequency_hz.len())
@@ -290,6 +354,17 @@ impl RunReport<'_> {
                     &format!("Input power and dissipation at {} frequencies", rows.len()),
                     &table(&["frequency", "input power", "beam dissipation", "balance error"], &rows),
                 );
+                if !h.transfer_inputs.is_empty() {
+                    s += &format!(
+                        "<p>Transfer functions of the beam with its actuators attached, from {} inputs ({}) to {} \
+                         response points ({}): magnitude and phase in the figure below, complex values in the \
+                         HDF5 file (<code>transfer_velocity</code>, <code>transfer_interface</code>).</p>\n",
+                        h.transfer_inputs.len(),
+                        escape(&h.transfer_inputs.join(", ")),
+                        h.point_names.len(),
+                        escape(&h.point_names.join(", "))
+                    );
+                }
             }
             AnalysisResult::Transient(t) if t.record.is_none() => {
                 s += &point_powers(&t.mean_power, &t.spectra, &link);
@@ -344,6 +419,28 @@ impl RunReport<'_> {
         }
         s
     }
+}
+
+/// The coupled system's natural frequencies beside the bare-beam mode each resembles.
+fn coupled_modes(m: &crate::analysis::modes::ModesResult, c: &crate::analysis::modes::CoupledModes) -> String {
+    let rows: Vec<Vec<String>> = (0..c.frequencies_hz.len())
+        .map(|r| {
+            let pair = c.shapes_w.get(r).and_then(|w| super::coupled::counterpart(m, w));
+            vec![
+                cell(&(r + 1).to_string()),
+                num(c.frequencies_hz[r], "Hz"),
+                pair.map_or(cell("–"), |(b, _)| cell(&(b + 1).to_string())),
+                pair.map_or(cell("–"), |(b, _)| num(m.frequencies_hz[b], "Hz")),
+                pair.map_or(cell("–"), |(_, v)| num(v, "")),
+            ]
+        })
+        .collect();
+    format!(
+        "<p>With the actuators attached (their bodies: {}), the closest bare-beam mode by shape \
+         (MAC of w at the nodes):</p>\n{}",
+        escape(&c.body_names.join(", ")),
+        table(&["coupled mode", "f", "bare mode", "bare f", "MAC"], &rows)
+    )
 }
 
 /// Mean power at each point and its transmitted-force amplitude at the drive frequency.

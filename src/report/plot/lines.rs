@@ -298,6 +298,22 @@ fn clip_segment(a: (f64, f64), b: (f64, f64), lo: (f64, f64), hi: (f64, f64)) ->
 
 /// Splits a polyline into the pieces inside the box (in axis-linear space), so nothing is
 /// drawn outside the plot area when explicit ranges cut the data.
+/// A series' samples as runs to be joined: all of them, or for an angle the runs between
+/// its wraps (jumps of more than half its period).
+fn wrap_runs(s: &Series) -> Vec<(&[f64], &[f64])> {
+    let Some(period) = s.wrap else { return vec![(&s.x, &s.y)] };
+    let mut runs = Vec::new();
+    let mut start = 0;
+    for i in 1..s.y.len() {
+        if (s.y[i] - s.y[i - 1]).abs() > 0.5 * period {
+            runs.push((&s.x[start..i], &s.y[start..i]));
+            start = i;
+        }
+    }
+    runs.push((&s.x[start..], &s.y[start..]));
+    runs
+}
+
 fn clip_polyline(x: &[f64], y: &[f64], bx: &Box2) -> Vec<Vec<(f64, f64)>> {
     let (lo, hi) = bx.lin_bounds();
     let pts: Vec<(f64, f64)> = x.iter().zip(y).map(|(&x, &y)| bx.fwd((x, y))).collect();
@@ -425,7 +441,7 @@ where
                 // spike far outside the plot area, so it is drawn as runs that are monotone
                 // in y, joined only where they do not turn back.
                 let mut paths = Vec::new();
-                for pc in clip_polyline(&s.x, &s.y, bx) {
+                for pc in wrap_runs(s).into_iter().flat_map(|(x, y)| clip_polyline(x, y, bx)) {
                     if pc.len() > 4 * columns {
                         paths.extend(monotone_runs(&decimate(pc, columns, bx)));
                     } else {
@@ -532,5 +548,14 @@ mod tests {
         let d = decimate(pts, 500, &bx);
         assert!(d.len() <= 2000 && d.len() >= 500, "{}", d.len());
         assert!(d.iter().any(|p| p.1 > 0.999) && d.iter().any(|p| p.1 < -0.999));
+    }
+
+    #[test]
+    fn angles_break_where_they_wrap() {
+        let s = Series::line("phase", vec![0.0, 1.0, 2.0, 3.0, 4.0], vec![170.0, 179.0, -178.0, -170.0, 10.0]);
+        assert_eq!(wrap_runs(&s).len(), 1, "a line is joined unless it is an angle");
+        let angle = s.clone().wrapped(360.0);
+        let runs = wrap_runs(&angle);
+        assert_eq!(runs, vec![(&[0.0, 1.0][..], &[170.0, 179.0][..]), (&[2.0, 3.0, 4.0][..], &[-178.0, -170.0, 10.0][..])]);
     }
 }

@@ -157,12 +157,21 @@ pub struct Series {
     pub x: Vec<f64>,
     pub y: Vec<f64>,
     pub style: SeriesStyle,
+    /// An angle's period in y (e.g. 360 for a phase in degrees): a line is not joined
+    /// across a jump of more than half of it, where the angle wraps.
+    pub wrap: Option<f64>,
 }
 
 impl Series {
     /// A series drawn as a connected line.
     pub fn line(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
-        Series { label: label.into(), x, y, style: SeriesStyle::Line }
+        Series { label: label.into(), x, y, style: SeriesStyle::Line, wrap: None }
+    }
+
+    /// The same series as an angle of `period` (y units): lines break where it wraps.
+    pub fn wrapped(mut self, period: f64) -> Self {
+        self.wrap = Some(period);
+        self
     }
 
     /// The same series with another style.

@@ -157,7 +157,7 @@ pub fn with_prefix(label: &str, e: i32) -> String {
 }
 
 /// `v` with `digits` significant digits, trailing zeros removed.
-fn significant(v: f64, digits: usize) -> String {
+pub fn significant(v: f64, digits: usize) -> String {
     if v == 0.0 {
         return "0".into();
     }
