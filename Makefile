@@ -7,8 +7,9 @@ paper: deps
 	cargo run --release -- paper --out out/paper
 
 # The whole test suite in release mode (the physics tests run long time integrations),
-# then a run's report.html is rendered in headless Chromium (installed with apt-get if
-# missing) and must load with no console message and show every figure, then an outside
+# then the report.html of a run, of a small sweep and of the paper's experiments are
+# rendered in headless Chromium (installed with apt-get if missing) and must load with no
+# console message and show every figure, then an outside
 # HDF5 reader (h5dump) checks that a result file is standard HDF5, then the
 # Slurm job array of docs/sweeps.md runs on a one-node cluster on localhost (slurm-wlm and
 # munge are installed with apt-get if missing; needs root or passwordless sudo), the

@@ -55,7 +55,7 @@ fn link_index(run: &CaseRun, actuator: usize, name: &str) -> usize {
 
 /// Runs a case and writes its HDF5 file (and, with `csv`, its CSV tables) into `out`.
 fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, csv: bool, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
-    eprintln!("running {stem} …");
+    crate::say!("running {stem} …");
     let run = run_case(lc)?;
     let h5 = out.join(format!("{stem}.h5"));
     crate::io::results::write(&h5, lc, &run)?;
