@@ -359,7 +359,10 @@ fn report_page(md: &str, written: &[PathBuf], cases: &[&LoadedCase]) -> Result<S
     p.push(&format!("<ul>{names}</ul>\n"));
     Ok(p.finish(
         "beamflow — the paper's experiments",
-        &format!("Jiang, Wang, Zheng &amp; Pan, Figs. 8–16, with the default parameters · beamflow {}", env!("CARGO_PKG_VERSION")),
+        &format!(
+            "Jiang, Wang, Zheng &amp; Pan, Figs. 8–16, with the default parameters · beamflow {}",
+            env!("CARGO_PKG_VERSION")
+        ),
     ))
 }
 

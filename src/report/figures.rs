@@ -417,8 +417,13 @@ fn periodic_figures(
             }
             panels.push(pp);
         }
+        // A transient's figures show its last periods: their time axis starts at t₀.
+        let from = t
+            .first()
+            .filter(|&&t0| t0 > 0.0)
+            .map_or(String::new(), |&t0| format!(", time from t₀ = {}", si(t0, "s", 4)));
         out.extend(save(
-            &MultiPanel::new(format!("{name} ({})", act.kind()), panels),
+            &MultiPanel::new(format!("{name} ({}){from}", act.kind()), panels),
             dir,
             &format!("{tag}_{name}_time"),
         )?);

@@ -74,7 +74,9 @@ fn errors(c: &Comparison) -> LinePlot {
         "frequency (Hz)",
         "level error (dB)",
     );
-    p.series.push(Series::line("measured / predicted", c.frequency.clone(), c.error_db.clone()).with_style(SeriesStyle::Stems));
+    p.series.push(
+        Series::line("measured / predicted", c.frequency.clone(), c.error_db.clone()).with_style(SeriesStyle::Stems),
+    );
     let top = c.tolerance_db.unwrap_or(0.0).max(c.max_abs_error_db()).max(0.1) * 1.15;
     p.y_range = Some((-top, top));
     if let Some(t) = c.tolerance_db {

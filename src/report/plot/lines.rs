@@ -556,6 +556,9 @@ mod tests {
         assert_eq!(wrap_runs(&s).len(), 1, "a line is joined unless it is an angle");
         let angle = s.clone().wrapped(360.0);
         let runs = wrap_runs(&angle);
-        assert_eq!(runs, vec![(&[0.0, 1.0][..], &[170.0, 179.0][..]), (&[2.0, 3.0, 4.0][..], &[-178.0, -170.0, 10.0][..])]);
+        assert_eq!(
+            runs,
+            vec![(&[0.0, 1.0][..], &[170.0, 179.0][..]), (&[2.0, 3.0, 4.0][..], &[-178.0, -170.0, 10.0][..])]
+        );
     }
 }
