@@ -192,6 +192,8 @@ fn measurements_and_the_coupled_system_appear_in_figures_and_report() {
         let out = dir.path().join(format!("out{tol}"));
         beamflow::app::commands::run(&case, Some(&out), None, true, false).unwrap();
         let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+        // Without forces the harmonic analysis has transfer functions only: no mobility figure.
+        assert!(!out.join("c_harmonic.png").exists());
         for f in ["c_steady_state_measured_bench", "c_harmonic_transfer", "c_modes_coupled"] {
             assert!(out.join(format!("{f}.png")).exists(), "{f}.png");
             assert!(html.contains(&format!("<figcaption>{f}.{{png,svg}}</figcaption>")), "{f} is not in the report");

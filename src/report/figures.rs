@@ -204,7 +204,9 @@ fn modes_figure(m: &ModesResult) -> LinePlot {
     p
 }
 
-fn harmonic_figure(h: &HarmonicResult) -> MultiPanel {
+/// None when the analysis applies no force (transfer functions of the coupled system
+/// only, drawn by [`super::coupled`]).
+fn harmonic_figure(h: &HarmonicResult) -> Option<MultiPanel> {
     let mut mob = LinePlot::new("Driving-point mobility", "frequency (Hz)", "|Y| (m/(N·s))");
     mob.log_x = true;
     mob.log_y = true;
@@ -212,6 +214,9 @@ fn harmonic_figure(h: &HarmonicResult) -> MultiPanel {
     pw.log_x = true;
     pw.log_y = true;
     let nforce = h.input_power.first().map_or(0, Vec::len);
+    if nforce == 0 {
+        return None;
+    }
     for j in 0..nforce {
         let y: Vec<f64> = h.mobility.iter().map(|m| m[j][j].norm().max(1e-300)).collect();
         mob.series.push(Series::line(
@@ -233,7 +238,7 @@ fn harmonic_figure(h: &HarmonicResult) -> MultiPanel {
         )
         .with_style(SeriesStyle::Markers),
     );
-    MultiPanel::new("Harmonic response of the beam", vec![mob, pw])
+    Some(MultiPanel::new("Harmonic response of the beam", vec![mob, pw]))
 }
 
 /// The analysis types of a run as file-name parts, `transient` or, when a case has several
@@ -270,7 +275,9 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                 out.extend(super::coupled::modes_figure(dir, &tag, m)?);
             }
             AnalysisResult::Harmonic(h) => {
-                out.extend(save(&harmonic_figure(h), dir, &tag)?);
+                if let Some(fig) = harmonic_figure(h) {
+                    out.extend(save(&fig, dir, &tag)?);
+                }
                 out.extend(super::coupled::transfer_figure(dir, &tag, h)?);
             }
             AnalysisResult::Transient(t) => {

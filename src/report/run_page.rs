@@ -350,10 +350,13 @@ impl RunReport<'_> {
                         ]
                     })
                     .collect();
-                s += &details(
-                    &format!("Input power and dissipation at {} frequencies", rows.len()),
-                    &table(&["frequency", "input power", "beam dissipation", "balance error"], &rows),
-                );
+                // Transfer functions alone apply no force: no power to tabulate.
+                if h.input_power.first().is_some_and(|p| !p.is_empty()) {
+                    s += &details(
+                        &format!("Input power and dissipation at {} frequencies", rows.len()),
+                        &table(&["frequency", "input power", "beam dissipation", "balance error"], &rows),
+                    );
+                }
                 if !h.transfer_inputs.is_empty() {
                     s += &format!(
                         "<p>Transfer functions of the beam with its actuators attached, from {} inputs ({}) to {} \

@@ -177,6 +177,10 @@ pub fn si(v: f64, unit: &str, digits: usize) -> String {
     }
     let e = exponent3(v.abs());
     let m = v / 10f64.powi(e);
+    // Beyond the prefixes (below 1 f, from 1000 G on): engineering notation.
+    if v != 0.0 && !(1.0..1000.0).contains(&(m.abs() * (1.0 + 1e-9))) {
+        return format!("{} {unit}", eng(v, digits));
+    }
     // Rounding can reach the next prefix (999.96 → "1000").
     let text = significant(m, digits);
     if text.trim_start_matches('-').starts_with("1000") && e < 9 {
@@ -263,6 +267,8 @@ mod tests {
         assert_eq!(si(-0.0154, "N", 3), "-15.4 mN");
         assert_eq!(si(999.96e-6, "W", 3), "1 mW");
         assert_eq!(si(150.0, "N", 3), "150 N");
+        assert_eq!(si(1e-300, "W", 3), "1e-300 W");
+        assert_eq!(si(2e13, "N", 3), "20e12 N");
         assert_eq!(si(0.0, "W", 3), "0 W");
         assert_eq!(eng(2.5e-7, 3), "250e-9");
         assert_eq!(eng(1.5e6, 3), "1.5e6");
