@@ -128,6 +128,28 @@ fn completions_are_printed_for_each_shell() {
     }
 }
 
+#[test]
+fn a_reader_that_stops_early_is_not_a_crash() {
+    // `beamflow completions bash | head -3`: the pipe closes before the script is written.
+    for args in
+        [&["completions", "bash"][..], &["run", "cases/beam-inertial-12V-60Hz.toml", "--json", "-", "--no-plots"]]
+    {
+        let out = tempfile::tempdir().unwrap();
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
+            .args(args)
+            .args(if args[0] == "run" { vec!["--out", out.path().to_str().unwrap()] } else { vec![] })
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success() && !e.contains("panicked"), "{args:?}: {e}");
+    }
+}
+
 /// The keys of every analysis of a summary, sorted.
 fn analysis_keys(v: &serde_json::Value) -> Vec<Vec<String>> {
     v["analyses"]
