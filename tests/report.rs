@@ -207,3 +207,36 @@ fn measurements_and_the_coupled_system_appear_in_figures_and_report() {
         assert!(html.contains("coupled mode") && html.contains("MAC"));
     }
 }
+
+/// Width and height of a PNG file from its IHDR chunk.
+fn png_size(path: &Path) -> (u32, u32) {
+    let b = std::fs::read(path).unwrap();
+    assert_eq!(&b[1..4], b"PNG", "{}", path.display());
+    let be = |i: usize| u32::from_be_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
+    (be(16), be(20))
+}
+
+/// `--dpi` scales every PNG (200 dpi: twice the pixels of the default 100 in each
+/// direction) and leaves the SVG files as they are; a resolution out of range is refused.
+#[test]
+fn dpi_scales_png_figures_and_leaves_svg_alone() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("c.toml");
+    std::fs::write(&case, linear_case(12.0, "[[analysis]]\ntype = \"steady_state\"\nharmonics = 3\n")).unwrap();
+    let run = |dpi: &str, out: &str| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
+            .args(["--quiet", "--dpi", dpi, "run", case.to_str().unwrap(), "--out", out])
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned())
+    };
+    assert!(run("100", "a").0 && run("200", "b").0);
+    let fig = "c_steady_state_shaker_spectrum";
+    let (w, h) = png_size(&dir.path().join(format!("a/{fig}.png")));
+    assert_eq!(png_size(&dir.path().join(format!("b/{fig}.png"))), (2 * w, 2 * h));
+    let svg = |d: &str| std::fs::read(dir.path().join(format!("{d}/{fig}.svg"))).unwrap();
+    assert_eq!(svg("a"), svg("b"));
+    let (ok, err) = run("20", "c");
+    assert!(!ok && err.contains("--dpi") && err.contains("50..=600"), "{err}");
+}
