@@ -1,19 +1,23 @@
 # The two commands of the README. Both make sure the HDF5 C library is installed first
 # (scripts/ensure-hdf5.sh installs it with apt-get on Debian/Ubuntu, or says how).
-.PHONY: paper test test-slurm test-python deps
+.PHONY: paper test test-report test-slurm test-python deps
 
 # The main job: every experiment of the paper, figures, HDF5 files and a summary in out/paper.
 paper: deps
 	cargo run --release -- paper --out out/paper
 
 # The whole test suite in release mode (the physics tests run long time integrations),
-# then an outside HDF5 reader (h5dump) checks that a result file is standard HDF5, then the
+# then the report.html of a run, of a small sweep and of the paper's experiments are
+# rendered in headless Chromium (installed with apt-get if missing) and must load with no
+# console message and show every figure, then an outside
+# HDF5 reader (h5dump) checks that a result file is standard HDF5, then the
 # Slurm job array of docs/sweeps.md runs on a one-node cluster on localhost (slurm-wlm and
 # munge are installed with apt-get if missing; needs root or passwordless sudo), the
 # Python package is built in a fresh virtualenv and tested (scripts/test-python.sh), and
 # every command of the README runs as written in a fresh clone (scripts/test-readme.sh).
 test: deps
 	cargo test --release
+	bash scripts/test-report.sh
 	bash scripts/check-results-with-h5dump.sh
 	bash scripts/test-readme.sh
 	bash scripts/test-slurm.sh
@@ -22,6 +26,10 @@ test: deps
 # The Python package's build, tests and example alone.
 test-python: deps
 	bash scripts/test-python.sh
+
+# The report's browser test alone.
+test-report: deps
+	bash scripts/test-report.sh
 
 # The Slurm test alone.
 test-slurm: deps

@@ -115,7 +115,12 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, cs
     let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
     let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
     if let Some(j) = json.filter(|j| !crate::app::cli::is_stdout(j)) {
-        let taken = [case.to_path_buf(), dir.join(format!("{stem}.h5")), dir.join(format!("{stem}.json"))];
+        let taken = [
+            case.to_path_buf(),
+            dir.join(format!("{stem}.h5")),
+            dir.join(format!("{stem}.json")),
+            dir.join(crate::report::run_page::FILE),
+        ];
         if taken.iter().any(|p| same_path(p, j)) {
             return Err(Error::input(
                 "<cli>",
@@ -155,6 +160,10 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, cs
     let json_path = set.dir().join(format!("{stem}.json"));
     write_atomic_string(&json_path, &text)?;
     written.push(json_path);
+    let page = crate::report::run_page::RunReport { lc: &lc, run: &run, summary: &summary, files: &written }.html()?;
+    let report_path = set.dir().join(crate::report::run_page::FILE);
+    write_atomic_string(&report_path, &page)?;
+    written.push(report_path);
     let finals: Vec<PathBuf> = written.iter().map(|p| set.final_path(p)).collect();
     set.commit()?;
     for p in &finals {

@@ -13,9 +13,10 @@ use crate::case::{BodySpec, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
 use crate::report::figures::{
-    body_panel, components_panel, forces_panel, ms_axis, power_spectrum_panel, save, spectrum_panel,
+    body_panel, components_panel, forces_panel, ms_axis, power_spectrum_panel, save, spectrum_panel, total_panel,
+    PowerLines,
 };
-use crate::report::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
+use crate::report::plot::{BarChart, LinePlot, MultiPanel, Series};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -54,7 +55,7 @@ fn link_index(run: &CaseRun, actuator: usize, name: &str) -> usize {
 
 /// Runs a case and writes its HDF5 file (and, with `csv`, its CSV tables) into `out`.
 fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, csv: bool, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
-    eprintln!("running {stem} …");
+    crate::say!("running {stem} …");
     let run = run_case(lc)?;
     let h5 = out.join(format!("{stem}.h5"));
     crate::io::results::write(&h5, lc, &run)?;
@@ -64,6 +65,9 @@ fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, csv: bool, written: &m
     }
     Ok(run)
 }
+
+/// The frame/inertial net-power ratio at 60 Hz the paper reports (physics.md §14).
+const PAPER_POWER_RATIO: f64 = 300.0;
 
 /// Files written so far and the largest energy-balance error of the runs behind them.
 struct Written {
@@ -105,7 +109,8 @@ pub fn run(out: &Path, csv: bool) -> Result<()> {
     let rigid_lc = load("rigid-base-48V-30Hz.toml")?;
     let rigid = rigid_base(&rigid_lc, out, &mut w)?;
     let mass_amp = top_mass(&rigid_lc, out, &mut w)?;
-    let beam = on_beam(out, &mut w)?;
+    let (bi_lc, bf_lc) = (load("beam-inertial-12V-60Hz.toml")?, load("beam-frame-12V-60Hz.toml")?);
+    let beam = on_beam(&bi_lc, &bf_lc, out, &mut w)?;
     let (p_in, p_fr, p_pts) = (beam.p_in, beam.p_fr, &beam.p_pts);
     let summary = json!({
         "force_ratio_frame_over_inertial": rigid.force_ratio,
@@ -132,6 +137,9 @@ pub fn run(out: &Path, csv: bool) -> Result<()> {
     let md_path = out.join("summary.md");
     write_atomic_string(&md_path, &md)?;
     w.files.push(md_path);
+    let report_path = out.join(crate::report::run_page::FILE);
+    write_atomic_string(&report_path, &report_page(&md, &w.files, &[&rigid_lc, &bi_lc, &bf_lc])?)?;
+    w.files.push(report_path);
     crate::say!("{md}");
     crate::say!("wrote {} files to {}", w.files.len(), out.display());
     Ok(())
@@ -152,28 +160,33 @@ fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Rigi
     let fig8 = MultiPanel::new(
         "Fig. 8 — transmitted forces on a rigid base, 48 V, 30 Hz",
         vec![
-            forces_panel("inertial-type: F_T", &rt.t, &[&rt.links[i_stack]]),
+            forces_panel("inertial-type: F_{T}", &rt.t, &[&rt.links[i_stack]]),
             forces_panel(
-                "frame-type: F_E, F_L, F_R",
+                "frame-type: F_{E}, F_{L}, F_{R}",
                 &rt.t,
                 &[&rt.links[f_stack], &rt.links[f_left], &rt.links[f_right]],
             ),
         ],
     );
     written.extend(save(&fig8, out, "fig08_transmitted_forces")?);
+    // Components above, their sum below on its own axis, one column per actuator: the
+    // inertial actuator's components nearly cancel, the frame's do not.
     let fig9 = MultiPanel::new(
-        "Fig. 9 — components of the stack-foot force",
+        "Fig. 9 — components of the stack-foot force and their sum",
         vec![
-            components_panel("inertial-type F_T", &rt.t, &rt.links[i_stack]),
-            components_panel("frame-type F_E", &rt.t, &rt.links[f_stack]),
+            components_panel("inertial-type: components of F_{T}", &rt.t, &rt.links[i_stack]),
+            components_panel("frame-type: components of F_{E}", &rt.t, &rt.links[f_stack]),
+            total_panel("inertial-type", "F_{T}", &rt.t, &rt.links[i_stack]),
+            total_panel("frame-type", "F_{E}", &rt.t, &rt.links[f_stack]),
         ],
-    );
+    )
+    .with_columns(2);
     written.extend(save(&fig9, out, "fig09_force_components")?);
     let body = |a: usize, dof: &str| rt.bodies.iter().find(|b| b.actuator == a && b.dof == dof).expect("body DOF");
     let fig10 = MultiPanel::new(
         "Fig. 10 — top displacements on a rigid base",
         vec![
-            body_panel("inertial-type: top mass z_t", &rt.t, body(0, "z_t")),
+            body_panel("inertial-type: top mass z_{t}", &rt.t, body(0, "z_t")),
             body_panel("frame-type: top beam y", &rt.t, body(1, "y")),
             body_panel("frame-type: top beam rotation φ", &rt.t, body(1, "phi")),
         ],
@@ -182,10 +195,10 @@ fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Rigi
     let fig12 = MultiPanel::new(
         "Fig. 12 — transmitted-force spectra: the drive and its odd harmonics",
         vec![
-            spectrum_panel("inertial-type F_T", &[("F_T", &rt.spectra[i_stack])]),
+            spectrum_panel("inertial-type F_{T}", &[("F_{T}", &rt.spectra[i_stack])]),
             spectrum_panel(
                 "frame-type",
-                &[("F_E", &rt.spectra[f_stack]), ("F_L", &rt.spectra[f_left]), ("F_R", &rt.spectra[f_right])],
+                &[("F_{E}", &rt.spectra[f_stack]), ("F_{L}", &rt.spectra[f_left]), ("F_{R}", &rt.spectra[f_right])],
             ),
         ],
     );
@@ -217,9 +230,9 @@ fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Rigi
 /// fundamental of F_T per mass (kg, N).
 fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f64, f64)>> {
     let mut fig11 = LinePlot::new(
-        "Fig. 11 — inertial-type F_T against top mass (rigid base, 48 V, 30 Hz)",
+        "Fig. 11 — inertial-type F_{T} against top mass (rigid base, 48 V, 30 Hz)",
         "time (ms)",
-        "transmitted force F_T (N)",
+        "transmitted force F_{T} (N)",
     );
     let mut mass_amp = Vec::new();
     for m_t in [0.1, 0.3, 0.5, 1.0] {
@@ -231,7 +244,7 @@ fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f
         let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), w.csv, &mut w.files)?;
         let t = transient(&run)?;
         w.max_balance = w.max_balance.max(t.energy_run.system.relative_error());
-        fig11.series.push(Series::line(format!("m_t = {m_t} kg"), ms_axis(&t.t), t.links[0].transmitted.clone()));
+        fig11.series.push(Series::line(format!("m_{{t}} = {m_t} kg"), ms_axis(&t.t), t.links[0].transmitted.clone()));
         mass_amp.push((m_t, t.spectra[0].transmitted[1].norm()));
     }
     w.files.extend(save(&fig11, out, "fig11_top_mass")?);
@@ -240,12 +253,10 @@ fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f
 }
 
 /// Figs. 13–16 from the two actuators on the beam at 12 V, 60 Hz, and the powers they show.
-fn on_beam(out: &Path, w: &mut Written) -> Result<BeamFindings> {
+fn on_beam(bi_lc: &LoadedCase, bf_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<BeamFindings> {
     let (written, max_balance, csv) = (&mut w.files, &mut w.max_balance, w.csv);
-    let bi_lc = load("beam-inertial-12V-60Hz.toml")?;
-    let bi = run_and_store(&bi_lc, out, "beam-inertial-12V-60Hz", csv, written)?;
-    let bf_lc = load("beam-frame-12V-60Hz.toml")?;
-    let bf = run_and_store(&bf_lc, out, "beam-frame-12V-60Hz", csv, written)?;
+    let bi = run_and_store(bi_lc, out, "beam-inertial-12V-60Hz", csv, written)?;
+    let bf = run_and_store(bf_lc, out, "beam-frame-12V-60Hz", csv, written)?;
     let (bit, bis, bft, bfs) = (transient(&bi)?, steady(&bi)?, transient(&bf)?, steady(&bf)?);
     for t in [bit, bft] {
         *max_balance = max_balance
@@ -258,19 +269,19 @@ fn on_beam(out: &Path, w: &mut Written) -> Result<BeamFindings> {
     }
     let x = ms_axis(&bit.t);
     let mut f13 = LinePlot::new("interface force", "time (ms)", "force (N)");
-    f13.series.push(Series::line("F_T at the interface", x.clone(), bit.links[0].interface.clone()));
+    f13.series.push(Series::line("F_{T} at the interface", x.clone(), bit.links[0].interface.clone()));
     let mut a13 = LinePlot::new("beam acceleration at the interface", "time (ms)", "acceleration (m/s²)");
-    a13.series.push(Series::line("ẅ(x_E)", x, bit.links[0].base_acceleration.clone()));
+    a13.series.push(Series::line("ẅ(x_{E})", x, bit.links[0].base_acceleration.clone()));
     written.extend(save(
         &MultiPanel::new("Fig. 13 — inertial-type on the beam at 0.150 m, 12 V, 60 Hz", vec![f13, a13]),
         out,
         "fig13_force_acceleration",
     )?);
-    let mut from_acc = bit.spectra[0].clone();
-    from_acc.power = from_acc.power_from_acceleration.clone();
+    let s14 = &bit.spectra[0];
     let p14 = power_spectrum_panel(
         "Fig. 14 — inertial-type: power-flow spectrum, 12 V, 60 Hz",
-        &[("from F and v", &bit.spectra[0]), ("from F and a", &from_acc)],
+        &[("from F and v", &s14.frequency, &s14.power)],
+        &[("from F and a", &s14.frequency, &s14.power_from_acceleration)],
     );
     written.extend(save(&p14, out, "fig14_power_spectrum")?);
     let names = crate::actuator::Frame::LINKS;
@@ -284,17 +295,13 @@ fn on_beam(out: &Path, w: &mut Written) -> Result<BeamFindings> {
             bft.links[l].power.clone(),
         ));
     }
-    let mut b15 = LinePlot::new("power per harmonic", "frequency (Hz)", "power (W)");
-    for &l in &idx {
-        b15.series.push(
-            Series::line(
-                crate::report::figures::link_label(&bft.links[l]),
-                bfs.spectra[l].frequency[1..].to_vec(),
-                bfs.spectra[l].power[1..].to_vec(),
-            )
-            .with_style(SeriesStyle::LineMarkers),
-        );
-    }
+    let labels: Vec<String> = idx.iter().map(|&l| crate::report::figures::link_label(&bft.links[l])).collect();
+    let lines: Vec<PowerLines> = idx
+        .iter()
+        .zip(&labels)
+        .map(|(&l, name)| (name.as_str(), bfs.spectra[l].frequency.as_slice(), bfs.spectra[l].power.as_slice()))
+        .collect();
+    let b15 = power_spectrum_panel("power per harmonic", &lines, &[]);
     written.extend(save(
         &MultiPanel::new(
             "Fig. 15 — frame-type on the beam: power at the stack foot and at both legs, 12 V, 60 Hz",
@@ -308,7 +315,13 @@ fn on_beam(out: &Path, w: &mut Written) -> Result<BeamFindings> {
     let p_fr: f64 = p_pts.iter().sum();
     let mut fig16 = BarChart::new("Fig. 16 — net power into the beam at 60 Hz (12 V)", "actuator", "net power (W)");
     fig16.categories = vec!["inertial-type".into(), "frame-type".into()];
-    fig16.groups.push(("net power at the drive frequency".into(), vec![p_in, p_fr]));
+    fig16.groups.push((String::new(), vec![p_in, p_fr]));
+    fig16.show_values = true;
+    fig16.notes = vec![
+        "frame / inertial:".into(),
+        format!("beamflow {:.0}×", p_fr / p_in),
+        format!("paper ≈ {PAPER_POWER_RATIO:.0}×"),
+    ];
     written.extend(save(&fig16, out, "fig16_net_power")?);
 
     Ok(BeamFindings {
@@ -319,6 +332,38 @@ fn on_beam(out: &Path, w: &mut Written) -> Result<BeamFindings> {
         transient_frame: idx.iter().map(|&l| bft.spectra[l].power[1]).sum::<f64>(),
         lines: strongest_lines(&bis.spectra[0]),
     })
+}
+
+/// The paper report: the summary's claims beside ours, every figure inline, the cases.
+fn report_page(md: &str, written: &[PathBuf], cases: &[&LoadedCase]) -> Result<String> {
+    use crate::report::html::{escape, figure, markdown, Page};
+    let mut p = Page::new();
+    p.section("claims", "The paper's claims, measured");
+    let body = markdown(md);
+    p.push(body.split_once("</h2>\n").map_or(body.as_str(), |(_, rest)| rest));
+    p.section("figures", "Figures 8–16");
+    for svg in written.iter().filter(|f| f.extension().is_some_and(|e| e == "svg")) {
+        p.push(&figure(svg)?);
+    }
+    p.section("cases", "Case files");
+    for lc in cases {
+        p.push(&format!("<h3><code>{}</code></h3>\n<pre>{}</pre>\n", escape(&lc.file), escape(&lc.text)));
+    }
+    p.para("Fig. 11's cases are the rigid-base case with the frame actuator removed and the top mass m_{t} set.");
+    p.section("files", "Files");
+    let names: String = written
+        .iter()
+        .filter_map(|f| f.file_name())
+        .map(|n| format!("<li><code>{}</code></li>", escape(&n.to_string_lossy())))
+        .collect();
+    p.push(&format!("<ul>{names}</ul>\n"));
+    Ok(p.finish(
+        "beamflow — the paper's experiments",
+        &format!(
+            "Jiang, Wang, Zheng &amp; Pan, Figs. 8–16, with the default parameters · beamflow {}",
+            env!("CARGO_PKG_VERSION")
+        ),
+    ))
 }
 
 /// The two strongest lines (Hz) of a power spectrum, by |power| per harmonic.

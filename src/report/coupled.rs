@@ -9,47 +9,117 @@ use crate::analysis::modes::ModesResult;
 use crate::error::Result;
 use std::path::{Path, PathBuf};
 
-/// Mode shapes drawn per panel.
+/// Coupled modes drawn, one panel each.
 const SHAPES: usize = 6;
+/// Below this shape correlation a coupled mode has no bare-beam counterpart worth drawing
+/// beside it (it lives mostly in the actuators).
+const PAIR_MAC: f64 = 0.5;
 
-/// `<tag>_transfer`: per input, |V/F| on log axes and its phase, at every response point.
+/// What a transfer input is, in words: a unit force at a link's foot, or an actuator's
+/// unit stack force F_p (`<actuator>_drive`).
+fn input_text(input: &str) -> String {
+    match input.strip_suffix("_drive") {
+        Some(actuator) => format!("unit stack force F_{{p}} of {actuator}"),
+        None => format!("unit force at the foot of {input}"),
+    }
+}
+
+/// `<tag>_transfer`: one row per input, |V/F| on log axes beside its phase, a line per
+/// response point.
 pub fn transfer_figure(dir: &Path, tag: &str, h: &HarmonicResult) -> Result<Vec<PathBuf>> {
     if h.transfer_inputs.is_empty() {
         return Ok(Vec::new());
     }
     let mut panels = Vec::new();
     for (j, input) in h.transfer_inputs.iter().enumerate() {
-        let mut mag = LinePlot::new(format!("velocity per unit {input}"), "frequency (Hz)", "|V/F| (m/(N·s))");
+        let what = input_text(input);
+        let mut mag = LinePlot::new(format!("velocity per {what}"), "frequency (Hz)", "|V/F| (m/(N·s))");
         mag.log_x = true;
         mag.log_y = true;
-        let mut phase = LinePlot::new(format!("phase, per unit {input}"), "frequency (Hz)", "phase (°)");
+        let mut phase = LinePlot::new(format!("phase of V/F, {what}"), "frequency (Hz)", "phase (°)");
         phase.log_x = true;
+        phase.y_range = Some((-180.0, 180.0));
         for (i, p) in h.point_names.iter().enumerate() {
             let y: Vec<num_complex::Complex64> = h.transfer_velocity.iter().map(|m| m[i][j]).collect();
             let f = h.frequency_hz.clone();
             mag.series.push(Series::line(p.clone(), f.clone(), y.iter().map(|c| c.norm().max(1e-300)).collect()));
-            phase.series.push(Series::line(p.clone(), f, y.iter().map(|c| c.arg().to_degrees()).collect()));
+            let deg = y.iter().map(|c| c.arg().to_degrees()).collect();
+            phase.series.push(Series::line(p.clone(), f, deg).wrapped(360.0));
         }
         panels.push(mag);
         panels.push(phase);
     }
-    save(&MultiPanel::new("Transfer functions of the beam with its actuators", panels), dir, &format!("{tag}_transfer"))
+    let fig = MultiPanel::new("Transfer functions of the beam with its actuators attached", panels).with_columns(2);
+    save(&fig, dir, &format!("{tag}_transfer"))
 }
 
-/// `<tag>_coupled_modes`: the bare beam's mode shapes and the coupled system's, one panel
-/// each.
+/// The modal assurance criterion of two shapes: (a·b)²/((a·a)(b·b)), 1 for the same shape.
+fn mac(a: &[f64], b: &[f64]) -> f64 {
+    let dot = |u: &[f64], v: &[f64]| u.iter().zip(v).map(|(x, y)| x * y).sum::<f64>();
+    let (ab, aa, bb) = (dot(a, b), dot(a, a), dot(b, b));
+    if aa > 0.0 && bb > 0.0 {
+        ab * ab / (aa * bb)
+    } else {
+        0.0
+    }
+}
+
+/// The bare-beam mode a coupled shape `w` resembles most, with their MAC (None when no
+/// bare mode reaches [`PAIR_MAC`]).
+pub fn counterpart(m: &ModesResult, w: &[f64]) -> Option<(usize, f64)> {
+    m.shapes_w
+        .iter()
+        .enumerate()
+        .map(|(b, wb)| (b, mac(w, wb)))
+        .max_by(|x, y| x.1.total_cmp(&y.1))
+        .filter(|(_, v)| *v >= PAIR_MAC)
+}
+
+/// `<tag>_coupled`: a panel per coupled mode, its shape on the beam beside the bare-beam
+/// mode it resembles most (largest MAC of w at the nodes, sign matched).
 pub fn modes_figure(dir: &Path, tag: &str, m: &ModesResult) -> Result<Vec<PathBuf>> {
     let Some(c) = &m.coupled else { return Ok(Vec::new()) };
-    let panel = |title: &str, f: &[f64], w: &[Vec<f64>]| {
-        let mut p = LinePlot::new(title, "x (m)", "w (1/√kg)");
-        for (r, w) in w.iter().enumerate().take(SHAPES) {
-            p.series.push(Series::line(format!("mode {}: {:.2} Hz", r + 1, f[r]), m.node_x.clone(), w.clone()));
+    let mut panels = Vec::new();
+    for (r, w) in c.shapes_w.iter().enumerate().take(SHAPES) {
+        let best = counterpart(m, w);
+        let title = match best {
+            Some((b, v)) => format!(
+                "mode {}: {:.2} Hz; bare mode {}: {:.2} Hz (MAC {v:.2})",
+                r + 1,
+                c.frequencies_hz[r],
+                b + 1,
+                m.frequencies_hz[b]
+            ),
+            None => format!("mode {}: {:.2} Hz, mostly the actuators", r + 1, c.frequencies_hz[r]),
+        };
+        let mut p = LinePlot::new(title, "x (m)", "w (m/√kg)");
+        p.series.push(Series::line("with the actuators", m.node_x.clone(), w.clone()));
+        if let Some((b, _)) = best {
+            let wb = &m.shapes_w[b];
+            let sign = if w.iter().zip(wb).map(|(x, y)| x * y).sum::<f64>() < 0.0 { -1.0 } else { 1.0 };
+            p.series.push(Series::line("bare beam", m.node_x.clone(), wb.iter().map(|v| sign * v).collect()));
         }
-        p
-    };
-    let panels = vec![
-        panel("bare beam", &m.frequencies_hz, &m.shapes_w),
-        panel(&format!("with the actuators ({})", c.body_names.join(", ")), &c.frequencies_hz, &c.shapes_w),
-    ];
-    save(&MultiPanel::new("Mode shapes: bare beam and coupled system", panels), dir, &format!("{tag}_coupled_modes"))
+        panels.push(p);
+    }
+    let title = "Modes of the beam with its actuators attached, beside the bare beam's";
+    save(&MultiPanel::new(title, panels).with_columns(2), dir, &format!("{tag}_coupled"))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn mac_is_one_for_a_shape_and_its_multiple_and_zero_for_orthogonal_shapes() {
+        let a = [0.0, 1.0, 2.0, 1.0, 0.0];
+        assert!((mac(&a, &a.map(|v| -3.0 * v)) - 1.0).abs() < 1e-15);
+        assert_eq!(mac(&a, &[0.0, 1.0, 0.0, -1.0, 0.0]), 0.0);
+        assert_eq!(mac(&a, &[0.0; 5]), 0.0);
+    }
+
+    #[test]
+    fn inputs_are_named_by_what_drives_them() {
+        assert_eq!(input_text("frame_left_leg"), "unit force at the foot of frame_left_leg");
+        assert_eq!(input_text("inertial_drive"), "unit stack force F_{p} of inertial");
+    }
 }

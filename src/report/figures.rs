@@ -1,12 +1,15 @@
 //! Standard figures of a case run, and the building blocks the paper figures reuse.
 //! Every figure is written as PNG and SVG.
 
+use super::plot::text::si;
 use super::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::series::{BodySeries, DriveSeries, LinkSeries, LinkSpectrum};
+use crate::analysis::steady_state::SteadyStateResult;
 use crate::error::Result;
+use crate::power::modal::ModalDecomposition;
 use crate::power::spectra::db;
 use std::path::{Path, PathBuf};
 
@@ -66,15 +69,41 @@ pub fn forces_panel(title: &str, t: &[f64], links: &[&LinkSeries]) -> LinePlot {
     p
 }
 
-/// Stiffness, damping and PZT components of a stack's transmitted force.
+/// Stiffness, damping and PZT components of a stack's transmitted force (the total is
+/// drawn on its own axis by [`total_panel`]: where the components nearly cancel it would
+/// be a flat line at their scale).
 pub fn components_panel(title: &str, t: &[f64], l: &LinkSeries) -> LinePlot {
     let x = ms_axis(t);
     let mut p = LinePlot::new(title, "time (ms)", "force (N)");
-    p.series.push(Series::line("total F", x.clone(), l.transmitted.clone()));
     p.series.push(Series::line("stiffness k·u", x.clone(), l.f_stiffness.clone()));
     p.series.push(Series::line("damping c·du/dt", x.clone(), l.f_damping.clone()));
-    p.series.push(Series::line("PZT −F_p", x, l.f_pzt.clone()));
+    p.series.push(Series::line("PZT −F_{p}", x, l.f_pzt.clone()));
     p
+}
+
+/// A stack's total transmitted force `symbol` (e.g. `F_{T}`), titled with its size
+/// against the largest component: how far the components cancel.
+pub fn total_panel(who: &str, symbol: &str, t: &[f64], l: &LinkSeries) -> LinePlot {
+    let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let largest = peak(&l.f_stiffness).max(peak(&l.f_damping)).max(peak(&l.f_pzt));
+    let share = if largest > 0.0 { peak(&l.transmitted) / largest } else { f64::NAN };
+    let mut p = LinePlot::new(
+        format!("{who}: total {symbol}, {} of the largest component", percent(share)),
+        "time (ms)",
+        "force (N)",
+    );
+    p.series.push(Series::line(format!("total {symbol}"), ms_axis(t), l.transmitted.clone()));
+    p
+}
+
+/// A ratio as a percentage with two significant digits (`0.014 %`, `100 %`).
+fn percent(r: f64) -> String {
+    let v = 100.0 * r;
+    if !v.is_finite() {
+        return "–".into();
+    }
+    let decimals = if v >= 10.0 { 0 } else { (1 - v.log10().floor() as i32).max(0) as usize };
+    format!("{v:.decimals$} %")
 }
 
 /// A body DOF over time, in µm (or µrad).
@@ -92,9 +121,19 @@ pub fn body_panel(title: &str, t: &[f64], b: &BodySeries) -> LinePlot {
 /// thousands of dB below the lines that matter.
 const SPECTRUM_FLOOR: f64 = 1e-6;
 
-/// Force spectrum in dB re 1 N at the harmonics (lines within 120 dB of the largest).
+/// The frequency axis of a line spectrum: from zero to just past the highest analysed
+/// harmonic, so a missing line reads as absent, not as out of range.
+fn harmonic_axis(p: &mut LinePlot, frequency: &[f64]) {
+    if let Some(&f_max) = frequency.last().filter(|f| **f > 0.0) {
+        p.x_range = Some((0.0, 1.03 * f_max));
+    }
+}
+
+/// Force spectrum in dB re 1 N at the harmonics, as stems up from the bottom of the axis
+/// (lines within 120 dB of the largest), over every analysed harmonic.
 pub fn spectrum_panel(title: &str, spectra: &[(&str, &LinkSpectrum)]) -> LinePlot {
     let mut p = LinePlot::new(title, "frequency (Hz)", "force level (dB re 1 N)");
+    p.stem_base = f64::NEG_INFINITY;
     let top = spectra.iter().flat_map(|(_, s)| s.transmitted[1..].iter()).fold(0.0f64, |m, c| m.max(c.norm()));
     for (label, s) in spectra {
         let (f, l): (Vec<f64>, Vec<f64>) = s.frequency[1..]
@@ -103,31 +142,45 @@ pub fn spectrum_panel(title: &str, spectra: &[(&str, &LinkSpectrum)]) -> LinePlo
             .filter(|(_, c)| c.norm() > SPECTRUM_FLOOR * top)
             .map(|(&f, c)| (f, db(c.norm(), 1.0)))
             .unzip();
-        p.series.push(Series::line(*label, f, l).with_style(SeriesStyle::LineMarkers));
+        p.series.push(Series::line(*label, f, l).with_style(SeriesStyle::Stems));
+    }
+    if let Some((_, s)) = spectra.first() {
+        harmonic_axis(&mut p, &s.frequency);
     }
     p
 }
 
-/// Power per harmonic as a level in dB re 1 pW (10·log₁₀|P|/1 pW), positive (into the
-/// base) and negative (out of it) lines as separate series (stems for the first spectrum,
-/// markers for the others); lines below 10⁻⁹ of the largest are left out, since they are
-/// round-off or unsettled transient (even harmonics of a symmetric drive).
-pub fn power_spectrum_panel(title: &str, spectra: &[(&str, &LinkSpectrum)]) -> LinePlot {
-    let mut p = LinePlot::new(title, "frequency (Hz)", "|power| level (dB re 1 pW)");
-    let top = spectra.iter().flat_map(|(_, s)| s.power[1..].iter()).fold(0.0f64, |m, x| m.max(x.abs()));
-    for (i, (label, s)) in spectra.iter().enumerate() {
-        let style = if i == 0 { SeriesStyle::Stems } else { SeriesStyle::Markers };
-        for (sign, name) in [(1.0, "into the beam"), (-1.0, "out of the beam")] {
-            let (f, l): (Vec<f64>, Vec<f64>) = s.frequency[1..]
-                .iter()
-                .zip(&s.power[1..])
-                .filter(|(_, &pw)| pw * sign > 1e-9 * top)
-                .map(|(&f, &pw)| (f, 10.0 * (pw.abs() / 1e-12).log10()))
-                .unzip();
-            if !f.is_empty() {
-                p.series.push(Series::line(format!("{label}, {name}"), f, l).with_style(style));
-            }
+/// One line spectrum of power: its legend label, the harmonic frequencies (Hz) and the
+/// power per harmonic (W), index 0 being the mean (not drawn).
+pub type PowerLines<'a> = (&'a str, &'a [f64], &'a [f64]);
+
+/// Decades of power drawn on a logarithmic scale below the largest line; smaller lines
+/// fall in the linear band around zero of the symmetric-log axis.
+const POWER_DECADES: i32 = 6;
+
+/// Power per harmonic with its sign, on a symmetric-log axis: into the beam up, out of it
+/// down, each decade the same height. `stems` are drawn side by side at each harmonic
+/// (one colour each: one legend entry per point, not per sign); `markers` sit on the
+/// stems of the same colour order (a second estimate of the same lines). Lines below 10⁻⁹
+/// of the largest are left out: round-off, or unsettled transient (even harmonics of a
+/// symmetric drive).
+pub fn power_spectrum_panel(title: &str, stems: &[PowerLines], markers: &[PowerLines]) -> LinePlot {
+    let mut p = LinePlot::new(title, "frequency (Hz)", "power into the beam (W)");
+    let top = stems.iter().chain(markers).flat_map(|(_, _, pw)| pw.iter().skip(1)).fold(0.0f64, |m, x| m.max(x.abs()));
+    let kept = |(_, f, pw): &PowerLines| -> (Vec<f64>, Vec<f64>) {
+        f.iter().zip(pw.iter()).skip(1).filter(|(_, pw)| pw.abs() > 1e-9 * top).map(|(&f, &pw)| (f, pw)).unzip()
+    };
+    for (style, set) in [(SeriesStyle::Stems, stems), (SeriesStyle::Markers, markers)] {
+        for lines in set {
+            let (f, pw) = kept(lines);
+            p.series.push(Series::line(lines.0, f, pw).with_style(style));
         }
+    }
+    if top > 0.0 {
+        p.symlog_y = Some(10f64.powi(top.log10().floor() as i32 - POWER_DECADES));
+    }
+    if let Some((_, f, _)) = stems.first() {
+        harmonic_axis(&mut p, f);
     }
     p
 }
@@ -140,7 +193,7 @@ pub fn loop_panel(title: &str, d: &DriveSeries) -> LinePlot {
 }
 
 fn modes_figure(m: &ModesResult) -> LinePlot {
-    let mut p = LinePlot::new("Mode shapes of the bare beam (mass-normalised)", "x (m)", "w (1/√kg)");
+    let mut p = LinePlot::new("Mode shapes of the bare beam (mass-normalised)", "x (m)", "w (m/√kg)");
     for (r, w) in m.shapes_w.iter().enumerate().take(6) {
         p.series.push(Series::line(
             format!("mode {}: {:.2} Hz", r + 1, m.frequencies_hz[r]),
@@ -151,7 +204,9 @@ fn modes_figure(m: &ModesResult) -> LinePlot {
     p
 }
 
-fn harmonic_figure(h: &HarmonicResult) -> MultiPanel {
+/// None when the analysis applies no force (transfer functions of the coupled system
+/// only, drawn by [`super::coupled`]).
+fn harmonic_figure(h: &HarmonicResult) -> Option<MultiPanel> {
     let mut mob = LinePlot::new("Driving-point mobility", "frequency (Hz)", "|Y| (m/(N·s))");
     mob.log_x = true;
     mob.log_y = true;
@@ -159,6 +214,9 @@ fn harmonic_figure(h: &HarmonicResult) -> MultiPanel {
     pw.log_x = true;
     pw.log_y = true;
     let nforce = h.input_power.first().map_or(0, Vec::len);
+    if nforce == 0 {
+        return None;
+    }
     for j in 0..nforce {
         let y: Vec<f64> = h.mobility.iter().map(|m| m[j][j].norm().max(1e-300)).collect();
         mob.series.push(Series::line(
@@ -180,21 +238,46 @@ fn harmonic_figure(h: &HarmonicResult) -> MultiPanel {
         )
         .with_style(SeriesStyle::Markers),
     );
-    MultiPanel::new("Harmonic response of the beam", vec![mob, pw])
+    Some(MultiPanel::new("Harmonic response of the beam", vec![mob, pw]))
 }
 
-/// The standard figures of `run`: one set per analysis.
+/// The analysis types of a run as file-name parts, `transient` or, when a case has several
+/// of one type, `transient_1`, `transient_2`, … in the case's order.
+pub fn analysis_tags(run: &CaseRun) -> Vec<String> {
+    let kind = |r: &AnalysisResult| match r {
+        AnalysisResult::Modes(_) => "modes",
+        AnalysisResult::Harmonic(_) => "harmonic",
+        AnalysisResult::Transient(_) => "transient",
+        AnalysisResult::SteadyState(_) => "steady_state",
+    };
+    let kinds: Vec<&str> = run.results.iter().map(kind).collect();
+    kinds
+        .iter()
+        .enumerate()
+        .map(|(i, k)| {
+            if kinds.iter().filter(|o| *o == k).count() == 1 {
+                k.to_string()
+            } else {
+                format!("{k}_{}", kinds[..=i].iter().filter(|o| *o == k).count())
+            }
+        })
+        .collect()
+}
+
+/// The standard figures of `run`: one set per analysis, named `<stem>_<analysis type>…`.
 pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
-    for (i, r) in run.results.iter().enumerate() {
-        let tag = format!("{stem}_{i}");
+    for (r, kind) in run.results.iter().zip(analysis_tags(run)) {
+        let tag = format!("{stem}_{kind}");
         match r {
             AnalysisResult::Modes(m) => {
-                out.extend(save(&modes_figure(m), dir, &format!("{tag}_modes"))?);
+                out.extend(save(&modes_figure(m), dir, &tag)?);
                 out.extend(super::coupled::modes_figure(dir, &tag, m)?);
             }
             AnalysisResult::Harmonic(h) => {
-                out.extend(save(&harmonic_figure(h), dir, &format!("{tag}_harmonic"))?);
+                if let Some(fig) = harmonic_figure(h) {
+                    out.extend(save(&fig, dir, &tag)?);
+                }
                 out.extend(super::coupled::transfer_figure(dir, &tag, h)?);
             }
             AnalysisResult::Transient(t) => {
@@ -220,12 +303,12 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                 out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?);
                 out.extend(load_figures(dir, &tag, &s.t, &s.loads, &s.load_spectra)?);
                 if let Some(m) = &s.modal {
-                    out.extend(save(&modal_power_figure(m, run), dir, &format!("{tag}_power_by_mode"))?);
+                    out.extend(save(&modal_power_figure(m, run, s), dir, &format!("{tag}_power_by_mode"))?);
                 }
             }
         }
     }
-    out.extend(super::measured::figures(dir, stem, &run.measured)?);
+    out.extend(super::measured::figures(dir, stem, &analysis_tags(run), &run.measured)?);
     Ok(out)
 }
 
@@ -253,9 +336,9 @@ fn record_figures(
     let shown = |&(a, _): &(f64, f64)| f_max <= 0.0 || a <= f_max;
     let band =
         |y: &[f64]| -> (Vec<f64>, Vec<f64>) { f.iter().zip(y).skip(1).map(|(&a, &b)| (a, b)).filter(shown).unzip() };
-    let mut frf = LinePlot::new("accelerance from the drive", "frequency (Hz)", "|H1| ((m/s²) per V or N)");
+    let mut frf = LinePlot::new("accelerance from the drive", "frequency (Hz)", "|H_{1}| ((m/s²) per V or N)");
     frf.log_y = true;
-    let mut pd = LinePlot::new("power into the structure per hertz", "frequency (Hz)", "Re G_Fv (W/Hz)");
+    let mut pd = LinePlot::new("power into the structure per hertz", "frequency (Hz)", "Re G_{Fv} (W/Hz)");
     let mut coh = LinePlot::new("coherence of the accelerance", "frequency (Hz)", "γ²");
     for p in &rec.points {
         let mag: Vec<f64> = p.acceleration_frf.iter().map(|h| h.norm().max(1e-300)).collect();
@@ -297,16 +380,8 @@ fn load_figures(
         vel.series.push(Series::line("v", x.clone(), tail(&l.v)));
         let mut panels = vec![force, vel];
         if let Some(sp) = spectra.get(j) {
-            let mut pp = LinePlot::new(
-                format!("{}: power per harmonic, {:.4e} W in total", l.name, sp.power_total),
-                "frequency (Hz)",
-                "power (W)",
-            );
-            pp.series.push(
-                Series::line("P_k", sp.frequency[1..].to_vec(), sp.power[1..].to_vec())
-                    .with_style(crate::report::plot::SeriesStyle::Stems),
-            );
-            panels.push(pp);
+            let title = format!("{}: power per harmonic, {} in total", l.name, si(sp.power_total, "W", 4));
+            panels.push(power_spectrum_panel(&title, &[("P_{k}", &sp.frequency, &sp.power)], &[]));
         }
         out.extend(save(
             &MultiPanel::new(format!("point load {}", l.name), panels),
@@ -349,8 +424,13 @@ fn periodic_figures(
             }
             panels.push(pp);
         }
+        // A transient's figures show its last periods: their time axis starts at t₀.
+        let from = t
+            .first()
+            .filter(|&&t0| t0 > 0.0)
+            .map_or(String::new(), |&t0| format!(", time from t₀ = {}", si(t0, "s", 4)));
         out.extend(save(
-            &MultiPanel::new(format!("{name} ({})", act.kind()), panels),
+            &MultiPanel::new(format!("{name} ({}){from}", act.kind()), panels),
             dir,
             &format!("{tag}_{name}_time"),
         )?);
@@ -363,15 +443,19 @@ fn periodic_figures(
             &format!("{tag}_{name}_spectrum"),
         )?);
         if refs.iter().any(|l| l.foot_x.is_some()) {
+            let lines: Vec<PowerLines> =
+                specs.iter().map(|(label, s)| (*label, s.frequency.as_slice(), s.power.as_slice())).collect();
             out.extend(save(
-                &power_spectrum_panel(&format!("{name}: power per harmonic"), &specs),
+                &power_spectrum_panel(&format!("{name}: power per harmonic"), &lines, &[]),
                 dir,
                 &format!("{tag}_{name}_power_spectrum"),
             )?);
             let mut bar =
                 BarChart::new(format!("{name}: time-averaged power into the beam"), "interface point", "power (W)");
             bar.categories = labels.clone();
-            bar.groups.push(("mean power".into(), mine.iter().map(|&l| mean[l]).collect()));
+            bar.groups.push((String::new(), mine.iter().map(|&l| mean[l]).collect()));
+            bar.show_values = true;
+            bar.notes = vec![format!("net: {}", si(mine.iter().map(|&l| mean[l]).sum(), "W", 4))];
             out.extend(save(&bar, dir, &format!("{tag}_{name}_power_points"))?);
         }
         if let Some(d) = drives.get(a) {
@@ -385,29 +469,66 @@ fn periodic_figures(
     Ok(out)
 }
 
-/// Net input power by bare-beam mode (first 12), one group per actuator.
-pub fn modal_power_figure(m: &crate::power::modal::ModalDecomposition, run: &CaseRun) -> BarChart {
-    let nm = m.mode_frequency_hz.len().min(12);
-    let mut bar = BarChart::new("Net power into the beam by mode", "bare-beam mode (natural frequency)", "power (W)");
-    bar.categories = (0..nm).map(|r| format!("{:.0} Hz", m.mode_frequency_hz[r])).collect();
+/// A mode is drawn on its own when it carries at least this share of some source's
+/// power (of the sum of the magnitudes over modes).
+const MODE_SHARE: f64 = 0.01;
+/// At most this many modes get their own bar.
+const MODE_BARS: usize = 16;
+
+/// Net power into the beam by bare-beam mode, one group per actuator and point load: a bar
+/// for each mode that matters ([`MODE_SHARE`], at most [`MODE_BARS`], in mode order) and a
+/// last bar `rest` with the other modes and what the truncated modal sum misses, so that
+/// each group's bars add up to its net power.
+pub fn modal_power_figure(m: &ModalDecomposition, run: &CaseRun, s: &SteadyStateResult) -> BarChart {
+    // (name, power per mode, net power) of each source.
+    let mut sources: Vec<(String, Vec<f64>, f64)> = Vec::new();
     for (a, act) in run.model.actuators.iter().enumerate() {
-        let v: Vec<f64> = (0..nm)
-            .map(|r| {
-                run.system
-                    .links
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, l)| l.actuator == a)
-                    .map(|(l, _)| m.point_power[l][r])
-                    .sum()
-            })
-            .collect();
-        bar.groups.push((act.name().to_string(), v));
+        let mine: Vec<usize> = (0..run.system.links.len()).filter(|&l| run.system.links[l].actuator == a).collect();
+        let per_mode =
+            (0..m.mode_frequency_hz.len()).map(|r| mine.iter().map(|&l| m.point_power[l][r]).sum()).collect();
+        sources.push((act.name().to_string(), per_mode, s.net_power[a]));
     }
-    for (load, p) in run.model.loads.iter().zip(&m.load_power) {
-        bar.groups.push((load.name.clone(), p[..nm].to_vec()));
+    for ((load, p), sp) in run.model.loads.iter().zip(&m.load_power).zip(&s.load_spectra) {
+        sources.push((load.name.clone(), p.clone(), sp.power_total));
     }
+    let shown = modes_that_matter(sources.iter().map(|(_, p, _)| p.as_slice()));
+    let mut bar =
+        BarChart::new("Net power into the beam by mode", "bare-beam mode (number, natural frequency)", "power (W)");
+    bar.categories = shown.iter().map(|&r| format!("{}\n{:.0} Hz", r + 1, m.mode_frequency_hz[r])).collect();
+    bar.categories.push("rest".into());
+    for (name, per_mode, total) in sources {
+        let mut v: Vec<f64> = shown.iter().map(|&r| per_mode[r]).collect();
+        v.push(total - v.iter().sum::<f64>());
+        bar.groups.push((name, v));
+    }
+    bar.notes = vec![
+        format!("{} of {} modes drawn;", shown.len(), m.mode_frequency_hz.len()),
+        "rest: the others and the".into(),
+        "modal truncation".into(),
+    ];
+    // Room for each category's two-line name.
+    bar.size = ((300 + 75 * bar.categories.len() as u32).max(1000), 600);
     bar
+}
+
+/// Modes (indices, ascending) carrying at least [`MODE_SHARE`] of some source's power,
+/// the [`MODE_BARS`] largest of them.
+fn modes_that_matter<'a>(sources: impl Iterator<Item = &'a [f64]>) -> Vec<usize> {
+    let mut share: Vec<f64> = Vec::new();
+    for p in sources {
+        let sum: f64 = p.iter().map(|x| x.abs()).sum();
+        share.resize(share.len().max(p.len()), 0.0);
+        for (r, x) in p.iter().enumerate() {
+            if sum > 0.0 {
+                share[r] = share[r].max(x.abs() / sum);
+            }
+        }
+    }
+    let mut r: Vec<usize> = (0..share.len()).filter(|&r| share[r] >= MODE_SHARE).collect();
+    r.sort_by(|&a, &b| share[b].total_cmp(&share[a]));
+    r.truncate(MODE_BARS);
+    r.sort_unstable();
+    r
 }
 
 #[cfg(test)]

@@ -33,13 +33,19 @@ pub fn dp_difference(files: (&str, &str), t: &[f64], diff: &[f64], d_p: f64, del
     let um: Vec<f64> = diff.iter().map(|x| 1e6 * x).collect();
     let level = 1e6 * d_p * delta_v;
     let mut p = LinePlot::new(
-        format!("d_p from {} and {}: d_p = {:.4e} m/V, ΔV = {:.4} V", short(files.0), short(files.1), d_p, delta_v),
+        format!(
+            "d_{{p}} from {} and {}: d_{{p}} = {:.4e} m/V, ΔV = {:.4} V",
+            short(files.0),
+            short(files.1),
+            d_p,
+            delta_v
+        ),
         "time in the first record (ms)",
         "stroke difference x₂ − x₁ (µm)",
     );
     let (t0, t1) = (ms.first().copied().unwrap_or(0.0), ms.last().copied().unwrap_or(1.0));
     p.series.push(Series::line("measured x₂ − x₁", ms, um).with_style(SeriesStyle::Markers));
-    p.series.push(Series::line("fitted d_p·ΔV", vec![t0, t1], vec![level, level]));
+    p.series.push(Series::line("fitted d_{p}·ΔV", vec![t0, t1], vec![level, level]));
     p
 }
 
@@ -58,18 +64,13 @@ pub fn hysteresis_loop(data: &CycleData, simulated: &[f64], fit: &MultiSeedFit, 
     let b = &fit.best.params;
     let y_label = match target {
         FitTarget::Stroke => "free stroke δ (µm)".to_string(),
-        FitTarget::BlockedForce { k_p } => format!("stroke F/k_p (µm), k_p = {k_p:.4e} N/m"),
+        FitTarget::BlockedForce { k_p } => format!("stroke F/k_{{p}} (µm), k_{{p}} = {k_p:.4e} N/m"),
     };
     let mut p = LinePlot::new(
         format!("Hysteresis loop of {}: measured and identified", short(&data.file)),
         "voltage (V)",
         y_label,
     );
-    // Head room above the loop for the legend.
-    let (lo, hi) = meas.iter().chain(&sim).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), y| (a.min(*y), b.max(*y)));
-    if hi > lo {
-        p.y_range = Some((lo - 0.05 * (hi - lo), hi + 0.3 * (hi - lo)));
-    }
     p.series.push(Series::line("measured", v.clone(), meas).with_style(SeriesStyle::Markers));
     p.series.push(Series::line(
         format!(
@@ -149,7 +150,7 @@ pub fn frf_figure(file: &str, frf: &Frf, fits: &[(&str, &ModalFit)]) -> MultiPan
     let mag: Vec<f64> = bins.iter().map(|&k| 20.0 * frf.h1[k].norm().log10()).collect();
     let ph: Vec<f64> = bins.iter().map(|&k| phase_deg(frf.h1[k])).collect();
     let coh: Vec<f64> = bins.iter().map(|&k| frf.coherence[k]).collect();
-    let mut pm = LinePlot::new("", "frequency (Hz)", "|H1| (dB re 1 (m/s²)/N)");
+    let mut pm = LinePlot::new("", "frequency (Hz)", "|H_{1}| (dB re 1 (m/s²)/N)");
     let mut pp = LinePlot::new("", "frequency (Hz)", "phase (°)");
     let mut pc = LinePlot::new("", "frequency (Hz)", "coherence γ² (–)");
     for p in [&mut pm, &mut pp, &mut pc] {
@@ -157,8 +158,8 @@ pub fn frf_figure(file: &str, frf: &Frf, fits: &[(&str, &ModalFit)]) -> MultiPan
     }
     pp.y_range = Some((-90.0, 270.0));
     pc.y_range = Some((0.0, 1.1));
-    pm.series.push(Series::line(format!("measured H1 ({} hits)", frf.segments), f.clone(), mag));
-    pp.series.push(Series::line("measured H1", f.clone(), ph));
+    pm.series.push(Series::line(format!("measured H_{{1}} ({} hits)", frf.segments), f.clone(), mag));
+    pp.series.push(Series::line("measured H_{1}", f.clone(), ph));
     pc.series.push(Series::line("coherence", f, coh));
     for (label, fit) in fits {
         let (lo, hi) = fit.band;
@@ -166,7 +167,7 @@ pub fn frf_figure(file: &str, frf: &Frf, fits: &[(&str, &ModalFit)]) -> MultiPan
         let fx: Vec<f64> = (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect();
         let h: Vec<Complex64> = fx.iter().map(|&fr| fitted_accelerance(fit, 2.0 * std::f64::consts::PI * fr)).collect();
         let modes: Vec<String> =
-            fit.modes.iter().map(|m| format!("f_n = {:.2} Hz, ζ = {:.4}", m.freq_hz(), m.zeta)).collect();
+            fit.modes.iter().map(|m| format!("f_{{n}} = {:.2} Hz, ζ = {:.4}", m.freq_hz(), m.zeta)).collect();
         let name = format!("{label}: {}", modes.join("; "));
         pm.series.push(Series::line(name.clone(), fx.clone(), h.iter().map(|h| 20.0 * h.norm().log10()).collect()));
         pp.series.push(Series::line(name, fx, h.iter().map(|h| phase_deg(*h)).collect()));

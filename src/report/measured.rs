@@ -1,7 +1,8 @@
-//! Measurements beside predictions: per measurement and analysis, one figure with a panel
-//! per quantity — measured and predicted levels at the harmonics compared, as markers (a
-//! line spectrum is never joined up) — and for force and acceleration one period of both,
-//! rebuilt from those harmonics.
+//! Measurements beside predictions: per measurement and analysis, one figure with a row
+//! per quantity — measured and predicted levels at the compared harmonics (the prediction
+//! as stems, the measurement as markers: a line spectrum is never joined up) beside the
+//! level error per harmonic — and for force and acceleration one period of both, rebuilt
+//! from those harmonics.
 
 use super::figures::save;
 use super::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
@@ -15,8 +16,9 @@ use std::path::{Path, PathBuf};
 /// Points per period of the rebuilt time panels.
 const SAMPLES: usize = 200;
 
-/// The figures of a run's comparisons, named `<tag>_<analysis>_measured_<name>`.
-pub fn figures(dir: &Path, stem: &str, comparisons: &[Comparison]) -> Result<Vec<PathBuf>> {
+/// The figures of a run's comparisons, named `<stem>_<analysis>_measured_<name>` where
+/// `tags[i]` names analysis `i` (its type, see [`super::figures::analysis_tags`]).
+pub fn figures(dir: &Path, stem: &str, tags: &[String], comparisons: &[Comparison]) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     let mut keys: Vec<(usize, &str)> = comparisons.iter().map(|c| (c.analysis, c.name.as_str())).collect();
     keys.dedup();
@@ -25,14 +27,21 @@ pub fn figures(dir: &Path, stem: &str, comparisons: &[Comparison]) -> Result<Vec
         let mut panels = Vec::new();
         for c in &mine {
             panels.push(levels(c));
-            if c.quantity != MeasuredQuantity::Power && !c.harmonic.is_empty() {
-                panels.push(period(c));
-            }
+            panels.push(errors(c));
+        }
+        for c in mine.iter().filter(|c| c.quantity != MeasuredQuantity::Power && !c.harmonic.is_empty()) {
+            panels.push(period(c));
         }
         let title = format!("{name} at {}: measured and predicted", mine[0].point);
-        out.extend(save(&MultiPanel::new(title, panels), dir, &format!("{stem}_{a}_measured_{name}"))?);
+        let fig = MultiPanel::new(title, panels).with_columns(2);
+        out.extend(save(&fig, dir, &format!("{stem}_{}_measured_{name}", tags[a]))?);
     }
     Ok(out)
+}
+
+/// The unit as set in figures (a real superscript).
+fn unit(c: &Comparison) -> String {
+    c.unit().replace("^2", "²")
 }
 
 /// Levels at the compared harmonics: dB re 1 unit (force, acceleration) or re 1 pW (|power|).
@@ -41,8 +50,20 @@ fn levels(c: &Comparison) -> LinePlot {
         MeasuredQuantity::Power => {
             ("|power| level (dB re 1 pW)".into(), Box::new(|p: f64| 10.0 * (p.abs() / 1e-12).log10()))
         }
-        _ => (format!("{} level (dB re 1 {})", c.quantity.name(), c.unit()), Box::new(|x: f64| db(x, 1.0))),
+        _ => (format!("{} level (dB re 1 {})", c.quantity.name(), unit(c)), Box::new(|x: f64| db(x, 1.0))),
     };
+    let mut p = LinePlot::new(format!("{}: levels at the harmonics", c.quantity.name()), "frequency (Hz)", ylabel);
+    p.stem_base = f64::NEG_INFINITY;
+    let amp = |v: &[num_complex::Complex64]| -> Vec<f64> {
+        v.iter().map(|x| if c.quantity == MeasuredQuantity::Power { level(x.re) } else { level(x.norm()) }).collect()
+    };
+    p.series.push(Series::line("predicted", c.frequency.clone(), amp(&c.predicted)).with_style(SeriesStyle::Stems));
+    p.series.push(Series::line("measured", c.frequency.clone(), amp(&c.measured)).with_style(SeriesStyle::Markers));
+    p
+}
+
+/// The level error per compared harmonic (measured over predicted, dB), with the verdict.
+fn errors(c: &Comparison) -> LinePlot {
     let verdict = match (c.agrees(), c.tolerance_db) {
         (Some(true), Some(t)) => format!(", within {t} dB"),
         (Some(false), Some(t)) => format!(", NOT within {t} dB"),
@@ -51,13 +72,16 @@ fn levels(c: &Comparison) -> LinePlot {
     let mut p = LinePlot::new(
         format!("{}: largest |error| {:.2} dB{verdict}", c.quantity.name(), c.max_abs_error_db()),
         "frequency (Hz)",
-        ylabel,
+        "level error (dB)",
     );
-    let amp = |v: &[num_complex::Complex64]| -> Vec<f64> {
-        v.iter().map(|x| if c.quantity == MeasuredQuantity::Power { level(x.re) } else { level(x.norm()) }).collect()
-    };
-    p.series.push(Series::line("predicted", c.frequency.clone(), amp(&c.predicted)).with_style(SeriesStyle::Markers));
-    p.series.push(Series::line("measured", c.frequency.clone(), amp(&c.measured)).with_style(SeriesStyle::Markers));
+    p.series.push(
+        Series::line("measured / predicted", c.frequency.clone(), c.error_db.clone()).with_style(SeriesStyle::Stems),
+    );
+    let top = c.tolerance_db.unwrap_or(0.0).max(c.max_abs_error_db()).max(0.1) * 1.15;
+    p.y_range = Some((-top, top));
+    if let Some(t) = c.tolerance_db {
+        p.notes.push(format!("tolerance ±{t} dB"));
+    }
     p
 }
 
@@ -80,9 +104,9 @@ fn period(c: &Comparison) -> LinePlot {
     let mut p = LinePlot::new(
         format!("{}: one period from the compared harmonics", c.quantity.name()),
         "time (ms)",
-        format!("{} ({})", c.quantity.name(), c.unit()),
+        format!("{} ({})", c.quantity.name(), unit(c)),
     );
     p.series.push(Series::line("predicted", ms.clone(), rebuild(&c.predicted)));
-    p.series.push(Series::line("measured", ms, rebuild(&c.measured)).with_style(SeriesStyle::LineMarkers));
+    p.series.push(Series::line("measured", ms, rebuild(&c.measured)));
     p
 }

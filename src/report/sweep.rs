@@ -84,12 +84,83 @@ fn grid(t: &SweepTable) -> Option<Grid> {
     Some((px, py, xs, ys, z))
 }
 
+/// A sweep's figure: a heat map over two parameters, or lines over one.
+enum Figure {
+    Heat(HeatMap),
+    Lines(LinePlot),
+}
+
+impl Figure {
+    fn render(&self, path: &Path) -> Result<()> {
+        match self {
+            Figure::Heat(h) => h.render(path),
+            Figure::Lines(p) => p.render(path),
+        }
+    }
+
+    fn svg(&self, name: &str) -> Result<String> {
+        match self {
+            Figure::Heat(h) => h.svg(name),
+            Figure::Lines(p) => p.svg(name),
+        }
+    }
+}
+
+/// `out`'s folder and file stem: the sweep's other outputs go beside it.
+fn beside(out: &Path) -> (PathBuf, String) {
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
+    (out.parent().map(Path::to_path_buf).unwrap_or_default(), stem)
+}
+
 /// Writes the figures for a table next to `out` (`<stem>.net_power.png`) and returns the
 /// files written (none if the table's shape has no figure).
 pub fn plot(t: &SweepTable, out: &Path) -> Result<Vec<PathBuf>> {
-    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
-    let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
+    let (dir, stem) = beside(out);
     let png = dir.join(format!("{stem}.net_power.png"));
+    match figure(t) {
+        Some(f) => {
+            f.render(&png)?;
+            Ok(vec![png])
+        }
+        None => Ok(Vec::new()),
+    }
+}
+
+/// Writes `<stem>.report.html` next to `out`: the best cases and the figure in one
+/// self-contained page, and the sweep file when it can be read. Returns its path.
+pub fn write_report(t: &SweepTable, out: &Path) -> Result<PathBuf> {
+    use crate::report::html::{escape, markdown, Page};
+    let (dir, stem) = beside(out);
+    let path = dir.join(format!("{stem}.report.html"));
+    let mut p = Page::new();
+    p.section("best", "Best cases");
+    // The Markdown report's own heading is the page's.
+    let md = markdown(&markdown_report(t));
+    p.push(md.split_once("</h2>\n").map_or(md.as_str(), |(_, rest)| rest));
+    if let Some(f) = figure(t) {
+        p.section("figure", "Net power into the beam");
+        p.push(&format!("<figure>\n{}\n</figure>\n", f.svg(&path.display().to_string())?));
+    }
+    if let Ok(text) = std::fs::read_to_string(&t.sweep_file) {
+        p.section("sweep", "Sweep file");
+        p.push(&format!("<p><code>{}</code></p>\n<pre>{}</pre>\n", escape(&t.sweep_file), escape(&text)));
+    }
+    let title = if t.title.is_empty() { "Sweep".to_string() } else { t.title.clone() };
+    let meta = format!(
+        "sweep <code>{}</code> (id <code>{}</code>) · {} of {} cases · table <code>{}</code> · beamflow {}",
+        escape(&t.sweep_file),
+        escape(&t.hash),
+        t.rows.len(),
+        t.total_cases,
+        escape(&out.display().to_string()),
+        env!("CARGO_PKG_VERSION")
+    );
+    crate::io::atomic::write_atomic_string(&path, &p.finish(&format!("Sweep: {title}"), &meta))?;
+    Ok(path)
+}
+
+/// The figure of a table's shape, if it has one.
+fn figure(t: &SweepTable) -> Option<Figure> {
     let title = if t.title.is_empty() { "Sweep".to_string() } else { t.title.clone() };
     if let Some((px, py, xs, ys, z)) = grid(t) {
         let max = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -105,8 +176,7 @@ pub fn plot(t: &SweepTable, out: &Path) -> Result<Vec<PathBuf>> {
         h.y = ys;
         h.z = z.iter().map(|v| v.abs().max(floor)).collect();
         h.log_z = true;
-        h.render(&png)?;
-        return Ok(vec![png]);
+        return Some(Figure::Heat(h));
     }
     if t.parameters.len() == 1 && !t.rows.is_empty() {
         let x: Vec<f64> = t.rows.iter().map(|r| r.inputs[0]).collect();
@@ -127,10 +197,9 @@ pub fn plot(t: &SweepTable, out: &Path) -> Result<Vec<PathBuf>> {
             p.series.push(Series::line("total", xs, y).with_style(style));
         }
         p.log_y = all_pos;
-        p.render(&png)?;
-        return Ok(vec![png]);
+        return Some(Figure::Lines(p));
     }
-    Ok(Vec::new())
+    None
 }
 
 /// The best cases by total net power, as a Markdown table of at most `n` rows.
@@ -193,7 +262,7 @@ pub fn best_positions(t: &SweepTable) -> Option<String> {
 }
 
 /// The whole Markdown report (best cases, and best positions where it applies).
-pub fn markdown(t: &SweepTable) -> String {
+pub fn markdown_report(t: &SweepTable) -> String {
     let mut s = format!(
         "# Sweep results: {}\n\nSweep `{}` (id `{}`), {} of {} cases, analysis `{}` with {} harmonics. Ranked by the \
          net power into the beam (sum over actuators).\n\n## Best {} cases\n\n{}",
@@ -219,7 +288,7 @@ pub fn write_markdown(t: &SweepTable, out: &Path) -> Result<PathBuf> {
     let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
     let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
     let md = dir.join(format!("{stem}.best.md"));
-    crate::io::atomic::write_atomic_string(&md, &markdown(t))?;
+    crate::io::atomic::write_atomic_string(&md, &markdown_report(t))?;
     Ok(md)
 }
 

@@ -18,6 +18,10 @@ pub struct Cli {
     /// Print no status lines (results files and errors only).
     #[arg(long, global = true)]
     pub quiet: bool,
+    /// Resolution of PNG figures in dots per inch (default 100, e.g. 1000 × 600 pixels for a
+    /// plot; 50 to 600). SVG figures do not depend on it.
+    #[arg(long, global = true, value_name = "DPI")]
+    pub dpi: Option<u32>,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -159,6 +163,10 @@ pub fn main() -> ExitCode {
     } else {
         Status::Stdout
     });
+    if let Some(Err(e)) = cli.dpi.map(crate::report::plot::set_png_dpi) {
+        eprintln!("error: {e}");
+        return ExitCode::FAILURE;
+    }
     // Progress bars for the long computations of this thread, where someone can see them.
     let result = if !cli.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
         crate::progress::observe(std::rc::Rc::new(progress::ConsoleBars::new()), || dispatch(&cli.command))

@@ -127,5 +127,6 @@ fn report_files(t: &SweepTable, out: &Path) -> Result<()> {
         report::best_table(t, t.best)
     );
     crate::say!("wrote {}", md.display());
+    crate::say!("wrote {}", report::write_report(t, out)?.display());
     Ok(())
 }

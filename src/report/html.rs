@@ -1,0 +1,240 @@
+//! Building blocks of the HTML reports: one self-contained page (inline CSS, figures as
+//! inline SVG, no script, no external address), so a report opens offline in any browser
+//! and can be mailed as one file.
+//!
+//! Every piece of text that comes from a user (case titles, names, file names, the case
+//! file itself) goes through [`escape`]; numbers are written with an SI prefix for people
+//! and exactly (`data-value`) for machines.
+
+use std::path::Path;
+
+use crate::error::{Error, Result};
+use crate::report::plot::text::{eng, si, significant};
+pub use crate::report::plot::text::{escape, html as label};
+
+/// The page's style: readable text width, tables with aligned numbers, figures that shrink
+/// to the window.
+const CSS: &str = "\
+body{font-family:'DejaVu Sans',Verdana,sans-serif;margin:0 auto;max-width:1100px;padding:1em 1.5em;color:#222;line-height:1.45}\
+h1{font-size:1.6em;margin-bottom:.2em}h2{border-bottom:1px solid #ccc;padding-bottom:.2em;margin-top:1.8em}\
+h3{margin-top:1.4em}.meta{color:#555}\
+table{border-collapse:collapse;margin:.6em 0;display:block;overflow-x:auto;max-width:100%}th,td{border:1px solid #ddd;padding:.25em .6em;vertical-align:top}\
+th{background:#f4f4f4;text-align:left}td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}\
+figure{margin:1.2em 0}figure svg{max-width:100%;height:auto;border:1px solid #eee}\
+figcaption{color:#555;font-size:.9em}pre{background:#f7f7f7;padding:.8em;overflow-x:auto;border:1px solid #e4e4e4}\
+.warn{background:#fff4e0;border-left:4px solid #e08a00;padding:.5em 1em}.ok{color:#176d2a}.bad{color:#b00020}\
+details{margin:.6em 0}summary{cursor:pointer;color:#1f4e8a}nav ul{columns:2}";
+
+/// A report page being written.
+pub struct Page {
+    body: String,
+    /// (anchor, heading) of each section, for the contents.
+    sections: Vec<(String, String)>,
+}
+
+impl Page {
+    pub fn new() -> Self {
+        Page { body: String::new(), sections: Vec::new() }
+    }
+
+    /// Raw HTML (already escaped).
+    pub fn push(&mut self, html: &str) {
+        self.body.push_str(html);
+    }
+
+    /// A section heading with an anchor; listed in the contents.
+    pub fn section(&mut self, id: &str, heading: &str) {
+        self.body += &format!("<h2 id=\"{}\">{}</h2>\n", escape(id), label(heading));
+        self.sections.push((id.to_string(), heading.to_string()));
+    }
+
+    /// A paragraph of plain text.
+    pub fn para(&mut self, text: &str) {
+        self.body += &format!("<p>{}</p>\n", label(text));
+    }
+
+    /// The whole document: `title`, a line under it (`meta`, raw HTML), the contents and
+    /// the sections.
+    pub fn finish(self, title: &str, meta: &str) -> String {
+        let mut nav = String::from("<nav><ul>");
+        for (id, h) in &self.sections {
+            nav += &format!("<li><a href=\"#{}\">{}</a></li>", escape(id), label(h));
+        }
+        nav += "</ul></nav>\n";
+        format!(
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+             <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n\
+             <title>{}</title>\n<style>{CSS}</style>\n</head>\n<body>\n<h1>{}</h1>\n<p class=\"meta\">{meta}</p>\n{nav}{}</body>\n</html>\n",
+            escape(&crate::report::plot::text::plain(title)),
+            label(title),
+            self.body
+        )
+    }
+}
+
+impl Default for Page {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// A table cell holding a number: SI-prefixed text in `unit` (engineering notation when
+/// the unit takes no prefix), the exact value in `data-value` and in the tooltip.
+pub fn num(v: f64, unit: &str) -> String {
+    let text = if !v.is_finite() {
+        "–".to_string()
+    } else if unit == "Hz" || crate::report::plot::text::prefixable(&format!("x ({unit})")).is_some() {
+        si(v, unit, 4)
+    } else if (unit.is_empty() || unit == "1") && (1e-3..1e4).contains(&v.abs()) {
+        // Ratios such as a MAC of 0.9999 read best as plain decimals.
+        significant(v, 4)
+    } else if unit.is_empty() || unit == "1" {
+        eng(v, 4)
+    } else {
+        format!("{} {}", eng(v, 4), escape(unit))
+    };
+    format!("<td class=\"num\" data-value=\"{v:e}\" title=\"{v:e}\">{}</td>", escape(&text))
+}
+
+/// A table cell of text (escaped, subscripts kept).
+pub fn cell(text: &str) -> String {
+    format!("<td>{}</td>", label(text))
+}
+
+/// A table: header texts, then rows of cells made by [`num`] and [`cell`].
+pub fn table(header: &[&str], rows: &[Vec<String>]) -> String {
+    let mut s = String::from("<table>\n<tr>");
+    for h in header {
+        s += &format!("<th>{}</th>", label(h));
+    }
+    s += "</tr>\n";
+    for r in rows {
+        s += "<tr>";
+        for c in r {
+            s += c;
+        }
+        s += "</tr>\n";
+    }
+    s + "</table>\n"
+}
+
+/// Content that opens on a click (no script: the `details` element).
+pub fn details(summary: &str, inner: &str) -> String {
+    format!("<details><summary>{}</summary>\n{inner}</details>\n", label(summary))
+}
+
+/// A figure file (its SVG) inline, with its file name as the caption.
+pub fn figure(svg_path: &Path) -> Result<String> {
+    let text = std::fs::read_to_string(svg_path).map_err(|e| Error::io(svg_path, e))?;
+    let start = text.find("<svg").ok_or_else(|| Error::io(svg_path, std::io::Error::other("no <svg> element")))?;
+    let name = svg_path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    Ok(format!(
+        "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
+        text[start..].trim_end(),
+        escape(&name.replace(".svg", ".{png,svg}"))
+    ))
+}
+
+/// Markdown as the reports write it (headings, pipe tables, paragraphs, `code`) as HTML;
+/// everything else is kept as escaped text.
+pub fn markdown(md: &str) -> String {
+    let mut out = String::new();
+    let mut para: Vec<&str> = Vec::new();
+    let mut rows: Vec<Vec<String>> = Vec::new();
+    let flush_para = |para: &mut Vec<&str>, out: &mut String| {
+        if !para.is_empty() {
+            *out += &format!("<p>{}</p>\n", inline(&para.join(" ")));
+            para.clear();
+        }
+    };
+    let flush_table = |rows: &mut Vec<Vec<String>>, out: &mut String| {
+        if !rows.is_empty() {
+            *out += "<table>\n";
+            for (i, r) in rows.iter().enumerate() {
+                let tag = if i == 0 { "th" } else { "td" };
+                *out += "<tr>";
+                for c in r {
+                    *out += &format!("<{tag}>{}</{tag}>", inline(c));
+                }
+                *out += "</tr>\n";
+            }
+            *out += "</table>\n";
+            rows.clear();
+        }
+    };
+    for line in md.lines() {
+        let t = line.trim();
+        if t.starts_with('|') {
+            flush_para(&mut para, &mut out);
+            let cells: Vec<String> = t.trim_matches('|').split('|').map(|c| c.trim().to_string()).collect();
+            if !cells.iter().all(|c| !c.is_empty() && c.chars().all(|ch| matches!(ch, '-' | ':'))) {
+                rows.push(cells);
+            }
+            continue;
+        }
+        flush_table(&mut rows, &mut out);
+        if t.is_empty() {
+            flush_para(&mut para, &mut out);
+        } else if let Some(h) = t.strip_prefix("# ") {
+            flush_para(&mut para, &mut out);
+            out += &format!("<h2>{}</h2>\n", inline(h));
+        } else if let Some(h) = t.strip_prefix("## ") {
+            flush_para(&mut para, &mut out);
+            out += &format!("<h3>{}</h3>\n", inline(h));
+        } else {
+            para.push(t);
+        }
+    }
+    flush_table(&mut rows, &mut out);
+    flush_para(&mut para, &mut out);
+    out
+}
+
+/// Escapes a line of Markdown and turns its `code` spans into `<code>`.
+fn inline(s: &str) -> String {
+    let mut out = String::new();
+    for (i, part) in s.split('`').enumerate() {
+        if i % 2 == 1 {
+            out += &format!("<code>{}</code>", escape(part));
+        } else {
+            out += &escape(part);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn user_text_is_escaped_everywhere() {
+        let mut p = Page::new();
+        p.section("a<b", "<script>alert(1)</script>");
+        p.para("x & y");
+        let html = p.finish("T<i>", "meta");
+        assert!(!html.contains("<script>") && !html.contains("<i>"), "{html}");
+        assert!(html.contains("&lt;script&gt;") && html.contains("x &amp; y"));
+        assert_eq!(cell("F_{T} \"q\""), "<td>F<sub>T</sub> &quot;q&quot;</td>");
+    }
+
+    #[test]
+    fn numbers_keep_their_exact_value() {
+        let c = num(6.323020285825615e-6, "W");
+        assert!(c.contains("6.323 µW") && c.contains("data-value=\"6.323020285825615e-6\""), "{c}");
+        assert!(num(3.5e-11, "").contains(">35e-12<"));
+        assert!(num(f64::NAN, "W").contains(">–<"));
+        assert!(num(2.0, "m/s²").contains("2 m/s²"));
+        assert!(num(0.99987, "").contains(">0.9999<") && num(1237.8, "Hz").contains(">1.238 kHz<"));
+    }
+
+    #[test]
+    fn markdown_tables_and_code() {
+        let h = markdown("# Title\n\ntext `a<b` more\n\n| x | y |\n|---|---:|\n| 1 | <2> |\n");
+        assert_eq!(
+            h,
+            "<h2>Title</h2>\n<p>text <code>a&lt;b</code> more</p>\n<table>\n<tr><th>x</th><th>y</th></tr>\n\
+             <tr><td>1</td><td>&lt;2&gt;</td></tr>\n</table>\n"
+        );
+    }
+}
