@@ -172,11 +172,10 @@ fn output_non_finite(path: &Path) -> Option<String> {
         }
         "csv" => {
             let text = std::fs::read_to_string(path).unwrap_or_default();
-            let bad = |f: &str| matches!(f.trim().to_ascii_lowercase().trim_start_matches(['-', '+']), "nan" | "inf" | "infinity");
-            text.lines()
-                .enumerate()
-                .find(|(_, l)| l.split(',').any(bad))
-                .map(|(i, l)| format!("line {}: {l}", i + 1))
+            let bad = |f: &str| {
+                matches!(f.trim().to_ascii_lowercase().trim_start_matches(['-', '+']), "nan" | "inf" | "infinity")
+            };
+            text.lines().enumerate().find(|(_, l)| l.split(',').any(bad)).map(|(i, l)| format!("line {}: {l}", i + 1))
         }
         "h5" => match beamflow::io::hdf5::ResultsReader::open(path).and_then(|r| r.read_tree()) {
             Ok(tree) => tree_non_finite(&tree, "").map(|at| format!("non-finite values in `{at}`")),

@@ -55,7 +55,7 @@ fn link_index(run: &CaseRun, actuator: usize, name: &str) -> usize {
 fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
     eprintln!("running {stem} …");
     let run = run_case(lc)?;
-    let h5 = out.join(format!("{stem}.h5"));
+    let h5 = crate::io::paths::output_file(out, &format!("{stem}.h5"))?;
     crate::io::results::write(&h5, lc, &run)?;
     written.push(h5);
     Ok(run)
@@ -242,11 +242,11 @@ pub fn run(out: &Path) -> Result<()> {
         "energy_balance_max_rel_error": max_balance,
         "notes": "powers at the drive frequency from the frequency-domain periodic steady state (exact); the *_transient_* values are the Newmark steady state at Δt = T/200",
     });
-    let json_path = out.join("summary.json");
+    let json_path = crate::io::paths::output_file(out, "summary.json")?;
     write_atomic_string(&json_path, &serde_json::to_string_pretty(&summary).expect("serialisable"))?;
     written.push(json_path);
     let md = summary_md(&summary, &mass_amp);
-    let md_path = out.join("summary.md");
+    let md_path = crate::io::paths::output_file(out, "summary.md")?;
     write_atomic_string(&md_path, &md)?;
     written.push(md_path);
     crate::say!("{md}");

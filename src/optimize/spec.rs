@@ -199,7 +199,7 @@ pub struct Spec {
 
 /// Reads and checks an optimisation file.
 pub fn load(path: &Path) -> Result<Spec> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::input_file::read_text(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     Spec::from_str(&text, &path.display().to_string(), &dir)
 }

@@ -84,12 +84,25 @@ fn grid(t: &SweepTable) -> Option<Grid> {
     Some((px, py, xs, ys, z))
 }
 
+/// The report file `<stem>.<suffix>` beside the table `out`.
+fn beside(out: &Path, suffix: &str) -> Result<PathBuf> {
+    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
+    let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
+    crate::io::paths::output_file(&dir, &format!("{stem}.{suffix}"))
+}
+
+const FIGURE: &str = "net_power.png";
+const BEST: &str = "best.md";
+
+/// The report files [`plot`] and [`write_markdown`] may write beside the table `out`.
+pub fn files_beside(out: &Path) -> Vec<PathBuf> {
+    [FIGURE, BEST].iter().filter_map(|s| beside(out, s).ok()).collect()
+}
+
 /// Writes the figures for a table next to `out` (`<stem>.net_power.png`) and returns the
 /// files written (none if the table's shape has no figure).
 pub fn plot(t: &SweepTable, out: &Path) -> Result<Vec<PathBuf>> {
-    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
-    let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
-    let png = dir.join(format!("{stem}.net_power.png"));
+    let png = beside(out, FIGURE)?;
     let title = if t.title.is_empty() { "Sweep".to_string() } else { t.title.clone() };
     if let Some((px, py, xs, ys, z)) = grid(t) {
         let max = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -216,9 +229,7 @@ pub fn markdown(t: &SweepTable) -> String {
 
 /// Writes `<stem>.best.md` next to `out` and returns its path.
 pub fn write_markdown(t: &SweepTable, out: &Path) -> Result<PathBuf> {
-    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
-    let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
-    let md = dir.join(format!("{stem}.best.md"));
+    let md = beside(out, BEST)?;
     crate::io::atomic::write_atomic_string(&md, &markdown(t))?;
     Ok(md)
 }

@@ -132,7 +132,7 @@ pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
 /// Reads and checks a sweep file.
 pub fn load(path: &Path) -> Result<Sweep> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::input_file::read_text(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     Sweep::from_str(&text, &path.display().to_string(), &dir)
 }

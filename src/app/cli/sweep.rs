@@ -1,6 +1,7 @@
 //! `beamflow sweep` and `beamflow merge`.
 
 use crate::error::{Error, Result};
+use crate::io::paths::{refuse_input, Input};
 use crate::report::sweep as report;
 use crate::sweep::{self, RunOptions, Shard, SweepTable};
 use clap::Args;
@@ -47,6 +48,9 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         return Err(Error::input("<cli>", "--threads", "must be at least 1"));
     }
     let s = sweep::load(&args.sweep)?;
+    let mut inputs = vec![Input::new(&args.sweep, "the sweep file")];
+    inputs.extend(s.base.input_files(&s.file).into_iter().map(|(p, what)| Input::new(p, what)));
+    refuse_overwrite(&args.out, &inputs)?;
     let n = shard.indices(s.len()).len();
     eprintln!(
         "{}: {} cases{}, {} analysis, {} harmonics{}",
@@ -81,11 +85,24 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     if args.shards.is_empty() {
         return Err(Error::input("<cli>", "SHARD", "give the shard files to merge"));
     }
+    let inputs: Vec<Input> = args.shards.iter().map(|p| Input::new(p, "a shard to merge")).collect();
+    refuse_overwrite(&args.out, &inputs)?;
     let t = sweep::merge_files(&args.shards)?;
     t.write(&args.out)?;
     crate::say!("merged {} shards, {} cases: wrote {}", args.shards.len(), t.rows.len(), args.out.display());
     if !args.no_plots {
         report_files(&t, &args.out)?;
+    }
+    Ok(())
+}
+
+/// Refuses an `--out` table whose file, checkpoint folder or report files (beside it)
+/// would replace one of `inputs`.
+fn refuse_overwrite(out: &Path, inputs: &[Input]) -> Result<()> {
+    let mut outputs = vec![out.to_path_buf(), sweep::parts_dir(out)];
+    outputs.extend(report::files_beside(out));
+    for o in &outputs {
+        refuse_input("--out", o, inputs)?;
     }
     Ok(())
 }
