@@ -4,9 +4,10 @@
 
 use beamflow::analysis::harmonic::{self, PointForce};
 use beamflow::analysis::modes;
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
 use beamflow::case::build::build_beam;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::{Newmark, Scheme};
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -22,7 +23,7 @@ const FRAME: &str =
 
 fn foundation(c: &mut Criterion) {
     let lc = case("[damping]\nkind = \"rayleigh\"\na0 = 3.0\na1 = 2e-6\n[[sensor]]\nname = \"drive\"\nx = 0.15\n");
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     c.bench_function("assembly: paper beam, 200 elements", |b| b.iter(|| System::assemble(&model).unwrap()));
     let beam = build_beam(&lc).unwrap();
     c.bench_function("modes: paper beam, 200 elements, 20 modes", |b| b.iter(|| modes::run(&beam, 20).unwrap()));
@@ -36,14 +37,14 @@ fn foundation(c: &mut Criterion) {
 
 fn newmark(c: &mut Criterion) {
     for (name, text) in [("inertial", "base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 48.0\nfrequency = 30.0\n"), ("frame", "base = \"rigid\"\n[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 48.0\nfrequency = 30.0\n")] {
-        let model = build_model(&case(text)).unwrap().model;
+        let model = calibrated_model(&case(text)).unwrap();
         let sys = System::assemble(&model).unwrap();
         let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
         let f = vec![1.0; sys.n()];
         c.bench_function(&format!("newmark step: rigid-base {name} ({} DOFs)", sys.n()), |b| b.iter(|| nm.step(&f)));
     }
     // 1000 DOFs: a 500-element beam (998 free DOFs) plus a frame actuator.
-    let model = build_model(&case(&format!("[beam.mesh]\nelements = 500\n{FRAME}"))).unwrap().model;
+    let model = calibrated_model(&case(&format!("[beam.mesh]\nelements = 500\n{FRAME}"))).unwrap();
     let sys = System::assemble(&model).unwrap();
     let mut nm = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5).unwrap();
     let f = vec![1.0; sys.n()];
@@ -51,7 +52,7 @@ fn newmark(c: &mut Criterion) {
     let band = |options: StepOptions| {
         BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-5, options).unwrap()
     };
-    let rayleigh = StepOptions { rayleigh: Some((model.rayleigh.a0, model.rayleigh.a1)), ..StepOptions::default() };
+    let rayleigh = StepOptions { rayleigh: Some((model.rayleigh().a0, model.rayleigh().a1)), ..StepOptions::default() };
     let mut fused = band(rayleigh);
     assert!(fused.uses_proportional_damping());
     let load: Vec<(usize, f64)> = sys.drives[0].clone();
@@ -70,7 +71,7 @@ fn newmark(c: &mut Criterion) {
 }
 
 fn coupled(c: &mut Criterion) {
-    let model = build_model(&case(FRAME)).unwrap().model;
+    let model = calibrated_model(&case(FRAME)).unwrap();
     let sys = System::assemble(&model).unwrap();
     let s = beamflow::analysis::transient::TransientSettings {
         dt: Some(1e-4 / 1.2),

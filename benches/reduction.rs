@@ -4,11 +4,12 @@
 //!
 //! `cargo bench --bench reduction`. Results and machine in docs/performance.md.
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::reduction::{self, Cutoff, ReductionSettings};
 use beamflow::analysis::steady_state;
 use beamflow::analysis::transient::{self, TransientSettings};
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::Path;
@@ -17,7 +18,7 @@ use std::time::Duration;
 fn bench(c: &mut Criterion) {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml");
     let lc = LoadedCase::load(&path).unwrap();
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let full = System::assemble(&model).unwrap();
     let settings = TransientSettings { harmonics: Some(9), ..Default::default() };
     let rs = ReductionSettings {

@@ -12,8 +12,9 @@
 //!
 //! `cargo bench --bench scaling`; numbers in docs/performance.md.
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::Scheme;
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion, Throughput};
@@ -32,7 +33,7 @@ pub fn bare_beam(elements: usize) -> (System, usize) {
          [[sensor]]\nname = \"load\"\nx = 0.15\n"
     );
     let lc = LoadedCase::from_str(&text, "scaling.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR"))).unwrap();
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let d = sys.w_at(&model, 0.15, "sensor").unwrap()[0].0;
     (sys, d)

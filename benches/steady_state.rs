@@ -7,9 +7,10 @@
 //!
 //! `cargo bench --bench steady_state`; numbers and machine in docs/perf-notes-ss.md.
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use criterion::{criterion_group, criterion_main, Criterion};
 use std::hint::black_box;
 use std::path::Path;
@@ -21,7 +22,7 @@ fn bench(c: &mut Criterion) {
         [("frame_12V_60Hz", "beam-frame-12V-60Hz.toml"), ("inertial_12V_60Hz", "beam-inertial-12V-60Hz.toml")]
     {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases").join(file);
-        let model = build_model(&LoadedCase::load(&path).unwrap()).unwrap().model;
+        let model = calibrated_model(&LoadedCase::load(&path).unwrap()).unwrap();
         let sys = System::assemble(&model).unwrap();
         let r = steady_state::run(&model, &sys, 9, 1024).unwrap();
         eprintln!("{name}: {} DOFs, hysteresis settled in {} periods", sys.n(), r.hysteresis_periods);

@@ -23,9 +23,10 @@
 //! pairs, 200 elements: the paper's mesh). Both beams take the given number of elements; the
 //! frame beam's mesh is split at the stack foot and legs as the case builder does it.
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::transient::{self, TransientSettings};
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::Scheme;
 use std::path::PathBuf;
@@ -49,10 +50,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let (pairs, elements) = (arg(1, 30)?, arg(2, 200)?);
     let mesh = format!("[beam.mesh]\nelements = {elements}\n");
     let cases = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases");
-    let bare_model = build_model(&LoadedCase::from_str(&(mesh.clone() + BARE), "bare.toml", cases.clone())?)?.model;
+    let bare_model = calibrated_model(&LoadedCase::from_str(&(mesh.clone() + BARE), "bare.toml", cases.clone())?)?;
     let bare = System::assemble(&bare_model)?;
     let load = bare.w_at(&bare_model, 0.15, "sensor")?[0].0;
-    let model = build_model(&LoadedCase::from_str(&(mesh + FRAME), "frame.toml", cases)?)?.model;
+    let model = calibrated_model(&LoadedCase::from_str(&(mesh + FRAME), "frame.toml", cases)?)?;
     let coupled = System::assemble(&model)?;
     let settings = TransientSettings {
         dt: Some(1e-4 / 1.2),
@@ -86,8 +87,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         std::hint::black_box((w, nm.dissipated()));
         Ok(t0.elapsed().as_secs_f64() * 1e9 / (STEPS * sys.n()) as f64)
     };
-    let bare_rayleigh = (bare_model.rayleigh.a0, bare_model.rayleigh.a1);
-    let coupled_rayleigh = (model.rayleigh.a0, model.rayleigh.a1);
+    let bare_rayleigh = (bare_model.rayleigh().a0, bare_model.rayleigh().a1);
+    let coupled_rayleigh = (model.rayleigh().a0, model.rayleigh().a1);
     let stack_drive: Vec<(usize, f64)> = coupled.drives[0].iter().map(|&(d, c)| (d, 46.8 * c)).collect();
     let (mut tb, mut tc, mut ratio) = (Vec::new(), Vec::new(), Vec::new());
     let (mut r_diss, mut r_frame) = (Vec::new(), Vec::new());

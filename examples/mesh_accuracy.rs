@@ -4,9 +4,10 @@
 //! the harmonic analysis directly, past that limit). Usage:
 //! cargo run --release --example mesh_accuracy
 use beamflow::analysis::harmonic::{self, PointForce};
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
 use beamflow::beam::analytic::clamped_point_receptance;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use num_complex::Complex64;
 use std::path::PathBuf;
 
@@ -20,7 +21,7 @@ fn main() {
              [analysis.frequencies]\nvalues = {freqs:?}\n[[analysis.force]]\nx = {x}\n"
         );
         let lc = LoadedCase::from_str(&text, "m.toml", PathBuf::from(".")).unwrap();
-        let model = build_model(&lc).unwrap().model;
+        let model = calibrated_model(&lc).unwrap();
         let sys = System::assemble(&model).unwrap();
         let force = [PointForce { x, amplitude: 1.0, phase: 0.0 }];
         let h = harmonic::run(&model, &sys, &freqs, &force, None).unwrap();

@@ -13,8 +13,9 @@
 //! against its textbook step (docs/performance.md, "Against OpenSees and an
 //! extended-precision reference").
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::{Newmark, Scheme};
 use std::path::PathBuf;
@@ -35,11 +36,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
          [[sensor]]\nname = \"load\"\nx = {x_load}\n"
     );
     let lc = LoadedCase::from_str(&case, "opensees_check.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")))?;
-    let model = build_model(&lc)?.model;
+    let model = calibrated_model(&lc)?;
     let sys = System::assemble(&model)?;
     let d = sys.w_at(&model, x_load, "sensor")?[0].0;
     let (dt, f_hz) = (1e-4, 60.0);
-    let options = StepOptions { rayleigh: Some((model.rayleigh.a0, model.rayleigh.a1)), ..StepOptions::default() };
+    let options = StepOptions { rayleigh: Some((model.rayleigh().a0, model.rayleigh().a1)), ..StepOptions::default() };
     let mut nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt, options)?;
     // The textbook step on CSR and profile storage, as a measure of beamflow's own round-off.
     let mut tb = Newmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt)?;

@@ -13,8 +13,9 @@
 //! report the median ratio: on a shared VM whose speed drifts by tens of per cent over
 //! minutes, that is how a change of a few per cent was measured (docs/performance.md).
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::Scheme;
 use std::path::PathBuf;
@@ -35,7 +36,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
     }
     let lc = LoadedCase::from_str(&text, "step_cost.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")))?;
-    let sys = System::assemble(&build_model(&lc)?.model)?;
+    let sys = System::assemble(&calibrated_model(&lc)?)?;
     let n = sys.n();
     let options = StepOptions {
         rayleigh: proportional.then_some((5.29, 9.96e-6)),

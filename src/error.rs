@@ -32,9 +32,43 @@ pub enum Error {
     /// The HDF5 library reported an error.
     #[error("{path}: HDF5: {message}")]
     Hdf5 { path: String, message: String },
+    /// A setting a lower layer (model, assembly, analysis, solver) cannot accept, named in
+    /// that layer's own terms. The layer that read the value from a file maps it to the
+    /// file and field with [`Error::in_file`] (or [`Error::in_analysis`]); a lower layer
+    /// never guesses which file a value came from.
+    #[error("{scope} `{field}`: {reason}")]
+    Setting {
+        /// What `field` is relative to.
+        scope: Scope,
+        /// The setting's name within its scope, e.g. `duration`, `damping.kind`.
+        field: String,
+        reason: String,
+    },
     /// A solver met a situation it cannot handle (singular matrix, no convergence).
     #[error("numerical failure: {0}")]
     Numerical(String),
+}
+
+/// What the field of an [`Error::Setting`] is relative to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scope {
+    /// A dotted path from the root of the case, e.g. `damping.kind`, `load[0].x`.
+    Case,
+    /// A field of the analysis being run, e.g. `duration` (the case's `analysis[i]` table).
+    Analysis,
+    /// An argument of a library function (identification, fitting) that the caller
+    /// attributes to its own input.
+    Argument,
+}
+
+impl std::fmt::Display for Scope {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Scope::Case => "case field",
+            Scope::Analysis => "analysis setting",
+            Scope::Argument => "argument",
+        })
+    }
 }
 
 /// Crate-wide result alias.
@@ -44,6 +78,52 @@ impl Error {
     /// Shorthand for [`Error::Input`].
     pub fn input(file: impl Into<String>, field: impl Into<String>, reason: impl Into<String>) -> Self {
         Error::Input { file: file.into(), field: field.into(), reason: reason.into() }
+    }
+
+    /// A case field (dotted path from the case root) a lower layer cannot accept.
+    pub fn case_field(field: impl Into<String>, reason: impl Into<String>) -> Self {
+        Error::Setting { scope: Scope::Case, field: field.into(), reason: reason.into() }
+    }
+
+    /// A setting of the analysis being run that it cannot accept.
+    pub fn analysis_setting(field: impl Into<String>, reason: impl Into<String>) -> Self {
+        Error::Setting { scope: Scope::Analysis, field: field.into(), reason: reason.into() }
+    }
+
+    /// A function argument out of range.
+    pub fn argument(field: impl Into<String>, reason: impl Into<String>) -> Self {
+        Error::Setting { scope: Scope::Argument, field: field.into(), reason: reason.into() }
+    }
+
+    /// Names the file a setting came from: case fields and arguments keep their name,
+    /// analysis settings are placed under `analysis` (the table path, e.g. `analysis[1]`);
+    /// other errors pass through.
+    pub fn in_analysis(self, file: &str, analysis: &str) -> Self {
+        match self {
+            Error::Setting { scope: Scope::Analysis, field, reason } => {
+                Error::Input { file: file.to_string(), field: format!("{analysis}.{field}"), reason }
+            }
+            e => e.in_file(file),
+        }
+    }
+
+    /// Names the file and the table (`table`, e.g. `actuator[0].stack`) a setting came from:
+    /// its field becomes `table.field`; other errors pass through.
+    pub fn in_table(self, file: &str, table: &str) -> Self {
+        match self {
+            Error::Setting { field, reason, .. } => {
+                Error::Input { file: file.to_string(), field: format!("{table}.{field}"), reason }
+            }
+            e => e,
+        }
+    }
+
+    /// Names the file every setting came from (analysis settings keep their bare name).
+    pub fn in_file(self, file: &str) -> Self {
+        match self {
+            Error::Setting { field, reason, .. } => Error::Input { file: file.to_string(), field, reason },
+            e => e,
+        }
     }
 
     /// Shorthand for [`Error::Io`] with the path that failed.

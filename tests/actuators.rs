@@ -2,9 +2,10 @@
 //! force law, and the paper's qualitative claims with the default parameters.
 
 mod common;
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::transient::{self, TransientResult, TransientSettings};
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use common::*;
 use std::path::Path;
 
@@ -13,7 +14,7 @@ fn rigid_case(extra: &str) -> LoadedCase {
 }
 
 fn run(lc: &LoadedCase) -> TransientResult {
-    let model = build_model(lc).unwrap().model;
+    let model = calibrated_model(lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     transient::run(&model, &sys, &TransientSettings::default()).unwrap()
 }
@@ -27,7 +28,7 @@ fn frame_static_limit_with_centred_stack() {
     // e = 0: the stack's active force splits between the stack spring and the two legs.
     let (kp, kl) = (3.0e7, 1.5e9);
     let lc = rigid_case("[[actuator]]\ntype = \"frame\"\ne = 0.0\nk_l_right = 1.5e9\n[actuator.voltage]\nkind = \"sine\"\namplitude = 1.0\nfrequency = 1.0\n");
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let fp = 123.0;
     let mut f = vec![0.0; sys.n()];
@@ -53,7 +54,7 @@ fn rigid_base_forces_sum_to_minus_the_top_inertia_at_every_step() {
         "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 48.0\nfrequency = 30.0\n",
     );
     let r = run(&lc);
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let comp = model.actuators[0].component();
     let (y, phi) = (&r.bodies[0], &r.bodies[1]);
     let mut worst = 0.0f64;

@@ -2,8 +2,9 @@
 //! number of DOFs. A counting global allocator sees every allocation of this
 //! test binary, so the tests here run one at a time under a lock.
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::Scheme;
 use std::alloc::{GlobalAlloc, Layout, System as Heap};
@@ -29,7 +30,7 @@ static GLOBAL: Counting = Counting;
 
 fn system(text: &str) -> System {
     let lc = LoadedCase::from_str(text, "alloc.toml", std::env::temp_dir()).unwrap();
-    System::assemble(&build_model(&lc).unwrap().model).unwrap()
+    System::assemble(&calibrated_model(&lc).unwrap()).unwrap()
 }
 
 const FRAME: &str =
@@ -38,9 +39,9 @@ const FRAME: &str =
 #[test]
 fn steps_allocate_nothing() {
     let _serial = SERIAL.lock().unwrap();
-    let model = build_model(&LoadedCase::from_str(FRAME, "alloc.toml", std::env::temp_dir()).unwrap()).unwrap().model;
+    let model = calibrated_model(&LoadedCase::from_str(FRAME, "alloc.toml", std::env::temp_dir()).unwrap()).unwrap();
     let sys = System::assemble(&model).unwrap();
-    let rayleigh = (model.rayleigh.a0, model.rayleigh.a1);
+    let rayleigh = (model.rayleigh().a0, model.rayleigh().a1);
     for scheme in [Scheme::average_acceleration(), Scheme::generalized_alpha(0.8)] {
         let options = StepOptions { rayleigh: Some(rayleigh), track_dissipation: true, ..StepOptions::default() };
         let mut nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4, options).unwrap();

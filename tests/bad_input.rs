@@ -58,7 +58,7 @@ fn mesh_file_missing_a_required_node_names_the_point() {
         "[beam.mesh]\nfile = \"../meshes/paper-beam-50.toml\"\n[[actuator]]\ntype = \"inertial\"\nx_e = 0.2\n{SINE}"
     );
     let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases")).unwrap();
-    let msg = beamflow::case::build_model(&lc).unwrap_err().to_string();
+    let msg = beamflow::analysis::plan::calibrated_model(&lc).unwrap_err().to_string();
     assert!(msg.contains("paper-beam-50.toml") && msg.contains("actuator[0].x_e") && msg.contains("0.2"), "{msg}");
 }
 
@@ -134,7 +134,7 @@ fn voltage_series_files() {
             format!("[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\nkind = \"series\"\nfile = \"{file}\"\n");
         let lc = LoadedCase::from_str(&text, "bad.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data"))
             .unwrap();
-        let msg = beamflow::case::build_model(&lc).unwrap_err().to_string();
+        let msg = beamflow::analysis::plan::calibrated_model(&lc).unwrap_err().to_string();
         assert!(msg.contains(file) && msg.contains(needle), "{file}: {msg}");
     }
 }

@@ -2,9 +2,9 @@
 
 mod common;
 use beamflow::analysis::harmonic::{self, PointForce};
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
 use beamflow::beam::analytic::{beta_l_roots, End};
-use beamflow::case::build_model;
 use common::*;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -55,7 +55,7 @@ fn driving_point_power_matches_the_continuous_beam() {
     let lc = case(&format!(
         "[damping]\nkind = \"rayleigh\"\na0 = {a0}\na1 = {a1}\n[[sensor]]\nname = \"drive\"\nx = 0.150\n"
     ));
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let freqs = [30.0, 60.0, 100.0, 180.0, 400.0];
     let res =
@@ -76,11 +76,11 @@ fn driving_point_power_matches_the_continuous_beam() {
 fn modal_damping_path_balances_and_agrees_with_rayleigh_equivalent() {
     // Modal ratios chosen equal to what Rayleigh gives at each mode: both paths must agree.
     let lc_r = case("[damping]\nkind = \"rayleigh\"\na0 = 3.0\na1 = 2.0e-6\n[beam.mesh]\nelements = 40\n");
-    let model = build_model(&lc_r).unwrap().model;
+    let model = calibrated_model(&lc_r).unwrap();
     let sys = System::assemble(&model).unwrap();
     let beam = model.beam.as_ref().unwrap();
     let modes = beamflow::analysis::modes::bare_modes(beam, 1000).unwrap();
-    let ratios: Vec<f64> = modes.omega.iter().map(|w| model.rayleigh.ratio_at(*w)).collect();
+    let ratios: Vec<f64> = modes.omega.iter().map(|w| model.rayleigh().ratio_at(*w)).collect();
     let forces = [PointForce { x: 0.146, amplitude: 2.0, phase: 0.3 }];
     let direct = harmonic::run(&model, &sys, &[55.0, 170.0], &forces, None);
     let direct = direct.unwrap();

@@ -4,11 +4,12 @@
 //! runner's limit) against the exact continuous beam.
 
 use beamflow::analysis::harmonic::{self, PointForce};
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::roundoff::{mesh_roundoff, MESH_ELEMENTS_LIMIT};
 use beamflow::app::runner::run_case;
 use beamflow::assembly::System;
 use beamflow::beam::analytic::clamped_point_receptance;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 use std::path::PathBuf;
@@ -26,7 +27,7 @@ fn case(elements: usize) -> LoadedCase {
 
 /// The largest relative error of the point mobility at 60 and 445 Hz, and the estimate.
 fn error_and_estimate(elements: usize) -> (f64, f64) {
-    let model = build_model(&case(elements)).unwrap().model;
+    let model = calibrated_model(&case(elements)).unwrap();
     let sys = System::assemble(&model).unwrap();
     let freqs = [60.0, 445.0];
     let h = harmonic::run(&model, &sys, &freqs, &[PointForce { x: 0.15, amplitude: 1.0, phase: 0.0 }], None).unwrap();

@@ -1,9 +1,9 @@
 //! Mode-resolved power flow: exact with all modes, symmetry, truncation.
 
 mod common;
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state;
 use beamflow::assembly::System;
-use beamflow::case::build_model;
 use common::*;
 
 const SINE: &str = "[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
@@ -11,10 +11,10 @@ const SINE: &str = "[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequ
 #[test]
 fn modal_shares_sum_to_point_powers_and_dissipation_with_all_modes() {
     let lc = case(&format!("[beam.mesh]\nelements = 60\n[[actuator]]\ntype = \"frame\"\n{SINE}"));
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let mut ss = steady_state::run(&model, &sys, 5, 256).unwrap();
-    ss.decompose_modes(&model, &sys, usize::MAX, None).unwrap();
+    ss.decompose_modes(&model, &sys, usize::MAX).unwrap();
     let m = ss.modal.as_ref().unwrap();
     for (l, p) in ss.mean_power.iter().enumerate() {
         let sum: f64 = m.point_power[l].iter().sum();
@@ -26,7 +26,7 @@ fn modal_shares_sum_to_point_powers_and_dissipation_with_all_modes() {
     // Truncation leaves a residual that shrinks as modes are added.
     let res = |count| {
         let mut s = ss.clone();
-        s.decompose_modes(&model, &sys, count, None).unwrap();
+        s.decompose_modes(&model, &sys, count).unwrap();
         s.modal.unwrap().point_residual.iter().map(|r| r.abs()).fold(0.0f64, f64::max)
     };
     let (r3, r10, r30) = (res(3), res(10), res(30));
@@ -37,10 +37,10 @@ fn modal_shares_sum_to_point_powers_and_dissipation_with_all_modes() {
 fn symmetric_frame_on_symmetric_beam_does_not_drive_antisymmetric_modes() {
     // Stack centred (e = 0), legs equal, frame centred at midspan.
     let lc = case(&format!("[beam.mesh]\nelements = 80\n[[actuator]]\ntype = \"frame\"\ne = 0.0\nx_e = 0.365\n{SINE}"));
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let mut ss = steady_state::run(&model, &sys, 3, 64).unwrap();
-    ss.decompose_modes(&model, &sys, 8, None).unwrap();
+    ss.decompose_modes(&model, &sys, 8).unwrap();
     let gf = &ss.modal.as_ref().unwrap().generalised_force_abs[0][1];
     let sym = gf[0].max(gf[2]);
     for r in [1, 3, 5, 7] {

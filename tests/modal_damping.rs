@@ -7,10 +7,11 @@
 
 mod common;
 use beamflow::analysis::case_run::{AnalysisResult, CaseRun};
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::reduction::{self, Cutoff, ReductionSettings};
 use beamflow::app::runner::run_case;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use common::*;
 use std::path::PathBuf;
 
@@ -44,7 +45,7 @@ const STEADY: &str = "[[analysis]]\ntype = \"steady_state\"\nharmonics = 9\n";
 #[test]
 fn modal_ratios_equal_to_rayleigh_reproduce_the_rayleigh_steady_state() {
     let rayleigh = run_text(&frame_case("", STEADY));
-    let (a0, a1) = (rayleigh.model.rayleigh.a0, rayleigh.model.rayleigh.a1);
+    let (a0, a1) = (rayleigh.model.rayleigh().a0, rayleigh.model.rayleigh().a1);
     assert!(a0 > 0.0 && a1 > 0.0, "the paper case is Rayleigh-damped");
     // Every bare-beam mode gets its Rayleigh-equivalent ratio.
     let modes = beamflow::analysis::modes::bare_modes(rayleigh.model.beam.as_ref().unwrap(), usize::MAX).unwrap();
@@ -73,8 +74,8 @@ fn modal_ratios_equal_to_rayleigh_reproduce_the_rayleigh_steady_state() {
 #[test]
 fn reduced_modal_damping_is_the_rayleigh_matrix_in_modal_coordinates() {
     let lc = LoadedCase::load(&cases_dir().join("beam-frame-12V-60Hz.toml")).unwrap();
-    let model = build_model(&lc).unwrap().model;
-    let (a0, a1) = (model.rayleigh.a0, model.rayleigh.a1);
+    let model = calibrated_model(&lc).unwrap();
+    let (a0, a1) = (model.rayleigh().a0, model.rayleigh().a1);
     let full = System::assemble(&model).unwrap();
     let settings = |modal_damping| ReductionSettings {
         cutoff: Cutoff::HarmonicFactor(5.0),
@@ -89,7 +90,7 @@ fn reduced_modal_damping_is_the_rayleigh_matrix_in_modal_coordinates() {
     // The same beam without Rayleigh damping, given as modal ratios at the reduced
     // coordinates' frequencies (modes, then the residual vectors in order).
     let mut undamped = model.clone();
-    undamped.rayleigh = Default::default();
+    undamped.damping = beamflow::assembly::Damping::None;
     let bare_c = System::assemble(&undamped).unwrap();
     let omegas: Vec<f64> = report
         .mode_frequencies_hz
@@ -180,7 +181,7 @@ fn a_steady_state_sweep_applies_modal_damping() {
     let dir = tempfile::tempdir().unwrap();
     let rayleigh_text = frame_case("", STEADY);
     let rayleigh = run_text(&rayleigh_text);
-    let (a0, a1) = (rayleigh.model.rayleigh.a0, rayleigh.model.rayleigh.a1);
+    let (a0, a1) = (rayleigh.model.rayleigh().a0, rayleigh.model.rayleigh().a1);
     let modes = beamflow::analysis::modes::bare_modes(rayleigh.model.beam.as_ref().unwrap(), usize::MAX).unwrap();
     let ratios: Vec<f64> = modes.omega.iter().map(|w| a0 / (2.0 * w) + a1 * w / 2.0).collect();
     let modal_text = frame_case(&format!("[damping]\nkind = \"modal\"\nratios = {}\n", list(&ratios)), STEADY);

@@ -198,14 +198,15 @@ fn newton_reports_failure_instead_of_returning_garbage() {
 /// of the frame moves the frame's long rows off the bounds of the sweeps' groups of four.
 #[test]
 fn fast_integrator_matches_textbook_step_to_round_off() {
+    use beamflow::analysis::plan::calibrated_model;
     use beamflow::analysis::reduction::{self, Cutoff, ReductionSettings};
     use beamflow::assembly::System;
-    use beamflow::case::{build_model, LoadedCase};
+    use beamflow::case::LoadedCase;
     use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
     let text =
         "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
     let lc = LoadedCase::from_str(text, "fused.toml", std::env::temp_dir()).unwrap();
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let full = System::assemble(&model).unwrap();
     let rs = ReductionSettings {
         cutoff: Cutoff::HarmonicFactor(5.0),
@@ -219,8 +220,8 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
     // With the Rayleigh coefficients the case chose for its own mesh (from that mesh's modes).
     let system = |before: &str, after: &str| {
         let lc = LoadedCase::from_str(&format!("{before}{text}{after}"), "case.toml", std::env::temp_dir()).unwrap();
-        let model = build_model(&lc).unwrap().model;
-        (System::assemble(&model).unwrap(), (model.rayleigh.a0, model.rayleigh.a1))
+        let model = calibrated_model(&lc).unwrap();
+        (System::assemble(&model).unwrap(), (model.rayleigh().a0, model.rayleigh().a1))
     };
     let (odd, odd_rayleigh) = system("[beam.mesh]\nelements = 204\n", "");
     assert_eq!(odd.n() % 8, 6, "{}", odd.n());
@@ -235,7 +236,7 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
     let leg_rows = |sys: &System| (0..sys.n()).filter(|&i| i - sys.envelope[i] > 10).collect::<Vec<_>>();
     assert_eq!(leg_rows(&full), [104, 105]);
     assert_eq!(leg_rows(&two), [105, 106]);
-    let full_rayleigh = (model.rayleigh.a0, model.rayleigh.a1);
+    let full_rayleigh = (model.rayleigh().a0, model.rayleigh().a1);
     for (sys, dense, (a0, a1)) in [
         (&full, false, full_rayleigh),
         (&odd, false, odd_rayleigh),
@@ -456,12 +457,12 @@ fn fast_integrator_matches_textbook_step_to_round_off() {
 /// kernel measured faster (the comment on `WIDE_RHS_MAX_DOFS` in `solve/band_newmark`).
 #[test]
 fn wide_kernel_only_for_systems_that_fit_in_cache() {
+    use beamflow::analysis::plan::calibrated_model;
     use beamflow::assembly::System;
-    use beamflow::case::build_model;
     use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
     let fused = |elements: usize| {
         let lc = common::bare_beam(elements, [5.29, 9.96e-6]);
-        let sys = System::assemble(&build_model(&lc).unwrap().model).unwrap();
+        let sys = System::assemble(&calibrated_model(&lc).unwrap()).unwrap();
         let scheme = Scheme::average_acceleration();
         BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, 1e-4, StepOptions::default()).unwrap()
     };
@@ -483,11 +484,11 @@ fn wide_kernel_only_for_systems_that_fit_in_cache() {
 /// three products, to the bit.
 #[test]
 fn proportional_form_declined_where_damping_does_not_fit() {
+    use beamflow::analysis::plan::calibrated_model;
     use beamflow::assembly::System;
-    use beamflow::case::build_model;
     use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
     let (a0, a1) = (5.29, 9.96e-6);
-    let sys = System::assemble(&build_model(&common::bare_beam(100, [a0, a1])).unwrap().model).unwrap();
+    let sys = System::assemble(&calibrated_model(&common::bare_beam(100, [a0, a1])).unwrap()).unwrap();
     let fused = |rayleigh: Option<(f64, f64)>| {
         let options = StepOptions { rayleigh, ..StepOptions::default() };
         BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), 1e-4, options).unwrap()

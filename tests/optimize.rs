@@ -4,9 +4,10 @@
 //! from the footprints and by re-solving the best case with the full steady state), and
 //! bad input refused before anything is solved.
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::optimize::{self, RunOptions, Spec};
 use beamflow::sweep::{self, Sweep};
 use std::path::{Path, PathBuf};
@@ -149,7 +150,7 @@ fn grid_40_cubed(s: &Spec) -> (f64, [f64; 3], usize) {
                     &format!("[beam]\n[damping]\nkind = \"rayleigh\"\na0 = {:?}\na1 = {:?}\n", r.a0, r.a1),
                 );
             let lc = LoadedCase::from_str(&text, "grid", cases()).unwrap();
-            let mut model = build_model(&lc).unwrap().model;
+            let mut model = beamflow::analysis::plan::calibrated_model(&lc).unwrap();
             let sys = System::assemble(&model).unwrap();
             let mut solver = HarmonicSolver::new(&sys);
             let mut best = (f64::NEG_INFINITY, [0.0; 3], 0);
@@ -232,9 +233,9 @@ fn constraints_hold_for_every_reported_optimum() {
         let doc = s.base.document(s.assignment(&e.u)).unwrap();
         let text = toml::to_string(&doc).unwrap();
         let lc = LoadedCase::from_str(&text, "optimum", cases()).unwrap();
-        let built = build_model(&lc).unwrap();
-        let sys = System::assemble(&built.model).unwrap();
-        let ss = steady_state::run(&built.model, &sys, 9, 1024).unwrap();
+        let built = calibrated_model(&lc).unwrap();
+        let sys = System::assemble(&built).unwrap();
+        let ss = steady_state::run(&built, &sys, 9, 1024).unwrap();
         assert!(ss.net_power[1] <= 0.01, "right frame {} W at {x:?}", ss.net_power[1]);
         assert!((ss.net_power.iter().sum::<f64>() - e.values[0]).abs() <= 1e-12 * e.values[0].abs().max(1e-30));
     }
@@ -315,10 +316,10 @@ quantity = "net_power"
 fn full_run(s: &Spec, u: &[f64]) -> (beamflow::assembly::Model, System, steady_state::SteadyStateResult) {
     let doc = s.base.document(s.assignment(u)).unwrap();
     let lc = LoadedCase::from_str(&toml::to_string(&doc).unwrap(), "candidate", cases()).unwrap();
-    let built = build_model(&lc).unwrap();
-    let sys = System::assemble(&built.model).unwrap();
-    let ss = steady_state::run(&built.model, &sys, s.harmonics, s.samples_per_period).unwrap();
-    (built.model, sys, ss)
+    let built = calibrated_model(&lc).unwrap();
+    let sys = System::assemble(&built).unwrap();
+    let ss = steady_state::run(&built, &sys, s.harmonics, s.samples_per_period).unwrap();
+    (built, sys, ss)
 }
 
 #[test]
@@ -336,7 +337,7 @@ fn power_into_one_mode_is_maximised_at_its_resonance() {
     assert!((120.0..140.0).contains(&f), "f = {f}");
     // The value against the runner's mode-resolved decomposition of the full steady state.
     let (model, sys, mut ss) = full_run(&s, &r.best.u);
-    ss.decompose_modes(&model, &sys, 4, None).unwrap();
+    ss.decompose_modes(&model, &sys, 4).unwrap();
     let m = ss.modal.unwrap();
     let p2: f64 = m.point_power.iter().map(|p| p[1]).sum();
     assert!((p2 - r.best.values[0]).abs() <= 1e-9 * p2.abs(), "{p2} vs {}", r.best.values[0]);
@@ -359,9 +360,9 @@ fn sensor_amplitude_is_the_first_harmonic_of_the_response() {
     let (r, _) = run_counted(&s, 2);
     let doc = s.base.document(s.assignment(&r.best.u)).unwrap();
     let lc = LoadedCase::from_str(&toml::to_string(&doc).unwrap(), "candidate", dir.path().to_path_buf()).unwrap();
-    let built = build_model(&lc).unwrap();
-    let sys = System::assemble(&built.model).unwrap();
-    let ss = steady_state::run(&built.model, &sys, s.harmonics, s.samples_per_period).unwrap();
+    let built = calibrated_model(&lc).unwrap();
+    let sys = System::assemble(&built).unwrap();
+    let ss = steady_state::run(&built, &sys, s.harmonics, s.samples_per_period).unwrap();
     // |V_1| = 2/N·|Σ_j v_j·e^{−2πij/N}| of the velocity over one period.
     let v = &ss.sensors[0].v;
     let n = v.len() as f64;
@@ -444,9 +445,9 @@ fn the_written_best_case_reproduces_the_optimum() {
     assert_eq!(history.lines().count(), r.history.len() + 1);
     // `beamflow run` of best.toml solves the same steady state.
     let lc = LoadedCase::load(&out.join("best.toml")).unwrap();
-    let built = build_model(&lc).unwrap();
-    let sys = System::assemble(&built.model).unwrap();
-    let ss = steady_state::run(&built.model, &sys, 9, 1024).unwrap();
+    let built = calibrated_model(&lc).unwrap();
+    let sys = System::assemble(&built).unwrap();
+    let ss = steady_state::run(&built, &sys, 9, 1024).unwrap();
     let p: f64 = ss.net_power.iter().sum();
     assert!((p - r.best.values[0]).abs() <= 1e-9 * p, "{p} vs {}", r.best.values[0]);
 }

@@ -4,11 +4,12 @@
 
 mod common;
 use beamflow::analysis::harmonic::{self, PointForce};
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state::{self, solve_at};
 use beamflow::analysis::transient::{self, TransientSettings};
 use beamflow::assembly::{Model, System};
 use beamflow::beam::analytic::{beta_l_roots, End};
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::power::link::link_harmonic;
 use common::*;
 use num_complex::Complex64;
@@ -128,7 +129,7 @@ fn linear_case(actuator: &str, extra: &str) -> LoadedCase {
 fn coupled_powers_match_an_independent_continuous_beam_model() {
     for kind in ["inertial", "frame"] {
         let lc = linear_case(kind, "");
-        let model = build_model(&lc).unwrap().model;
+        let model = calibrated_model(&lc).unwrap();
         let sys = System::assemble(&model).unwrap();
         let ss = steady_state::run(&model, &sys, 3, 64).unwrap();
         let fp = 3.0e7 * 1.3e-7 * 12.0;
@@ -144,7 +145,7 @@ fn coupled_powers_match_an_independent_continuous_beam_model() {
 #[test]
 fn actuator_replaced_by_its_force_pair_reproduces_the_harmonic_analysis() {
     let lc = linear_case("frame", "");
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let w = 2.0 * PI * 60.0;
     let fp = Complex64::new(0.0, -3.0e7 * 1.3e-7 * 12.0); // sin → −i in e^{iωt} amplitudes
@@ -159,11 +160,10 @@ fn actuator_replaced_by_its_force_pair_reproduces_the_harmonic_analysis() {
         .collect();
     let bare = Model {
         beam: model.beam.clone(),
-        rayleigh: model.rayleigh,
+        damping: model.damping.clone(),
         actuators: vec![],
         sensors: vec![],
         loads: vec![],
-        loss_factor: 0.0,
     };
     let bsys = System::assemble(&bare).unwrap();
     let r = harmonic::run(&bare, &bsys, &[60.0], &forces, None).unwrap();
@@ -183,7 +183,7 @@ fn newmark_steady(
     steps_per_period: usize,
     periods: usize,
 ) -> (Model, System, transient::TransientResult) {
-    let model = build_model(lc).unwrap().model;
+    let model = calibrated_model(lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let s = TransientSettings {
         dt: Some(1.0 / 60.0 / steps_per_period as f64),
@@ -236,7 +236,7 @@ fn newmark_steady_state_equals_the_frequency_domain_solve_at_the_shifted_frequen
 #[test]
 fn time_step_convergence_is_second_order() {
     let lc = linear_case("inertial", "");
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let exact = steady_state::run(&model, &sys, 3, 64).unwrap().mean_power[0];
     let errs: Vec<f64> = [50, 100, 200]
@@ -255,7 +255,7 @@ fn point_powers_converge_under_mesh_refinement() {
         .iter()
         .map(|&ne| {
             let lc = linear_case("frame", &format!("[beam.mesh]\nelements = {ne}\n"));
-            let model = build_model(&lc).unwrap().model;
+            let model = calibrated_model(&lc).unwrap();
             let sys = System::assemble(&model).unwrap();
             steady_state::run(&model, &sys, 3, 64).unwrap().mean_power
         })

@@ -8,8 +8,8 @@
 //! and beamflow to 3.9e-9 (1.1e-7 before it solved for the increment; docs/performance.md,
 //! "Against OpenSees and an extended-precision reference").
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
-use beamflow::case::build_model;
 use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::{Newmark, Scheme};
 
@@ -215,7 +215,7 @@ fn transient_agrees_with_a_double_double_reference() {
     let (ne, load_node, f_hz, dt, steps) = (200, 41, 60.0, 1e-4, 4_000);
     let (a0, a1) = (5.29, 9.96e-6);
     let lc = common::bare_beam(ne, [a0, a1]);
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let beam = model.beam.as_ref().unwrap();
     let x_load = beam.mesh.x[load_node];

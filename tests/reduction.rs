@@ -3,10 +3,11 @@
 
 mod common;
 use beamflow::analysis::case_run::{AnalysisResult, CaseRun};
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::reduction::{self, Cutoff, ReductionSettings};
 use beamflow::app::runner::run_case;
 use beamflow::assembly::{Model, System};
-use beamflow::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec};
+use beamflow::case::{AnalysisSpec, LoadedCase, ReductionSpec};
 use common::*;
 use std::path::PathBuf;
 
@@ -36,7 +37,7 @@ fn run_text(text: &str, name: &str) -> CaseRun {
 
 fn model_and_system(name: &str) -> (Model, System) {
     let lc = LoadedCase::load(&cases_dir().join(name)).unwrap();
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     (model, sys)
 }

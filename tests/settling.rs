@@ -3,9 +3,10 @@
 //! drive, and it reports that estimate. The reference is the same run continued for so
 //! many periods that the start-up transient has decayed to round-off.
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::transient::{self, TransientResult, TransientSettings};
 use beamflow::assembly::System;
-use beamflow::case::{build_model, AnalysisSpec, LoadedCase};
+use beamflow::case::{AnalysisSpec, LoadedCase};
 use std::path::Path;
 
 fn shipped(file: &str) -> LoadedCase {
@@ -14,13 +15,13 @@ fn shipped(file: &str) -> LoadedCase {
 
 /// The case's transient with `periods` fixed (None: run to the steady-state test).
 fn run(lc: &LoadedCase, periods: Option<usize>) -> TransientResult {
-    let built = build_model(lc).unwrap();
-    let sys = System::assemble(&built.model).unwrap();
+    let built = calibrated_model(lc).unwrap();
+    let sys = System::assemble(&built).unwrap();
     let spec = lc.case.analysis.iter().find(|a| matches!(a, AnalysisSpec::Transient { .. })).unwrap();
     let mut s = beamflow::app::runner::transient_settings(spec, false).unwrap();
     s.periods = periods;
     s.max_periods = s.max_periods.max(2000);
-    transient::run(&built.model, &sys, &TransientSettings { ..s }).unwrap()
+    transient::run(&built, &sys, &TransientSettings { ..s }).unwrap()
 }
 
 /// The largest difference of the mean point powers, relative to the largest of them.

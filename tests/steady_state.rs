@@ -2,10 +2,11 @@
 //! state of the same case, with the Δt trend.
 
 mod common;
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state;
 use beamflow::analysis::transient::{self, TransientSettings};
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use common::*;
 
 #[test]
@@ -13,7 +14,7 @@ fn periodic_steady_state_matches_the_transient_as_dt_shrinks() {
     let lc = case(
         "[[actuator]]\ntype = \"frame\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n",
     );
-    let model = build_model(&lc).unwrap().model;
+    let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let fd = steady_state::run(&model, &sys, 31, 2048).unwrap();
     assert!(fd.balance_error < 1e-9, "frequency-domain energy balance {}", fd.balance_error);
@@ -45,7 +46,7 @@ fn only_harmonics_without_force_are_skipped() {
     let sine = case(
         "[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n",
     );
-    let model = build_model(&sine).unwrap().model;
+    let model = calibrated_model(&sine).unwrap();
     let sys = System::assemble(&model).unwrap();
     let r = steady_state::run(&model, &sys, 9, 512).unwrap();
     for k in 0..=9 {
@@ -61,7 +62,7 @@ fn only_harmonics_without_force_are_skipped() {
          offset = 3.0\ncomponents = [{ amplitude = 12.0, frequency = 60.0, phase = 0.0 }, \
          { amplitude = 4.0, frequency = 120.0, phase = 0.3 }]\n",
     );
-    let model = build_model(&mixed).unwrap().model;
+    let model = calibrated_model(&mixed).unwrap();
     let sys = System::assemble(&model).unwrap();
     let r = steady_state::run(&model, &sys, 4, 256).unwrap();
     for k in [0usize, 1, 2] {
@@ -89,7 +90,7 @@ fn the_harmonic_count_meets_its_tolerance_against_199_harmonics() {
     use beamflow::analysis::steady_state::{run_counted, HarmonicCount};
     for file in ["beam-inertial-12V-60Hz.toml", "beam-frame-12V-60Hz.toml"] {
         let lc = LoadedCase::load(&std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("cases").join(file)).unwrap();
-        let model = build_model(&lc).unwrap().model;
+        let model = calibrated_model(&lc).unwrap();
         let sys = System::assemble(&model).unwrap();
         let reference = steady_state::run(&model, &sys, 199, 1024).unwrap();
         let scale = reference.mean_power.iter().fold(0.0f64, |m, p| m.max(p.abs()));

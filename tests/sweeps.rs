@@ -1,9 +1,10 @@
 //! Parameter sweeps: reproducibility (threads, shards, merge), resuming, error messages,
 //! and the fast steady-state path against `steady_state::run`.
 
+use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::sweep::{self, RunOptions, Shard, SweepTable};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -397,7 +398,7 @@ fn frequency_sweep_matches_direct_steady_state() {
             .replace("frequency = 60.0", &format!("frequency = {f:?}"))
             .replace("[actuator.voltage]", "[actuator.stack]\nhysteresis = false\n[actuator.voltage]");
         let lc = LoadedCase::from_str(&text, "direct.toml", d.path("")).unwrap();
-        let model = build_model(&lc).unwrap().model;
+        let model = calibrated_model(&lc).unwrap();
         let sys = System::assemble(&model).unwrap();
         let direct = steady_state::run(&model, &sys, 5, 256).unwrap();
         let rel = |a: f64, b: f64| (a - b).abs() / b.abs();

@@ -176,23 +176,19 @@ impl NativeCase {
     /// Builds the model and assembles the system, as `beamflow check` does.
     fn check<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let lc = self.loaded().py_err()?;
-        let (built, sys) = background::run(py, None, move || {
-            let built = beamflow::case::build_model(&lc)?;
-            let sys = beamflow::assembly::System::assemble(&built.model)?;
-            Ok((built, sys))
-        })?;
+        let (built, sys) = background::run(py, None, move || beamflow::analysis::plan::model_and_system(&lc))?;
         let d = PyDict::new(py);
-        d.set_item("elements", built.model.beam.as_ref().map_or(0, |b| b.mesh.elements.len()))?;
+        d.set_item("elements", built.beam.as_ref().map_or(0, |b| b.mesh.elements.len()))?;
         d.set_item("dofs", sys.n())?;
-        d.set_item("actuators", built.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>())?;
+        d.set_item("actuators", built.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>())?;
         d.set_item(
             "links",
             sys.links
                 .iter()
-                .map(|l| format!("{}_{}", built.model.actuators[l.actuator].name(), l.name))
+                .map(|l| beamflow::actuator::link_id(built.actuators[l.actuator].name(), &l.name))
                 .collect::<Vec<_>>(),
         )?;
-        d.set_item("modal_damping", built.modal_ratios.is_some())?;
+        d.set_item("modal_damping", built.modal_ratios().is_some())?;
         Ok(d)
     }
 

@@ -17,6 +17,9 @@ fn raise<'py>(py: Python<'py>, class: &str, args: impl PyCallArgs<'py>) -> PyErr
 pub fn to_py(e: Error) -> PyErr {
     Python::attach(|py| match e {
         Error::Input { file, field, reason } => raise(py, "InputError", (file, field, reason)),
+        // Settings reach Python named by their scope when no file is known (library calls
+        // on models built in code); case runs name the file before this.
+        Error::Setting { scope, field, reason } => raise(py, "InputError", (scope.to_string(), field, reason)),
         Error::Parse { file, message } => raise(py, "ParseError", (file, message)),
         Error::Io { path, source } => raise(py, "IoError", (path, source.to_string(), source.raw_os_error())),
         Error::Hdf5 { path, message } => raise(py, "Hdf5Error", (path, message)),

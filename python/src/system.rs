@@ -3,8 +3,9 @@
 
 use crate::background;
 use crate::convert::array;
+use beamflow::analysis::plan::model_and_system;
 use beamflow::assembly::System;
-use beamflow::case::{build_model, LoadedCase};
+use beamflow::case::LoadedCase;
 use beamflow::linalg::Csr;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
@@ -39,18 +40,14 @@ fn dof_table<'py>(py: Python<'py>, model: &beamflow::assembly::Model, sys: &Syst
 
 /// The case's assembled system (the full model, before any modal reduction).
 pub fn system<'py>(py: Python<'py>, lc: LoadedCase) -> PyResult<Bound<'py, PyDict>> {
-    let (built, sys) = background::run(py, None, move || {
-        let built = build_model(&lc)?;
-        let sys = System::assemble(&built.model)?;
-        Ok((built, sys))
-    })?;
+    let (built, sys) = background::run(py, None, move || model_and_system(&lc))?;
     let d = PyDict::new(py);
     d.set_item("K", csr(py, &sys.k)?)?;
     d.set_item("M", csr(py, &sys.m)?)?;
     d.set_item("C", csr(py, &sys.c)?)?;
-    d.set_item("dofs", dof_table(py, &built.model, &sys)?)?;
-    d.set_item("modal_damping", built.modal_ratios.clone())?;
-    d.set_item("rayleigh", (built.model.rayleigh.a0, built.model.rayleigh.a1))?;
+    d.set_item("dofs", dof_table(py, &built, &sys)?)?;
+    d.set_item("modal_damping", built.modal_ratios().map(<[f64]>::to_vec))?;
+    d.set_item("rayleigh", (built.rayleigh().a0, built.rayleigh().a1))?;
     Ok(d)
 }
 
@@ -78,8 +75,7 @@ pub fn bare_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResul
 /// one row per mode over the global DOFs.
 pub fn coupled_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResult<Bound<'py, PyDict>> {
     let (built, sys, modes) = background::run(py, None, move || {
-        let built = build_model(&lc)?;
-        let sys = System::assemble(&built.model)?;
+        let (built, sys) = model_and_system(&lc)?;
         let all: Vec<usize> = (0..sys.n()).collect();
         let modes = beamflow::solve::eigen::modes(&sys.k, &sys.m, &all, count)?;
         Ok((built, sys, modes))
@@ -89,6 +85,6 @@ pub fn coupled_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyRe
     let d = PyDict::new(py);
     d.set_item("frequencies_hz", array(py, modes.frequencies_hz(), &[m])?)?;
     d.set_item("shapes", array(py, shapes, &[m, n])?)?;
-    d.set_item("dofs", dof_table(py, &built.model, &sys)?)?;
+    d.set_item("dofs", dof_table(py, &built, &sys)?)?;
     Ok(d)
 }

@@ -175,35 +175,32 @@ fn phi(kappa: f64, dv: f64) -> f64 {
 
 impl BoucWen {
     /// Checks the class-I constraints (bounded, passive hysteresis; Ikhouane–Rodellar):
-    /// all finite, `d_p > 0`, `α > 0`, `β + γ > 0`, `β − γ ≥ 0`. The error names
-    /// `file`, `field_prefix.<parameter>` (e.g. `actuator[0].stack.gamma`) and the violated
-    /// constraint. A violation of `β + γ > 0` names `beta` when `β ≤ 0` (the two constraints
+    /// all finite, `d_p > 0`, `α > 0`, `β + γ > 0`, `β − γ ≥ 0`. The error names the
+    /// parameter and the violated constraint; the caller names the file and table
+    /// ([`Error::in_table`]). A violation of `β + γ > 0` names `beta` when `β ≤ 0` (the two constraints
     /// together need `β > 0`), otherwise `gamma`; a violation of `β − γ ≥ 0` names `gamma`.
-    pub fn validate(&self, file: &str, field_prefix: &str) -> Result<()> {
-        let f = |name: &str| format!("{field_prefix}.{name}");
+    pub fn validate(&self) -> Result<()> {
+        let f = |name: &str| name.to_string();
         for (name, x) in [("d_p", self.d_p), ("alpha", self.alpha), ("beta", self.beta), ("gamma", self.gamma)] {
             if !x.is_finite() {
-                return Err(Error::input(file, f(name), format!("must be a finite number, got {x}")));
+                return Err(Error::argument(f(name), format!("must be a finite number, got {x}")));
             }
         }
         if self.d_p <= 0.0 {
-            return Err(Error::input(
-                file,
+            return Err(Error::argument(
                 f("d_p"),
                 format!("violates d_p > 0 (Bouc–Wen class I; m/V): got {}", self.d_p),
             ));
         }
         if self.alpha <= 0.0 {
-            return Err(Error::input(
-                file,
+            return Err(Error::argument(
                 f("alpha"),
                 format!("violates alpha > 0 (Bouc–Wen class I): got {}", self.alpha),
             ));
         }
         if self.beta + self.gamma <= 0.0 {
             let name = if self.beta <= 0.0 { "beta" } else { "gamma" };
-            return Err(Error::input(
-                file,
+            return Err(Error::argument(
                 f(name),
                 format!(
                     "violates beta + gamma > 0 (Bouc–Wen class I, bounded hysteresis): beta = {}, gamma = {}",
@@ -212,8 +209,7 @@ impl BoucWen {
             ));
         }
         if self.beta - self.gamma < 0.0 {
-            return Err(Error::input(
-                file,
+            return Err(Error::argument(
                 f("gamma"),
                 format!(
                     "violates beta - gamma >= 0 (Bouc–Wen class I, passive hysteresis): beta = {}, gamma = {}",
@@ -349,8 +345,7 @@ impl BoucWen {
         max_periods: usize,
     ) -> Result<PeriodicCycle> {
         let Some(period) = input.period() else {
-            return Err(Error::input(
-                "<case>",
+            return Err(Error::argument(
                 "voltage",
                 "a periodic cycle needs a periodic voltage (a sine, or sines with commensurate frequencies)",
             ));
@@ -380,13 +375,13 @@ impl BoucWen {
         max_periods: usize,
     ) -> Result<PeriodicCycle> {
         if samples_per_period < 2 {
-            return Err(Error::input("<case>", "samples_per_period", format!("must be ≥ 2, got {samples_per_period}")));
+            return Err(Error::argument("samples_per_period", format!("must be ≥ 2, got {samples_per_period}")));
         }
         if max_periods == 0 {
-            return Err(Error::input("<case>", "max_periods", "must be ≥ 1"));
+            return Err(Error::argument("max_periods", "must be ≥ 1"));
         }
         if !(tol.is_finite() && tol >= 0.0) {
-            return Err(Error::input("<case>", "tol", format!("must be a finite number ≥ 0, got {tol}")));
+            return Err(Error::argument("tol", format!("must be a finite number ≥ 0, got {tol}")));
         }
         let scale = self.bound(h0).max(f64::MIN_POSITIVE);
         // Period p runs from p·T to (p + 1)·T, starting at h_start.
@@ -648,7 +643,7 @@ mod tests {
             let beta = rng.range(0.001, 0.1);
             let gamma = rng.range(-0.99, 1.0) * beta;
             let bw = BoucWen { d_p: rng.range(1e-8, 1e-6), alpha: rng.range(0.05, 1.5), beta, gamma };
-            bw.validate("<test>", "stack").unwrap();
+            bw.validate().unwrap();
             let hb = bw.bound(0.0);
             // start inside, at the bound, or beyond it (either sign)
             let h0 = match trial % 4 {
@@ -740,7 +735,7 @@ mod tests {
     #[test]
     fn class_one_violations_name_the_parameter() {
         let ok = BoucWen::default();
-        ok.validate("case.toml", "actuator[0].stack").unwrap();
+        ok.validate().unwrap();
         let cases = [
             (BoucWen { d_p: 0.0, ..ok }, "d_p", "d_p > 0"),
             (BoucWen { d_p: -1e-7, ..ok }, "d_p", "d_p > 0"),
@@ -752,14 +747,14 @@ mod tests {
             (BoucWen { alpha: f64::INFINITY, ..ok }, "alpha", "finite"),
         ];
         for (bw, name, constraint) in cases {
-            let e = bw.validate("case.toml", "actuator[0].stack").unwrap_err().to_string();
+            let e = bw.validate().unwrap_err().in_table("case.toml", "actuator[0].stack").to_string();
             assert!(
                 e.starts_with(&format!("case.toml: field `actuator[0].stack.{name}`")) && e.contains(constraint),
                 "{e}"
             );
         }
         // β = γ is allowed (β − γ ≥ 0)
-        BoucWen { beta: 0.01, gamma: 0.01, ..ok }.validate("c", "s").unwrap();
+        BoucWen { beta: 0.01, gamma: 0.01, ..ok }.validate().unwrap();
     }
 
     #[test]

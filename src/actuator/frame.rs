@@ -29,6 +29,9 @@ pub struct Frame {
 }
 
 impl Frame {
+    /// Its links, in the order of its component: the stack, then the legs.
+    pub const LINKS: [&'static str; 3] = ["stack", "left_leg", "right_leg"];
+
     /// Centre of the top beam x_c = x_E − e (m).
     pub fn x_c(&self) -> Option<f64> {
         self.x_e.map(|x| x - self.e)
@@ -50,7 +53,7 @@ impl Frame {
             mass,
             links: vec![
                 Link {
-                    name: "stack".into(),
+                    name: Frame::LINKS[0].into(),
                     k: s.k_p,
                     c: s.c_p,
                     top: vec![(0, 1.0), (1, e)],
@@ -59,7 +62,7 @@ impl Frame {
                     active: true,
                 },
                 Link {
-                    name: "left_leg".into(),
+                    name: Frame::LINKS[1].into(),
                     k: self.left.k_l,
                     c: self.left.c_l,
                     top: vec![(0, 1.0), (1, -self.a)],
@@ -68,7 +71,7 @@ impl Frame {
                     active: false,
                 },
                 Link {
-                    name: "right_leg".into(),
+                    name: Frame::LINKS[2].into(),
                     k: self.right.k_l,
                     c: self.right.c_l,
                     top: vec![(0, 1.0), (1, self.a)],

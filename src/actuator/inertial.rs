@@ -14,6 +14,9 @@ pub struct Inertial {
 }
 
 impl Inertial {
+    /// Its one link: the stack.
+    pub const LINKS: [&'static str; 1] = ["stack"];
+
     /// One DOF z_t carrying m_t + m_p/2; the stack joins z_t to the foot.
     pub fn component(&self) -> Component {
         let s = &self.stack;
@@ -21,7 +24,7 @@ impl Inertial {
             dof_names: vec!["z_t"],
             mass: DMatrix::from_element(1, 1, self.m_t + 0.5 * s.m_p),
             links: vec![Link {
-                name: "stack".into(),
+                name: Inertial::LINKS[0].into(),
                 k: s.k_p,
                 c: s.c_p,
                 top: vec![(0, 1.0)],

@@ -17,6 +17,12 @@ pub use stack::Stack;
 
 use nalgebra::DMatrix;
 
+/// A link's identifier in results, tables and figures: the actuator's name and the link's
+/// (`frame_left_leg`, `inertial_stack`). The one format every output uses.
+pub fn link_id(actuator: &str, link: &str) -> String {
+    format!("{actuator}_{link}")
+}
+
 /// An actuator of either type.
 #[derive(Clone, Debug)]
 pub enum Actuator {

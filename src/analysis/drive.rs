@@ -72,9 +72,8 @@ impl DriveTiming {
             Step::Dt(dt) => Some(dt),
             Step::PerPeriod(n) => {
                 let p = period.filter(|_| duration.is_none()).ok_or_else(|| {
-                    Error::input(
-                        "<case>",
-                        "analysis.steps_per_period",
+                    Error::analysis_setting(
+                        "steps_per_period",
                         "steps per period need a periodic drive run by periods (no `duration`): give `dt`",
                     )
                 })?;
@@ -96,10 +95,7 @@ impl DriveTiming {
                     let n = steps.round();
                     if (steps - n).abs() > 1e-9 * steps || n < 1.0 {
                         let (lo, hi) = (steps.floor().max(1.0), steps.ceil().max(1.0));
-                        return Err(Error::input(
-                            "<case>",
-                            "analysis.dt",
-                            format!(
+                        return Err(Error::analysis_setting("dt", format!(
                                 "Δt = {dt:e} s does not divide the drive period {p:e} s into whole steps ({steps:.6} steps): \
                                  give `steps_per_period` = {hi} (Δt = {:.9e} s) or {lo} (Δt = {:.9e} s)",
                                 p / hi,
@@ -110,9 +106,8 @@ impl DriveTiming {
                     let n = n as usize;
                     let dt = if let Step::PerPeriod(_) = step { p / n as f64 } else { dt };
                     if n < n_min {
-                        return Err(Error::input(
-                            "<case>",
-                            "analysis.dt",
+                        return Err(Error::analysis_setting(
+                            "dt",
                             format!(
                                 "Δt = {dt:e} s is too coarse for {what}: at least 20 steps per period of it are \
                                  needed, i.e. `steps_per_period` ≥ {n_min} (Δt ≤ {:.9e} s)",
@@ -128,8 +123,7 @@ impl DriveTiming {
                 }
             };
         }
-        let d = duration
-            .ok_or_else(|| Error::input("<case>", "analysis.duration", "a non-periodic drive needs `duration`"))?;
+        let d = duration.ok_or_else(|| Error::analysis_setting("duration", "a non-periodic drive needs `duration`"))?;
         let hf = model.drive_signals().filter_map(|s| s.highest_frequency()).fold(0.0, f64::max);
         match (dt, hf > 0.0) {
             (Some(dt), _) => {
@@ -140,11 +134,9 @@ impl DriveTiming {
                 let n = (d * 20.0 * hf - 1e-9).ceil().max(1.0) as usize;
                 Ok(DriveTiming { period: d, dt: d / n as f64, steps_per_period: n, periodic: false })
             }
-            (None, false) => Err(Error::input(
-                "<case>",
-                "analysis.dt",
-                "the drive has no frequency to derive a time step from: give `dt`",
-            )),
+            (None, false) => {
+                Err(Error::analysis_setting("dt", "the drive has no frequency to derive a time step from: give `dt`"))
+            }
         }
     }
 
@@ -158,7 +150,7 @@ impl DriveTiming {
     /// steady state takes it. Errors if the drive does not repeat.
     pub fn sampled(model: &Model, samples: usize) -> Result<Self> {
         let period = common_period(model)?.ok_or_else(|| {
-            Error::input("<case>", "analysis.type", "a frequency-domain steady state needs a periodic drive, and this is a non-periodic drive (chirp, step or series): use a transient analysis")
+            Error::analysis_setting("type", "a frequency-domain steady state needs a periodic drive, and this is a non-periodic drive (chirp, step or series): use a transient analysis")
         })?;
         Ok(DriveTiming { period, dt: period / samples as f64, steps_per_period: samples, periodic: true })
     }
@@ -175,8 +167,7 @@ pub fn common_period(model: &Model) -> Result<Option<f64>> {
         .collect();
     let periods: Vec<Option<f64>> = model.drive_signals().map(|s| s.period()).collect();
     let Some(&period) = periods.first() else {
-        return Err(Error::input(
-            "<case>",
+        return Err(Error::case_field(
             "actuator",
             "the analysis needs at least one actuator or [[load]] to drive the system",
         ));
@@ -185,8 +176,7 @@ pub fn common_period(model: &Model) -> Result<Option<f64>> {
         if let (Some(p0), Some(pi)) = (period, *p) {
             let ratio = p0.max(pi) / p0.min(pi);
             if (ratio - ratio.round()).abs() > 1e-9 {
-                return Err(Error::input(
-                    "<case>",
+                return Err(Error::case_field(
                     &fields[i],
                     format!(
                         "its period {pi:e} s and the first drive's {p0:e} s have no common period: \
@@ -304,13 +294,14 @@ impl StackForceCache {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::case::{build_model, LoadedCase};
+    use crate::analysis::plan::calibrated_model;
+    use crate::case::LoadedCase;
     use std::path::PathBuf;
 
     fn model(voltage: &str) -> Model {
         let text = format!("base = \"rigid\"\n[[actuator]]\ntype = \"inertial\"\n[actuator.voltage]\n{voltage}\n");
         let lc = LoadedCase::from_str(&text, "d.toml", PathBuf::from(".")).unwrap();
-        build_model(&lc).unwrap().model
+        calibrated_model(&lc).unwrap()
     }
 
     const SINE: &str = "kind = \"sine\"\namplitude = 48.0\nfrequency = 30.0";
@@ -362,7 +353,7 @@ mod tests {
         assert!(s.periodic && s.steps_per_period == 250 && s.dt == 1.0 / 30.0 / 250.0);
         // One that does not is refused, with the two nearest steps that do.
         let e = DriveTiming::stepped(&m, Step::Dt(1e-4), None, None).unwrap_err().to_string();
-        assert!(e.contains("analysis.dt") && e.contains("whole steps"), "{e}");
+        assert!(e.contains("`dt`") && e.contains("whole steps"), "{e}");
         assert!(e.contains("`steps_per_period` = 334") && e.contains("or 333"), "{e}");
         assert!(
             e.contains(&format!("{:.9e}", 1.0 / 30.0 / 334.0)) && e.contains(&format!("{:.9e}", 1.0 / 30.0 / 333.0)),
@@ -374,7 +365,7 @@ mod tests {
         let d = DriveTiming::stepped(&m, Step::Default, None, None).unwrap();
         assert_eq!((d.steps_per_period, d.analysed_harmonics(None), d.analysed_harmonics(Some(3))), (200, 10, 3));
         let e = DriveTiming::stepped(&m, Step::PerPeriod(100), None, Some(9)).unwrap_err().to_string();
-        assert!(e.contains("analysis.dt") && e.contains("too coarse") && e.contains("`steps_per_period` ≥ 180"), "{e}");
+        assert!(e.contains("`dt`") && e.contains("too coarse") && e.contains("`steps_per_period` ≥ 180"), "{e}");
         let exact = DriveTiming::stepped(&m, Step::PerPeriod(6667), None, None).unwrap();
         assert_eq!((exact.steps_per_period, exact.dt), (6667, 1.0 / 30.0 / 6667.0));
         // A duration runs once, by whole steps of the given dt.
@@ -389,6 +380,6 @@ mod tests {
         let e = DriveTiming::sampled(&chirp, 64).unwrap_err().to_string();
         assert!(e.contains("needs a periodic drive"), "{e}");
         let e = DriveTiming::stepped(&chirp, Step::Default, None, None).unwrap_err().to_string();
-        assert!(e.contains("analysis.duration"), "{e}");
+        assert!(e.contains("`duration`"), "{e}");
     }
 }

@@ -79,11 +79,7 @@ pub fn run(
     let mut cols: Vec<Vec<Complex64>> = vec![vec![Complex64::default(); n]; forces.len()];
     for &fhz in frequencies {
         if !(fhz > 0.0) {
-            return Err(Error::input(
-                "<case>",
-                "analysis.frequencies",
-                format!("frequencies must be positive, got {fhz} Hz"),
-            ));
+            return Err(Error::analysis_setting("frequencies", format!("frequencies must be positive, got {fhz} Hz")));
         }
         let w = 2.0 * PI * fhz;
         for (j, col) in cols.iter_mut().enumerate() {

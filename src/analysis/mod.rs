@@ -9,6 +9,7 @@ pub mod case_run;
 pub mod drive;
 pub mod harmonic;
 pub mod modes;
+pub mod plan;
 pub mod reduction;
 pub mod roundoff;
 pub mod series;

@@ -84,9 +84,8 @@ pub struct ReductionReport {
 /// The highest analysed harmonic frequency k_max·f₀ (Hz) of a periodic drive.
 pub fn highest_harmonic_hz(model: &Model, harmonics: usize) -> Result<f64> {
     let period = common_period(model)?.ok_or_else(|| {
-        Error::input(
-            "<case>",
-            "analysis.reduction",
+        Error::analysis_setting(
+            "reduction",
             "a cut-off relative to the drive's harmonics needs a periodic drive: give `modes_up_to_hz`",
         )
     })?;
@@ -111,17 +110,16 @@ pub fn reduce(
     cutoff_hz: f64,
 ) -> Result<(System, ReductionReport)> {
     let field = match settings.cutoff {
-        Cutoff::Hz(_) => "analysis.reduction.modes_up_to_hz",
-        Cutoff::HarmonicFactor(_) => "analysis.reduction.factor",
+        Cutoff::Hz(_) => "reduction.modes_up_to_hz",
+        Cutoff::HarmonicFactor(_) => "reduction.factor",
     };
     if model.beam.is_none() {
-        return Err(Error::input("<case>", "analysis.reduction", "a modal reduction needs a beam (base = \"beam\")"));
+        return Err(Error::analysis_setting("reduction", "a modal reduction needs a beam (base = \"beam\")"));
     }
     let modes = red::beam_modes(full)?;
     let f1 = modes.omega.first().map_or(f64::INFINITY, |w| w / (2.0 * PI));
     if cutoff_hz.is_nan() || cutoff_hz < f1 {
-        return Err(Error::input(
-            "<case>",
+        return Err(Error::analysis_setting(
             field,
             format!(
                 "the cut-off {cutoff_hz:.1} Hz is below the beam's first natural frequency {f1:.2} Hz, so no mode \
@@ -166,9 +164,8 @@ pub const COMPLETE_BASIS_LIMIT: usize = 1000;
 pub fn complete_modal_basis(full: &System, ratios: &[f64]) -> Result<System> {
     let beam_dofs = full.dofs.beam_dofs().len();
     if beam_dofs > COMPLETE_BASIS_LIMIT {
-        return Err(Error::input(
-            "<case>",
-            "analysis.reduction",
+        return Err(Error::analysis_setting(
+            "reduction",
             format!(
                 "modal damping without a reduction needs all {beam_dofs} modes of the beam (dense, above the \
                  {COMPLETE_BASIS_LIMIT} this computes); give `reduction = \"auto\"` or a cut-off"

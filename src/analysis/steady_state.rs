@@ -23,6 +23,7 @@ use crate::power::link::link_harmonic;
 use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
 use crate::power::point::{beam_dissipation, net_power};
 use crate::power::spectra::harmonics;
+use crate::signal::sampling::resolved_harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::Modes;
 use num_complex::Complex64;
@@ -111,7 +112,7 @@ pub enum HarmonicCount {
 /// `samples` resolve: they are all solved once, the point powers per harmonic decide the
 /// count, and the run keeps that many and reports what the rest carry.
 pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: usize) -> Result<SteadyStateResult> {
-    let all = (samples.max(4) - 2) / 2;
+    let all = resolved_harmonics(samples.max(4));
     let full = run(model, sys, all, samples)?;
     let tails = tail_powers(&full);
     let estimate = |k: usize| tails[k] + tails[all - all / 4];
@@ -119,9 +120,8 @@ pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: u
         HarmonicCount::Fixed(n) => n.min(all),
         HarmonicCount::Tolerance(tol) => {
             let k = (1..=all).find(|&k| estimate(k) <= tol).ok_or_else(|| {
-                Error::input(
-                    "<case>",
-                    "analysis.samples_per_period",
+                Error::analysis_setting(
+                    "samples_per_period",
                     format!(
                         "{samples} samples per period resolve {all} harmonics, and what lies beyond them \
                          ({:.1e} of the largest point power) exceeds the tolerance {tol:e}: raise \
@@ -172,11 +172,10 @@ pub fn run_with(
     detail: Detail,
 ) -> Result<SteadyStateResult> {
     let timing = DriveTiming::sampled(model, samples)?;
-    if samples < 2 * n_harm + 2 {
-        return Err(Error::input(
-            "<case>",
-            "analysis.samples_per_period",
-            format!("at least {} samples are needed for {n_harm} harmonics", 2 * n_harm + 2),
+    if n_harm > resolved_harmonics(samples) {
+        return Err(Error::analysis_setting(
+            "samples_per_period",
+            format!("{samples} samples per period resolve {} harmonics, not {n_harm}", resolved_harmonics(samples)),
         ));
     }
     let StackForces { cycles, harmonics: f_p, periods: hysteresis_periods } =
@@ -404,17 +403,10 @@ impl SteadyStateResult {
     }
 
     /// Adds the mode-resolved decomposition with the first `count` bare-structure modes
-    /// (`sys` is the full system the amplitudes Q_k belong to; `modal_ratios` the case's
-    /// modal damping ratios, if any).
-    pub fn decompose_modes(
-        &mut self,
-        model: &Model,
-        sys: &System,
-        count: usize,
-        modal_ratios: Option<&[f64]>,
-    ) -> Result<()> {
+    /// (`sys` is the full system the amplitudes Q_k belong to).
+    pub fn decompose_modes(&mut self, model: &Model, sys: &System, count: usize) -> Result<()> {
         let modes = super::modes::bare_modes_on(model, sys, count)?;
-        self.decompose_with(sys, modes.as_ref(), ModalDamping::of(&model.rayleigh, modal_ratios));
+        self.decompose_with(sys, modes.as_ref(), ModalDamping::of(&model.damping));
         Ok(())
     }
 

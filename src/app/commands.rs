@@ -62,17 +62,16 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
 /// `beamflow check`: loads and builds the model, prints what it contains.
 pub fn check(case: &Path) -> Result<()> {
     let lc = LoadedCase::load(case)?;
-    let built = crate::case::build_model(&lc)?;
-    let sys = crate::assembly::System::assemble(&built.model)?;
+    let (built, sys) = crate::analysis::plan::model_and_system(&lc)?;
     crate::app::runner::preflight(&lc, &built, &sys)?;
-    let elements = built.model.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
+    let elements = built.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
     crate::say!(
         "{}: ok — {} elements, {} DOFs, {} actuator(s), {} load(s), {} analysis(es)",
         lc.file,
         elements,
         sys.n(),
-        built.model.actuators.len(),
-        built.model.loads.len(),
+        built.actuators.len(),
+        built.loads.len(),
         lc.case.analysis.len()
     );
     Ok(())

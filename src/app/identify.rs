@@ -27,15 +27,12 @@ use crate::io::atomic::write_atomic_string;
 use crate::io::paths::{output_file, refuse_input, refuse_output, Input};
 use crate::report::identify as plots;
 
-/// Replaces a placeholder file label (`<frf>`, `<identify>`, `<pso>`) in an input error by
-/// the measurement file, and puts the file in front of a numerical failure.
+/// Names the measurement file in an identification step's errors: the settings it could
+/// not accept, and any numerical failure.
 fn attribute(e: Error, file: &str) -> Error {
     match e {
-        Error::Input { file: f, field, reason } if f.starts_with('<') && f != "<cli>" => {
-            Error::Input { file: file.to_string(), field, reason }
-        }
         Error::Numerical(m) => Error::Numerical(format!("{file}: {m}")),
-        other => other,
+        other => other.in_file(file),
     }
 }
 

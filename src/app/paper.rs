@@ -177,7 +177,7 @@ pub fn run(out: &Path) -> Result<()> {
         &[("from F and v", &bit.spectra[0]), ("from F and a", &from_acc)],
     );
     written.extend(save(&p14, out, "fig14_power_spectrum")?);
-    let names = ["stack", "left_leg", "right_leg"];
+    let names = crate::actuator::Frame::LINKS;
     let idx: Vec<usize> = names.iter().map(|n| link_index(&bf, 0, n)).collect();
     let xf = ms_axis(&bft.t);
     let mut p15 = LinePlot::new("instantaneous power", "time (ms)", "power (W)");

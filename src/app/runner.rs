@@ -4,14 +4,15 @@ use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
 use crate::analysis::modes;
+use crate::analysis::plan;
 use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
 use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{Model, System};
-use crate::case::build::BuiltModel;
-use crate::case::{build_model, AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
+use crate::case::{AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::power::modal::ModalDamping;
+use crate::signal::sampling::samples_for_harmonics;
 use crate::solve::newmark::Scheme;
 use std::cell::OnceCell;
 
@@ -85,8 +86,7 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
 /// scheme), periodic drives where the analysis needs one, damping the analysis can apply.
 /// `beamflow check` runs it, and [`run_case`] before its first analysis, so both refuse the
 /// same cases with the same messages.
-pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result<()> {
-    let model = &built.model;
+pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<()> {
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
         let need_beam = || {
@@ -117,8 +117,8 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                     Ok(())
                 }
                 AnalysisSpec::Transient { reduction, .. } => {
-                    if model.loss_factor > 0.0 {
-                        return Err(Error::input(&lc.file, "damping.kind", transient::HYSTERETIC_IN_TIME));
+                    if model.loss_factor() > 0.0 {
+                        return Err(Error::case_field("damping.kind", transient::HYSTERETIC_IN_TIME));
                     }
                     let s = transient_settings(spec, false).expect("transient");
                     let timing =
@@ -127,7 +127,7 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                     match reduction {
                         // Modal damping is a matrix only in modal coordinates.
                         None => {
-                            built.require_viscous_damping(&lc.file, "transient analysis without `reduction`")?;
+                            plan::require_viscous_damping(model, "transient analysis without `reduction`")?;
                             transient::check_time_step(system, s.scheme, &timing)
                         }
                         Some(r) if r.modes_up_to_hz.is_none() && !timing.periodic => {
@@ -138,21 +138,19 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                 }
                 AnalysisSpec::SteadyState { samples_per_period, reduction, .. } => {
                     DriveTiming::sampled(model, *samples_per_period)?;
-                    if model.loss_factor > 0.0 && reduction.is_some() {
-                        return Err(Error::input(
-                            "<case>",
-                            "analysis.reduction",
+                    if model.loss_factor() > 0.0 && reduction.is_some() {
+                        return Err(Error::analysis_setting(
+                            "reduction",
                             "a modal reduction is not available with hysteretic damping: run the full model",
                         ));
                     }
                     let beam_dofs = system.dofs.beam_dofs().len();
-                    if built.modal_ratios.is_some()
+                    if model.modal_ratios().is_some()
                         && reduction.is_none()
                         && beam_dofs > reduction::COMPLETE_BASIS_LIMIT
                     {
-                        return Err(Error::input(
-                            "<case>",
-                            "analysis.reduction",
+                        return Err(Error::analysis_setting(
+                            "reduction",
                             format!(
                                 "modal damping without a reduction needs all {beam_dofs} modes of the beam (dense, \
                                  above the {} this computes); give `reduction = \"auto\"` or a cut-off",
@@ -164,7 +162,7 @@ pub fn preflight(lc: &LoadedCase, built: &BuiltModel, system: &System) -> Result
                 }
             }
         };
-        check().map_err(|e| relabel(e, &lc.file, &field))?;
+        check().map_err(|e| e.in_analysis(&lc.file, &field))?;
     }
     Ok(())
 }
@@ -180,8 +178,7 @@ fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
         return Ok(());
     }
     let estimate = crate::analysis::roundoff::mesh_roundoff(model);
-    Err(Error::input(
-        "<case>",
+    Err(Error::case_field(
         "beam.mesh.elements",
         format!(
             "{n} elements: the round-off of the assembled stiffness would reach ≈ {estimate:.0e} of the point \
@@ -193,11 +190,9 @@ fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
 
 /// Builds the model and runs the case's analyses in order, after [`preflight`].
 pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
-    let built = build_model(lc)?;
-    let system = System::assemble(&built.model)?;
-    preflight(lc, &built, &system)?;
-    let modal_ratios = built.modal_ratios.clone();
-    let model = built.model;
+    let (model, system) = plan::model_and_system(lc)?;
+    preflight(lc, &model, &system)?;
+    let modal_ratios = model.modal_ratios().map(<[f64]>::to_vec);
     let mut reduced = ReducedCache::default();
     // Built at most once per case run (an eigen-analysis and a dense basis).
     let complete: OnceCell<System> = OnceCell::new();
@@ -227,25 +222,19 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                 let beam = need_beam()?;
                 let bare = Model {
                     beam: Some(beam.clone()),
-                    rayleigh: model.rayleigh,
+                    damping: model.damping.clone(),
                     actuators: Vec::new(),
                     sensors: model.sensors.clone(),
                     loads: Vec::new(),
-                    loss_factor: model.loss_factor,
                 };
                 let sys = System::assemble(&bare)?;
                 let forces = harmonic_forces(force, &model.loads);
-                let modal = match &built.modal_ratios {
-                    Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r.clone())),
+                let modal = match model.modal_ratios() {
+                    Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r)),
                     None => None,
                 };
-                AnalysisResult::Harmonic(harmonic::run(
-                    &bare,
-                    &sys,
-                    &frequencies.list(),
-                    &forces,
-                    modal.as_ref().map(|(m, r)| (m, r.as_slice())),
-                )?)
+                let modal = modal.as_ref().map(|(m, r)| (m, *r));
+                AnalysisResult::Harmonic(harmonic::run(&bare, &sys, &frequencies.list(), &forces, modal)?)
             }
             AnalysisSpec::Transient { reduction, .. } => {
                 let s = transient_settings(spec, lc.case.output.full_history).expect("transient");
@@ -264,14 +253,14 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                                 reference()?,
                                 &red,
                                 h,
-                                ESTIMATE_SAMPLES.max(4 * h + 2),
+                                ESTIMATE_SAMPLES.max(samples_for_harmonics(h).unwrap_or(usize::MAX)),
                             )?);
                         }
                         r.reduction = Some(report);
                         Ok(r)
                     })(),
                 };
-                AnalysisResult::Transient(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
+                AnalysisResult::Transient(Box::new(r.map_err(|e| e.in_analysis(&lc.file, &field))?))
             }
             AnalysisSpec::SteadyState { harmonics, harmonic_tolerance, samples_per_period, reduction } => {
                 let n = *samples_per_period;
@@ -287,12 +276,12 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                         let mut s = steady_state::run_counted(&model, fd, count, n)?;
                         s.expand(fd);
                         // The mode-resolved view has viscous modal dampers only.
-                        let bare = if model.loss_factor > 0.0 {
+                        let bare = if model.loss_factor() > 0.0 {
                             None
                         } else {
                             modes::bare_modes_on(&model, &system, MODAL_TABLE_MODES)?
                         };
-                        let damping = ModalDamping::of(&model.rayleigh, modal_ratios.as_deref());
+                        let damping = ModalDamping::of(&model.damping);
                         s.decompose_with(&system, bare.as_ref(), damping);
                         Ok(s)
                     })(),
@@ -308,7 +297,7 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                         Ok(r)
                     })(),
                 };
-                AnalysisResult::SteadyState(Box::new(r.map_err(|e| relabel(e, &lc.file, &field))?))
+                AnalysisResult::SteadyState(Box::new(r.map_err(|e: Error| e.in_analysis(&lc.file, &field))?))
             }
         };
         if let Some(q) = r.non_finite() {
@@ -370,16 +359,5 @@ impl ReducedCache {
         let (s, r) = reduction::reduce(model, full, rs, hz)?;
         self.built.push((key, s.clone(), r.clone()));
         Ok((s, r))
-    }
-}
-
-/// Analyses report input problems against `<case>`/`analysis`; name the real file and entry.
-fn relabel(e: Error, file: &str, field: &str) -> Error {
-    match e {
-        Error::Input { file: f, field: fl, reason } if f == "<case>" => {
-            let fl = fl.strip_prefix("analysis.").map(|s| format!("{field}.{s}")).unwrap_or(fl);
-            Error::Input { file: file.to_string(), field: fl, reason }
-        }
-        e => e,
     }
 }

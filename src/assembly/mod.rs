@@ -6,8 +6,10 @@
 //! of the last node its feet stand on. Rows of a body then reach back only to its own
 //! feet, so the profile grows by a few rows' worth per actuator, not with the beam size.
 
+pub mod damping;
 pub mod dofs;
 pub mod system;
 
+pub use damping::{Damping, Rayleigh};
 pub use dofs::DofMap;
 pub use system::{dof_rows, DofRow, LinkDofs, Model, PointLoad, Projection, System};

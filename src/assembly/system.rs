@@ -1,5 +1,6 @@
 //! The model and its assembled system.
 
+use super::damping::Damping;
 use super::dofs::DofMap;
 use crate::actuator::{Actuator, Component, FootBase};
 use crate::beam::{element_mass, element_stiffness, element_stiffness_rows, Beam, SupportKind};
@@ -8,28 +9,6 @@ use crate::linalg::{BandedR, Csr, Skyline};
 use crate::signal::voltage::VoltageInput;
 use num_complex::Complex64;
 use std::sync::Arc;
-
-/// Rayleigh damping of the beam, C_beam = a₀·M_beam + a₁·K_beam.
-#[derive(Clone, Copy, Debug, PartialEq, Default)]
-pub struct Rayleigh {
-    /// Mass-proportional coefficient a₀ (1/s).
-    pub a0: f64,
-    /// Stiffness-proportional coefficient a₁ (s).
-    pub a1: f64,
-}
-
-impl Rayleigh {
-    /// Coefficients giving damping ratio ζ at circular frequencies ωᵢ and ωⱼ (rad/s).
-    pub fn from_ratio(zeta: f64, wi: f64, wj: f64) -> Self {
-        let a1 = 2.0 * zeta / (wi + wj);
-        Rayleigh { a0: a1 * wi * wj, a1 }
-    }
-
-    /// Damping ratio this gives at circular frequency ω: ζ(ω) = a₀/(2ω) + a₁ω/2.
-    pub fn ratio_at(&self, w: f64) -> f64 {
-        self.a0 / (2.0 * w) + self.a1 * w / 2.0
-    }
-}
 
 /// A point where the beam's motion is recorded.
 #[derive(Clone, Debug)]
@@ -54,13 +33,11 @@ pub struct PointLoad {
 #[derive(Clone, Debug)]
 pub struct Model {
     pub beam: Option<Beam>,
-    pub rayleigh: Rayleigh,
+    /// The structure's damping (spec §3).
+    pub damping: Damping,
     pub actuators: Vec<Actuator>,
     pub sensors: Vec<Sensor>,
     pub loads: Vec<PointLoad>,
-    /// Hysteretic (structural) loss factor η of the beam: its stiffness is K_beam·(1 + iη)
-    /// in the frequency domain (spec §3); 0 without.
-    pub loss_factor: f64,
 }
 
 impl Model {
@@ -68,12 +45,26 @@ impl Model {
     pub fn bare(beam: Beam) -> Self {
         Model {
             beam: Some(beam),
-            rayleigh: Rayleigh::default(),
+            damping: Damping::None,
             actuators: Vec::new(),
             sensors: Vec::new(),
             loads: Vec::new(),
-            loss_factor: 0.0,
         }
+    }
+
+    /// The beam's Rayleigh coefficients (zero unless its damping is Rayleigh).
+    pub fn rayleigh(&self) -> super::damping::Rayleigh {
+        self.damping.rayleigh()
+    }
+
+    /// The beam's hysteretic loss factor η (zero unless its damping is hysteretic).
+    pub fn loss_factor(&self) -> f64 {
+        self.damping.loss_factor()
+    }
+
+    /// The bare-beam modal damping ratios, if the damping is modal.
+    pub fn modal_ratios(&self) -> Option<&[f64]> {
+        self.damping.modal_ratios()
     }
 
     /// The signals that drive the model, actuators' voltages first, then the loads' forces:
@@ -164,8 +155,10 @@ impl System {
         self.dofs.n
     }
 
-    /// Assembles a model. Errors if an actuator foot is not on a mesh node.
+    /// Assembles a model. Errors if an actuator foot is not on a mesh node or the damping is
+    /// still a ratio (see [`crate::analysis::plan::calibrate`]).
     pub fn assemble(model: &Model) -> Result<System> {
+        model.damping.require_calibrated()?;
         let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
         let beam = model.beam.as_ref();
         // Resolve feet to nodes and find each actuator's anchor node.
@@ -176,15 +169,13 @@ impl System {
             for link in &comp.links {
                 nodes.push(match (link.foot, beam) {
                     (FootBase::Beam { x }, Some(b)) => Some(b.mesh.node_at(x).ok_or_else(|| {
-                        Error::input(
-                            "<model>",
+                        Error::case_field(
                             format!("actuator[{ai}].{}", link.name),
                             format!("foot at x = {x} m is not on a mesh node"),
                         )
                     })?),
                     (FootBase::Beam { x }, None) => {
-                        return Err(Error::input(
-                            "<model>",
+                        return Err(Error::case_field(
                             format!("actuator[{ai}].{}", link.name),
                             format!("foot at x = {x} m but the model has no beam"),
                         ));
@@ -238,9 +229,10 @@ impl System {
         let m_el = Csr::from_triplets(n, &mb);
         let k_el = Csr::from_triplets(n, &kb);
         // Rayleigh damping of the beam, plus grounded dashpots.
+        let rayleigh = model.rayleigh();
         let mut ctrip: Vec<(usize, usize, f64)> = Vec::new();
-        ctrip.extend(m_el.triplets().map(|(i, j, v)| (i, j, model.rayleigh.a0 * v)));
-        ctrip.extend(k_el.triplets().map(|(i, j, v)| (i, j, model.rayleigh.a1 * v)));
+        ctrip.extend(m_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a0 * v)));
+        ctrip.extend(k_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a1 * v)));
         if let Some(beam) = beam {
             for s in &beam.springs {
                 if let Some(i) = dofs.w[s.node] {
@@ -306,15 +298,15 @@ impl System {
             n,
             m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
         );
-        let k_loss = (model.loss_factor > 0.0).then(|| k_beam.scaled(model.loss_factor));
+        let k_loss = (model.loss_factor() > 0.0).then(|| k_beam.scaled(model.loss_factor()));
         let mut loads = Vec::with_capacity(model.loads.len());
         for (i, l) in model.loads.iter().enumerate() {
             let field = format!("load[{i}].x");
-            let beam = beam.ok_or_else(|| Error::input("<model>", &field, "a point load needs a beam"))?;
+            let beam = beam.ok_or_else(|| Error::case_field(&field, "a point load needs a beam"))?;
             let node = beam
                 .mesh
                 .node_at(l.x)
-                .ok_or_else(|| Error::input("<model>", &field, format!("x = {} m is not on a mesh node", l.x)))?;
+                .ok_or_else(|| Error::case_field(&field, format!("x = {} m is not on a mesh node", l.x)))?;
             loads.push(dofs.w[node].map(|d| vec![(d, 1.0)]).unwrap_or_default());
         }
         Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, k_loss, links, drives, loads, envelope, projection: None })
@@ -323,11 +315,9 @@ impl System {
     /// The w DOF of the beam node at x, if free. Errors if x is not on a node, or if this
     /// is a reduced system (use [`System::w_at`]).
     pub fn w_dof_at(&self, model: &Model, x: f64, field: &str) -> Result<Option<usize>> {
-        let beam = model.beam.as_ref().ok_or_else(|| Error::input("<model>", field, "the model has no beam"))?;
-        let node = beam
-            .mesh
-            .node_at(x)
-            .ok_or_else(|| Error::input("<model>", field, format!("x = {x} m is not on a mesh node")))?;
+        let beam = model.beam.as_ref().ok_or_else(|| Error::case_field(field, "the model has no beam"))?;
+        let node =
+            beam.mesh.node_at(x).ok_or_else(|| Error::case_field(field, format!("x = {x} m is not on a mesh node")))?;
         if self.projection.is_some() {
             return Err(Error::Numerical(format!(
                 "{field}: a reduced system has no single w DOF at x = {x} m (use w_at)"
@@ -340,11 +330,9 @@ impl System {
     /// the full system, a row of the basis in a reduced one, empty where a support fixes w.
     /// Errors if x is not on a node.
     pub fn w_at(&self, model: &Model, x: f64, field: &str) -> Result<Vec<(usize, f64)>> {
-        let beam = model.beam.as_ref().ok_or_else(|| Error::input("<model>", field, "the model has no beam"))?;
-        let node = beam
-            .mesh
-            .node_at(x)
-            .ok_or_else(|| Error::input("<model>", field, format!("x = {x} m is not on a mesh node")))?;
+        let beam = model.beam.as_ref().ok_or_else(|| Error::case_field(field, "the model has no beam"))?;
+        let node =
+            beam.mesh.node_at(x).ok_or_else(|| Error::case_field(field, format!("x = {x} m is not on a mesh node")))?;
         Ok(match &self.projection {
             None => self.dofs.w[node].map(|d| vec![(d, 1.0)]).unwrap_or_default(),
             Some(p) => p.full.w[node].map(|d| p.row(d)).unwrap_or_default(),

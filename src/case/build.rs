@@ -3,41 +3,11 @@
 use super::schema::*;
 use super::LoadedCase;
 use crate::actuator::{Actuator, FootBase, Frame, Inertial, Leg, Stack};
-use crate::analysis::modes::bare_modes;
-use crate::assembly::system::{Model, PointLoad, Rayleigh, Sensor};
+use crate::assembly::system::{Model, PointLoad, Sensor};
+use crate::assembly::{Damping, Rayleigh};
 use crate::beam::mesh::RequiredPoint;
 use crate::beam::{Beam, GroundedSpring, MassKind, Material, Mesh, PointMass, Section, Support, SupportKind};
 use crate::error::{Error, Result};
-
-/// The model with what was derived while building it.
-#[derive(Clone, Debug)]
-pub struct BuiltModel {
-    pub model: Model,
-    /// Modal damping ratios, if the case asked for modal damping.
-    pub modal_ratios: Option<Vec<f64>>,
-}
-
-impl BuiltModel {
-    /// Modal damping is a matrix only in the bare beam's modal coordinates (over the beam
-    /// DOFs it is dense). The harmonic analysis applies it as a modal sum, the steady state
-    /// in the complete modal basis and a transient on its modal reduction; an analysis that
-    /// integrates the assembled M, C, K (a transient without `reduction`, a sweep) refuses
-    /// such a case rather than run it undamped.
-    pub fn require_viscous_damping(&self, file: &str, analysis: &str) -> Result<()> {
-        if self.modal_ratios.is_some() {
-            return Err(Error::input(
-                file,
-                "damping.kind",
-                format!(
-                    "\"modal\" damping is applied by harmonic and steady-state analyses and by transients with a \
-                     modal `reduction` (e.g. reduction = \"auto\"); a {analysis} needs \"rayleigh_ratio\", \
-                     \"rayleigh\" or \"none\""
-                ),
-            ));
-        }
-        Ok(())
-    }
-}
 
 /// Points that must be mesh nodes, named after the field that asks for them.
 pub fn required_points(case: &Case) -> Vec<RequiredPoint> {
@@ -155,36 +125,27 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
     Ok(beam)
 }
 
-/// Builds the model a case describes.
-pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {
+/// Builds the model a case describes, exactly as written: damping given as a ratio stays a
+/// ratio until [`crate::analysis::plan::calibrate`] computes the modes it names.
+pub fn build_model(lc: &LoadedCase) -> Result<Model> {
     let case = &lc.case;
     let beam = match case.base {
         BaseKind::Beam => Some(build_beam(lc)?),
         BaseKind::Rigid => None,
     };
     let d = &case.damping;
-    let mut modal_ratios = None;
-    let rayleigh = match (&beam, d.kind) {
-        (None, _) | (_, DampingKind::None) => Rayleigh::default(),
-        (Some(_), DampingKind::Rayleigh) => Rayleigh { a0: d.a0.unwrap_or(0.0), a1: d.a1.unwrap_or(0.0) },
-        (Some(beam), DampingKind::RayleighRatio) => {
-            let need = d.modes[0].max(d.modes[1]);
-            let m = bare_modes(beam, need)?;
-            if m.count() < need {
-                return Err(Error::input(&lc.file, "damping.modes", format!("the mesh has only {} modes", m.count())));
-            }
-            Rayleigh::from_ratio(d.zeta, m.omega[d.modes[0] - 1], m.omega[d.modes[1] - 1])
+    let damping = match (&beam, d.kind) {
+        (None, _) | (_, DampingKind::None) => Damping::None,
+        (Some(_), DampingKind::Rayleigh) => {
+            Damping::Rayleigh(Rayleigh { a0: d.a0.unwrap_or(0.0), a1: d.a1.unwrap_or(0.0) })
         }
-        (Some(_), DampingKind::Modal) => {
-            modal_ratios = Some(d.ratios.clone());
-            Rayleigh::default()
-        }
-        (Some(_), DampingKind::Hysteretic) => Rayleigh::default(),
+        (Some(_), DampingKind::RayleighRatio) => Damping::RayleighRatio { zeta: d.zeta, modes: d.modes },
+        (Some(_), DampingKind::Modal) => Damping::Modal(d.ratios.clone()),
+        (Some(_), DampingKind::Hysteretic) => Damping::Hysteretic { eta: d.eta },
     };
     let mut actuators = Vec::new();
     for (i, a) in case.actuator.iter().enumerate() {
-        let mut voltage = a.voltage.clone();
-        voltage.load(&lc.dir, &lc.file, &format!("actuator[{i}].voltage"))?;
+        let voltage = a.voltage.build(&lc.dir, &lc.file, &format!("actuator[{i}].voltage"))?;
         let s = &a.stack;
         let stack = Stack {
             k_p: s.k_p,
@@ -221,13 +182,8 @@ pub fn build_model(lc: &LoadedCase) -> Result<BuiltModel> {
     let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), x: s.x }).collect();
     let mut loads = Vec::with_capacity(case.load.len());
     for (i, l) in case.load.iter().enumerate() {
-        let mut force = l.force.clone();
-        force.load(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
+        let force = l.force.build(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
         loads.push(PointLoad { name: l.effective_name(i), x: l.x, force });
     }
-    let loss_factor = match (&beam, d.kind) {
-        (Some(_), DampingKind::Hysteretic) => d.eta,
-        _ => 0.0,
-    };
-    Ok(BuiltModel { model: Model { beam, rayleigh, actuators, sensors, loads, loss_factor }, modal_ratios })
+    Ok(Model { beam, damping, actuators, sensors, loads })
 }

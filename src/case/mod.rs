@@ -7,8 +7,9 @@
 
 pub mod build;
 pub mod schema;
+pub mod signal;
 
-pub use build::{build_model, BuiltModel};
+pub use build::build_model;
 pub use schema::*;
 
 use crate::error::{Error, Result};
@@ -53,8 +54,8 @@ impl LoadedCase {
     /// A case built in code (sweeps): serialised back to TOML so results embed what ran.
     pub fn from_case(case: Case, file: &str, dir: PathBuf) -> Result<LoadedCase> {
         case.validate(file)?;
-        let text =
-            toml::to_string(&case).map_err(|e| Error::input(file, "<case>", format!("cannot serialise: {e}")))?;
+        let text = toml::to_string(&case)
+            .map_err(|e| Error::Parse { file: file.to_string(), message: format!("cannot serialise the case: {e}") })?;
         Ok(LoadedCase { case, file: file.to_string(), dir, text })
     }
 }

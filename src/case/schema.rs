@@ -1,9 +1,10 @@
 //! The case-file schema. Field names follow the physics spec (k_p, c_p, d_p, m_t, …);
 //! units are SI throughout and given on each field.
 
+use super::signal::SignalSpec;
 use crate::actuator::bouc_wen::BoucWen;
 use crate::error::{Error, Result};
-use crate::signal::voltage::VoltageInput;
+use crate::signal::sampling::samples_for_harmonics;
 use serde::{Deserialize, Serialize};
 
 /// One simulation case.
@@ -279,7 +280,7 @@ pub struct ActuatorSpec {
     pub c_l_right: Option<f64>,
     #[serde(default)]
     pub stack: StackSpec,
-    pub voltage: VoltageInput,
+    pub voltage: SignalSpec,
 }
 
 fn d_x_e() -> f64 {
@@ -375,7 +376,7 @@ pub struct LoadSpec {
     /// Position on the beam (m).
     pub x: f64,
     /// The force's time history (N).
-    pub force: VoltageInput,
+    pub force: SignalSpec,
 }
 
 impl LoadSpec {
@@ -951,7 +952,7 @@ impl Case {
                     }
                     if force.is_empty() {
                         for (j, l) in self.load.iter().enumerate() {
-                            if !matches!(l.force, VoltageInput::Sine { .. }) {
+                            if !matches!(l.force, SignalSpec::Sine { .. }) {
                                 return Err(Error::input(
                                     file,
                                     format!("load[{j}].force.kind"),
@@ -1069,13 +1070,13 @@ impl Case {
                     if *harmonics == 0 {
                         return Err(Error::input(file, format!("{f}.harmonics"), "must be at least 1"));
                     }
-                    if *samples_per_period < 4 * harmonics + 2 {
+                    if samples_for_harmonics(*harmonics).is_none_or(|n| *samples_per_period < n) {
                         return Err(Error::input(
                             file,
                             format!("{f}.samples_per_period"),
                             format!(
                                 "must be at least 4·harmonics + 2 = {} to resolve the harmonics",
-                                4 * harmonics + 2
+                                4 * (*harmonics as u128) + 2
                             ),
                         ));
                     }
@@ -1171,7 +1172,7 @@ impl ActuatorSpec {
         if !s.h0.is_finite() {
             return Err(Error::input(file, format!("{f}.stack.h0"), "must be finite"));
         }
-        s.bouc_wen().validate(file, &format!("{f}.stack"))?;
+        s.bouc_wen().validate().map_err(|e| e.in_table(file, &format!("{f}.stack")))?;
         self.voltage.validate(file, &format!("{f}.voltage"))?;
         Ok(())
     }

@@ -219,7 +219,7 @@ impl FitOptions {
         if !(b0 > 0.0 && b1 >= b0 && b1.is_finite()) {
             return Err(Error::input(file, "beta_range", format!("need 0 < lower ≤ upper, got ({b0}, {b1})")));
         }
-        self.pso.validate(file)
+        self.pso.validate().map_err(|e| e.in_file(file))
     }
 }
 
@@ -365,7 +365,7 @@ pub fn fit(data: &CycleData, opts: &FitOptions) -> Result<BoucWenFit> {
         normalised_squared_error(&data.stroke, &simulate_cycle(&model, &data.voltage))
     })?;
     let params = candidate(d_p, &res.best);
-    params.validate(&data.file, crate::identify::STACK_TABLE)?;
+    params.validate().map_err(|e| e.in_table(&data.file, crate::identify::STACK_TABLE))?;
     Ok(BoucWenFit {
         params,
         cost: res.cost,
@@ -533,7 +533,7 @@ mod tests {
         for f in &multi.fits {
             assert_eq!(f.infeasible_candidates, 0);
             assert!(is_class_one(&f.params));
-            f.params.validate("fit", "stack").unwrap();
+            f.params.validate().unwrap();
             assert!(f.history.windows(2).all(|w| w[1] <= w[0]));
         }
         let best = &multi.best;

@@ -388,7 +388,7 @@ pub fn impact_response(
     let n = mass.len();
     let square = |m: &[Vec<f64>]| m.len() == n && m.iter().all(|r| r.len() == n);
     if n == 0 || !square(damping) || !square(stiffness) || !square(mass) || input >= n || output >= n {
-        return Err(Error::input("<impact>", "matrices", "M, C, K must be square of equal size with valid DOFs"));
+        return Err(Error::argument("matrices", "M, C, K must be square of equal size with valid DOFs"));
     }
     let minv = dense::inverse(mass).ok_or_else(|| Error::Numerical("singular mass matrix".into()))?;
     let mk = dense::matmul(&minv, stiffness);

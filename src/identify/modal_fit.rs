@@ -147,10 +147,9 @@ impl Default for SdofOptions {
 
 /// Single-mode fit around the highest receptance peak (see the module docs).
 pub fn fit_sdof(frf: &Frf, opts: &SdofOptions) -> Result<ModalFit> {
-    let file = "<frf>";
     let nb = frf.freq.len();
     if nb < 8 {
-        return Err(Error::input(file, "frf", "too few frequency bins for a modal fit"));
+        return Err(Error::argument("frf", "too few frequency bins for a modal fit"));
     }
     let (lo, hi) = opts.search.unwrap_or((0.0, f64::INFINITY));
     // Peak picking on the accelerance: the receptance's 1/ω² would lift low-frequency noise.
@@ -161,7 +160,7 @@ pub fn fit_sdof(frf: &Frf, opts: &SdofOptions) -> Result<ModalFit> {
             kp = Some(k);
         }
     }
-    let kp = kp.ok_or_else(|| Error::input(file, "search", "no frequency bin in the search range"))?;
+    let kp = kp.ok_or_else(|| Error::argument("search", "no frequency bin in the search range"))?;
     let half = mag[kp] / std::f64::consts::SQRT_2;
     let cross = |mut k: usize, step: isize| -> f64 {
         // Walk until |α| < peak/√2 and interpolate linearly between the two bins.
@@ -187,10 +186,9 @@ pub fn fit_sdof(frf: &Frf, opts: &SdofOptions) -> Result<ModalFit> {
 
 /// Multi-mode rational-fraction polynomial fit over a band (see the module docs).
 pub fn fit_rfp(frf: &Frf, opts: &RfpOptions) -> Result<ModalFit> {
-    let file = "<frf>";
     let (f_lo, f_hi) = opts.band;
     if !(f_lo > 0.0 && f_hi > f_lo && f_hi.is_finite()) {
-        return Err(Error::input(file, "band", format!("need 0 < lower < upper, got ({f_lo}, {f_hi})")));
+        return Err(Error::argument("band", format!("need 0 < lower < upper, got ({f_lo}, {f_hi})")));
     }
     let mut omega = Vec::new();
     let mut alpha = Vec::new();
@@ -218,16 +216,14 @@ pub fn fit_receptance(
     iterations: usize,
     exp_decay: f64,
 ) -> Result<ModalFit> {
-    let file = "<frf>";
     if modes == 0 {
-        return Err(Error::input(file, "modes", "at least one mode must be fitted"));
+        return Err(Error::argument("modes", "at least one mode must be fitted"));
     }
     let nd = 2 * modes; // denominator degree
     let nn = 2 * modes; // numerator degree
     let unknowns = nn + 1 + nd;
     if omega.len() != alpha.len() || 2 * omega.len() < unknowns + 4 {
-        return Err(Error::input(
-            file,
+        return Err(Error::argument(
             "band",
             format!("{} usable bins are too few to fit {modes} mode(s); widen the band", omega.len()),
         ));
@@ -369,14 +365,13 @@ impl DynamicParameters {
     /// Checks m > 0, ω_n > 0, 0 < ζ < 1 and derives k, c.
     pub fn new(element: IdentifiedElement, mass: f64, omega_n: f64, zeta: f64) -> Result<Self> {
         if !(mass > 0.0 && mass.is_finite()) {
-            return Err(Error::input("<identify>", "mass", format!("must be positive, got {mass}")));
+            return Err(Error::argument("mass", format!("must be positive, got {mass}")));
         }
         if !(omega_n > 0.0 && omega_n.is_finite()) {
-            return Err(Error::input("<identify>", "omega_n", format!("must be positive, got {omega_n}")));
+            return Err(Error::argument("omega_n", format!("must be positive, got {omega_n}")));
         }
         if !(zeta > 0.0 && zeta < 1.0) {
-            return Err(Error::input(
-                "<identify>",
+            return Err(Error::argument(
                 "zeta",
                 format!("identified damping ratio {zeta} is outside (0, 1): not an underdamped mode"),
             ));

@@ -126,9 +126,9 @@ impl Default for PsoOptions {
 }
 
 impl PsoOptions {
-    /// Checks the settings; `file` names where they came from for the error message.
-    pub fn validate(&self, file: &str) -> Result<()> {
-        let bad = |field: &str, reason: &str| Err(Error::input(file, format!("pso.{field}"), reason));
+    /// Checks the settings (errors name the setting; the caller names the file).
+    pub fn validate(&self) -> Result<()> {
+        let bad = |field: &str, reason: &str| Err(Error::argument(format!("pso.{field}"), reason));
         if self.particles < 2 {
             return bad("particles", "must be at least 2");
         }
@@ -204,15 +204,14 @@ where
     use argmin::solver::particleswarm::ParticleSwarm;
     use rand::SeedableRng;
 
-    opts.validate("<pso>")?;
+    opts.validate()?;
     let d = lower.len();
     if d == 0 || upper.len() != d {
-        return Err(Error::input("<pso>", "bounds", "lower and upper bounds must be non-empty and of equal length"));
+        return Err(Error::argument("bounds", "lower and upper bounds must be non-empty and of equal length"));
     }
     for i in 0..d {
         if !(lower[i].is_finite() && upper[i].is_finite() && lower[i] <= upper[i]) {
-            return Err(Error::input(
-                "<pso>",
+            return Err(Error::argument(
                 format!("bounds[{i}]"),
                 format!("need finite lower ≤ upper, got [{}, {}]", lower[i], upper[i]),
             ));

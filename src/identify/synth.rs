@@ -244,7 +244,7 @@ impl SynthOptions {
 pub fn synthesize(lc: &LoadedCase, opts: &SynthOptions) -> Result<Synthetic> {
     opts.validate()?;
     let built = crate::case::build_model(lc)?;
-    let actuators = &built.model.actuators;
+    let actuators = &built.actuators;
     if actuators.is_empty() {
         return Err(Error::input(&lc.file, "actuator", "the case has no actuator to make measurements of"));
     }
@@ -443,8 +443,7 @@ fn impact_record(m: f64, k: f64, c: f64, hits: usize, rng: &mut Rng) -> Result<(
     let wn = (k / m).sqrt();
     let zeta = c / (2.0 * (k * m).sqrt());
     if !(wn.is_finite() && zeta > 0.0 && zeta < 1.0) {
-        return Err(Error::input(
-            "<synth>",
+        return Err(Error::argument(
             "impact",
             format!("the element is not an underdamped oscillator (zeta = {zeta}); an impact test needs 0 < zeta < 1"),
         ));
@@ -455,8 +454,7 @@ fn impact_record(m: f64, k: f64, c: f64, hits: usize, rng: &mut Rng) -> Result<(
     let tau = 1.0 / (zeta * wn);
     let len = ((30.0 * tau * fs).max(1024.0) / 256.0).ceil() as usize * 256;
     if len * hits > 20_000_000 {
-        return Err(Error::input(
-            "<synth>",
+        return Err(Error::argument(
             "impact",
             format!("{} samples per hit (zeta = {zeta:.2e} decays slowly) are too many; use fewer --hits", len),
         ));

@@ -2,6 +2,7 @@
 
 use super::hdf5::{utc_timestamp, ResultsFile};
 use super::sink::GroupSink;
+use crate::actuator::link_id;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
@@ -36,8 +37,8 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
     f.group("case")?.write_str("toml", &lc.text)?;
     let m = f.group("model")?;
     m.attr_i64("n_dofs", run.system.n() as i64)?;
-    m.attr_f64("rayleigh_a0", run.model.rayleigh.a0)?;
-    m.attr_f64("rayleigh_a1", run.model.rayleigh.a1)?;
+    m.attr_f64("rayleigh_a0", run.model.rayleigh().a0)?;
+    m.attr_f64("rayleigh_a1", run.model.rayleigh().a1)?;
     if let Some(b) = &run.model.beam {
         m.write_f64("node_x", &b.mesh.x, &[b.mesh.x.len()], "m", "beam node coordinates")?;
     }
@@ -116,7 +117,7 @@ fn write_energy<S: GroupSink>(g: &S, name: &str, e: &EnergyBalance) -> Result<()
 }
 
 fn link_group_name(run: &CaseRun, l: &LinkSeries) -> String {
-    format!("{}_{}", run.model.actuators[l.actuator].name(), l.name)
+    link_id(run.model.actuators[l.actuator].name(), &l.name)
 }
 
 fn write_series<S: GroupSink>(
@@ -290,11 +291,7 @@ fn write_powers<S: GroupSink>(g: &S, mean: &[f64], net: &[f64], run: &CaseRun) -
     )?;
     g.write_str_list(
         "link_names",
-        &run.system
-            .links
-            .iter()
-            .map(|l| format!("{}_{}", run.model.actuators[l.actuator].name(), l.name))
-            .collect::<Vec<_>>(),
+        &run.system.links.iter().map(|l| link_id(run.model.actuators[l.actuator].name(), &l.name)).collect::<Vec<_>>(),
     )?;
     g.write_f64("net_power", net, &[net.len()], "W", "net power into the base per actuator")
 }

@@ -1,5 +1,6 @@
 //! The headline numbers of a run, for people (text) and scripts (JSON).
 
+use crate::actuator::link_id;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::series::LoadSpectrum;
 use crate::case::LoadedCase;
@@ -11,7 +12,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     let mut analyses = Vec::new();
     let link_name = |l: usize| {
         let lk = &run.system.links[l];
-        format!("{}_{}", run.model.actuators[lk.actuator].name(), lk.name)
+        link_id(run.model.actuators[lk.actuator].name(), &lk.name)
     };
     for r in &run.results {
         analyses.push(match r {

@@ -4,8 +4,8 @@
 //! before anything is solved; a candidate that breaks one is never solved.
 
 use super::quantity::{Outcome, Quantity};
+use crate::case::signal::SignalSpec;
 use crate::case::{ActuatorSpec, ActuatorType, BaseKind, Case, SupportKindSpec};
-use crate::signal::voltage::VoltageInput;
 
 /// The placement and drive limits (from the `[constraints]` table).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -99,17 +99,19 @@ pub fn supports(case: &Case) -> Vec<f64> {
     case.beam.support.iter().filter(|s| s.kind != SupportKindSpec::Free).map(|s| s.x).collect()
 }
 
-/// An upper bound of |V(t)| (V): exact for one sine, the sum of the amplitudes for several.
-pub fn peak_voltage(v: &VoltageInput) -> f64 {
+/// An upper bound of |V(t)| (V) of a case's drive: exact for one sine, the sum of the
+/// amplitudes for several. A series is unbounded here: its values are in a file the
+/// optimiser's periodic analyses cannot drive with anyway.
+pub fn peak_voltage(v: &SignalSpec) -> f64 {
     match v {
-        VoltageInput::Sine { amplitude, offset, .. } | VoltageInput::Chirp { amplitude, offset, .. } => {
+        SignalSpec::Sine { amplitude, offset, .. } | SignalSpec::Chirp { amplitude, offset, .. } => {
             offset.abs() + amplitude.abs()
         }
-        VoltageInput::Sines { offset, components } => {
+        SignalSpec::Sines { offset, components } => {
             offset.abs() + components.iter().map(|c| c.amplitude.abs()).sum::<f64>()
         }
-        VoltageInput::Step { from, to, .. } => from.abs().max(to.abs()),
-        VoltageInput::Series { .. } => v.samples().map_or(0.0, |s| s.values().iter().fold(0.0, |m, x| m.max(x.abs()))),
+        SignalSpec::Step { from, to, .. } => from.abs().max(to.abs()),
+        SignalSpec::Series { .. } => f64::INFINITY,
     }
 }
 

@@ -6,8 +6,9 @@ use super::constraint::{peak_voltage, Violation};
 use super::quantity::Outcome;
 use super::spec::Spec;
 use crate::analysis::drive::StackForceCache;
+use crate::analysis::plan::calibrated_model;
 use crate::analysis::steady_state::{self, Detail, HarmonicSolver};
-use crate::case::{build_model, ActuatorType, LoadedCase};
+use crate::case::{ActuatorType, LoadedCase};
 use crate::power::modal::{decompose, ModalDamping};
 use crate::power::point::net_power;
 use num_complex::Complex64;
@@ -130,11 +131,10 @@ impl<'s> Evaluator<'s> {
         let s = |e: crate::Error| e.to_string();
         let lc = LoadedCase::from_case(case, &format!("{} [candidate]", spec.base.file), spec.base.dir.clone())
             .map_err(s)?;
-        let built = build_model(&lc).map_err(s)?;
+        let model = &calibrated_model(&lc).map_err(s)?;
         let sys =
-            crate::sweep::exec::frequency_domain_system(&built, &lc.file, crate::sweep::SweepAnalysis::SteadyState)
+            crate::sweep::exec::frequency_domain_system(model, &lc.file, crate::sweep::SweepAnalysis::SteadyState)
                 .map_err(s)?;
-        let model = &built.model;
         let mut solver = HarmonicSolver::new(&sys);
         let r = steady_state::run_with(
             model,
@@ -165,7 +165,7 @@ impl<'s> Evaluator<'s> {
             if let Some(m) = crate::analysis::modes::few_bare_modes_on(model, &sys, self.modes).map_err(s)? {
                 let interface: Vec<Vec<Complex64>> = r.spectra.iter().map(|sp| sp.interface.clone()).collect();
                 let loads: Vec<Vec<Complex64>> = r.load_spectra.iter().map(|l| l.force.clone()).collect();
-                let damping = ModalDamping::of(&model.rayleigh, None);
+                let damping = ModalDamping::of(&model.damping);
                 let d = decompose(&sys, &m, damping, (&solver.q, omega0), &interface, &loads);
                 modal_power = (0..m.count()).map(|k| d.point_power.iter().map(|p| p[k]).sum()).collect();
                 mode_frequency_hz = d.mode_frequency_hz;

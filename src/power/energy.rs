@@ -100,12 +100,13 @@ impl StoredEnergy {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::case::{build_model, LoadedCase};
+    use crate::analysis::plan::calibrated_model;
+    use crate::case::LoadedCase;
     use std::path::PathBuf;
 
     fn system(text: &str) -> System {
         let cases = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases");
-        let model = build_model(&LoadedCase::from_str(text, "e.toml", cases).unwrap()).unwrap().model;
+        let model = calibrated_model(&LoadedCase::from_str(text, "e.toml", cases).unwrap()).unwrap();
         System::assemble(&model).unwrap()
     }
 

@@ -10,7 +10,7 @@
 //! damping (ratios ζ_r) into P_r = ½ω²·2ζ_r·ω_r·|η_r|².
 
 use super::point::mean_power;
-use crate::assembly::system::Rayleigh;
+use crate::assembly::Damping;
 use crate::assembly::System;
 use crate::solve::eigen::{ratio_of, Modes};
 use num_complex::Complex64;
@@ -26,11 +26,15 @@ pub enum ModalDamping<'a> {
 }
 
 impl<'a> ModalDamping<'a> {
-    /// A model's damping: its modal ratios if it has them, else its Rayleigh coefficients.
-    pub fn of(rayleigh: &Rayleigh, modal_ratios: Option<&'a [f64]>) -> Self {
-        match modal_ratios {
+    /// A model's viscous damping on its modes: its modal ratios if it has them, else its
+    /// Rayleigh coefficients (zero for no damping; hysteretic damping has no modal dampers).
+    pub fn of(damping: &'a Damping) -> Self {
+        match damping.modal_ratios() {
             Some(z) => ModalDamping::Ratios(z),
-            None => ModalDamping::Rayleigh { a0: rayleigh.a0, a1: rayleigh.a1 },
+            None => {
+                let r = damping.rayleigh();
+                ModalDamping::Rayleigh { a0: r.a0, a1: r.a1 }
+            }
         }
     }
 

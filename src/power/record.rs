@@ -30,7 +30,6 @@
 //! other drives, the start-up transient, leakage at sharp resonances).
 
 use super::point::midpoint_work;
-use crate::error::{Error, Result};
 use num_complex::Complex64;
 use rustfft::FftPlanner;
 use serde::Serialize;
@@ -60,18 +59,14 @@ impl Welch {
         Welch { length: samples, overlap: 0.0, hann: false, rates: true }
     }
 
-    /// Checks the segmentation against a record of `samples` samples; `file`/`field` name
-    /// the setting in errors.
-    pub fn check(&self, samples: usize, file: &str, field: &str) -> Result<()> {
+    /// Checks the segmentation against a record of `samples` samples; the error is the
+    /// reason, for the caller to attach to the setting that chose the segment.
+    pub fn check(&self, samples: usize) -> Result<(), String> {
         if self.length < 8 || self.length > samples {
-            return Err(Error::input(
-                file,
-                field,
-                format!("a segment of {} samples must lie in [8, {samples}] (the record length)", self.length),
-            ));
+            return Err(format!("a segment of {} samples must lie in [8, {samples}] (the record length)", self.length));
         }
         if !(0.0..1.0).contains(&self.overlap) {
-            return Err(Error::input(file, field, format!("overlap {} must lie in [0, 1)", self.overlap)));
+            return Err(format!("overlap {} must lie in [0, 1)", self.overlap));
         }
         Ok(())
     }

@@ -2,6 +2,7 @@
 //! (and the identification code) uses.
 
 pub mod csv;
+pub mod sampling;
 pub mod voltage;
 
 pub use voltage::{ChirpLaw, SineComponent, VoltageInput};

@@ -1,28 +1,20 @@
 //! Voltage inputs `V(t)` for the stacks.
 //!
-//! A [`VoltageInput`] is read from a case file as a TOML table with a `kind` key; unknown keys
-//! are rejected. Units are volts, hertz, seconds and radians throughout.
-//!
-//! ```toml
-//! voltage = { kind = "sine", amplitude = 48.0, frequency = 30.0 }            # offset = 0, phase = 0
-//! voltage = { kind = "sines", offset = 10.0, components = [
-//!     { amplitude = 12.0, frequency = 60.0 }, { amplitude = 3.0, frequency = 180.0, phase = 0.5 } ] }
-//! voltage = { kind = "chirp", amplitude = 10.0, f_start = 5.0, f_end = 500.0, duration = 2.0, sweep = "log" }
-//! voltage = { kind = "step", time = 0.01, from = 0.0, to = 50.0, rise_time = 1e-3 }
-//! voltage = { kind = "series", file = "drive.csv", time_column = "t", voltage_column = "u" }
-//! ```
+//! A [`VoltageInput`] is the signal as physics sees it: a function of time, complete when
+//! built (a case file's `kind` tables and CSV files become one in
+//! [`crate::case::signal::SignalSpec::build`]). Units are volts, hertz, seconds and radians
+//! throughout.
 //!
 //! Besides the value, every input gives its exact time derivative ([`VoltageInput::rate`])
 //! and the times where the voltage reverses direction ([`VoltageInput::turning_points`]):
 //! the hysteresis model integrates exactly in voltage space and needs monotone pieces.
 
 use std::f64::consts::{PI, TAU};
-use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
-use crate::signal::csv::{check_time_axis, read_columns};
+use crate::signal::csv::check_time_axis;
 
 /// Largest denominator tried when looking for a common period of several sines (see
 /// [`VoltageInput::period`]).
@@ -61,8 +53,7 @@ pub enum ChirpLaw {
     Log,
 }
 
-/// Tabulated voltage of a [`VoltageInput::Series`], filled by [`VoltageInput::load`] or
-/// [`VoltageInput::from_samples`].
+/// Tabulated voltage of a [`VoltageInput::Series`] (see [`VoltageInput::from_samples`]).
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Samples {
     t: Vec<f64>,
@@ -91,70 +82,26 @@ impl Samples {
     }
 }
 
-fn default_time_column() -> String {
-    "time".to_string()
-}
-fn default_voltage_column() -> String {
-    "voltage".to_string()
-}
-
 /// The voltage applied to a stack, as a function of time.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+#[derive(Debug, Clone, PartialEq)]
 pub enum VoltageInput {
     /// `V = offset + amplitude·sin(2π·frequency·t + phase)`.
-    Sine {
-        amplitude: f64,
-        frequency: f64,
-        #[serde(default)]
-        offset: f64,
-        #[serde(default)]
-        phase: f64,
-    },
+    Sine { amplitude: f64, frequency: f64, offset: f64, phase: f64 },
     /// `V = offset + Σ amplitude_k·sin(2π·frequency_k·t + phase_k)`.
-    Sines {
-        #[serde(default)]
-        offset: f64,
-        components: Vec<SineComponent>,
-    },
+    Sines { offset: f64, components: Vec<SineComponent> },
     /// `V = offset + amplitude·sin φ(t)`, with the instantaneous frequency `φ'/2π` sweeping
     /// from `f_start` at t = 0 to `f_end` at t = `duration` (linearly or geometrically).
     ///
     /// The phase is continuous everywhere: before t = 0 the frequency is `f_start`, after
     /// `duration` the signal **continues at `f_end`** (it does not stop or restart).
-    Chirp {
-        amplitude: f64,
-        f_start: f64,
-        f_end: f64,
-        duration: f64,
-        #[serde(default)]
-        sweep: ChirpLaw,
-        #[serde(default)]
-        offset: f64,
-    },
+    Chirp { amplitude: f64, f_start: f64, f_end: f64, duration: f64, sweep: ChirpLaw, offset: f64 },
     /// `from` before `time`, `to` after; with `rise_time > 0` a linear ramp over
     /// `[time, time + rise_time]`. With `rise_time = 0` the jump is at `time` and
     /// `V(time) = to` (right-continuous).
-    Step {
-        time: f64,
-        from: f64,
-        to: f64,
-        #[serde(default)]
-        rise_time: f64,
-    },
-    /// Tabulated voltage from a CSV file with a header row, linearly interpolated, held at the
-    /// first/last value outside the table. `file` is relative to the case file's directory.
-    /// The samples are read by [`VoltageInput::load`] (or given by
-    /// [`VoltageInput::from_samples`]); evaluating a series before that panics.
-    Series {
-        file: PathBuf,
-        #[serde(default = "default_time_column")]
-        time_column: String,
-        #[serde(default = "default_voltage_column")]
-        voltage_column: String,
-        #[serde(skip)]
-        samples: Option<Samples>,
-    },
+    Step { time: f64, from: f64, to: f64, rise_time: f64 },
+    /// Tabulated voltage, linearly interpolated, held at the first/last value outside the
+    /// table (built by [`VoltageInput::from_samples`], or from a case's CSV file).
+    Series { samples: Samples },
 }
 
 fn sgn(x: f64) -> i8 {
@@ -164,22 +111,6 @@ fn sgn(x: f64) -> i8 {
         -1
     } else {
         0
-    }
-}
-
-fn check_finite(file: &str, field: String, x: f64) -> Result<()> {
-    if x.is_finite() {
-        Ok(())
-    } else {
-        Err(Error::input(file, field, format!("must be a finite number, got {x}")))
-    }
-}
-
-fn check_positive(file: &str, field: String, x: f64, unit: &str) -> Result<()> {
-    if x.is_finite() && x > 0.0 {
-        Ok(())
-    } else {
-        Err(Error::input(file, field, format!("must be a finite number > 0 {unit}, got {x}")))
     }
 }
 
@@ -268,24 +199,15 @@ impl VoltageInput {
         if let Some(i) = v.iter().position(|x| !x.is_finite()) {
             return Err(Error::input(label, "voltage", format!("row {}: value {} is not finite", i + 1, v[i])));
         }
-        Ok(VoltageInput::Series {
-            file: PathBuf::from(label),
-            time_column: default_time_column(),
-            voltage_column: default_voltage_column(),
-            samples: Some(Samples { t, v }),
-        })
+        Ok(VoltageInput::Series { samples: Samples { t, v } })
     }
 
-    /// The tabulated samples of a loaded series; `None` for other kinds or before `load`.
+    /// The tabulated samples of a series; `None` for the other kinds.
     pub fn samples(&self) -> Option<&Samples> {
         match self {
-            VoltageInput::Series { samples, .. } => samples.as_ref(),
+            VoltageInput::Series { samples } => Some(samples),
             _ => None,
         }
-    }
-
-    fn series_data(samples: &Option<Samples>) -> &Samples {
-        samples.as_ref().expect("series voltage used before VoltageInput::load read its CSV file")
     }
 
     /// Chirp phase φ(t) and its first two derivatives.
@@ -342,8 +264,8 @@ impl VoltageInput {
                     *to
                 }
             }
-            VoltageInput::Series { samples, .. } => {
-                let s = Self::series_data(samples);
+            VoltageInput::Series { samples } => {
+                let s = samples;
                 match s.segment(t) {
                     Some(i) => {
                         let w = (t - s.t[i]) / (s.t[i + 1] - s.t[i]);
@@ -387,8 +309,8 @@ impl VoltageInput {
                     0.0
                 }
             }
-            VoltageInput::Series { samples, .. } => {
-                let s = Self::series_data(samples);
+            VoltageInput::Series { samples } => {
+                let s = samples;
                 s.segment(t).map_or(0.0, |i| s.slope(i))
             }
         }
@@ -405,8 +327,8 @@ impl VoltageInput {
                     0.0
                 }
             }
-            VoltageInput::Series { samples, .. } => {
-                let s = Self::series_data(samples);
+            VoltageInput::Series { samples } => {
+                let s = samples;
                 let n = s.t.len();
                 if t > s.t[0] && t <= s.t[n - 1] {
                     s.slope(s.t.partition_point(|&x| x < t) - 1)
@@ -480,101 +402,11 @@ impl VoltageInput {
             VoltageInput::Sines { components, .. } => components.iter().map(|c| c.frequency).reduce(f64::max),
             VoltageInput::Chirp { f_start, f_end, .. } => Some(f_start.max(*f_end)),
             VoltageInput::Step { rise_time, .. } => (*rise_time > 0.0).then(|| 0.5 / rise_time),
-            VoltageInput::Series { samples, .. } => samples.as_ref().map(|s| {
+            VoltageInput::Series { samples: s } => Some({
                 let n = s.t.len();
                 0.5 * (n - 1) as f64 / (s.t[n - 1] - s.t[0])
             }),
         }
-    }
-
-    /// Checks the parameters: finite numbers, positive frequencies and duration,
-    /// `rise_time ≥ 0`, at least one sine component, non-empty file and column names.
-    /// `field` is the dotted path of this table in the case file (e.g. `actuator[0].voltage`);
-    /// messages name `file`, `field.<parameter>` and the reason.
-    pub fn validate(&self, file: &str, field: &str) -> Result<()> {
-        let f = |name: &str| format!("{field}.{name}");
-        match self {
-            VoltageInput::Sine { amplitude, frequency, offset, phase } => {
-                check_finite(file, f("amplitude"), *amplitude)?;
-                check_positive(file, f("frequency"), *frequency, "Hz")?;
-                check_finite(file, f("offset"), *offset)?;
-                check_finite(file, f("phase"), *phase)?;
-            }
-            VoltageInput::Sines { offset, components } => {
-                check_finite(file, f("offset"), *offset)?;
-                if components.is_empty() {
-                    return Err(Error::input(
-                        file,
-                        f("components"),
-                        "needs at least one component { amplitude, frequency, phase }",
-                    ));
-                }
-                for (i, c) in components.iter().enumerate() {
-                    let g = |name: &str| format!("{field}.components[{i}].{name}");
-                    check_finite(file, g("amplitude"), c.amplitude)?;
-                    check_positive(file, g("frequency"), c.frequency, "Hz")?;
-                    check_finite(file, g("phase"), c.phase)?;
-                }
-            }
-            VoltageInput::Chirp { amplitude, f_start, f_end, duration, offset, .. } => {
-                check_finite(file, f("amplitude"), *amplitude)?;
-                check_positive(file, f("f_start"), *f_start, "Hz")?;
-                check_positive(file, f("f_end"), *f_end, "Hz")?;
-                check_positive(file, f("duration"), *duration, "s")?;
-                check_finite(file, f("offset"), *offset)?;
-            }
-            VoltageInput::Step { time, from, to, rise_time } => {
-                check_finite(file, f("time"), *time)?;
-                check_finite(file, f("from"), *from)?;
-                check_finite(file, f("to"), *to)?;
-                if !(rise_time.is_finite() && *rise_time >= 0.0) {
-                    return Err(Error::input(
-                        file,
-                        f("rise_time"),
-                        format!("must be a finite number ≥ 0 s (0 = jump), got {rise_time}"),
-                    ));
-                }
-            }
-            VoltageInput::Series { file: csv, time_column, voltage_column, .. } => {
-                if csv.as_os_str().is_empty() {
-                    return Err(Error::input(file, f("file"), "must name a CSV file"));
-                }
-                if time_column.trim().is_empty() {
-                    return Err(Error::input(file, f("time_column"), "must name a column"));
-                }
-                if voltage_column.trim().is_empty() {
-                    return Err(Error::input(file, f("voltage_column"), "must name a column"));
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// Reads the CSV file of a `series` (path relative to `case_dir`, the case file's
-    /// directory); a no-op for the other kinds. `file`/`field` name the case file and this
-    /// table for a file that cannot be read; errors inside the CSV name the CSV file, the
-    /// column and the row. The time column must be strictly increasing (≥ 2 rows).
-    pub fn load(&mut self, case_dir: &Path, file: &str, field: &str) -> Result<()> {
-        if let VoltageInput::Series { file: csv, time_column, voltage_column, samples } = self {
-            if csv.as_os_str().is_empty() {
-                return Err(Error::input(file, format!("{field}.file"), "must name a CSV file"));
-            }
-            let path = case_dir.join(&*csv);
-            let mut cols =
-                read_columns(&path, &[time_column.as_str(), voltage_column.as_str()]).map_err(|e| match e {
-                    Error::Io { path, source } => Error::input(
-                        file,
-                        format!("{field}.file"),
-                        format!("cannot read the voltage series `{path}`: {source}"),
-                    ),
-                    other => other,
-                })?;
-            let v = cols.pop().unwrap_or_default();
-            let t = cols.pop().unwrap_or_default();
-            check_time_axis(&path.display().to_string(), time_column, &t, false)?;
-            *samples = Some(Samples { t, v });
-        }
-        Ok(())
     }
 
     /// Times in the open interval (t0, t1) where V̇ changes sign (the extrema of V), plus the
@@ -636,8 +468,8 @@ impl VoltageInput {
                     Vec::new()
                 }
             }
-            VoltageInput::Series { samples, .. } => {
-                let s = Self::series_data(samples);
+            VoltageInput::Series { samples } => {
+                let s = samples;
                 let n = s.t.len();
                 let slope_sign = |i: isize| -> i8 {
                     if i < 0 || i as usize >= n - 1 {
@@ -667,7 +499,7 @@ impl VoltageInput {
         match self {
             VoltageInput::Chirp { duration, .. } => out.extend([0.0, *duration]),
             VoltageInput::Step { time, rise_time, .. } => out.extend([*time, time + rise_time]),
-            VoltageInput::Series { samples, .. } => out.extend_from_slice(&Self::series_data(samples).t),
+            VoltageInput::Series { samples } => out.extend_from_slice(&samples.t),
             _ => {}
         }
         out.retain(|&t| t > t0 && t < t1);
@@ -678,16 +510,6 @@ impl VoltageInput {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    pub(crate) fn temp_dir(tag: &str) -> PathBuf {
-        let d = std::env::temp_dir().join(format!("beamflow-voltage-{tag}-{}", std::process::id()));
-        std::fs::create_dir_all(&d).unwrap();
-        d
-    }
-
-    fn parse(s: &str) -> std::result::Result<VoltageInput, toml::de::Error> {
-        toml::from_str(s)
-    }
 
     fn all_smooth_inputs() -> Vec<VoltageInput> {
         vec![
@@ -717,105 +539,6 @@ mod tests {
                 offset: -3.0,
             },
         ]
-    }
-
-    #[test]
-    fn parses_all_kinds_from_toml() {
-        let v = parse("kind = \"sine\"\namplitude = 48\nfrequency = 30\n").unwrap();
-        assert_eq!(v, VoltageInput::Sine { amplitude: 48.0, frequency: 30.0, offset: 0.0, phase: 0.0 });
-        let v = parse(
-            "kind = \"sines\"\noffset = 2\ncomponents = [{ amplitude = 1, frequency = 60 }, { amplitude = 0.5, frequency = 180, phase = 1 }]\n",
-        )
-        .unwrap();
-        assert_eq!(v.period(), Some(1.0 / 60.0));
-        let v =
-            parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"log\"\n").unwrap();
-        assert!(matches!(v, VoltageInput::Chirp { sweep: ChirpLaw::Log, .. }));
-        let v = parse("kind = \"step\"\ntime = 0.1\nfrom = 0\nto = 10\n").unwrap();
-        assert!(matches!(v, VoltageInput::Step { rise_time, .. } if rise_time == 0.0));
-        let v = parse("kind = \"series\"\nfile = \"v.csv\"\n").unwrap();
-        match v {
-            VoltageInput::Series { time_column, voltage_column, samples, .. } => {
-                assert_eq!((time_column.as_str(), voltage_column.as_str()), ("time", "voltage"));
-                assert!(samples.is_none());
-            }
-            _ => panic!(),
-        }
-    }
-
-    #[test]
-    fn rejects_unknown_fields_and_kinds() {
-        let e = parse("kind = \"sine\"\namplitude = 48\nfrequency = 30\nfreq = 3\n").unwrap_err();
-        assert!(e.to_string().contains("unknown field `freq`"), "{e}");
-        let e = parse("kind = \"sines\"\ncomponents = [{ amplitude = 1, frequency = 60, offset = 1 }]\n").unwrap_err();
-        assert!(e.to_string().contains("unknown field `offset`"), "{e}");
-        let e = parse("kind = \"step\"\ntime = 0\nfrom = 0\nto = 1\nrise = 1\n").unwrap_err();
-        assert!(e.to_string().contains("unknown field `rise`"), "{e}");
-        let e = parse("kind = \"series\"\nfile = \"a.csv\"\nsamples = 3\n").unwrap_err();
-        assert!(e.to_string().contains("unknown field `samples`"), "{e}");
-        let e = parse("kind = \"square\"\namplitude = 1\n").unwrap_err();
-        assert!(e.to_string().contains("unknown variant"), "{e}");
-        let e = parse("kind = \"chirp\"\namplitude = 1\nf_start = 1\nf_end = 10\nduration = 2\nsweep = \"cubic\"\n")
-            .unwrap_err();
-        assert!(e.to_string().contains("cubic"), "{e}");
-    }
-
-    #[test]
-    fn validation_names_the_field() {
-        let bad = [
-            (VoltageInput::Sine { amplitude: 1.0, frequency: 0.0, offset: 0.0, phase: 0.0 }, "v.frequency"),
-            (VoltageInput::Sine { amplitude: f64::NAN, frequency: 1.0, offset: 0.0, phase: 0.0 }, "v.amplitude"),
-            (VoltageInput::Sines { offset: 0.0, components: vec![] }, "v.components"),
-            (
-                VoltageInput::Sines {
-                    offset: 0.0,
-                    components: vec![
-                        SineComponent { amplitude: 1.0, frequency: 1.0, phase: 0.0 },
-                        SineComponent { amplitude: 1.0, frequency: -1.0, phase: 0.0 },
-                    ],
-                },
-                "v.components[1].frequency",
-            ),
-            (
-                VoltageInput::Chirp {
-                    amplitude: 1.0,
-                    f_start: 1.0,
-                    f_end: 2.0,
-                    duration: 0.0,
-                    sweep: ChirpLaw::Linear,
-                    offset: 0.0,
-                },
-                "v.duration",
-            ),
-            (
-                VoltageInput::Chirp {
-                    amplitude: 1.0,
-                    f_start: 1.0,
-                    f_end: f64::INFINITY,
-                    duration: 1.0,
-                    sweep: ChirpLaw::Log,
-                    offset: 0.0,
-                },
-                "v.f_end",
-            ),
-            (VoltageInput::Step { time: 0.0, from: 0.0, to: 1.0, rise_time: -1e-3 }, "v.rise_time"),
-            (
-                VoltageInput::Series {
-                    file: PathBuf::new(),
-                    time_column: "t".into(),
-                    voltage_column: "v".into(),
-                    samples: None,
-                },
-                "v.file",
-            ),
-        ];
-        for (input, field) in bad {
-            let e = input.validate("case.toml", "v").unwrap_err().to_string();
-            assert!(e.starts_with("case.toml: field `") && e.contains(&format!("`{field}`")), "{e}");
-        }
-        for input in all_smooth_inputs() {
-            input.validate("case.toml", "v").unwrap();
-        }
     }
 
     #[test]
@@ -994,46 +717,5 @@ mod tests {
         assert_eq!(ser.value(-1.0), 0.0);
         assert_eq!(ser.value(9.0), 0.0);
         assert_eq!(ser.rate(4.2), 1.0);
-    }
-
-    #[test]
-    fn series_load_and_errors() {
-        let dir = temp_dir("series");
-        let write = |name: &str, text: &str| std::fs::write(dir.join(name), text).unwrap();
-        write("ok.csv", "time,u,voltage\n0,9,0\n0.5,9,2\n1.0,9,-2\n");
-        write("dup.csv", "time,voltage\n0,0\n0.5,1\n0.5,2\n");
-        write("nan.csv", "time,voltage\n0,0\n0.5,nan\n");
-        write("cols.csv", "t,voltage\n0,0\n0.5,1\n");
-        let series = |f: &str, tc: &str| VoltageInput::Series {
-            file: f.into(),
-            time_column: tc.into(),
-            voltage_column: "voltage".into(),
-            samples: None,
-        };
-        let mut ok = series("ok.csv", "time");
-        ok.load(&dir, "case.toml", "actuator[0].voltage").unwrap();
-        assert_eq!(ok.value(0.25), 1.0);
-        assert_eq!(ok.value(0.75), 0.0);
-        assert_eq!(ok.turning_points(0.0, 1.0), vec![0.5]);
-
-        let err = |f: &str, tc: &str| {
-            let mut s = series(f, tc);
-            s.load(&dir, "case.toml", "actuator[0].voltage").unwrap_err().to_string()
-        };
-        let e = err("dup.csv", "time");
-        assert!(
-            e.contains("dup.csv") && e.contains("`time`") && e.contains("row 3") && e.contains("strictly increasing"),
-            "{e}"
-        );
-        let e = err("nan.csv", "time");
-        assert!(
-            e.contains("nan.csv") && e.contains("`voltage`") && e.contains("row 2") && e.contains("not finite"),
-            "{e}"
-        );
-        let e = err("cols.csv", "time");
-        assert!(e.contains("cols.csv") && e.contains("`time`") && e.contains("not found"), "{e}");
-        let e = err("missing.csv", "time");
-        assert!(e.contains("case.toml") && e.contains("actuator[0].voltage.file") && e.contains("missing.csv"), "{e}");
-        std::fs::remove_dir_all(&dir).ok();
     }
 }

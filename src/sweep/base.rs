@@ -3,7 +3,9 @@
 //! of the fields the study varies. Every message names the study file or the base file.
 
 use super::field::{get_path, set_path, Field, Segment};
-use crate::assembly::system::Rayleigh;
+use crate::actuator::{link_id, Frame, Inertial};
+use crate::assembly::Rayleigh;
+use crate::case::signal::SignalSpec;
 use crate::case::{ActuatorType, AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase};
 use crate::error::{Error, Result};
 use crate::signal::voltage::VoltageInput;
@@ -156,12 +158,8 @@ impl BaseCase {
         let lc = LoadedCase { case: stripped, file: self.file.clone(), dir: self.dir.clone(), text: String::new() };
         let beam = crate::case::build::build_beam(&lc)?;
         let d = &lc.case.damping;
-        let need = d.modes[0].max(d.modes[1]);
-        let m = crate::analysis::modes::bare_modes(&beam, need)?;
-        if m.count() < need {
-            return Err(Error::input(&self.file, "damping.modes", format!("the mesh has only {} modes", m.count())));
-        }
-        let r = Rayleigh::from_ratio(d.zeta, m.omega[d.modes[0] - 1], m.omega[d.modes[1] - 1]);
+        let r =
+            crate::analysis::plan::rayleigh_from_ratio(&beam, d.zeta, d.modes).map_err(|e| e.in_file(&self.file))?;
         let mut t = toml::map::Map::new();
         t.insert("kind".into(), toml::Value::String("rayleigh".into()));
         t.insert("a0".into(), toml::Value::Float(r.a0));
@@ -212,36 +210,24 @@ impl BaseCase {
                 set_path(&mut val, &f.segments[2..], v)?;
             }
         }
-        let mut voltage: VoltageInput =
-            val.try_into().map_err(|e: toml::de::Error| e.message().trim_end().to_string())?;
-        voltage.load(&self.dir, label, &field).map_err(|e| e.to_string())?;
-        voltage.validate(label, &field).map_err(|e| e.to_string())?;
-        Ok(voltage)
+        let spec: SignalSpec = val.try_into().map_err(|e: toml::de::Error| e.message().trim_end().to_string())?;
+        spec.validate(label, &field).map_err(|e| e.to_string())?;
+        spec.build(&self.dir, label, &field).map_err(|e| e.to_string())
     }
 }
 
 /// Actuator names (given, or `inertial`/`frame`, numbered when there are several) and
-/// their links' names (`name.stack`, `name.left_leg`, `name.right_leg`).
+/// their links' identifiers ([`link_id`]: `name_stack`, `name_left_leg`, `name_right_leg`).
 fn names(case: &Case) -> (Vec<String>, Vec<String>) {
     let mut actuators = Vec::new();
     let mut links = Vec::new();
     for (i, a) in case.actuator.iter().enumerate() {
-        let name = a.name.clone().unwrap_or_else(|| {
-            let kind = match a.kind {
-                ActuatorType::Inertial => "inertial",
-                ActuatorType::Frame => "frame",
-            };
-            if case.actuator.len() > 1 {
-                format!("{kind}_{i}")
-            } else {
-                kind.to_string()
-            }
-        });
+        let name = a.effective_name(i, case.actuator.len());
         let l: &[&str] = match a.kind {
-            ActuatorType::Inertial => &["stack"],
-            ActuatorType::Frame => &["stack", "left_leg", "right_leg"],
+            ActuatorType::Inertial => &Inertial::LINKS,
+            ActuatorType::Frame => &Frame::LINKS,
         };
-        links.extend(l.iter().map(|l| format!("{name}.{l}")));
+        links.extend(l.iter().map(|l| link_id(&name, l)));
         actuators.push(name);
     }
     (actuators, links)

@@ -4,12 +4,11 @@
 use super::spec::{Sweep, SweepAnalysis};
 use super::table::{decode_part, encode_part, Row, Shard, SweepTable};
 use crate::analysis::drive::StackForceCache;
+use crate::analysis::plan::{self, calibrated_model};
 use crate::analysis::reduction::complete_modal_basis;
 use crate::analysis::steady_state::{self, Detail, HarmonicSolver, SteadyStateResult};
 use crate::analysis::transient::{self, TransientResult};
 use crate::assembly::{Model, System};
-use crate::case::build::BuiltModel;
-use crate::case::build_model;
 use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
 use rayon::prelude::*;
@@ -115,9 +114,8 @@ impl<'a> Evaluator<'a> {
         let sweep = self.sweep;
         let lc = sweep.case(i)?;
         let wrap = |e: Error| Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string());
-        let built = build_model(&lc).map_err(wrap)?;
-        let sys = frequency_domain_system(&built, &lc.file, sweep.analysis).map_err(wrap)?;
-        let model = built.model;
+        let model = calibrated_model(&lc).map_err(wrap)?;
+        let sys = frequency_domain_system(&model, &lc.file, sweep.analysis).map_err(wrap)?;
         let head = match (sweep.analysis, self.reference) {
             (SweepAnalysis::SteadyState, false) => self.steady_state(&model, &mut HarmonicSolver::new(&sys)),
             (SweepAnalysis::SteadyState, true) => {
@@ -175,9 +173,8 @@ impl<'a> Evaluator<'a> {
         };
         debug_assert!(indices.iter().all(|&i| sweep.model_key(i) == sweep.model_key(first)));
         let lc = sweep.case(first)?;
-        let built = build_model(&lc).map_err(wrap(first))?;
-        let sys = frequency_domain_system(&built, &lc.file, sweep.analysis).map_err(wrap(first))?;
-        let mut model = built.model;
+        let mut model = calibrated_model(&lc).map_err(wrap(first))?;
+        let sys = frequency_domain_system(&model, &lc.file, sweep.analysis).map_err(wrap(first))?;
         let mut solver = HarmonicSolver::new(&sys);
         let driven = sweep.driven_actuators();
         for &i in indices {
@@ -220,12 +217,12 @@ impl<'a> Evaluator<'a> {
 /// A case's system as the sweep solves it: assembled, or with modal damping (steady-state
 /// sweeps only) the same model in the bare beam's complete modal basis, where that damping
 /// is a matrix. A transient sweep of a modal-damped case is refused.
-pub fn frequency_domain_system(built: &BuiltModel, file: &str, analysis: SweepAnalysis) -> Result<System> {
+pub fn frequency_domain_system(model: &Model, file: &str, analysis: SweepAnalysis) -> Result<System> {
     if analysis == SweepAnalysis::Transient {
-        built.require_viscous_damping(file, "transient sweep")?;
+        plan::require_viscous_damping(model, "transient sweep").map_err(|e| e.in_file(file))?;
     }
-    let sys = System::assemble(&built.model)?;
-    match &built.modal_ratios {
+    let sys = System::assemble(model).map_err(|e| e.in_file(file))?;
+    match model.modal_ratios() {
         None => Ok(sys),
         Some(r) => complete_modal_basis(&sys, r),
     }
@@ -321,7 +318,7 @@ fn open_checkpoint(dir: &Path, sweep: &Sweep) -> Result<()> {
 pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
     let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
     if threads == 0 {
-        return Err(Error::input("<options>", "threads", "must be at least 1"));
+        return Err(Error::argument("threads", "must be at least 1"));
     }
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)

@@ -6,6 +6,7 @@ use super::base::BaseCase;
 pub use super::field::{get_path, parse_path, set_path, unit_of, Field, Segment};
 use crate::case::{LoadedCase, Spacing};
 use crate::error::{Error, Result};
+use crate::signal::sampling::samples_for_harmonics;
 use crate::signal::voltage::VoltageInput;
 use serde::Deserialize;
 use std::path::Path;
@@ -150,11 +151,11 @@ pub fn harmonic_counts(
         return Err(Error::input(file, "harmonics", "must be at least 1"));
     }
     let samples_per_period = samples.or(base.samples_per_period).unwrap_or(1024);
-    if samples_per_period < 4 * harmonics + 2 {
+    if samples_for_harmonics(harmonics).is_none_or(|n| samples_per_period < n) {
         return Err(Error::input(
             file,
             "samples_per_period",
-            format!("must be at least 4·harmonics + 2 = {} to resolve the harmonics", 4 * harmonics + 2),
+            format!("must be at least 4·harmonics + 2 = {} to resolve the harmonics", 4 * (harmonics as u128) + 2),
         ));
     }
     Ok((harmonics, samples_per_period))

@@ -19,7 +19,7 @@ pub fn bare_beam(elements: usize, [a0, a1]: [f64; 2]) -> LoadedCase {
 /// The error message a bad case text produces.
 pub fn case_error(text: &str) -> String {
     match LoadedCase::from_str(text, "bad.toml", PathBuf::from(".")) {
-        Ok(lc) => match beamflow::case::build_model(&lc) {
+        Ok(lc) => match beamflow::analysis::plan::calibrated_model(&lc) {
             Ok(_) => panic!("case was accepted but should be rejected:\n{text}"),
             Err(e) => e.to_string(),
         },

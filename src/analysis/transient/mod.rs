@@ -157,7 +157,7 @@ fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<Ba
     // The structure's Rayleigh damping lets the band step drop its C product (a reduced,
     // dense system declines: its C is no longer banded).
     let options = StepOptions {
-        rayleigh: Some((model.rayleigh.a0, model.rayleigh.a1)),
+        rayleigh: Some((model.rayleigh().a0, model.rayleigh().a1)),
         track_dissipation: true,
         ..StepOptions::default()
     };
@@ -194,7 +194,7 @@ pub fn check_time_step(sys: &System, scheme: Scheme, timing: &DriveTiming) -> Re
 /// Runs the transient.
 pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<TransientResult> {
     if sys.k_loss.is_some() {
-        return Err(crate::error::Error::input("<case>", "damping.kind", HYSTERETIC_IN_TIME));
+        return Err(crate::error::Error::case_field("damping.kind", HYSTERETIC_IN_TIME));
     }
     let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
     stability::check_step(sys, s.scheme, &timing)?;
@@ -224,9 +224,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         ledger.close_period(&nm, pb);
         if let Some(d) = nm.u().iter().chain(nm.v()).position(|x| !x.is_finite()) {
             let n = sys.n();
-            return Err(crate::error::Error::input(
-                "<case>",
-                "analysis.dt",
+            return Err(crate::error::Error::analysis_setting(
+                "dt",
                 format!(
                     "the time integration diverged in period {} (by step {}): the {} of DOF {} is no longer a \
                      finite number; a smaller `dt`, an unconditionally stable scheme or inputs nearer physical \
@@ -299,7 +298,7 @@ pub fn record_segments(timing: &DriveTiming, segment: Option<f64>) -> Result<Opt
         Some(seg) => Welch::hann((seg / timing.dt).round() as usize),
         None => Welch::whole(samples),
     };
-    welch.check(samples, "<case>", "analysis.segment")?;
+    welch.check(samples).map_err(|r| crate::error::Error::analysis_setting("segment", r))?;
     Ok(Some(welch))
 }
 

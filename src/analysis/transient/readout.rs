@@ -95,7 +95,8 @@ impl Readout {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::case::{build_model, LoadedCase};
+    use crate::analysis::plan::calibrated_model;
+    use crate::case::LoadedCase;
     use std::path::PathBuf;
 
     /// Every named row holds the pattern it names, on a model with every kind of row: two
@@ -110,7 +111,7 @@ mod tests {
              [[sensor]]\nname = \"a\"\nx = 0.365\n[[sensor]]\nname = \"b\"\nx = 0.6\n"
         );
         let cases = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases");
-        let model = build_model(&LoadedCase::from_str(&text, "r.toml", cases).unwrap()).unwrap().model;
+        let model = calibrated_model(&LoadedCase::from_str(&text, "r.toml", cases).unwrap()).unwrap();
         let sys = System::assemble(&model).unwrap();
         let r = Readout::new(&model, &sys).unwrap();
         let rows = r.rows();

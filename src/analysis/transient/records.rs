@@ -24,7 +24,7 @@ pub(super) fn analyse(
         let series = &links[l];
         points.push(point_record(
             &PointChannels {
-                name: format!("{name}_{}", lk.name),
+                name: crate::actuator::link_id(name, &lk.name),
                 drive_name: name.to_string(),
                 drive: &all.v[lk.actuator],
                 force: &series.interface,

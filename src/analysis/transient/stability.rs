@@ -23,9 +23,8 @@ pub(super) fn check_step(sys: &System, scheme: Scheme, timing: &DriveTiming) -> 
     };
     let n = sys.n();
     if n > DENSE_EIGEN_LIMIT {
-        return Err(Error::input(
-            "<case>",
-            "analysis.scheme",
+        return Err(Error::analysis_setting(
+            "scheme",
             format!(
                 "a conditionally stable scheme needs the model's highest natural frequency, computed for \
                  at most {DENSE_EIGEN_LIMIT} DOFs (this model has {n}): use scheme = \"average_acceleration\", \
@@ -45,9 +44,8 @@ pub(super) fn check_step(sys: &System, scheme: Scheme, timing: &DriveTiming) -> 
     } else {
         format!("give `dt` below {limit:.6e} s")
     };
-    Err(Error::input(
-        "<case>",
-        "analysis.dt",
+    Err(Error::analysis_setting(
+        "dt",
         format!(
             "Δt = {:.6e} s exceeds the stability limit {limit:.6e} s of this scheme on this model (highest \
              natural frequency {:.4e} Hz): {advice}, or use scheme = \"average_acceleration\", which is \
