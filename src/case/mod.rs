@@ -72,7 +72,7 @@ impl Case {
         let drives = self.actuator.iter().enumerate().map(|(i, a)| (format!("actuator[{i}].voltage"), &a.voltage));
         let loads = self.load.iter().enumerate().map(|(i, l)| (format!("load[{i}].force"), &l.force));
         for (field, signal) in drives.chain(loads) {
-            if let crate::signal::voltage::VoltageInput::Series { file: csv, .. } = signal {
+            if let crate::case::signal::SignalSpec::Series { file: csv, .. } = signal {
                 files.push((dir.join(csv), format!("the series file of {file} ({field}.file)")));
             }
         }
