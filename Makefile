@@ -9,11 +9,13 @@ paper: deps
 # The whole test suite in release mode (the physics tests run long time integrations),
 # then an outside HDF5 reader (h5dump) checks that a result file is standard HDF5, then the
 # Slurm job array of docs/sweeps.md runs on a one-node cluster on localhost (slurm-wlm and
-# munge are installed with apt-get if missing; needs root or passwordless sudo), and the
-# Python package is built in a fresh virtualenv and tested (scripts/test-python.sh).
+# munge are installed with apt-get if missing; needs root or passwordless sudo), the
+# Python package is built in a fresh virtualenv and tested (scripts/test-python.sh), and
+# every command of the README runs as written in a fresh clone (scripts/test-readme.sh).
 test: deps
 	cargo test --release
 	bash scripts/check-results-with-h5dump.sh
+	bash scripts/test-readme.sh
 	bash scripts/test-slurm.sh
 	bash scripts/test-python.sh
 

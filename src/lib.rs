@@ -34,6 +34,7 @@ pub mod io;
 pub mod linalg;
 pub mod optimize;
 pub mod power;
+pub mod progress;
 pub mod report;
 pub mod signal;
 pub mod simd;

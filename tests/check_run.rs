@@ -62,7 +62,7 @@ fn check_refuses_what_run_refuses_before_any_solve() {
             Ok(()) => panic!("case {i}: check accepted\n{text}"),
         };
         let out = dir.path().join(format!("out{i}"));
-        let ran = commands::run(&case, Some(&out), None, false).unwrap_err().to_string();
+        let ran = commands::run(&case, Some(&out), None, false, false).unwrap_err().to_string();
         assert_eq!(checked, ran, "case {i}: check and run differ");
         assert!(
             checked.contains(&format!("c{i}.toml")) && checked.contains(field) && checked.contains(words),

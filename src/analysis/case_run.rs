@@ -23,6 +23,8 @@ pub struct CaseRun {
     pub model: Model,
     pub system: System,
     pub results: Vec<AnalysisResult>,
+    /// The case's measurements against each periodic analysis' prediction.
+    pub measured: Vec<crate::analysis::measured::Comparison>,
 }
 
 impl AnalysisResult {

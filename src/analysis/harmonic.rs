@@ -77,7 +77,9 @@ pub fn run(
         Some(_) => None,
     };
     let mut cols: Vec<Vec<Complex64>> = vec![vec![Complex64::default(); n]; forces.len()];
-    for &fhz in frequencies {
+    let task = crate::progress::Task::start("harmonic analysis", Some(frequencies.len() as u64), "frequencies");
+    for (done, &fhz) in frequencies.iter().enumerate() {
+        task.set(done as u64);
         if !(fhz > 0.0) {
             return Err(Error::analysis_setting("frequencies", format!("frequencies must be positive, got {fhz} Hz")));
         }

@@ -8,6 +8,7 @@
 pub mod case_run;
 pub mod drive;
 pub mod harmonic;
+pub mod measured;
 pub mod modes;
 pub mod plan;
 pub mod reduction;

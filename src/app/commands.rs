@@ -98,8 +98,8 @@ pub fn default_out(case: &Path) -> PathBuf {
     PathBuf::from("out").join(case.file_stem().unwrap_or_default())
 }
 
-/// `beamflow run`.
-pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) -> Result<()> {
+/// `beamflow run` (`csv`: also write the results as tidy CSV tables).
+pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, csv: bool) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
     let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
@@ -127,6 +127,9 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool) ->
         let p = staged(format!("{stem}_dofs.csv"))?;
         crate::io::mtx::write_dof_map(&p, &crate::assembly::dof_rows(&run.model, &run.system))?;
         written.push(p);
+    }
+    if csv {
+        written.extend(crate::io::results_csv::write(set.dir(), stem, &lc, &run)?);
     }
     if plots && lc.case.output.plots {
         written.extend(crate::report::figures::plot_run(set.dir(), stem, &run)?);

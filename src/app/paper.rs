@@ -52,26 +52,97 @@ fn link_index(run: &CaseRun, actuator: usize, name: &str) -> usize {
     run.system.links.iter().position(|l| l.actuator == actuator && l.name == name).expect("link exists")
 }
 
-fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
+/// Runs a case and writes its HDF5 file (and, with `csv`, its CSV tables) into `out`.
+fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, csv: bool, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
     eprintln!("running {stem} …");
     let run = run_case(lc)?;
     let h5 = crate::io::paths::output_file(out, &format!("{stem}.h5"))?;
     crate::io::results::write(&h5, lc, &run)?;
     written.push(h5);
+    if csv {
+        written.extend(crate::io::results_csv::write(out, stem, lc, &run)?);
+    }
     Ok(run)
 }
 
-/// Runs everything and writes figures, HDF5 files and the summaries into `out`.
-pub fn run(out: &Path) -> Result<()> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let mut written = Vec::new();
-    let mut max_balance = 0.0f64;
+/// Files written so far and the largest energy-balance error of the runs behind them.
+struct Written {
+    files: Vec<PathBuf>,
+    max_balance: f64,
+    /// Whether each run also writes its CSV tables.
+    csv: bool,
+}
 
-    // Rigid base, 48 V, 30 Hz: Figs. 8, 9, 10, 12.
+/// What the rigid-base run shows about the transmitted forces.
+struct RigidFindings {
+    /// |F_E| / |F_T| at the drive frequency.
+    force_ratio: f64,
+    /// Top-mass over top-beam displacement amplitude at the drive frequency.
+    displacement_ratio: f64,
+    even_over_fundamental: f64,
+    third_over_fundamental: f64,
+    foot_leg_phase_deg: f64,
+    foot_largest: bool,
+}
+
+/// The powers into the beam at the drive frequency (W).
+struct BeamFindings {
+    p_in: f64,
+    /// Frame: stack foot, left leg, right leg.
+    p_pts: Vec<f64>,
+    p_fr: f64,
+    transient_inertial: f64,
+    transient_frame: f64,
+    /// The two strongest lines of the inertial actuator's power spectrum (Hz).
+    lines: Vec<f64>,
+}
+
+/// Runs everything and writes figures, HDF5 files (and, with `csv`, CSV tables) and the
+/// summaries into `out`.
+pub fn run(out: &Path, csv: bool) -> Result<()> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let mut w = Written { files: Vec::new(), max_balance: 0.0, csv };
     let rigid_lc = load("rigid-base-48V-30Hz.toml")?;
-    let rigid = run_and_store(&rigid_lc, out, "rigid-base-48V-30Hz", &mut written)?;
+    let rigid = rigid_base(&rigid_lc, out, &mut w)?;
+    let mass_amp = top_mass(&rigid_lc, out, &mut w)?;
+    let beam = on_beam(out, &mut w)?;
+    let (p_in, p_fr, p_pts) = (beam.p_in, beam.p_fr, &beam.p_pts);
+    let summary = json!({
+        "force_ratio_frame_over_inertial": rigid.force_ratio,
+        "top_displacement_ratio_inertial_over_frame": rigid.displacement_ratio,
+        "net_power_inertial_w": p_in,
+        "net_power_frame_w": p_fr,
+        "net_power_ratio_frame_over_inertial": p_fr / p_in,
+        "power_frame_points_w": {"stack": p_pts[0], "left_leg": p_pts[1], "right_leg": p_pts[2]},
+        "net_power_transient_inertial_w": beam.transient_inertial,
+        "net_power_transient_frame_w": beam.transient_frame,
+        "transmitted_force_amplitude_vs_top_mass": mass_amp.iter().map(|(m, f)| json!({"m_t_kg": m, "f_t_n": f})).collect::<Vec<_>>(),
+        "inertial_force_even_over_fundamental": rigid.even_over_fundamental,
+        "inertial_force_third_over_fundamental": rigid.third_over_fundamental,
+        "frame_foot_leg_phase_deg": rigid.foot_leg_phase_deg,
+        "frame_foot_force_largest": rigid.foot_largest,
+        "inertial_power_spectrum_lines_hz": beam.lines,
+        "energy_balance_max_rel_error": w.max_balance,
+        "notes": "powers at the drive frequency from the frequency-domain periodic steady state (exact); the *_transient_* values are the Newmark steady state at Δt = T/200",
+    });
+    let json_path = crate::io::paths::output_file(out, "summary.json")?;
+    write_atomic_string(&json_path, &serde_json::to_string_pretty(&summary).expect("serialisable"))?;
+    w.files.push(json_path);
+    let md = summary_md(&summary, &mass_amp);
+    let md_path = crate::io::paths::output_file(out, "summary.md")?;
+    write_atomic_string(&md_path, &md)?;
+    w.files.push(md_path);
+    crate::say!("{md}");
+    crate::say!("wrote {} files to {}", w.files.len(), out.display());
+    Ok(())
+}
+
+/// Figs. 8, 9, 10 and 12 from the rigid-base run at 48 V, 30 Hz, and what they show.
+fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<RigidFindings> {
+    let (written, max_balance, csv) = (&mut w.files, &mut w.max_balance, w.csv);
+    let rigid = run_and_store(rigid_lc, out, "rigid-base-48V-30Hz", csv, written)?;
     let rt = transient(&rigid)?;
-    max_balance = max_balance.max(rt.energy_run.system.relative_error());
+    *max_balance = max_balance.max(rt.energy_run.system.relative_error());
     let (i_stack, f_stack, f_left, f_right) = (
         link_index(&rigid, 0, "stack"),
         link_index(&rigid, 1, "stack"),
@@ -124,7 +195,27 @@ pub fn run(out: &Path) -> Result<()> {
         crate::power::spectra::harmonics(&body(0, "z_t").q[body(0, "z_t").q.len() - rt.steps_per_period..])[1].norm();
     let y1 = crate::power::spectra::harmonics(&body(1, "y").q[body(1, "y").q.len() - rt.steps_per_period..])[1].norm();
 
-    // Fig. 11: inertial actuator with four top masses.
+    // The paper's qualitative claims about the forces, measured on this run.
+    let fi = &rt.spectra[i_stack].transmitted;
+    let even_over_fundamental = (2..fi.len()).step_by(2).map(|k| fi[k].norm()).fold(0.0, f64::max) / fi[1].norm();
+    let third_over_fundamental = fi.get(3).map_or(f64::NAN, |c| c.norm() / fi[1].norm());
+    let fe = rt.spectra[f_stack].transmitted[1];
+    let (fl, fr) = (rt.spectra[f_left].transmitted[1], rt.spectra[f_right].transmitted[1]);
+    let foot_leg_phase_deg = (fe / fl).arg().to_degrees().abs();
+    let foot_largest = fe.norm() > fl.norm() && fe.norm() > fr.norm();
+    Ok(RigidFindings {
+        force_ratio,
+        displacement_ratio: z1 / y1,
+        even_over_fundamental,
+        third_over_fundamental,
+        foot_leg_phase_deg,
+        foot_largest,
+    })
+}
+
+/// Fig. 11: the inertial actuator alone on the rigid base with four top masses; the
+/// fundamental of F_T per mass (kg, N).
+fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f64, f64)>> {
     let mut fig11 = LinePlot::new(
         "Fig. 11 — inertial-type F_T against top mass (rigid base, 48 V, 30 Hz)",
         "time (ms)",
@@ -137,28 +228,33 @@ pub fn run(out: &Path) -> Result<()> {
         case.actuator[0].m_t = Some(m_t);
         case.title = format!("Rigid base, 48 V, 30 Hz, inertial actuator, m_t = {m_t} kg");
         let lc = LoadedCase::from_case(case, &format!("{} (m_t = {m_t})", rigid_lc.file), rigid_lc.dir.clone())?;
-        let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), &mut written)?;
+        let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), w.csv, &mut w.files)?;
         let t = transient(&run)?;
-        max_balance = max_balance.max(t.energy_run.system.relative_error());
+        w.max_balance = w.max_balance.max(t.energy_run.system.relative_error());
         fig11.series.push(Series::line(format!("m_t = {m_t} kg"), ms_axis(&t.t), t.links[0].transmitted.clone()));
         mass_amp.push((m_t, t.spectra[0].transmitted[1].norm()));
     }
-    written.extend(save(&fig11, out, "fig11_top_mass")?);
+    w.files.extend(save(&fig11, out, "fig11_top_mass")?);
 
-    // Beam, 12 V, 60 Hz: Figs. 13–16.
+    Ok(mass_amp)
+}
+
+/// Figs. 13–16 from the two actuators on the beam at 12 V, 60 Hz, and the powers they show.
+fn on_beam(out: &Path, w: &mut Written) -> Result<BeamFindings> {
+    let (written, max_balance, csv) = (&mut w.files, &mut w.max_balance, w.csv);
     let bi_lc = load("beam-inertial-12V-60Hz.toml")?;
-    let bi = run_and_store(&bi_lc, out, "beam-inertial-12V-60Hz", &mut written)?;
+    let bi = run_and_store(&bi_lc, out, "beam-inertial-12V-60Hz", csv, written)?;
     let bf_lc = load("beam-frame-12V-60Hz.toml")?;
-    let bf = run_and_store(&bf_lc, out, "beam-frame-12V-60Hz", &mut written)?;
+    let bf = run_and_store(&bf_lc, out, "beam-frame-12V-60Hz", csv, written)?;
     let (bit, bis, bft, bfs) = (transient(&bi)?, steady(&bi)?, transient(&bf)?, steady(&bf)?);
     for t in [bit, bft] {
-        max_balance = max_balance
+        *max_balance = max_balance
             .max(t.energy_run.beam.relative_error())
             .max(t.energy_last_period.beam.relative_error())
             .max(t.energy_run.system.relative_error());
     }
     for s in [bis, bfs] {
-        max_balance = max_balance.max(s.balance_error);
+        *max_balance = max_balance.max(s.balance_error);
     }
     let x = ms_axis(&bit.t);
     let mut f13 = LinePlot::new("interface force", "time (ms)", "force (N)");
@@ -215,43 +311,14 @@ pub fn run(out: &Path) -> Result<()> {
     fig16.groups.push(("net power at the drive frequency".into(), vec![p_in, p_fr]));
     written.extend(save(&fig16, out, "fig16_net_power")?);
 
-    // The paper's qualitative claims, measured on our runs.
-    let fi = &rt.spectra[i_stack].transmitted;
-    let even_over_fundamental = (2..fi.len()).step_by(2).map(|k| fi[k].norm()).fold(0.0, f64::max) / fi[1].norm();
-    let third_over_fundamental = fi.get(3).map_or(f64::NAN, |c| c.norm() / fi[1].norm());
-    let fe = rt.spectra[f_stack].transmitted[1];
-    let (fl, fr) = (rt.spectra[f_left].transmitted[1], rt.spectra[f_right].transmitted[1]);
-    let foot_leg_phase_deg = (fe / fl).arg().to_degrees().abs();
-    let foot_largest = fe.norm() > fl.norm() && fe.norm() > fr.norm();
-    let lines = strongest_lines(&bis.spectra[0]);
-    let summary = json!({
-        "force_ratio_frame_over_inertial": force_ratio,
-        "top_displacement_ratio_inertial_over_frame": z1 / y1,
-        "net_power_inertial_w": p_in,
-        "net_power_frame_w": p_fr,
-        "net_power_ratio_frame_over_inertial": p_fr / p_in,
-        "power_frame_points_w": {"stack": p_pts[0], "left_leg": p_pts[1], "right_leg": p_pts[2]},
-        "net_power_transient_inertial_w": bit.spectra[0].power[1],
-        "net_power_transient_frame_w": idx.iter().map(|&l| bft.spectra[l].power[1]).sum::<f64>(),
-        "transmitted_force_amplitude_vs_top_mass": mass_amp.iter().map(|(m, f)| json!({"m_t_kg": m, "f_t_n": f})).collect::<Vec<_>>(),
-        "inertial_force_even_over_fundamental": even_over_fundamental,
-        "inertial_force_third_over_fundamental": third_over_fundamental,
-        "frame_foot_leg_phase_deg": foot_leg_phase_deg,
-        "frame_foot_force_largest": foot_largest,
-        "inertial_power_spectrum_lines_hz": lines,
-        "energy_balance_max_rel_error": max_balance,
-        "notes": "powers at the drive frequency from the frequency-domain periodic steady state (exact); the *_transient_* values are the Newmark steady state at Δt = T/200",
-    });
-    let json_path = crate::io::paths::output_file(out, "summary.json")?;
-    write_atomic_string(&json_path, &serde_json::to_string_pretty(&summary).expect("serialisable"))?;
-    written.push(json_path);
-    let md = summary_md(&summary, &mass_amp);
-    let md_path = crate::io::paths::output_file(out, "summary.md")?;
-    write_atomic_string(&md_path, &md)?;
-    written.push(md_path);
-    crate::say!("{md}");
-    crate::say!("wrote {} files to {}", written.len(), out.display());
-    Ok(())
+    Ok(BeamFindings {
+        p_in,
+        p_pts,
+        p_fr,
+        transient_inertial: bit.spectra[0].power[1],
+        transient_frame: idx.iter().map(|&l| bft.spectra[l].power[1]).sum::<f64>(),
+        lines: strongest_lines(&bis.spectra[0]),
+    })
 }
 
 /// The two strongest lines (Hz) of a power spectrum, by |power| per harmonic.

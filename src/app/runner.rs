@@ -9,6 +9,7 @@ use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSetting
 use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{Model, System};
+use crate::case::measured::Measured;
 use crate::case::{AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::power::modal::ModalDamping;
@@ -85,8 +86,9 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
 /// need, points on nodes, time steps (as given, resolving the drive, stable for the
 /// scheme), periodic drives where the analysis needs one, damping the analysis can apply.
 /// `beamflow check` runs it, and [`run_case`] before its first analysis, so both refuse the
-/// same cases with the same messages.
-pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<()> {
+/// same cases with the same messages. Returns the case's measurements (`[[measurement]]`),
+/// read and checked against the model.
+pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<Vec<Measured>> {
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
         let need_beam = || {
@@ -164,7 +166,15 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<()> 
         };
         check().map_err(|e| e.in_analysis(&lc.file, &field))?;
     }
-    Ok(())
+    let measured = crate::case::measured::load_measurements(lc)?;
+    let periodic = lc
+        .case
+        .analysis
+        .iter()
+        .filter(|a| matches!(a, AnalysisSpec::Transient { .. } | AnalysisSpec::SteadyState { .. }))
+        .count();
+    crate::analysis::measured::check(&measured, model, system, periodic).map_err(|e| e.in_file(&lc.file))?;
+    Ok(measured)
 }
 
 pub use crate::analysis::roundoff::MESH_ELEMENTS_LIMIT;
@@ -191,22 +201,9 @@ fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
 /// Builds the model and runs the case's analyses in order, after [`preflight`].
 pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     let (model, system) = plan::model_and_system(lc)?;
-    preflight(lc, &model, &system)?;
-    let modal_ratios = model.modal_ratios().map(<[f64]>::to_vec);
-    let mut reduced = ReducedCache::default();
-    // Built at most once per case run (an eigen-analysis and a dense basis).
-    let complete: OnceCell<System> = OnceCell::new();
-    let reference = || -> Result<&System> {
-        match &modal_ratios {
-            None => Ok(&system),
-            Some(r) => {
-                if complete.get().is_none() {
-                    let _ = complete.set(reduction::complete_modal_basis(&system, r)?);
-                }
-                Ok(complete.get().expect("set above"))
-            }
-        }
-    };
+    let measured = preflight(lc, &model, &system)?;
+    let mut run =
+        Runner { model: &model, system: &system, reduced: ReducedCache::default(), complete: OnceCell::new() };
     let mut results = Vec::new();
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
@@ -219,84 +216,19 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
         let r = match spec {
             AnalysisSpec::Modes { count } => AnalysisResult::Modes(modes::run(need_beam()?, *count)?),
             AnalysisSpec::Harmonic { frequencies, force } => {
-                let beam = need_beam()?;
-                let bare = Model {
-                    beam: Some(beam.clone()),
-                    damping: model.damping.clone(),
-                    actuators: Vec::new(),
-                    sensors: model.sensors.clone(),
-                    loads: Vec::new(),
-                };
-                let sys = System::assemble(&bare)?;
-                let forces = harmonic_forces(force, &model.loads);
-                let modal = match model.modal_ratios() {
-                    Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r)),
-                    None => None,
-                };
-                let modal = modal.as_ref().map(|(m, r)| (m, *r));
-                AnalysisResult::Harmonic(harmonic::run(&bare, &sys, &frequencies.list(), &forces, modal)?)
+                AnalysisResult::Harmonic(run.harmonic(need_beam()?, &frequencies.list(), force)?)
             }
             AnalysisSpec::Transient { reduction, .. } => {
                 let s = transient_settings(spec, lc.case.output.full_history).expect("transient");
-                let r = match reduction {
-                    None => transient::run(&model, &system, &s),
-                    Some(rs) => (|| {
-                        let rs = reduction_settings(rs, modal_ratios.as_deref());
-                        let timing =
-                            DriveTiming::stepped(&model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
-                        let h = timing.analysed_harmonics(s.harmonics);
-                        let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
-                        let mut r = transient::run(&model, &red, &s)?;
-                        if rs.error_estimate {
-                            report.error = Some(reduction::estimate_error(
-                                &model,
-                                reference()?,
-                                &red,
-                                h,
-                                ESTIMATE_SAMPLES.max(samples_for_harmonics(h).unwrap_or(usize::MAX)),
-                            )?);
-                        }
-                        r.reduction = Some(report);
-                        Ok(r)
-                    })(),
-                };
+                let r = run.transient(&s, reduction.as_ref());
                 AnalysisResult::Transient(Box::new(r.map_err(|e| e.in_analysis(&lc.file, &field))?))
             }
             AnalysisSpec::SteadyState { harmonics, harmonic_tolerance, samples_per_period, reduction } => {
-                let n = *samples_per_period;
-                // A reduced model's cut-off follows the harmonic count, so it needs one first.
-                let h = harmonics.unwrap_or(REDUCED_HARMONICS);
                 let count = match harmonics {
                     Some(h) => HarmonicCount::Fixed(*h),
                     None => HarmonicCount::Tolerance(*harmonic_tolerance),
                 };
-                let r = match reduction {
-                    None => (|| {
-                        let fd = reference()?;
-                        let mut s = steady_state::run_counted(&model, fd, count, n)?;
-                        s.expand(fd);
-                        // The mode-resolved view has viscous modal dampers only.
-                        let bare = if model.loss_factor() > 0.0 {
-                            None
-                        } else {
-                            modes::bare_modes_on(&model, &system, MODAL_TABLE_MODES)?
-                        };
-                        let damping = ModalDamping::of(&model.damping);
-                        s.decompose_with(&system, bare.as_ref(), damping);
-                        Ok(s)
-                    })(),
-                    Some(rs) => (|| {
-                        let rs = reduction_settings(rs, modal_ratios.as_deref());
-                        let (red, mut report) = reduced.get(&model, &system, &rs, h)?;
-                        let mut r = steady_state::run_counted(&model, &red, HarmonicCount::Fixed(h), n)?;
-                        if rs.error_estimate {
-                            let full = steady_state::run(&model, reference()?, h, n)?;
-                            report.error = Some(reduction::compare(&full, &r));
-                        }
-                        r.reduction = Some(report);
-                        Ok(r)
-                    })(),
-                };
+                let r = run.steady_state(count, *samples_per_period, reduction.as_ref());
                 AnalysisResult::SteadyState(Box::new(r.map_err(|e: Error| e.in_analysis(&lc.file, &field))?))
             }
         };
@@ -313,11 +245,120 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
         }
         results.push(r);
     }
-    Ok(CaseRun { model, system, results })
+    let link_name =
+        |l: &crate::analysis::series::LinkSeries| crate::actuator::link_id(model.actuators[l.actuator].name(), &l.name);
+    let measured =
+        crate::analysis::measured::compare_all(&results, &measured, &link_name).map_err(|e| e.in_file(&lc.file))?;
+    Ok(CaseRun { model, system, results, measured })
 }
 
-/// Harmonics of a modal-reduced steady state that does not name its count.
-const REDUCED_HARMONICS: usize = 9;
+/// A case's analyses against one model and its assembled system, sharing what they build.
+struct Runner<'a> {
+    model: &'a Model,
+    system: &'a System,
+    reduced: ReducedCache,
+    /// The model in the bare beam's complete modal basis, where modal damping is a matrix:
+    /// built at most once per case run (an eigen-analysis and a dense basis).
+    complete: OnceCell<System>,
+}
+
+impl Runner<'_> {
+    /// The full-order system the frequency-domain analyses solve: the assembled one, or
+    /// with modal damping its complete modal basis.
+    fn reference(&self) -> Result<&System> {
+        match self.model.modal_ratios() {
+            None => Ok(self.system),
+            Some(r) => {
+                if self.complete.get().is_none() {
+                    let _ = self.complete.set(reduction::complete_modal_basis(self.system, r)?);
+                }
+                Ok(self.complete.get().expect("set above"))
+            }
+        }
+    }
+
+    /// The bare beam (with the case's sensors and damping) under the harmonic analysis's
+    /// forces, or the case's sine loads.
+    fn harmonic(
+        &self,
+        beam: &crate::beam::Beam,
+        hz: &[f64],
+        force: &[crate::case::ForceSpec],
+    ) -> Result<harmonic::HarmonicResult> {
+        let model = self.model;
+        let bare = Model {
+            beam: Some(beam.clone()),
+            damping: model.damping.clone(),
+            actuators: Vec::new(),
+            sensors: model.sensors.clone(),
+            loads: Vec::new(),
+        };
+        let sys = System::assemble(&bare)?;
+        let forces = harmonic_forces(force, &model.loads);
+        let modal = match model.modal_ratios() {
+            Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r)),
+            None => None,
+        };
+        let modal = modal.as_ref().map(|(m, r)| (m, *r));
+        harmonic::run(&bare, &sys, hz, &forces, modal)
+    }
+
+    fn transient(
+        &mut self,
+        s: &TransientSettings,
+        reduction: Option<&ReductionSpec>,
+    ) -> Result<transient::TransientResult> {
+        let model = self.model;
+        let Some(rs) = reduction else { return transient::run(model, self.system, s) };
+        let rs = reduction_settings(rs, model.modal_ratios());
+        let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
+        let h = timing.analysed_harmonics(s.harmonics);
+        let (red, mut report) = self.reduced.get(model, self.system, &rs, h)?;
+        let mut r = transient::run(model, &red, s)?;
+        if rs.error_estimate {
+            let samples = ESTIMATE_SAMPLES.max(samples_for_harmonics(h).unwrap_or(usize::MAX));
+            report.error = Some(reduction::estimate_error(model, self.reference()?, &red, h, samples)?);
+        }
+        r.reduction = Some(report);
+        Ok(r)
+    }
+
+    fn steady_state(
+        &mut self,
+        count: HarmonicCount,
+        samples: usize,
+        reduction: Option<&ReductionSpec>,
+    ) -> Result<steady_state::SteadyStateResult> {
+        let model = self.model;
+        let Some(rs) = reduction else {
+            let fd = self.reference()?;
+            let mut s = steady_state::run_counted(model, fd, count, samples)?;
+            s.expand(fd);
+            // The mode-resolved view has viscous modal dampers only.
+            let bare = if model.loss_factor() > 0.0 {
+                None
+            } else {
+                modes::bare_modes_on(model, self.system, MODAL_TABLE_MODES)?
+            };
+            s.decompose_with(self.system, bare.as_ref(), ModalDamping::of(&model.damping));
+            return Ok(s);
+        };
+        // A reduced model's cut-off follows the harmonic count, so it needs one first.
+        let h = match count {
+            HarmonicCount::Fixed(h) => h,
+            HarmonicCount::Tolerance(_) => crate::case::DEFAULT_HARMONICS,
+        };
+        let rs = reduction_settings(rs, model.modal_ratios());
+        let (red, mut report) = self.reduced.get(model, self.system, &rs, h)?;
+        let mut r = steady_state::run_counted(model, &red, HarmonicCount::Fixed(h), samples)?;
+        if rs.error_estimate {
+            let full = steady_state::run(model, self.reference()?, h, samples)?;
+            report.error = Some(reduction::compare(&full, &r));
+        }
+        r.reduction = Some(report);
+        Ok(r)
+    }
+}
 
 /// Samples per period of the frequency-domain runs behind a reduction's error estimate.
 const ESTIMATE_SAMPLES: usize = 1024;

@@ -161,154 +161,25 @@ impl System {
         model.damping.require_calibrated()?;
         let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
         let beam = model.beam.as_ref();
-        // Resolve feet to nodes and find each actuator's anchor node.
-        let mut anchors = Vec::new();
-        let mut feet_nodes: Vec<Vec<Option<usize>>> = Vec::new();
-        for (ai, comp) in comps.iter().enumerate() {
-            let mut nodes = Vec::new();
-            for link in &comp.links {
-                nodes.push(match (link.foot, beam) {
-                    (FootBase::Beam { x }, Some(b)) => Some(b.mesh.node_at(x).ok_or_else(|| {
-                        Error::case_field(
-                            format!("actuator[{ai}].{}", link.name),
-                            format!("foot at x = {x} m is not on a mesh node"),
-                        )
-                    })?),
-                    (FootBase::Beam { x }, None) => {
-                        return Err(Error::case_field(
-                            format!("actuator[{ai}].{}", link.name),
-                            format!("foot at x = {x} m but the model has no beam"),
-                        ));
-                    }
-                    (FootBase::Ground, _) => None,
-                });
-            }
-            anchors.push(nodes.iter().flatten().max().copied());
-            feet_nodes.push(nodes);
-        }
+        let feet_nodes = feet_nodes(&comps, beam)?;
+        // Each actuator's bodies are numbered after the last node its feet stand on.
+        let anchors: Vec<Option<usize>> =
+            feet_nodes.iter().map(|nodes| nodes.iter().flatten().max().copied()).collect();
         let sizes: Vec<usize> = comps.iter().map(|c| c.dof_names.len()).collect();
         let dofs = DofMap::number(beam, &anchors, &sizes);
         let n = dofs.n;
-
-        let mut mb = Vec::new();
-        let mut kb = Vec::new();
-        let mut cb = Vec::new();
-        if let Some(beam) = beam {
-            for e in &beam.mesh.elements {
-                let ke = element_stiffness(e.ei, e.length);
-                let me = element_mass(e.rho_a, e.length, beam.mass_kind);
-                let d = dofs.element_dofs(e.nodes);
-                for a in 0..4 {
-                    for b in 0..4 {
-                        if let (Some(i), Some(j)) = (d[a], d[b]) {
-                            kb.push((i, j, ke[(a, b)]));
-                            mb.push((i, j, me[(a, b)]));
-                        }
-                    }
-                }
-            }
-            for pm in &beam.point_masses {
-                if let Some(i) = dofs.w[pm.node] {
-                    mb.push((i, i, pm.mass));
-                }
-                if let Some(i) = dofs.theta[pm.node] {
-                    mb.push((i, i, pm.rotary_inertia));
-                }
-            }
-            for s in &beam.supports {
-                if let SupportKind::Spring { k_w, k_theta } = s.kind {
-                    if let Some(i) = dofs.w[s.node] {
-                        kb.push((i, i, k_w));
-                    }
-                    if let Some(i) = dofs.theta[s.node] {
-                        kb.push((i, i, k_theta));
-                    }
-                }
-            }
-        }
-        let m_el = Csr::from_triplets(n, &mb);
-        let k_el = Csr::from_triplets(n, &kb);
-        // Rayleigh damping of the beam, plus grounded dashpots.
-        let rayleigh = model.rayleigh();
-        let mut ctrip: Vec<(usize, usize, f64)> = Vec::new();
-        ctrip.extend(m_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a0 * v)));
-        ctrip.extend(k_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a1 * v)));
-        if let Some(beam) = beam {
-            for s in &beam.springs {
-                if let Some(i) = dofs.w[s.node] {
-                    kb.push((i, i, s.stiffness));
-                    cb.push((i, i, s.damping));
-                }
-            }
-        }
-        ctrip.extend(cb);
-        let m_beam = m_el;
-        let k_beam = Csr::from_triplets(n, &kb);
-        let c_beam = Csr::from_triplets(n, &ctrip);
-
-        // Actuators.
-        let mut ma = Vec::new();
-        let mut ka = Vec::new();
-        let mut ca = Vec::new();
-        let mut links = Vec::new();
-        let mut drives = vec![Vec::new(); comps.len()];
-        for (ai, comp) in comps.iter().enumerate() {
-            let body = &dofs.bodies[ai];
-            for a in 0..body.len() {
-                for b in 0..body.len() {
-                    ma.push((body[a], body[b], comp.mass[(a, b)]));
-                }
-            }
-            for (li, link) in comp.links.iter().enumerate() {
-                let node = feet_nodes[ai][li];
-                let foot_dof = node.and_then(|nd| dofs.w[nd]);
-                let mut g: Vec<(usize, f64)> = link.top.iter().map(|&(d, c)| (body[d], c)).collect();
-                if let Some(fd) = foot_dof {
-                    g.push((fd, -1.0));
-                    ma.push((fd, fd, link.foot_mass));
-                }
-                for &(i, gi) in &g {
-                    for &(j, gj) in &g {
-                        ka.push((i, j, link.k * gi * gj));
-                        ca.push((i, j, link.c * gi * gj));
-                    }
-                }
-                if link.active {
-                    drives[ai] = g.clone();
-                }
-                links.push(LinkDofs {
-                    actuator: ai,
-                    name: link.name.clone(),
-                    k: link.k,
-                    c: link.c,
-                    stretch: g,
-                    foot_node: node,
-                    foot_dof,
-                    foot: foot_dof.map(|d| vec![(d, 1.0)]).unwrap_or_default(),
-                    foot_x: node.map(|nd| beam.unwrap().mesh.x[nd]),
-                    foot_mass: link.foot_mass,
-                    active: link.active,
-                });
-            }
-        }
-        let m = Csr::combine(&[(1.0, &m_beam), (1.0, &Csr::from_triplets(n, &ma))]);
-        let k = Csr::combine(&[(1.0, &k_beam), (1.0, &Csr::from_triplets(n, &ka))]);
-        let c = Csr::combine(&[(1.0, &c_beam), (1.0, &Csr::from_triplets(n, &ca))]);
+        let [m_beam, c_beam, k_beam] = structure_matrices(beam, &dofs, model.rayleigh());
+        let actuators = actuator_matrices(&comps, &feet_nodes, beam, &dofs);
+        let m = Csr::combine(&[(1.0, &m_beam), (1.0, &Csr::from_triplets(n, &actuators.m))]);
+        let k = Csr::combine(&[(1.0, &k_beam), (1.0, &Csr::from_triplets(n, &actuators.k))]);
+        let c = Csr::combine(&[(1.0, &c_beam), (1.0, &Csr::from_triplets(n, &actuators.c))]);
         let envelope = Skyline::<f64>::envelope_of(
             n,
             m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
         );
         let k_loss = (model.loss_factor() > 0.0).then(|| k_beam.scaled(model.loss_factor()));
-        let mut loads = Vec::with_capacity(model.loads.len());
-        for (i, l) in model.loads.iter().enumerate() {
-            let field = format!("load[{i}].x");
-            let beam = beam.ok_or_else(|| Error::case_field(&field, "a point load needs a beam"))?;
-            let node = beam
-                .mesh
-                .node_at(l.x)
-                .ok_or_else(|| Error::case_field(&field, format!("x = {} m is not on a mesh node", l.x)))?;
-            loads.push(dofs.w[node].map(|d| vec![(d, 1.0)]).unwrap_or_default());
-        }
+        let loads = load_patterns(model, &dofs)?;
+        let ActuatorMatrices { links, drives, .. } = actuators;
         Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, k_loss, links, drives, loads, envelope, projection: None })
     }
 
@@ -394,6 +265,173 @@ impl System {
         fac.solve_in_place(&mut q);
         Ok(q)
     }
+}
+
+/// The beam node each actuator link's foot stands on (None on the ground), per actuator.
+fn feet_nodes(comps: &[Component], beam: Option<&Beam>) -> Result<Vec<Vec<Option<usize>>>> {
+    let mut feet_nodes = Vec::with_capacity(comps.len());
+    for (ai, comp) in comps.iter().enumerate() {
+        let mut nodes = Vec::new();
+        for link in &comp.links {
+            nodes.push(match (link.foot, beam) {
+                (FootBase::Beam { x }, Some(b)) => Some(b.mesh.node_at(x).ok_or_else(|| {
+                    Error::case_field(
+                        format!("actuator[{ai}].{}", link.name),
+                        format!("foot at x = {x} m is not on a mesh node"),
+                    )
+                })?),
+                (FootBase::Beam { x }, None) => {
+                    return Err(Error::case_field(
+                        format!("actuator[{ai}].{}", link.name),
+                        format!("foot at x = {x} m but the model has no beam"),
+                    ));
+                }
+                (FootBase::Ground, _) => None,
+            });
+        }
+        feet_nodes.push(nodes);
+    }
+    Ok(feet_nodes)
+}
+
+/// The structure's own M, C and K: beam elements, point masses, support springs, Rayleigh
+/// damping of the elements and point masses (a₀·M + a₁·K, without the grounded springs),
+/// and the grounded spring–dampers.
+fn structure_matrices(beam: Option<&Beam>, dofs: &DofMap, rayleigh: super::damping::Rayleigh) -> [Csr; 3] {
+    let n = dofs.n;
+    let mut mb = Vec::new();
+    let mut kb = Vec::new();
+    let mut cb = Vec::new();
+    if let Some(beam) = beam {
+        for e in &beam.mesh.elements {
+            let ke = element_stiffness(e.ei, e.length);
+            let me = element_mass(e.rho_a, e.length, beam.mass_kind);
+            let d = dofs.element_dofs(e.nodes);
+            for a in 0..4 {
+                for b in 0..4 {
+                    if let (Some(i), Some(j)) = (d[a], d[b]) {
+                        kb.push((i, j, ke[(a, b)]));
+                        mb.push((i, j, me[(a, b)]));
+                    }
+                }
+            }
+        }
+        for pm in &beam.point_masses {
+            if let Some(i) = dofs.w[pm.node] {
+                mb.push((i, i, pm.mass));
+            }
+            if let Some(i) = dofs.theta[pm.node] {
+                mb.push((i, i, pm.rotary_inertia));
+            }
+        }
+        for s in &beam.supports {
+            if let SupportKind::Spring { k_w, k_theta } = s.kind {
+                if let Some(i) = dofs.w[s.node] {
+                    kb.push((i, i, k_w));
+                }
+                if let Some(i) = dofs.theta[s.node] {
+                    kb.push((i, i, k_theta));
+                }
+            }
+        }
+    }
+    let m_el = Csr::from_triplets(n, &mb);
+    let k_el = Csr::from_triplets(n, &kb);
+    let mut ctrip: Vec<(usize, usize, f64)> = Vec::new();
+    ctrip.extend(m_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a0 * v)));
+    ctrip.extend(k_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a1 * v)));
+    if let Some(beam) = beam {
+        for s in &beam.springs {
+            if let Some(i) = dofs.w[s.node] {
+                kb.push((i, i, s.stiffness));
+                cb.push((i, i, s.damping));
+            }
+        }
+    }
+    ctrip.extend(cb);
+    [m_el, Csr::from_triplets(n, &ctrip), Csr::from_triplets(n, &kb)]
+}
+
+/// The actuators' contributions: body masses and foot masses (m), link springs (k) and
+/// dampers (c) as triplets, and each link with its DOFs resolved.
+struct ActuatorMatrices {
+    m: Vec<(usize, usize, f64)>,
+    k: Vec<(usize, usize, f64)>,
+    c: Vec<(usize, usize, f64)>,
+    links: Vec<LinkDofs>,
+    /// Per actuator, the pattern b_a its stack force F_p acts along.
+    drives: Vec<Vec<(usize, f64)>>,
+}
+
+fn actuator_matrices(
+    comps: &[Component],
+    feet_nodes: &[Vec<Option<usize>>],
+    beam: Option<&Beam>,
+    dofs: &DofMap,
+) -> ActuatorMatrices {
+    let mut out = ActuatorMatrices {
+        m: Vec::new(),
+        k: Vec::new(),
+        c: Vec::new(),
+        links: Vec::new(),
+        drives: vec![Vec::new(); comps.len()],
+    };
+    for (ai, comp) in comps.iter().enumerate() {
+        let body = &dofs.bodies[ai];
+        for a in 0..body.len() {
+            for b in 0..body.len() {
+                out.m.push((body[a], body[b], comp.mass[(a, b)]));
+            }
+        }
+        for (li, link) in comp.links.iter().enumerate() {
+            let node = feet_nodes[ai][li];
+            let foot_dof = node.and_then(|nd| dofs.w[nd]);
+            // The stretch u = top − foot as a combination of DOFs.
+            let mut g: Vec<(usize, f64)> = link.top.iter().map(|&(d, c)| (body[d], c)).collect();
+            if let Some(fd) = foot_dof {
+                g.push((fd, -1.0));
+                out.m.push((fd, fd, link.foot_mass));
+            }
+            for &(i, gi) in &g {
+                for &(j, gj) in &g {
+                    out.k.push((i, j, link.k * gi * gj));
+                    out.c.push((i, j, link.c * gi * gj));
+                }
+            }
+            if link.active {
+                out.drives[ai] = g.clone();
+            }
+            out.links.push(LinkDofs {
+                actuator: ai,
+                name: link.name.clone(),
+                k: link.k,
+                c: link.c,
+                stretch: g,
+                foot_node: node,
+                foot_dof,
+                foot: foot_dof.map(|d| vec![(d, 1.0)]).unwrap_or_default(),
+                foot_x: node.map(|nd| beam.expect("a foot on a node has a beam").mesh.x[nd]),
+                foot_mass: link.foot_mass,
+                active: link.active,
+            });
+        }
+    }
+    out
+}
+
+/// Each point load's pattern: the w DOF of its node (empty where a support fixes w).
+fn load_patterns(model: &Model, dofs: &DofMap) -> Result<Vec<Vec<(usize, f64)>>> {
+    let mut loads = Vec::with_capacity(model.loads.len());
+    for (i, l) in model.loads.iter().enumerate() {
+        let field = format!("load[{i}].x");
+        let beam = model.beam.as_ref().ok_or_else(|| Error::case_field(&field, "a point load needs a beam"))?;
+        let node = beam
+            .mesh
+            .node_at(l.x)
+            .ok_or_else(|| Error::case_field(&field, format!("x = {} m is not on a mesh node", l.x)))?;
+        loads.push(dofs.w[node].map(|d| vec![(d, 1.0)]).unwrap_or_default());
+    }
+    Ok(loads)
 }
 
 #[cfg(test)]

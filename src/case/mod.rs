@@ -6,6 +6,7 @@
 //! (`docs/case-format.md` lists them all).
 
 pub mod build;
+pub mod measured;
 pub mod schema;
 pub mod signal;
 

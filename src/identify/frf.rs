@@ -134,8 +134,60 @@ pub fn h1(file: &str, force: &[f64], accel: &[f64], dt: f64, opts: &FrfOptions) 
             format!("segment length {len} exceeds the record length {}", force.len()),
         ));
     }
-    // Segment starts, each with the number of leading samples whose mean is removed.
-    let starts: Vec<(usize, usize)> = match opts.segmentation {
+    let starts = segment_starts(file, force, &opts.segmentation)?;
+    if starts.is_empty() {
+        return Err(Error::input(file, "force", "no complete segment (hit) found in the record"));
+    }
+    let tau = match opts.exponential_window_end {
+        None => None,
+        Some(e) if e > 0.0 && e < 1.0 => Some((len - 1) as f64 * dt / (1.0 / e).ln()),
+        Some(e) => return Err(Error::input(file, "exponential_window_end", format!("must lie in (0, 1), got {e}"))),
+    };
+    let force_keep = match opts.force_window {
+        None => len,
+        Some(w) if w > 0.0 => ((w / dt).round() as usize).clamp(1, len),
+        Some(w) => return Err(Error::input(file, "force_window", format!("must be positive, got {w}"))),
+    };
+    let expw: Vec<f64> = (0..len)
+        .map(|n| {
+            let e = tau.map_or(1.0, |t| (-(n as f64) * dt / t).exp());
+            let h =
+                if opts.hann { 0.5 - 0.5 * (2.0 * std::f64::consts::PI * n as f64 / len as f64).cos() } else { 1.0 };
+            e * h
+        })
+        .collect();
+    let Spectra { sff, saa, sfa } = averaged_spectra(force, accel, &starts, &expw, force_keep);
+    let nf = len / 2 + 1;
+    let fs = 1.0 / dt;
+    let freq: Vec<f64> = (0..nf).map(|k| k as f64 * fs / len as f64).collect();
+    let h1: Vec<Complex64> =
+        (0..nf).map(|k| if sff[k] > 0.0 { sfa[k] / sff[k] } else { Complex64::new(f64::NAN, f64::NAN) }).collect();
+    let coherence: Vec<f64> = (0..nf)
+        .map(|k| {
+            let d = sff[k] * saa[k];
+            if d > 0.0 {
+                (sfa[k].norm_sqr() / d).min(1.0)
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let m = starts.len() as f64;
+    Ok(Frf {
+        freq,
+        h1,
+        coherence,
+        force_autospectrum: sff.iter().map(|v| v / m).collect(),
+        segments: starts.len(),
+        dt,
+        exp_decay: tau.map_or(0.0, |t| 1.0 / t),
+    })
+}
+
+/// Segment starts in the record, each with the number of leading samples whose mean is
+/// removed (the quiet samples before a hit; a whole Welch segment).
+fn segment_starts(file: &str, force: &[f64], segmentation: &Segmentation) -> Result<Vec<(usize, usize)>> {
+    Ok(match *segmentation {
         Segmentation::Hits { length, pre_trigger, threshold } => {
             if !(threshold > 0.0 && threshold < 1.0) {
                 return Err(Error::input(file, "segmentation.threshold", "must lie in (0, 1)"));
@@ -178,29 +230,26 @@ pub fn h1(file: &str, force: &[f64], accel: &[f64], dt: f64, opts: &FrfOptions) 
             }
             starts
         }
-    };
-    if starts.is_empty() {
-        return Err(Error::input(file, "force", "no complete segment (hit) found in the record"));
-    }
-    let tau = match opts.exponential_window_end {
-        None => None,
-        Some(e) if e > 0.0 && e < 1.0 => Some((len - 1) as f64 * dt / (1.0 / e).ln()),
-        Some(e) => return Err(Error::input(file, "exponential_window_end", format!("must lie in (0, 1), got {e}"))),
-    };
-    let force_keep = match opts.force_window {
-        None => len,
-        Some(w) if w > 0.0 => ((w / dt).round() as usize).clamp(1, len),
-        Some(w) => return Err(Error::input(file, "force_window", format!("must be positive, got {w}"))),
-    };
-    let expw: Vec<f64> = (0..len)
-        .map(|n| {
-            let e = tau.map_or(1.0, |t| (-(n as f64) * dt / t).exp());
-            let h =
-                if opts.hann { 0.5 - 0.5 * (2.0 * std::f64::consts::PI * n as f64 / len as f64).cos() } else { 1.0 };
-            e * h
-        })
-        .collect();
+    })
+}
 
+/// Auto- and cross-spectra of force and acceleration summed over the segments.
+struct Spectra {
+    sff: Vec<f64>,
+    saa: Vec<f64>,
+    sfa: Vec<Complex64>,
+}
+
+/// Sums |F|², |A|² and F*·A over the segments at `starts` (each windowed by `expw`, the
+/// force kept for its first `force_keep` samples, the leading means removed).
+fn averaged_spectra(
+    force: &[f64],
+    accel: &[f64],
+    starts: &[(usize, usize)],
+    expw: &[f64],
+    force_keep: usize,
+) -> Spectra {
+    let len = expw.len();
     let nf = len / 2 + 1;
     let mut sff = vec![0.0; nf];
     let mut saa = vec![0.0; nf];
@@ -208,7 +257,7 @@ pub fn h1(file: &str, force: &[f64], accel: &[f64], dt: f64, opts: &FrfOptions) 
     let fft = FftPlanner::new().plan_fft_forward(len);
     let mut fb = vec![Complex64::new(0.0, 0.0); len];
     let mut ab = vec![Complex64::new(0.0, 0.0); len];
-    for &(s, mean_len) in &starts {
+    for &(s, mean_len) in starts {
         let fseg = &force[s..s + len];
         let aseg = &accel[s..s + len];
         let (fm, am) = if mean_len >= 4 {
@@ -229,30 +278,7 @@ pub fn h1(file: &str, force: &[f64], accel: &[f64], dt: f64, opts: &FrfOptions) 
             sfa[k] += fb[k].conj() * ab[k];
         }
     }
-    let fs = 1.0 / dt;
-    let freq: Vec<f64> = (0..nf).map(|k| k as f64 * fs / len as f64).collect();
-    let h1: Vec<Complex64> =
-        (0..nf).map(|k| if sff[k] > 0.0 { sfa[k] / sff[k] } else { Complex64::new(f64::NAN, f64::NAN) }).collect();
-    let coherence: Vec<f64> = (0..nf)
-        .map(|k| {
-            let d = sff[k] * saa[k];
-            if d > 0.0 {
-                (sfa[k].norm_sqr() / d).min(1.0)
-            } else {
-                0.0
-            }
-        })
-        .collect();
-    let m = starts.len() as f64;
-    Ok(Frf {
-        freq,
-        h1,
-        coherence,
-        force_autospectrum: sff.iter().map(|v| v / m).collect(),
-        segments: starts.len(),
-        dt,
-        exp_decay: tau.map_or(0.0, |t| 1.0 / t),
-    })
+    Spectra { sff, saa, sfa }
 }
 
 /// H1 estimate from a loaded measurement (its `force` and `acceleration` columns).

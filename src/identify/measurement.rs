@@ -570,6 +570,66 @@ pub fn load_hdf5(
     Ok(m)
 }
 
+/// Reads what was recorded at one point of a beamflow results file, as a measurement: time
+/// from `/<analysis>/t`; at a link `<actuator>_<link>` the interface force (as `force`) and
+/// the base acceleration at its foot (as `acceleration`) from `links/<point>/`, at a sensor
+/// its acceleration from `sensors/<point>/a`. `group`: the analysis group (e.g.
+/// `analysis_1_transient`); None takes the first one that recorded the point.
+pub fn load_point_hdf5(path: &Path, group: Option<&str>, point: &str, opts: &LoadOptions) -> Result<Measurement> {
+    let file = path.display().to_string();
+    let r = crate::io::hdf5::ResultsReader::open(path)?;
+    let groups: Vec<String> = r
+        .list_groups("/")?
+        .into_iter()
+        .filter(|g| g.starts_with("analysis_") && group.is_none_or(|w| w.trim_matches('/') == g))
+        .collect();
+    let mut found = None;
+    for g in &groups {
+        for (dir, force, accel) in [("links", Some("interface"), "base_acceleration"), ("sensors", None, "a")] {
+            let base = format!("/{g}/{dir}/{point}");
+            if r.exists(&format!("/{g}/t")) && r.exists(&format!("{base}/{accel}")) {
+                found = Some((g.clone(), base, force, accel));
+                break;
+            }
+        }
+        if found.is_some() {
+            break;
+        }
+    }
+    let Some((g, base, force, accel)) = found else {
+        return Err(Error::input(
+            &file,
+            point,
+            format!(
+                "no analysis group{} recorded a link or sensor named `{point}` (`/analysis_*/links/{point}` or                  `/analysis_*/sensors/{point}` with a time axis `t`)",
+                group.map(|g| format!(" `{g}`")).unwrap_or_default()
+            ),
+        ));
+    };
+    let mut columns = vec![(Quantity::Acceleration, r.read_f64(&format!("{base}/{accel}"))?.0)];
+    if let Some(f) = force {
+        columns.push((Quantity::Force, r.read_f64(&format!("{base}/{f}"))?.0));
+    }
+    let time = r.read_f64(&format!("/{g}/t"))?.0;
+    let mut m = Measurement {
+        file: format!("{file}:{base}"),
+        time,
+        dt: 0.0,
+        voltage: None,
+        displacement: None,
+        force: None,
+        acceleration: None,
+    };
+    for (q, c) in columns {
+        *m.slot(q).expect("not time") = Some(c);
+    }
+    if m.time.len() < 2 {
+        return Err(Error::input(&m.file, "time", "fewer than 2 samples"));
+    }
+    m.validate(opts)?;
+    Ok(m)
+}
+
 impl Measurement {
     /// A comment block describing the record (no case fields: measurements are inputs).
     pub fn to_case_fragment(&self) -> String {

@@ -10,6 +10,8 @@
 //! * [`plot`]: report figures (PNG and SVG from one description).
 //! * [`sink`], [`tree`]: the results layout is written through [`sink::GroupSink`], into an
 //!   HDF5 file or an in-memory [`tree::Group`] (the Python package's results) alike.
+//! * [`csv`], [`results_csv`]: tidy CSV tables (units in the header) of a run's results,
+//!   made from the same layout as the HDF5 file.
 //! * [`mtx`]: Matrix Market export of sparse system matrices, for checking them in
 //!   other tools (SciPy, MATLAB, Julia).
 //!
@@ -19,11 +21,13 @@
 //! Every function returns [`crate::error::Result`], and every error names the file.
 
 pub mod atomic;
+pub mod csv;
 pub mod hdf5;
 pub mod mtx;
 pub mod output_set;
 pub mod paths;
 pub mod results;
+pub mod results_csv;
 pub mod sink;
 pub mod summary;
 pub mod tree;

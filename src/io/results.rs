@@ -5,6 +5,7 @@ use super::sink::GroupSink;
 use crate::actuator::link_id;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
+use crate::analysis::measured::Comparison;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
 use crate::analysis::series::{
@@ -12,6 +13,7 @@ use crate::analysis::series::{
 };
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
+use crate::case::measured::MeasuredQuantity;
 use crate::case::LoadedCase;
 use crate::error::Result;
 use crate::power::balance::EnergyBalance;
@@ -54,7 +56,52 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
             AnalysisResult::SteadyState(x) => write_steady(&f.group(&format!("analysis_{i}_steady_state"))?, x, run)?,
         }
     }
+    for c in &run.measured {
+        let kind = match run.results[c.analysis] {
+            AnalysisResult::Transient(_) => "transient",
+            _ => "steady_state",
+        };
+        write_measured(&f.group(&format!("analysis_{}_{kind}/measurements/{}", c.analysis, c.name))?, c)?;
+    }
     Ok(())
+}
+
+/// A measurement against the analysis' prediction, under `measurements/<name>/<quantity>`.
+fn write_measured<S: GroupSink>(g: &S, c: &Comparison) -> Result<()> {
+    let q = g.group(c.quantity.name())?;
+    q.attr_str("file", &c.file)?;
+    q.attr_str("point", &c.point)?;
+    q.attr_str("unit", c.unit())?;
+    q.attr_f64("max_abs_error_db", c.max_abs_error_db())?;
+    if c.rms_error.is_finite() {
+        q.attr_f64("rms_error", c.rms_error)?;
+        q.attr_f64("relative_rms_error", c.relative_rms_error)?;
+    }
+    if let (Some(t), Some(ok)) = (c.tolerance_db, c.agrees()) {
+        q.attr_f64("tolerance_db", t)?;
+        q.attr_i64("agrees", ok as i64)?;
+    }
+    let n = c.harmonic.len();
+    q.write_i64(
+        "harmonic",
+        &c.harmonic.iter().map(|&k| k as i64).collect::<Vec<_>>(),
+        &[n],
+        "1",
+        "harmonics compared: present in both within 60 dB of their largest line",
+    )?;
+    q.write_f64("frequency", &c.frequency, &[n], "Hz", "k/T")?;
+    if c.quantity == MeasuredQuantity::Power {
+        let re = |v: &[num_complex::Complex64]| v.iter().map(|x| x.re).collect::<Vec<_>>();
+        q.write_f64("measured", &re(&c.measured), &[n], "W", "measured power per harmonic -0.5*Im(F*conj(A))/w")?;
+        q.write_f64("predicted", &re(&c.predicted), &[n], "W", "predicted power per harmonic, the same way")?;
+        q.write_f64("error_db", &c.error_db, &[n], "dB", "10*log10|measured/predicted|")?;
+        q.write_f64("phase_error", &c.phase_error, &[n], "rad", "0 where the signs agree, pi where they differ")
+    } else {
+        q.write_c64("measured", &c.measured, &[n], c.unit(), "measured complex amplitude (least-squares fit)")?;
+        q.write_c64("predicted", &c.predicted, &[n], c.unit(), "predicted complex amplitude")?;
+        q.write_f64("error_db", &c.error_db, &[n], "dB", "20*log10|measured/predicted|")?;
+        q.write_f64("phase_error", &c.phase_error, &[n], "rad", "arg(measured/predicted)")
+    }
 }
 
 fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
@@ -406,6 +453,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
             "Hz",
             "bare-beam natural frequencies of the modes used",
         )?;
+        mg.write_f64("frequency", &m.frequency, &[nk], "Hz", "harmonic frequencies k/T of the rows of eta_abs")?;
         mg.write_f64(
             "eta_abs",
             &m.eta_abs.concat(),
@@ -423,6 +471,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
         mg.write_f64("point_residual", &m.point_residual, &[nl], "W", "P_i minus the truncated modal sum")?;
         let nj = m.load_power.len();
         if nj > 0 {
+            mg.write_str_list("load_names", &r.loads.iter().map(|l| l.name.clone()).collect::<Vec<_>>())?;
             mg.write_f64(
                 "load_power",
                 &m.load_power.concat(),

@@ -52,8 +52,22 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     if run.model.beam.is_none() {
         analyses.iter_mut().for_each(without_beam);
     }
+    for (i, a) in analyses.iter_mut().enumerate() {
+        let mine: Vec<Value> = run.measured.iter().filter(|c| c.analysis == i).map(measured).collect();
+        if !mine.is_empty() {
+            a["measurements"] = Value::Array(mine);
+        }
+    }
     json!({"case": lc.file, "title": lc.case.title, "base": if run.model.beam.is_some() { "beam" } else { "rigid" },
            "actuators": run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>(), "analyses": analyses})
+}
+
+/// A measurement against the prediction: where, what, and the errors.
+fn measured(c: &crate::analysis::measured::Comparison) -> Value {
+    json!({"name": c.name, "point": c.point, "quantity": c.quantity.name(), "file": c.file,
+           "harmonics_compared": c.harmonic.len(), "drive_error_db": c.drive_error_db(),
+           "max_abs_error_db": finite_or_null(c.max_abs_error_db()), "relative_rms_error": finite_or_null(c.relative_rms_error),
+           "tolerance_db": c.tolerance_db, "agrees": c.agrees()})
 }
 
 /// On a rigid base nothing moves the base, so powers into it and the beam's dissipation
@@ -118,70 +132,92 @@ pub fn headline_text(v: &Value) -> String {
     let mut s = String::new();
     let names = v["actuators"].as_array().cloned().unwrap_or_default();
     for a in v["analyses"].as_array().into_iter().flatten() {
-        match a["type"].as_str() {
-            Some(t @ ("transient" | "steady_state")) => {
-                s += &format!("{t}:\n");
-                if t == "transient" {
-                    s += &transient_status(a, &names);
-                } else {
-                    s += &format!("  {} harmonics", a["harmonics"]);
-                    match a["truncation_estimate"].as_f64() {
-                        Some(e) => s += &format!("; the harmonics left out carry {e:.1e} of the largest point power\n"),
-                        None => s += "\n",
-                    }
-                }
-                if let Some(f) =
-                    a["transmitted_force_amplitude_at_drive_n"].as_object().filter(|_| v["base"] == "rigid")
-                {
-                    s += &rigid_forces(f);
-                }
-                if let Some(m) = a["mean_power_w"].as_object() {
-                    for (k, p) in m {
-                        s += &format!(
-                            "  mean power into the base at {k:<24} {:>12.4e} W\n",
-                            p.as_f64().unwrap_or(f64::NAN)
-                        );
-                    }
-                }
-                for (k, p) in a["load_power_w"].as_object().into_iter().flatten() {
-                    s += &format!(
-                        "  mean power into the beam by load {k:<19} {:>12.4e} W\n",
-                        p.as_f64().unwrap_or(f64::NAN)
-                    );
-                }
-                for (i, p) in a["net_power_w"].as_array().into_iter().flatten().enumerate() {
-                    s += &format!(
-                        "  net power of {:<36} {:>12.4e} W\n",
-                        names.get(i).and_then(|n| n.as_str()).unwrap_or("?"),
-                        p.as_f64().unwrap_or(f64::NAN)
-                    );
-                }
-                if let Some(r) = a.get("reduction") {
-                    s += &format!(
-                        "  modal reduction: {} modes to {:.1} Hz + {} residual vectors, {} of {} DOFs",
-                        r["modes_kept"],
-                        r["cutoff_hz"].as_f64().unwrap_or(f64::NAN),
-                        r["residual_vectors"],
-                        r["reduced_dofs"],
-                        r["full_dofs"]
-                    );
-                    match r["error"]["max_relative_error"].as_f64() {
-                        Some(e) => s += &format!("; point powers within {e:.2e} of the full model\n"),
-                        None => s += "\n",
-                    }
+        if let Some(t @ ("transient" | "steady_state")) = a["type"].as_str() {
+            s += &format!("{t}:\n");
+            if t == "transient" {
+                s += &transient_status(a, &names);
+            } else {
+                s += &format!("  {} harmonics", a["harmonics"]);
+                match a["truncation_estimate"].as_f64() {
+                    Some(e) => s += &format!("; the harmonics left out carry {e:.1e} of the largest point power\n"),
+                    None => s += "\n",
                 }
             }
-            Some("harmonic") => {
+            if let Some(f) = a["transmitted_force_amplitude_at_drive_n"].as_object().filter(|_| v["base"] == "rigid") {
+                s += &rigid_forces(f);
+            }
+            if let Some(m) = a["mean_power_w"].as_object() {
+                for (k, p) in m {
+                    s +=
+                        &format!("  mean power into the base at {k:<24} {:>12.4e} W\n", p.as_f64().unwrap_or(f64::NAN));
+                }
+            }
+            for (k, p) in a["load_power_w"].as_object().into_iter().flatten() {
                 s += &format!(
-                    "harmonic: {} frequencies, max energy-balance error {:.2e}\n",
-                    a["frequency_hz"].as_array().map_or(0, Vec::len),
-                    a["max_balance_error"].as_f64().unwrap_or(0.0)
-                )
+                    "  mean power into the beam by load {k:<19} {:>12.4e} W\n",
+                    p.as_f64().unwrap_or(f64::NAN)
+                );
             }
-            _ => {}
+            for (i, p) in a["net_power_w"].as_array().into_iter().flatten().enumerate() {
+                s += &format!(
+                    "  net power of {:<36} {:>12.4e} W\n",
+                    names.get(i).and_then(|n| n.as_str()).unwrap_or("?"),
+                    p.as_f64().unwrap_or(f64::NAN)
+                );
+            }
+            if let Some(r) = a.get("reduction") {
+                s += &format!(
+                    "  modal reduction: {} modes to {:.1} Hz + {} residual vectors, {} of {} DOFs",
+                    r["modes_kept"],
+                    r["cutoff_hz"].as_f64().unwrap_or(f64::NAN),
+                    r["residual_vectors"],
+                    r["reduced_dofs"],
+                    r["full_dofs"]
+                );
+                match r["error"]["max_relative_error"].as_f64() {
+                    Some(e) => s += &format!("; point powers within {e:.2e} of the full model\n"),
+                    None => s += "\n",
+                }
+            }
+        }
+        for m in a["measurements"].as_array().into_iter().flatten() {
+            s += &measured_line(m);
+        }
+        if a["type"] == "harmonic" {
+            s += &format!(
+                "harmonic: {} frequencies, max energy-balance error {:.2e}\n",
+                a["frequency_hz"].as_array().map_or(0, Vec::len),
+                a["max_balance_error"].as_f64().unwrap_or(0.0)
+            )
         }
     }
     s.trim_end().to_string()
+}
+
+/// One measurement's errors: at the drive frequency, the largest over the harmonics
+/// compared, over the record, and the verdict against its tolerance.
+fn measured_line(m: &Value) -> String {
+    let f = |k: &str| m[k].as_f64();
+    let mut s =
+        format!("  measured {} at {}:", m["quantity"].as_str().unwrap_or("?"), m["point"].as_str().unwrap_or("?"));
+    match f("drive_error_db") {
+        Some(e) => s += &format!(" {e:+.2} dB at the drive frequency,"),
+        None => s += " the drive frequency not compared,",
+    }
+    s += &format!(
+        " largest |error| {:.2} dB over {} harmonic(s)",
+        f("max_abs_error_db").unwrap_or(f64::NAN),
+        m["harmonics_compared"]
+    );
+    if let Some(r) = f("relative_rms_error") {
+        s += &format!(", RMS error {:.1} %", 100.0 * r);
+    }
+    match (m["agrees"].as_bool(), f("tolerance_db")) {
+        (Some(true), Some(t)) => s += &format!(": agrees (within {t} dB)"),
+        (Some(false), Some(t)) => s += &format!(": DIFFERS (more than {t} dB)"),
+        _ => {}
+    }
+    s + "\n"
 }
 
 /// How a transient ran: its step, the harmonics it analysed, and whether (and how well) it

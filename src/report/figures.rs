@@ -219,6 +219,7 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
             }
         }
     }
+    out.extend(super::measured::figures(dir, stem, &run.measured)?);
     Ok(out)
 }
 

@@ -17,6 +17,17 @@ pub fn samples_for_harmonics(harmonics: usize) -> Option<usize> {
     harmonics.checked_mul(4)?.checked_add(2)
 }
 
+/// Refuses `samples` per period too few for `harmonics` by [`samples_for_harmonics`]; the
+/// error is the reason, for the caller to attach to its field.
+pub fn require_samples(harmonics: usize, samples: usize) -> Result<(), String> {
+    match samples_for_harmonics(harmonics) {
+        Some(n) if samples >= n => Ok(()),
+        _ => {
+            Err(format!("must be at least 4·harmonics + 2 = {} to resolve the harmonics", 4 * (harmonics as u128) + 2))
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -58,7 +58,9 @@ fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64]), from_root:
     let count = count.min(n);
     let mut steps = (2 * count + 20).max(40).min(n);
     loop {
-        let (omega, shapes, converged) = lanczos(m, solve, n, steps, count, sigma)?;
+        let task =
+            crate::progress::Task::start(&format!("{count} modes of {n} DOFs"), Some(steps as u64), "Lanczos vectors");
+        let (omega, shapes, converged) = lanczos(m, solve, n, steps, count, sigma, &task)?;
         if converged || steps == n {
             if !converged {
                 return Err(Error::Numerical(format!(
@@ -78,6 +80,7 @@ fn lanczos(
     steps: usize,
     count: usize,
     sigma: f64,
+    task: &crate::progress::Task,
 ) -> Result<(Vec<f64>, Mat<f64>, bool)> {
     let mut q: Vec<Vec<f64>> = Vec::with_capacity(steps + 1);
     let mut mq: Vec<Vec<f64>> = Vec::with_capacity(steps + 1);
@@ -93,6 +96,7 @@ fn lanczos(
     let mut alpha = Vec::with_capacity(steps);
     let mut beta: Vec<f64> = Vec::with_capacity(steps);
     for j in 0..steps {
+        task.set(j as u64);
         let mut w = mq[j].clone();
         solve(&mut w);
         let aj = dot(&w, &mq[j]);

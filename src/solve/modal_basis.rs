@@ -133,105 +133,23 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
             bodies.len()
         )));
     }
-    let mut is_beam = vec![false; n];
-    for &d in &beam_dofs {
-        is_beam[d] = true;
-    }
     let kept: Vec<usize> = (0..modes.count()).filter(|&r| modes.omega[r] <= opts.cutoff).collect();
     let first_discarded_omega = modes.omega.get(kept.len()).copied();
     let phi: Vec<Vec<f64>> = kept.iter().map(|&r| modes.shape_global(r, n)).collect();
     let mode_omega: Vec<f64> = kept.iter().map(|&r| modes.omega[r]).collect();
-
-    // Beam DOFs the actuators touch.
-    let mut attach: Vec<usize> = full
-        .links
-        .iter()
-        .flat_map(|l| l.stretch.iter().map(|&(d, _)| d))
-        .chain(full.drives.iter().flatten().map(|&(d, _)| d))
-        .chain(full.loads.iter().flatten().map(|&(d, _)| d))
-        .filter(|&d| is_beam[d])
-        .collect();
-    attach.sort_unstable();
-    attach.dedup();
+    let attach = attachment_dofs(full, &beam_dofs);
 
     // Beam columns of T: the retained modes, then (static correction) the residual
     // vectors. The reduced K_beam is known in closed form, diag(Ω², ω̃²): taking it from
     // the formulas rather than projecting K keeps it free of the round-off that K·ψ carries
     // (a difference of large numbers at every node away from the feet).
-    let mut residual_omega = Vec::new();
-    let mut dropped = 0;
-    let mut k_diag: Vec<f64> = mode_omega.iter().map(|w| w * w).collect();
-    let residual: Vec<Vec<f64>> = if opts.static_correction && !attach.is_empty() {
-        // Static shapes S = K_beam⁻¹·E. K_beam is zero on the body rows: put 1 on their
-        // diagonal to factorise it.
-        let mut ks = Skyline::<f64>::zeros(full.envelope.clone());
-        full.k_beam.add_into_skyline(1.0, &mut ks);
-        for &b in &bodies {
-            ks.add(b, b, 1.0);
-        }
-        let kf = ks.factorize()?;
-        let shapes: Vec<Vec<f64>> = attach
-            .iter()
-            .map(|&j| {
-                let mut x = vec![0.0; n];
-                x[j] = 1.0;
-                kf.solve_in_place(&mut x);
-                bodies.iter().for_each(|&b| x[b] = 0.0);
-                x
-            })
-            .collect();
-        // Residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ), at the feet.
-        let p = attach.len();
-        let g = |a: usize, b: usize| {
-            let sf = 0.5 * (shapes[a][attach[b]] + shapes[b][attach[a]]);
-            sf - phi.iter().zip(&mode_omega).map(|(v, w)| v[attach[a]] * v[attach[b]] / (w * w)).sum::<f64>()
-        };
-        // A foot whose residual flexibility cancels to round-off is already spanned by the
-        // retained modes (a cut-off above most of the mesh's modes); keeping it would make
-        // T singular.
-        let live: Vec<usize> = (0..p).filter(|&a| g(a, a) > RESIDUAL_FLOOR * shapes[a][attach[a]]).collect();
-        dropped = p - live.len();
-        // ψ_j = S_j − Φ·Ω⁻²·Φ_f,j, then M-orthogonalised against Φ (twice) for round-off.
-        let psi: Vec<Vec<f64>> = live
-            .iter()
-            .map(|&a| {
-                let j = attach[a];
-                let mut x = shapes[a].clone();
-                for (v, w) in phi.iter().zip(&mode_omega) {
-                    let c = v[j] / (w * w);
-                    x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
-                }
-                for _ in 0..2 {
-                    let mx = mul(&full.m_beam, &x);
-                    for v in &phi {
-                        let c = dot(v, &mx);
-                        x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
-                    }
-                }
-                x
-            })
-            .collect();
-        let q = live.len();
-        let kg = Mat::<f64>::from_fn(q, q, |a, b| g(live[a], live[b]));
-        let mp: Vec<Vec<f64>> = psi.iter().map(|v| mul(&full.m_beam, v)).collect();
-        let mg = Mat::<f64>::from_fn(q, q, |a, b| 0.5 * (dot(&psi[a], &mp[b]) + dot(&psi[b], &mp[a])));
-        let (y, omega) = pencil_basis(&kg, &mg)?;
-        dropped += q - omega.len();
-        k_diag.extend(omega.iter().map(|w| w * w));
-        residual_omega = omega;
-        (0..residual_omega.len())
-            .map(|c| {
-                let mut v = vec![0.0; n];
-                for (r, pr) in psi.iter().enumerate() {
-                    let w = y[(r, c)];
-                    v.iter_mut().zip(pr).for_each(|(a, b)| *a += w * b);
-                }
-                v
-            })
-            .collect()
+    let Residual { vectors: residual, omega: residual_omega, dropped } = if opts.static_correction && !attach.is_empty()
+    {
+        residual_vectors(full, &bodies, &attach, &phi, &mode_omega)?
     } else {
-        Vec::new()
+        Residual { vectors: Vec::new(), omega: Vec::new(), dropped: 0 }
     };
+    let k_diag: Vec<f64> = mode_omega.iter().chain(&residual_omega).map(|w| w * w).collect();
 
     // T, row-major n × nr: columns [modes, residual vectors, bodies].
     let (nm, np) = (phi.len(), residual.len());
@@ -247,42 +165,8 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     }
     drop((phi, residual));
 
-    let t_ref = MatRef::from_row_major_slice(&t, n, nr);
-    let project = |a: &Csr| -> Vec<f64> {
-        // AT = A·T (n × nr) by A's entries, then Tᵀ·AT as one dense product (with every
-        // mode kept, nr ≈ n and this is the reduction's main cost), symmetrised.
-        let mut at = vec![0.0; n * nr];
-        for (i, j, v) in a.triplets() {
-            let (src, dst) = (&t[j * nr..(j + 1) * nr], i * nr);
-            for c in 0..nr {
-                at[dst + c] += v * src[c];
-            }
-        }
-        let prod = t_ref.transpose() * MatRef::from_row_major_slice(&at, n, nr);
-        let mut r = vec![0.0; nr * nr];
-        for a in 0..nr {
-            for b in 0..=a {
-                let s = 0.5 * (prod[(a, b)] + prod[(b, a)]);
-                r[a * nr + b] = s;
-                r[b * nr + a] = s;
-            }
-        }
-        r
-    };
-    let to_csr = |d: &[f64]| -> Csr {
-        let mut trip = Vec::new();
-        for a in 0..nr {
-            for b in 0..nr {
-                let v = d[a * nr + b];
-                let scale = (d[a * nr + a].abs() * d[b * nr + b].abs()).sqrt();
-                if v != 0.0 && (a == b || v.abs() > DROP * scale) {
-                    trip.push((a, b, v));
-                }
-            }
-        }
-        Csr::from_triplets(nr, &trip)
-    };
-    let [m, mut c, m_beam, mut c_beam] = [&full.m, &full.c, &full.m_beam, &full.c_beam].map(|a| to_csr(&project(a)));
+    let basis = Basis { t: &t, n, nr };
+    let [m, mut c, m_beam, mut c_beam] = [&full.m, &full.c, &full.m_beam, &full.c_beam].map(|a| basis.project(a));
     if let Some(ratios) = &opts.modal_damping {
         // Modal damping lives in the bare beam's modal coordinates, which the beam block of
         // the basis is: M-orthonormal and K-diagonal, so C_beam = diag(2ζ_r·ω_r) there. The
@@ -300,28 +184,210 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     }
     let k_beam = Csr::from_triplets(nr, &k_diag.iter().enumerate().map(|(r, &v)| (r, r, v)).collect::<Vec<_>>());
     // The actuators' stiffness (links), projected.
-    let k_links = to_csr(&project(&Csr::combine(&[(1.0, &full.k), (-1.0, &full.k_beam)])));
+    let k_links = basis.project(&Csr::combine(&[(1.0, &full.k), (-1.0, &full.k_beam)]));
     let k = Csr::combine(&[(1.0, &k_beam), (1.0, &k_links)]);
 
-    let reduce_vec = |g: &[(usize, f64)]| -> Vec<(usize, f64)> {
+    let links: Vec<LinkDofs> = full
+        .links
+        .iter()
+        .map(|l| LinkDofs {
+            stretch: basis.row_combination(&l.stretch),
+            foot: basis.row_combination(&l.foot),
+            foot_dof: None,
+            ..l.clone()
+        })
+        .collect();
+    let drives: Vec<Vec<(usize, f64)>> = full.drives.iter().map(|b| basis.row_combination(b)).collect();
+    let loads: Vec<Vec<(usize, f64)>> = full.loads.iter().map(|b| basis.row_combination(b)).collect();
+    let envelope =
+        Skyline::<f64>::envelope_of(nr, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
+    let system = System {
+        dofs: reduced_dofs(full, nm + np, nr),
+        m,
+        c,
+        k,
+        m_beam,
+        c_beam,
+        k_beam,
+        // A reduced basis is for viscous damping; hysteretic damping is refused before.
+        k_loss: None,
+        links,
+        drives,
+        loads,
+        envelope,
+        projection: Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr })),
+    };
+    Ok(Reduction { system, mode_omega, first_discarded_omega, residual_omega, dropped })
+}
+
+/// Beam DOFs the actuators and loads touch, ascending.
+fn attachment_dofs(full: &System, beam_dofs: &[usize]) -> Vec<usize> {
+    let mut is_beam = vec![false; full.n()];
+    for &d in beam_dofs {
+        is_beam[d] = true;
+    }
+    let mut attach: Vec<usize> = full
+        .links
+        .iter()
+        .flat_map(|l| l.stretch.iter().map(|&(d, _)| d))
+        .chain(full.drives.iter().flatten().map(|&(d, _)| d))
+        .chain(full.loads.iter().flatten().map(|&(d, _)| d))
+        .filter(|&d| is_beam[d])
+        .collect();
+    attach.sort_unstable();
+    attach.dedup();
+    attach
+}
+
+/// The static correction's residual vectors over the full DOFs, their pseudo-frequencies
+/// ω̃ (rad/s) and how many attachment DOFs gave none.
+struct Residual {
+    vectors: Vec<Vec<f64>>,
+    omega: Vec<f64>,
+    dropped: usize,
+}
+
+/// Residual vectors for the attachment DOFs `attach`: the static shapes minus what the
+/// retained modes `phi` (at `mode_omega`) carry of them, M-orthogonal to the modes and
+/// diagonalising the residual flexibility.
+fn residual_vectors(
+    full: &System,
+    bodies: &[usize],
+    attach: &[usize],
+    phi: &[Vec<f64>],
+    mode_omega: &[f64],
+) -> Result<Residual> {
+    let n = full.n();
+    // Static shapes S = K_beam⁻¹·E. K_beam is zero on the body rows: put 1 on their
+    // diagonal to factorise it.
+    let mut ks = Skyline::<f64>::zeros(full.envelope.clone());
+    full.k_beam.add_into_skyline(1.0, &mut ks);
+    for &b in bodies {
+        ks.add(b, b, 1.0);
+    }
+    let kf = ks.factorize()?;
+    let shapes: Vec<Vec<f64>> = attach
+        .iter()
+        .map(|&j| {
+            let mut x = vec![0.0; n];
+            x[j] = 1.0;
+            kf.solve_in_place(&mut x);
+            bodies.iter().for_each(|&b| x[b] = 0.0);
+            x
+        })
+        .collect();
+    // Residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ), at the feet.
+    let p = attach.len();
+    let g = |a: usize, b: usize| {
+        let sf = 0.5 * (shapes[a][attach[b]] + shapes[b][attach[a]]);
+        sf - phi.iter().zip(mode_omega).map(|(v, w)| v[attach[a]] * v[attach[b]] / (w * w)).sum::<f64>()
+    };
+    // A foot whose residual flexibility cancels to round-off is already spanned by the
+    // retained modes (a cut-off above most of the mesh's modes); keeping it would make
+    // T singular.
+    let live: Vec<usize> = (0..p).filter(|&a| g(a, a) > RESIDUAL_FLOOR * shapes[a][attach[a]]).collect();
+    let mut dropped = p - live.len();
+    // ψ_j = S_j − Φ·Ω⁻²·Φ_f,j, then M-orthogonalised against Φ (twice) for round-off.
+    let psi: Vec<Vec<f64>> = live
+        .iter()
+        .map(|&a| {
+            let j = attach[a];
+            let mut x = shapes[a].clone();
+            for (v, w) in phi.iter().zip(mode_omega) {
+                let c = v[j] / (w * w);
+                x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
+            }
+            for _ in 0..2 {
+                let mx = mul(&full.m_beam, &x);
+                for v in phi {
+                    let c = dot(v, &mx);
+                    x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
+                }
+            }
+            x
+        })
+        .collect();
+    let q = live.len();
+    let kg = Mat::<f64>::from_fn(q, q, |a, b| g(live[a], live[b]));
+    let mp: Vec<Vec<f64>> = psi.iter().map(|v| mul(&full.m_beam, v)).collect();
+    let mg = Mat::<f64>::from_fn(q, q, |a, b| 0.5 * (dot(&psi[a], &mp[b]) + dot(&psi[b], &mp[a])));
+    let (y, omega) = pencil_basis(&kg, &mg)?;
+    dropped += q - omega.len();
+    let vectors = (0..omega.len())
+        .map(|c| {
+            let mut v = vec![0.0; n];
+            for (r, pr) in psi.iter().enumerate() {
+                let w = y[(r, c)];
+                v.iter_mut().zip(pr).for_each(|(a, b)| *a += w * b);
+            }
+            v
+        })
+        .collect();
+    Ok(Residual { vectors, omega, dropped })
+}
+
+/// The reduction basis T (row-major n × nr) and what it does to matrices and DOF
+/// combinations.
+struct Basis<'t> {
+    t: &'t [f64],
+    n: usize,
+    nr: usize,
+}
+
+impl Basis<'_> {
+    /// Tᵀ·A·T, symmetrised, as a sparse matrix without entries below round-off.
+    fn project(&self, a: &Csr) -> Csr {
+        let (t, n, nr) = (self.t, self.n, self.nr);
+        // AT = A·T (n × nr) by A's entries, then Tᵀ·AT as one dense product (with every
+        // mode kept, nr ≈ n and this is the reduction's main cost), symmetrised.
+        let mut at = vec![0.0; n * nr];
+        for (i, j, v) in a.triplets() {
+            let (src, dst) = (&t[j * nr..(j + 1) * nr], i * nr);
+            for c in 0..nr {
+                at[dst + c] += v * src[c];
+            }
+        }
+        let t_ref = MatRef::from_row_major_slice(t, n, nr);
+        let prod = t_ref.transpose() * MatRef::from_row_major_slice(&at, n, nr);
+        let mut r = vec![0.0; nr * nr];
+        for a in 0..nr {
+            for b in 0..=a {
+                let s = 0.5 * (prod[(a, b)] + prod[(b, a)]);
+                r[a * nr + b] = s;
+                r[b * nr + a] = s;
+            }
+        }
+        let mut trip = Vec::new();
+        for a in 0..nr {
+            for b in 0..nr {
+                let v = r[a * nr + b];
+                let scale = (r[a * nr + a].abs() * r[b * nr + b].abs()).sqrt();
+                if v != 0.0 && (a == b || v.abs() > DROP * scale) {
+                    trip.push((a, b, v));
+                }
+            }
+        }
+        Csr::from_triplets(nr, &trip)
+    }
+
+    /// A combination Σ coeff·q[dof] of full DOFs as one of the reduced coordinates.
+    fn row_combination(&self, g: &[(usize, f64)]) -> Vec<(usize, f64)> {
+        let nr = self.nr;
         let mut r = vec![0.0; nr];
         for &(d, coef) in g {
-            for (x, tv) in r.iter_mut().zip(&t[d * nr..(d + 1) * nr]) {
+            for (x, tv) in r.iter_mut().zip(&self.t[d * nr..(d + 1) * nr]) {
                 *x += coef * tv;
             }
         }
         r.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect()
-    };
-    let links: Vec<LinkDofs> = full
-        .links
-        .iter()
-        .map(|l| LinkDofs { stretch: reduce_vec(&l.stretch), foot: reduce_vec(&l.foot), foot_dof: None, ..l.clone() })
-        .collect();
-    let drives: Vec<Vec<(usize, f64)>> = full.drives.iter().map(|b| reduce_vec(b)).collect();
-    let loads: Vec<Vec<(usize, f64)>> = full.loads.iter().map(|b| reduce_vec(b)).collect();
+    }
+}
 
-    let mut next = nm + np;
-    let dofs = DofMap {
+/// The reduced system's DOF map: no beam DOFs, the bodies numbered after the `first_body`
+/// beam coordinates.
+fn reduced_dofs(full: &System, first_body: usize, nr: usize) -> DofMap {
+    let mut next = first_body;
+    DofMap {
         n: nr,
         w: Vec::new(),
         theta: Vec::new(),
@@ -338,26 +404,7 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
                     .collect()
             })
             .collect(),
-    };
-    let envelope =
-        Skyline::<f64>::envelope_of(nr, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
-    let system = System {
-        dofs,
-        m,
-        c,
-        k,
-        m_beam,
-        c_beam,
-        k_beam,
-        // A reduced basis is for viscous damping; hysteretic damping is refused before.
-        k_loss: None,
-        links,
-        drives,
-        loads,
-        envelope,
-        projection: Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr })),
-    };
-    Ok(Reduction { system, mode_omega, first_discarded_omega, residual_omega, dropped })
+    }
 }
 
 fn mul(a: &Csr, x: &[f64]) -> Vec<f64> {

@@ -6,7 +6,7 @@ use super::field::{get_path, set_path, Field, Segment};
 use crate::actuator::{link_id, Frame, Inertial};
 use crate::assembly::Rayleigh;
 use crate::case::signal::SignalSpec;
-use crate::case::{ActuatorType, AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase};
+use crate::case::{ActuatorType, AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase, DEFAULT_HARMONICS};
 use crate::error::{Error, Result};
 use crate::signal::voltage::VoltageInput;
 use std::path::{Path, PathBuf};
@@ -65,12 +65,12 @@ impl BaseCase {
             .iter()
             .find_map(|a| match a {
                 AnalysisSpec::SteadyState { harmonics, samples_per_period, .. } => {
-                    Some((harmonics.unwrap_or(9), Some(*samples_per_period)))
+                    Some((harmonics.unwrap_or(DEFAULT_HARMONICS), Some(*samples_per_period)))
                 }
-                AnalysisSpec::Transient { harmonics, .. } => Some((harmonics.unwrap_or(9), None)),
+                AnalysisSpec::Transient { harmonics, .. } => Some((harmonics.unwrap_or(DEFAULT_HARMONICS), None)),
                 _ => None,
             })
-            .unwrap_or((9, None));
+            .unwrap_or((DEFAULT_HARMONICS, None));
         let (actuators, links) = names(&lc.case);
         if actuators.is_empty() {
             return Err(Error::input(&file, "actuator", "a study's base case needs at least one actuator"));

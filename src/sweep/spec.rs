@@ -4,9 +4,10 @@
 
 use super::base::BaseCase;
 pub use super::field::{get_path, parse_path, set_path, unit_of, Field, Segment};
+use crate::case::DEFAULT_SAMPLES_PER_PERIOD;
 use crate::case::{LoadedCase, Spacing};
 use crate::error::{Error, Result};
-use crate::signal::sampling::samples_for_harmonics;
+use crate::signal::sampling::require_samples;
 use crate::signal::voltage::VoltageInput;
 use serde::Deserialize;
 use std::path::Path;
@@ -139,7 +140,8 @@ pub fn load(path: &Path) -> Result<Sweep> {
 }
 
 /// Harmonics and samples per period of a study: its own, else its base case's analysis,
-/// else 9 and 1024; checked so that the samples resolve the harmonics.
+/// else [`DEFAULT_HARMONICS`] and [`DEFAULT_SAMPLES_PER_PERIOD`]; checked so that the
+/// samples resolve the harmonics.
 pub fn harmonic_counts(
     harmonics: Option<usize>,
     samples: Option<usize>,
@@ -150,14 +152,8 @@ pub fn harmonic_counts(
     if harmonics == 0 {
         return Err(Error::input(file, "harmonics", "must be at least 1"));
     }
-    let samples_per_period = samples.or(base.samples_per_period).unwrap_or(1024);
-    if samples_for_harmonics(harmonics).is_none_or(|n| samples_per_period < n) {
-        return Err(Error::input(
-            file,
-            "samples_per_period",
-            format!("must be at least 4·harmonics + 2 = {} to resolve the harmonics", 4 * (harmonics as u128) + 2),
-        ));
-    }
+    let samples_per_period = samples.or(base.samples_per_period).unwrap_or(DEFAULT_SAMPLES_PER_PERIOD);
+    require_samples(harmonics, samples_per_period).map_err(|r| Error::input(file, "samples_per_period", r))?;
     Ok((harmonics, samples_per_period))
 }
 

@@ -335,6 +335,34 @@ impl SweepTable {
         f.finish()
     }
 
+    /// The table as tidy CSV: one row per case, columns named as the HDF5 datasets
+    /// (`inputs/<parameter>`, `net_power <actuator>`, `mean_power <link>`, …) with units.
+    pub fn csv_table(&self) -> crate::io::csv::Table {
+        use crate::io::csv::{Column, Table};
+        let mut t = Table::default();
+        t.push(Column::int("case_index", self.rows.iter().map(|r| r.index as i64).collect()));
+        for (k, p) in self.parameters.iter().enumerate() {
+            t.push(Column::num(
+                format!("inputs/{}", column_name(p)),
+                &self.units[k],
+                self.rows.iter().map(|r| r.inputs[k]).collect(),
+            ));
+        }
+        let per = |name: &str, unit: &str, labels: &[String], f: &dyn Fn(&Row) -> &[f64]| -> Vec<Column> {
+            labels
+                .iter()
+                .enumerate()
+                .map(|(j, l)| Column::num(format!("{name} {l}"), unit, self.rows.iter().map(|r| f(r)[j]).collect()))
+                .collect()
+        };
+        t.columns.extend(per("net_power", "W", &self.actuators, &|r| &r.net_power));
+        t.columns.extend(per("mean_power", "W", &self.links, &|r| &r.mean_power));
+        t.columns.extend(per("force_amplitude", "N", &self.links, &|r| &r.force_amplitude));
+        t.push(Column::num("beam_dissipation", "W", self.rows.iter().map(|r| r.beam_dissipation).collect()));
+        t.push(Column::num("balance_error", "1", self.rows.iter().map(|r| r.balance_error).collect()));
+        t
+    }
+
     /// Reads a table written by [`write`](Self::write).
     pub fn read(path: &Path) -> Result<SweepTable> {
         let r = ResultsReader::open(path)?;

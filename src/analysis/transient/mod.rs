@@ -28,6 +28,7 @@ use crate::error::Result;
 use crate::power::point::{mean_product, net_power};
 use crate::power::record::{RecordAnalysis, Welch};
 use crate::power::spectra::harmonics;
+use crate::progress::Task;
 use crate::solve::band_newmark::{BandNewmark, StepOptions};
 use crate::solve::newmark::{consistent_acceleration, Scheme};
 use serde::Serialize;
@@ -216,11 +217,17 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     };
     let mut settle = SettleCheck::new(s.tolerance, reference);
     let (mut converged, mut periods_run, mut settled_run) = (false, 0, 0);
+    // A periodic run counts periods; a record, its steps.
+    let task = if timing.periodic {
+        Task::start("transient", Some(plan.total as u64), "periods")
+    } else {
+        Task::start("transient record", Some(timing.steps_per_period as u64), "steps")
+    };
     for p in 0..plan.total {
         stacks.advance(p, &timing);
         let mut rec = window.next_record(&layout);
         ledger.open_period(&nm);
-        let pb = stepper.period(&mut nm, sys, &layout, &stacks);
+        let pb = stepper.period(&mut nm, sys, &layout, &stacks, (!timing.periodic).then_some(&task));
         ledger.close_period(&nm, pb);
         if let Some(d) = nm.u().iter().chain(nm.v()).position(|x| !x.is_finite()) {
             let n = sys.n();
@@ -243,6 +250,9 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         periods_run = p + 1;
         // Every period kept for output must be settled, not only the last.
         settled_run = if settle.settled_after(&sys.links, &rec) { settled_run + 1 } else { 0 };
+        if timing.periodic {
+            task.set_with(periods_run as u64, || settling_message(&settle, s.tolerance));
+        }
         window.push(rec);
         if timing.periodic && s.steady_state && settled_run >= plan.min {
             converged = true;
@@ -284,6 +294,18 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     result.t = all.t.clone();
     (result.bodies, result.drives, result.sensors, result.loads) = all.into_series(model, &layout, &stacks.stacks);
     Ok(result)
+}
+
+/// How far a periodic run has settled, for its progress bar.
+fn settling_message(settle: &SettleCheck, tolerance: f64) -> String {
+    let (left, change) = (settle.remaining(), settle.change());
+    if left.is_finite() {
+        format!("start-up transient left {left:.1e} (target {tolerance:.0e})")
+    } else if change.is_finite() {
+        format!("change over the last period {change:.1e}")
+    } else {
+        String::new()
+    }
 }
 
 /// How a non-periodic run's record is segmented for its spectra (None for a periodic

@@ -155,17 +155,22 @@ impl Stepper {
     /// beam (interface forces) and into the system (stack forces), and, as the beam's
     /// dissipation so far, minus what the links' dampers took: the integrator keeps the
     /// system's dissipation Σ Δt·v̄ᵀ·C·v̄, and C = C_beam + Σ c_l·g_l·g_lᵀ.
+    /// `steps` (a record's task) is told every [`PROGRESS_STEPS`] steps how far it got.
     pub fn period(
         &mut self,
         nm: &mut BandNewmark,
         sys: &System,
         layout: &Readout,
         stacks: &StackHistories,
+        steps: Option<&crate::progress::Task>,
     ) -> Balances {
         let mut pb = Balances::default();
         self.observed.clear();
         self.f_p.clear();
         for j in 0..stacks.times.len() - 1 {
+            if let Some(t) = steps.filter(|_| j % PROGRESS_STEPS == 0) {
+                t.set(j as u64);
+            }
             // The state at t_j as it stands, sorted into series once the period is over.
             self.observed.extend_from_slice(nm.observed());
             self.f_p.extend_from_slice(&self.fp_prev);
@@ -207,6 +212,10 @@ impl Stepper {
         pb
     }
 }
+
+/// Steps between progress reports within one period (a non-periodic record is one long
+/// period).
+const PROGRESS_STEPS: usize = 1024;
 
 /// The two energy balances of a run (beam and system), closed at each period boundary
 /// with the stored energies there.

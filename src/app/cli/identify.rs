@@ -46,7 +46,10 @@ pub enum IdentifyCommand {
     /// Each file: CSV with time, voltage and displacement (or force with --k-p) columns, or a
     /// beamflow results file FILE.h5[:ACTUATOR].
     Dp {
+        /// The record at the base voltage: CSV with time, voltage and displacement (or force)
+        /// columns, or FILE.h5[:ACTUATOR].
         first: PathBuf,
+        /// The record with the voltage offset by a constant, in the same form.
         second: PathBuf,
         /// Stack stiffness (N/m): records with a blocked-force column instead of a stroke.
         #[arg(long)]

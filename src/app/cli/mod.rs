@@ -3,6 +3,7 @@
 
 pub mod identify;
 pub mod optimize;
+pub mod progress;
 pub mod sweep;
 
 use crate::error::Result;
@@ -49,11 +50,18 @@ pub enum Command {
         /// Skip figures.
         #[arg(long)]
         no_plots: bool,
+        /// Also write the results as tidy CSV tables (units in the header line).
+        #[arg(long)]
+        csv: bool,
     },
     /// Reproduces the paper's experiments (Figs. 8–16): figures, HDF5 and a summary.
     Paper {
+        /// Output directory.
         #[arg(long, default_value = "out/paper")]
         out: PathBuf,
+        /// Also write each run's results as tidy CSV tables (units in the header line).
+        #[arg(long)]
+        csv: bool,
     },
     /// Checks a case file without running it.
     Check {
@@ -151,7 +159,13 @@ pub fn main() -> ExitCode {
     } else {
         Status::Stdout
     });
-    match dispatch(&cli.command) {
+    // Progress bars for the long computations of this thread, where someone can see them.
+    let result = if !cli.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
+        crate::progress::observe(std::rc::Rc::new(progress::ConsoleBars::new()), || dispatch(&cli.command))
+    } else {
+        dispatch(&cli.command)
+    };
+    match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e}");
@@ -163,10 +177,10 @@ pub fn main() -> ExitCode {
 fn dispatch(cmd: &Command) -> Result<()> {
     match cmd {
         Command::Modes { case, count, json } => crate::app::commands::modes(case, *count, json.as_deref()),
-        Command::Run { case, out, json, no_plots } => {
-            crate::app::commands::run(case, out.as_deref(), json.as_deref(), !no_plots)
+        Command::Run { case, out, json, no_plots, csv } => {
+            crate::app::commands::run(case, out.as_deref(), json.as_deref(), !no_plots, *csv)
         }
-        Command::Paper { out } => crate::app::paper::run(out),
+        Command::Paper { out, csv } => crate::app::paper::run(out, *csv),
         Command::Check { case } => crate::app::commands::check(case),
         Command::Sweep(a) => sweep::sweep(a),
         Command::Merge(a) => sweep::merge(a),

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 /// Arguments of `beamflow sweep`.
 #[derive(Args, Debug)]
 pub struct SweepArgs {
-    /// Sweep file (TOML).
+    /// Sweep file (TOML; see docs/sweeps.md).
     pub sweep: PathBuf,
     /// Output HDF5 table. Checkpoints of finished cases are kept in FILE.h5.parts/ until
     /// the table is written; rerunning the same command resumes from them.
@@ -25,18 +25,42 @@ pub struct SweepArgs {
     /// Skip the figure and the best-case table.
     #[arg(long)]
     pub no_plots: bool,
+    /// Also write the table as tidy CSV beside the HDF5 table (FILE.csv).
+    #[arg(long)]
+    pub csv: bool,
 }
 
 /// Arguments of `beamflow merge`.
 #[derive(Args, Debug)]
 pub struct MergeArgs {
-    /// Shard files to join.
+    /// Shard files to join (the HDF5 tables of `beamflow sweep --shard`).
     pub shards: Vec<PathBuf>,
+    /// The joined HDF5 table.
     #[arg(long)]
     pub out: PathBuf,
     /// Skip the figure and the best-case table.
     #[arg(long)]
     pub no_plots: bool,
+    /// Also write the table as tidy CSV beside the HDF5 table (FILE.csv).
+    #[arg(long)]
+    pub csv: bool,
+}
+
+/// With `csv`, writes the table as CSV beside `out` (its extension replaced by `.csv`).
+fn write_csv(t: &SweepTable, out: &Path, csv: bool) -> Result<()> {
+    if csv {
+        let p = out.with_extension("csv");
+        if p == out {
+            return Err(Error::input(
+                "<cli>",
+                "--out",
+                "with --csv, name the HDF5 table FILE.h5 (the CSV is FILE.csv)",
+            ));
+        }
+        t.csv_table().write(&p)?;
+        crate::say!("wrote {}", p.display());
+    }
+    Ok(())
 }
 
 pub fn sweep(args: &SweepArgs) -> Result<()> {
@@ -75,6 +99,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         ex.reused
     );
     crate::say!("wrote {}", args.out.display());
+    write_csv(&ex.table, &args.out, args.csv)?;
     if !args.no_plots {
         report_files(&ex.table, &args.out)?;
     }
@@ -90,6 +115,7 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     let t = sweep::merge_files(&args.shards)?;
     t.write(&args.out)?;
     crate::say!("merged {} shards, {} cases: wrote {}", args.shards.len(), t.rows.len(), args.out.display());
+    write_csv(&t, &args.out, args.csv)?;
     if !args.no_plots {
         report_files(&t, &args.out)?;
     }

@@ -1,0 +1,219 @@
+//! The case-file schema. Field names follow the physics spec (k_p, c_p, d_p, m_t, …);
+//! units are SI throughout and given on each field.
+
+mod actuator;
+mod analysis;
+mod beam;
+
+pub use actuator::*;
+pub use analysis::*;
+pub use beam::*;
+
+use super::signal;
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+/// One simulation case.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct Case {
+    /// Free text shown in reports.
+    #[serde(default)]
+    pub title: String,
+    /// `beam` (default): actuator feet stand on the beam; `rigid`: on a rigid base.
+    #[serde(default)]
+    pub base: BaseKind,
+    /// The beam (defaults: the paper's clamped–clamped steel beam).
+    #[serde(default)]
+    pub beam: BeamSpec,
+    #[serde(default)]
+    pub damping: DampingSpec,
+    #[serde(default)]
+    pub actuator: Vec<ActuatorSpec>,
+    #[serde(default)]
+    pub sensor: Vec<SensorSpec>,
+    /// Prescribed point forces on the beam (transient and steady-state analyses).
+    #[serde(default)]
+    pub load: Vec<LoadSpec>,
+    #[serde(default)]
+    pub analysis: Vec<AnalysisSpec>,
+    /// Measured data to set beside the predictions (docs/case-format.md, `[[measurement]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub measurement: Vec<super::measured::MeasurementSpec>,
+    #[serde(default)]
+    pub output: OutputSpec,
+}
+
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum BaseKind {
+    #[default]
+    Beam,
+    Rigid,
+}
+
+/// What to write.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// One HDF5 file per run.
+    #[serde(default = "d_true")]
+    pub hdf5: bool,
+    /// PNG/SVG figures.
+    #[serde(default = "d_true")]
+    pub plots: bool,
+    /// K, M, C in Matrix Market format.
+    #[serde(default)]
+    pub matrices: bool,
+    /// Keep whole time histories in the HDF5 file (else the last periods only).
+    #[serde(default)]
+    pub full_history: bool,
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        toml::from_str("").expect("defaults")
+    }
+}
+
+fn d_true() -> bool {
+    true
+}
+
+// ---------------------------------------------------------------------------------------
+// Validation
+
+fn positive(file: &str, field: &str, v: f64) -> Result<()> {
+    if v > 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::input(file, field, format!("must be positive and finite, got {v}")))
+    }
+}
+
+fn non_negative(file: &str, field: &str, v: f64) -> Result<()> {
+    if v >= 0.0 && v.is_finite() {
+        Ok(())
+    } else {
+        Err(Error::input(file, field, format!("must be zero or positive and finite, got {v}")))
+    }
+}
+
+fn on_beam(file: &str, field: &str, x: f64, length: f64) -> Result<()> {
+    if x.is_finite() && (0.0..=length).contains(&x) {
+        Ok(())
+    } else {
+        Err(Error::input(file, field, format!("x = {x} m is outside the beam [0, {length}] m")))
+    }
+}
+
+/// Longest actuator or sensor name: names become parts of file and HDF5 group names.
+pub const NAME_MAX: usize = 64;
+
+/// Checks a name that reaches file and group names: 1 to [`NAME_MAX`] characters from
+/// letters, digits, `_` and `-`, so it can neither leave the output folder (`/`, `..`) nor
+/// hide a file (a leading `.`) nor break a path (NUL, control characters).
+fn valid_name(file: &str, field: &str, name: &str) -> Result<()> {
+    let ok = !name.is_empty()
+        && name.chars().count() <= NAME_MAX
+        && name.chars().all(|c| c.is_ascii_alphanumeric() || c == '_' || c == '-');
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::input(
+            file,
+            field,
+            format!("{name:?} is not a valid name: use 1 to {NAME_MAX} letters, digits, `_` or `-`"),
+        ))
+    }
+}
+
+/// Endings a name may not have: results name an actuator's interface points
+/// `<actuator>_stack`, `<actuator>_left_leg`, `<actuator>_right_leg` beside the loads, and
+/// its figures `<actuator>_power_spectrum` beside an actuator's `_spectrum` figure.
+const RESERVED_ENDINGS: [&str; 4] = ["_stack", "_left_leg", "_right_leg", "_power"];
+
+/// Checks that `name` is not a name results give to something else: one of
+/// [`RESERVED_ENDINGS`], or `force_<n>` (a harmonic analysis's force points).
+fn not_reserved(file: &str, field: &str, name: &str) -> Result<()> {
+    let lower = name.to_ascii_lowercase();
+    let forced = lower.strip_prefix("force_").is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+    match RESERVED_ENDINGS.iter().find(|e| lower.ends_with(*e)) {
+        Some(e) => Err(Error::input(
+            file,
+            field,
+            format!(
+                "{name:?} ends in `{e}`, which results use for an actuator's points and figures; choose another name"
+            ),
+        )),
+        None if forced => Err(Error::input(
+            file,
+            field,
+            format!("{name:?} is reserved: harmonic analyses name their force points force_<n>; choose another name"),
+        )),
+        None => Ok(()),
+    }
+}
+
+impl Case {
+    /// Names of actuators (as given), loads and sensors: valid, not reserved, and unique
+    /// across all three ignoring case, so no two result groups or figure files share a
+    /// name (not even on a file system that ignores case).
+    fn validate_names(&self, file: &str) -> Result<()> {
+        let count = self.actuator.len();
+        let actuators = self
+            .actuator
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (format!("actuator[{i}].name"), a.name.is_some(), a.effective_name(i, count)));
+        let loads = self.load.iter().enumerate().map(|(i, l)| (format!("load[{i}].name"), true, l.effective_name(i)));
+        let sensors = self.sensor.iter().enumerate().map(|(i, s)| (format!("sensor[{i}].name"), true, s.name.clone()));
+        let mut seen = std::collections::HashMap::new();
+        for (field, given, name) in actuators.chain(loads).chain(sensors) {
+            if given {
+                valid_name(file, &field, &name)?;
+                not_reserved(file, &field, &name)?;
+            }
+            if let Some(first) = seen.insert(name.to_ascii_lowercase(), field.clone()) {
+                return Err(Error::input(
+                    file,
+                    field,
+                    format!(
+                        "{name:?} is already the name of {first} (names are unique across actuators, loads and \
+                         sensors, ignoring case)"
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Checks every field; the first problem is returned, naming file and field.
+    pub fn validate(&self, file: &str) -> Result<()> {
+        let b = &self.beam;
+        b.validate(file)?;
+        self.damping.validate(file)?;
+        for (i, a) in self.actuator.iter().enumerate() {
+            a.validate(file, &format!("actuator[{i}]"), self.base, b.length)?;
+        }
+        for (i, s) in self.sensor.iter().enumerate() {
+            on_beam(file, &format!("sensor[{i}].x"), s.x, b.length)?;
+        }
+        for (i, l) in self.load.iter().enumerate() {
+            if self.base == BaseKind::Rigid {
+                return Err(Error::input(
+                    file,
+                    format!("load[{i}]"),
+                    "a point load acts on the beam, and base = \"rigid\" has none",
+                ));
+            }
+            on_beam(file, &format!("load[{i}].x"), l.x, b.length)?;
+            l.force.validate(file, &format!("load[{i}].force"))?;
+        }
+        self.validate_names(file)?;
+        for (i, an) in self.analysis.iter().enumerate() {
+            an.validate(file, &format!("analysis[{i}]"), self)?;
+        }
+        Ok(())
+    }
+}

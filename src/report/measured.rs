@@ -1,0 +1,88 @@
+//! Measurements beside predictions: per measurement and analysis, one figure with a panel
+//! per quantity — measured and predicted levels at the harmonics compared, as markers (a
+//! line spectrum is never joined up) — and for force and acceleration one period of both,
+//! rebuilt from those harmonics.
+
+use super::figures::save;
+use super::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
+use crate::analysis::measured::Comparison;
+use crate::case::measured::MeasuredQuantity;
+use crate::error::Result;
+use crate::power::spectra::db;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+
+/// Points per period of the rebuilt time panels.
+const SAMPLES: usize = 200;
+
+/// The figures of a run's comparisons, named `<tag>_<analysis>_measured_<name>`.
+pub fn figures(dir: &Path, stem: &str, comparisons: &[Comparison]) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    let mut keys: Vec<(usize, &str)> = comparisons.iter().map(|c| (c.analysis, c.name.as_str())).collect();
+    keys.dedup();
+    for (a, name) in keys {
+        let mine: Vec<&Comparison> = comparisons.iter().filter(|c| c.analysis == a && c.name == name).collect();
+        let mut panels = Vec::new();
+        for c in &mine {
+            panels.push(levels(c));
+            if c.quantity != MeasuredQuantity::Power && !c.harmonic.is_empty() {
+                panels.push(period(c));
+            }
+        }
+        let title = format!("{name} at {}: measured and predicted", mine[0].point);
+        out.extend(save(&MultiPanel::new(title, panels), dir, &format!("{stem}_{a}_measured_{name}"))?);
+    }
+    Ok(out)
+}
+
+/// Levels at the compared harmonics: dB re 1 unit (force, acceleration) or re 1 pW (|power|).
+fn levels(c: &Comparison) -> LinePlot {
+    let (ylabel, level): (String, Box<dyn Fn(f64) -> f64>) = match c.quantity {
+        MeasuredQuantity::Power => {
+            ("|power| level (dB re 1 pW)".into(), Box::new(|p: f64| 10.0 * (p.abs() / 1e-12).log10()))
+        }
+        _ => (format!("{} level (dB re 1 {})", c.quantity.name(), c.unit()), Box::new(|x: f64| db(x, 1.0))),
+    };
+    let verdict = match (c.agrees(), c.tolerance_db) {
+        (Some(true), Some(t)) => format!(", within {t} dB"),
+        (Some(false), Some(t)) => format!(", NOT within {t} dB"),
+        _ => String::new(),
+    };
+    let mut p = LinePlot::new(
+        format!("{}: largest |error| {:.2} dB{verdict}", c.quantity.name(), c.max_abs_error_db()),
+        "frequency (Hz)",
+        ylabel,
+    );
+    let amp = |v: &[num_complex::Complex64]| -> Vec<f64> {
+        v.iter().map(|x| if c.quantity == MeasuredQuantity::Power { level(x.re) } else { level(x.norm()) }).collect()
+    };
+    p.series.push(Series::line("predicted", c.frequency.clone(), amp(&c.predicted)).with_style(SeriesStyle::Markers));
+    p.series.push(Series::line("measured", c.frequency.clone(), amp(&c.measured)).with_style(SeriesStyle::Markers));
+    p
+}
+
+/// One period of the measured and the predicted signal from their compared harmonics.
+fn period(c: &Comparison) -> LinePlot {
+    let f0 = c.frequency[0] / c.harmonic[0] as f64;
+    let t: Vec<f64> = (0..=SAMPLES).map(|j| j as f64 / (SAMPLES as f64 * f0)).collect();
+    let rebuild = |v: &[num_complex::Complex64]| -> Vec<f64> {
+        t.iter()
+            .map(|&t| {
+                c.harmonic
+                    .iter()
+                    .zip(v)
+                    .map(|(&k, x)| (x * num_complex::Complex64::from_polar(1.0, 2.0 * PI * k as f64 * f0 * t)).re)
+                    .sum()
+            })
+            .collect()
+    };
+    let ms: Vec<f64> = t.iter().map(|x| 1e3 * x).collect();
+    let mut p = LinePlot::new(
+        format!("{}: one period from the compared harmonics", c.quantity.name()),
+        "time (ms)",
+        format!("{} ({})", c.quantity.name(), c.unit()),
+    );
+    p.series.push(Series::line("predicted", ms.clone(), rebuild(&c.predicted)));
+    p.series.push(Series::line("measured", ms, rebuild(&c.measured)).with_style(SeriesStyle::LineMarkers));
+    p
+}
