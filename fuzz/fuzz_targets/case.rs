@@ -7,9 +7,13 @@
 //! refused.
 #![no_main]
 
+use beamflow::analysis::budget::Budget;
 use beamflow::case::{AnalysisSpec, Case, LoadedCase};
 use libfuzzer_sys::fuzz_target;
 use std::path::PathBuf;
+
+/// What each input may take: enough for the shipped cases' meshes, far below the machine.
+const BUDGET: Budget = Budget { memory: 256 << 20, steps: 200_000 };
 
 /// Largest sizes the run uses.
 const ELEMENTS: usize = 8;
@@ -57,13 +61,13 @@ fn dir() -> PathBuf {
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
     let Ok(lc) = LoadedCase::from_str(text, "fuzz.toml", dir()) else { return };
-    if let Ok((model, system)) = beamflow::analysis::plan::model_and_system(&lc) {
-        let _ = beamflow::app::runner::preflight(&lc, &model, &system);
-    }
+    // As the input is written, held to a small budget: the mesh and every analysis are
+    // sized before they are built, so a huge request is refused, not allocated.
+    let _ = beamflow::app::runner::planned(&lc, &BUDGET);
     let mut case = lc.case.clone();
     clamp(&mut case);
     let Ok(small) = LoadedCase::from_case(case, "fuzz.toml", dir()) else { return };
-    if let Ok(run) = beamflow::app::runner::run_case(&small) {
+    if let Ok(run) = beamflow::app::runner::run_case_within(&small, &BUDGET) {
         if let Some(q) = run.results.iter().find_map(|r| r.non_finite()) {
             panic!("a run reported success with a non-finite result: {q}");
         }

@@ -2,7 +2,8 @@
 
 use crate::analysis::case_run::AnalysisResult;
 use crate::analysis::modes;
-use crate::app::runner::run_case;
+use crate::analysis::budget::Budget;
+use crate::app::runner::run_case_within;
 use crate::case::build::build_beam;
 use crate::case::{AnalysisSpec, LoadedCase};
 use crate::error::{Error, Result};
@@ -59,11 +60,11 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
     s.trim_end().to_string()
 }
 
-/// `beamflow check`: loads and builds the model, prints what it contains.
-pub fn check(case: &Path) -> Result<()> {
+/// `beamflow check`: loads and builds the model, holds every analysis to `budget` as
+/// `run` does, prints what it contains.
+pub fn check(case: &Path, budget: &Budget) -> Result<()> {
     let lc = LoadedCase::load(case)?;
-    let (built, sys) = crate::analysis::plan::model_and_system(&lc)?;
-    crate::app::runner::preflight(&lc, &built, &sys)?;
+    let (built, sys, _) = crate::app::runner::planned(&lc, budget)?;
     let elements = built.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
     crate::say!(
         "{}: ok — {} elements, {} DOFs, {} actuator(s), {} load(s), {} analysis(es)",
@@ -98,8 +99,8 @@ pub fn default_out(case: &Path) -> PathBuf {
     PathBuf::from("out").join(case.file_stem().unwrap_or_default())
 }
 
-/// `beamflow run` (`csv`: also write the results as tidy CSV tables).
-pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, csv: bool) -> Result<()> {
+/// `beamflow run` within `budget` (`csv`: also write the results as tidy CSV tables).
+pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, csv: bool, budget: &Budget) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
     let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
@@ -107,7 +108,7 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, cs
     refuse_input("--out", &dir, &inputs)?;
     let named = |name: String| output_file(&dir, &name);
     check_json_target(json, &inputs, &[dir.clone(), named(format!("{stem}.h5"))?, named(format!("{stem}.json"))?])?;
-    let run = run_case(&lc)?;
+    let run = run_case_within(&lc, budget)?;
     // Every file goes to a staging folder first and appears in `dir` only once all are
     // complete (io::output_set).
     let set = crate::io::output_set::OutputSet::begin(&dir)?;

@@ -8,7 +8,8 @@
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
-use crate::app::runner::run_case;
+use crate::analysis::budget::Budget;
+use crate::app::runner::run_case_within;
 use crate::case::{ActuatorType, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
@@ -52,14 +53,15 @@ fn link_index(run: &CaseRun, actuator: usize, name: &str) -> usize {
     run.system.links.iter().position(|l| l.actuator == actuator && l.name == name).expect("link exists")
 }
 
-/// Runs a case and writes its HDF5 file (and, with `csv`, its CSV tables) into `out`.
-fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, csv: bool, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
+/// Runs a case within `budget` and writes its HDF5 file (and, with `csv`, its CSV tables)
+/// into `out`.
+fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, w: Store, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
     eprintln!("running {stem} …");
-    let run = run_case(lc)?;
+    let run = run_case_within(lc, &w.budget)?;
     let h5 = crate::io::paths::output_file(out, &format!("{stem}.h5"))?;
     crate::io::results::write(&h5, lc, &run)?;
     written.push(h5);
-    if csv {
+    if w.csv {
         written.extend(crate::io::results_csv::write(out, stem, lc, &run)?);
     }
     Ok(run)
@@ -69,8 +71,14 @@ fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, csv: bool, written: &m
 struct Written {
     files: Vec<PathBuf>,
     max_balance: f64,
-    /// Whether each run also writes its CSV tables.
+    store: Store,
+}
+
+/// How each run is held and stored: within `budget`, with its CSV tables if `csv`.
+#[derive(Clone, Copy)]
+struct Store {
     csv: bool,
+    budget: Budget,
 }
 
 /// What the rigid-base run shows about the transmitted forces.
@@ -97,11 +105,11 @@ struct BeamFindings {
     lines: Vec<f64>,
 }
 
-/// Runs everything and writes figures, HDF5 files (and, with `csv`, CSV tables) and the
+/// Runs everything within `budget` and writes figures, HDF5 files (and, with `csv`, CSV tables) and the
 /// summaries into `out`.
-pub fn run(out: &Path, csv: bool) -> Result<()> {
+pub fn run(out: &Path, csv: bool, budget: &Budget) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let mut w = Written { files: Vec::new(), max_balance: 0.0, csv };
+    let mut w = Written { files: Vec::new(), max_balance: 0.0, store: Store { csv, budget: *budget } };
     let rigid_lc = load("rigid-base-48V-30Hz.toml")?;
     let rigid = rigid_base(&rigid_lc, out, &mut w)?;
     let mass_amp = top_mass(&rigid_lc, out, &mut w)?;
@@ -139,8 +147,8 @@ pub fn run(out: &Path, csv: bool) -> Result<()> {
 
 /// Figs. 8, 9, 10 and 12 from the rigid-base run at 48 V, 30 Hz, and what they show.
 fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<RigidFindings> {
-    let (written, max_balance, csv) = (&mut w.files, &mut w.max_balance, w.csv);
-    let rigid = run_and_store(rigid_lc, out, "rigid-base-48V-30Hz", csv, written)?;
+    let (store, written, max_balance) = (w.store, &mut w.files, &mut w.max_balance);
+    let rigid = run_and_store(rigid_lc, out, "rigid-base-48V-30Hz", store, written)?;
     let rt = transient(&rigid)?;
     *max_balance = max_balance.max(rt.energy_run.system.relative_error());
     let (i_stack, f_stack, f_left, f_right) = (
@@ -228,7 +236,7 @@ fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f
         case.actuator[0].m_t = Some(m_t);
         case.title = format!("Rigid base, 48 V, 30 Hz, inertial actuator, m_t = {m_t} kg");
         let lc = LoadedCase::from_case(case, &format!("{} (m_t = {m_t})", rigid_lc.file), rigid_lc.dir.clone())?;
-        let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), w.csv, &mut w.files)?;
+        let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), w.store, &mut w.files)?;
         let t = transient(&run)?;
         w.max_balance = w.max_balance.max(t.energy_run.system.relative_error());
         fig11.series.push(Series::line(format!("m_t = {m_t} kg"), ms_axis(&t.t), t.links[0].transmitted.clone()));
@@ -241,11 +249,11 @@ fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f
 
 /// Figs. 13–16 from the two actuators on the beam at 12 V, 60 Hz, and the powers they show.
 fn on_beam(out: &Path, w: &mut Written) -> Result<BeamFindings> {
-    let (written, max_balance, csv) = (&mut w.files, &mut w.max_balance, w.csv);
+    let (store, written, max_balance) = (w.store, &mut w.files, &mut w.max_balance);
     let bi_lc = load("beam-inertial-12V-60Hz.toml")?;
-    let bi = run_and_store(&bi_lc, out, "beam-inertial-12V-60Hz", csv, written)?;
+    let bi = run_and_store(&bi_lc, out, "beam-inertial-12V-60Hz", store, written)?;
     let bf_lc = load("beam-frame-12V-60Hz.toml")?;
-    let bf = run_and_store(&bf_lc, out, "beam-frame-12V-60Hz", csv, written)?;
+    let bf = run_and_store(&bf_lc, out, "beam-frame-12V-60Hz", store, written)?;
     let (bit, bis, bft, bfs) = (transient(&bi)?, steady(&bi)?, transient(&bf)?, steady(&bf)?);
     for t in [bit, bft] {
         *max_balance = max_balance

@@ -7,6 +7,7 @@
 
 pub mod build;
 pub mod measured;
+pub mod ranges;
 pub mod schema;
 pub mod signal;
 

@@ -214,6 +214,6 @@ impl Case {
         for (i, an) in self.analysis.iter().enumerate() {
             an.validate(file, &format!("analysis[{i}]"), self)?;
         }
-        Ok(())
+        super::ranges::check(self, file)
     }
 }
