@@ -230,3 +230,16 @@ pub fn frequency_count(spec: &crate::case::FrequencySpec) -> Option<u64> {
 pub fn steps_of(x: f64, dt: f64) -> Option<u64> {
     whole(x / dt)
 }
+
+/// Bytes a sweep or optimisation holds per case besides its row's numbers: the case's
+/// index in the shard's and the to-do lists, and the row's vectors.
+const CASE_OVERHEAD: u64 = 128;
+
+/// A sweep or an optimisation of `cases` case runs (None: beyond 64 bits), each keeping a
+/// row of `numbers` values (its inputs and results) in the table, driven by the case field
+/// `field`; `detail` gives the factors.
+pub fn cases(what: &str, cases: Option<u64>, numbers: u64, detail: String, field: &str, advice: &str) -> Cost {
+    let row = numbers.saturating_mul(8 * SERIES_COPIES).saturating_add(CASE_OVERHEAD);
+    let bytes = cases.and_then(|n| n.checked_mul(row));
+    cost(bytes, cases, "cases", what.to_string(), detail).of_case_field(field, advice)
+}

@@ -3,6 +3,7 @@
 //! for two objectives), a JSON summary and the figures that explain the optimum — as one
 //! output set (io::output_set).
 
+use crate::analysis::budget::Budget;
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
 use crate::io::paths::{output_file, refuse_input, Input};
@@ -27,8 +28,19 @@ pub fn optimize(
     out: &Path,
     threads: Option<usize>,
     plots: bool,
+    budget: &Budget,
 ) -> Result<(Spec, RunResult, Vec<PathBuf>)> {
     let spec = optimize::load(file)?;
+    let numbers = spec.variables.len() + spec.objectives.len() + 2 * spec.base.actuators.len();
+    let cost = crate::analysis::cost::cases(
+        "this optimisation",
+        spec.max_evaluations(),
+        numbers as u64,
+        format!("{} evaluations of {} variables", spec.search.evaluations, spec.variables.len()),
+        "search.evaluations",
+        "give fewer `evaluations` or `pareto_points`",
+    );
+    budget.admit(&cost).map_err(|e| e.in_file(&spec.file))?;
     let mut inputs = vec![Input::new(file, "the optimisation file")];
     inputs.extend(spec.base.input_files(&spec.file).into_iter().map(|(p, what)| Input::new(p, what)));
     for name in OUTPUTS {
