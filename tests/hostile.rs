@@ -29,7 +29,7 @@ const TIMEOUT: Duration = Duration::from_secs(20);
 
 /// The table is meant to cover each class of hostile input of the issue with this many
 /// rows at least.
-const MIN_ROWS: usize = 30;
+const MIN_ROWS: usize = 60;
 
 /// One row of the table.
 #[derive(Debug)]
