@@ -1,7 +1,7 @@
 //! Runs every analysis a case asks for. Pure computation: writing is in [`crate::io`].
 
 use crate::analysis::budget::Budget;
-use crate::analysis::case_run::{AnalysisResult, CaseRun};
+use crate::analysis::case_run::{AnalysisResult, CaseRun, BALANCE_TOLERANCE};
 use crate::analysis::cost;
 use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
@@ -266,6 +266,17 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
                     "the result is not a finite number ({q}): the inputs are out of the range double precision \
                      can carry (amplitudes, material constants or frequencies many orders of magnitude from \
                      physical values) or the solution diverged; nothing was written"
+                ),
+            ));
+        }
+        if let Some((what, e)) = r.balance().filter(|(_, e)| !(*e <= BALANCE_TOLERANCE)) {
+            return Err(Error::input(
+                &lc.file,
+                format!("analysis[{i}]"),
+                format!(
+                    "the energy balance ({what}) is off by {e:.3e} of its terms, above the tolerance \
+                     {BALANCE_TOLERANCE:e}: the result is not a solution of the model; inputs nearer physical \
+                     values, a finer step or more harmonics are needed; nothing was written"
                 ),
             ));
         }
