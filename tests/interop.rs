@@ -38,7 +38,8 @@ fn the_dof_map_names_the_stack_foot_and_the_top_mass_rows() {
     )
     .unwrap();
     let out = dir.path().join("out");
-    beamflow::app::commands::run(&case, Some(&out), None, false, false, &beamflow::analysis::budget::Budget::default()).unwrap();
+    beamflow::app::commands::run(&case, Some(&out), None, false, false, &beamflow::analysis::budget::Budget::default())
+        .unwrap();
     let k = read_matrix_market(&out.join("foot_K.mtx")).unwrap();
     assert!(std::fs::read_to_string(out.join("foot_K.mtx"))
         .unwrap()

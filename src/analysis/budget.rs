@@ -115,7 +115,7 @@ pub fn count(n: usize) -> u64 {
 /// either).
 pub fn whole(x: f64) -> Option<u64> {
     let c = x.ceil();
-    (c.is_finite() && c >= 0.0 && c < 9.2e18).then_some(c as u64)
+    (0.0..9.2e18).contains(&c).then_some(c as u64)
 }
 
 /// Bytes as text with a binary unit, e.g. "3.2 GiB".
@@ -175,7 +175,7 @@ pub fn parse_bytes(text: &str) -> std::result::Result<u64, String> {
     };
     let x: f64 = number.parse().map_err(|_| format!("{text:?} is not a size: give e.g. 8G, 512M or 1000000"))?;
     let b = x * scale as f64;
-    if !(b >= 1.0 && b < 1.8e19) {
+    if !(1.0..1.8e19).contains(&b) {
         return Err(format!("{text:?} is out of range: give between 1 byte and 16 EiB"));
     }
     Ok(b as u64)
@@ -184,7 +184,7 @@ pub fn parse_bytes(text: &str) -> std::result::Result<u64, String> {
 /// Parses a step budget: a positive whole number, e.g. `1000000000` or `1e9`.
 pub fn parse_steps(text: &str) -> std::result::Result<u64, String> {
     let x: f64 = text.trim().parse().map_err(|_| format!("{text:?} is not a number of steps: give e.g. 1e9"))?;
-    if !(x >= 1.0 && x < 1.8e19 && x.fract() == 0.0) {
+    if !((1.0..1.8e19).contains(&x) && x.fract() == 0.0) {
         return Err(format!("{text:?}: give a whole number of steps between 1 and 1.8e19"));
     }
     Ok(x as u64)

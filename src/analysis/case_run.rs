@@ -41,9 +41,10 @@ impl AnalysisResult {
     pub fn balance(&self) -> Option<(&'static str, f64)> {
         match self {
             AnalysisResult::Modes(_) => None,
-            AnalysisResult::Harmonic(h) => {
-                Some(("power in − dissipated, largest over the frequencies", h.balance_error.iter().fold(0.0, |a, &b| a.max(b))))
-            }
+            AnalysisResult::Harmonic(h) => Some((
+                "power in − dissipated, largest over the frequencies",
+                h.balance_error.iter().fold(0.0, |a, &b| a.max(b)),
+            )),
             AnalysisResult::Transient(t) => {
                 Some(("work in − dissipated − Δ stored over the run", t.energy_run.system.relative_error()))
             }

@@ -29,16 +29,7 @@ const SERIES_COPIES: u64 = 4;
 const DENSE_COPIES: u64 = 5;
 
 fn cost(bytes: Option<u64>, steps: Option<u64>, unit: &'static str, what: String, detail: String) -> Cost {
-    Cost {
-        bytes,
-        steps,
-        unit,
-        what,
-        detail,
-        field: String::new(),
-        scope: CostScope::Analysis,
-        advice: String::new(),
-    }
+    Cost { bytes, steps, unit, what, detail, field: String::new(), scope: CostScope::Analysis, advice: String::new() }
 }
 
 impl Cost {
@@ -99,7 +90,12 @@ pub fn mesh(lc: &LoadedCase) -> Option<Cost> {
             Some(0),
             "steps",
             "the mesh".into(),
-            format!("{} elements, ≈ {} DOFs at {} kB each", elements, n.map_or("> 2⁶⁴".into(), |n| n.to_string()), BYTES_PER_DOF / 1024),
+            format!(
+                "{} elements, ≈ {} DOFs at {} kB each",
+                elements,
+                n.map_or("> 2⁶⁴".into(), |n| n.to_string()),
+                BYTES_PER_DOF / 1024
+            ),
         )
         .of_case_field("beam.mesh.elements", "use fewer elements (the shipped cases use 200)"),
     )
@@ -116,7 +112,8 @@ pub fn model(model: &Model) -> Cost {
         }
         _ => (0, "beam.mesh"),
     };
-    let eigen = if wanted > 0 { eigen_bytes(n.saturating_sub(count(model.actuators.len() * 3)), wanted) } else { Some(0) };
+    let eigen =
+        if wanted > 0 { eigen_bytes(n.saturating_sub(count(model.actuators.len() * 3)), wanted) } else { Some(0) };
     let bytes = sum(&[system_bytes(n), eigen]);
     let detail = if wanted > 0 {
         format!("{n} DOFs, and {wanted} modes of the bare beam to calibrate the damping")
@@ -146,8 +143,14 @@ pub fn harmonic(sys: &System, frequencies: u64, forces: usize, sensors: usize, m
     let per_frequency = product(&[p, f.saturating_add(3), 16]).and_then(|b| b.checked_add(f * 8 + 128));
     let eigen = if modal { eigen_bytes(n, n) } else { Some(0) };
     let bytes = sum(&[system_bytes(n), eigen, per_frequency.and_then(|b| b.checked_mul(frequencies))]);
-    cost(bytes, Some(frequencies), "frequencies", "this harmonic analysis".into(), format!("{frequencies} frequencies × {p} points × {f} forces"))
-        .of_setting("frequencies.count", "ask for fewer frequencies")
+    cost(
+        bytes,
+        Some(frequencies),
+        "frequencies",
+        "this harmonic analysis".into(),
+        format!("{frequencies} frequencies × {p} points × {f} forces"),
+    )
+    .of_setting("frequencies.count", "ask for fewer frequencies")
 }
 
 /// The series a run records per sample (time, each link's four channels, each body DOF's
@@ -189,7 +192,13 @@ pub fn transient(model: &Model, sys: &System, s: &TransientSettings, timing: &Dr
     } else {
         (field, advice)
     };
-    let keep = if s.full_history { periods } else if timing.periodic { count(s.record_periods).min(periods) } else { 1 };
+    let keep = if s.full_history {
+        periods
+    } else if timing.periodic {
+        count(s.record_periods).min(periods)
+    } else {
+        1
+    };
     let (ch, rows) = channels(model, sys);
     let kept = product(&[keep, spp, ch, 8, SERIES_COPIES]);
     let per_period = product(&[spp.saturating_add(1), 3 * rows + ch, 8, 2]);

@@ -139,9 +139,8 @@ impl DriveTiming {
         let hf = model.drive_signals().filter_map(|s| s.highest_frequency()).fold(0.0, f64::max);
         match (dt, hf > 0.0) {
             (Some(dt), _) => {
-                let n = countable(d / dt - 1e-9).ok_or_else(|| {
-                    uncountable("dt", format!("Δt = {dt:e} s divides the duration {d:e} s"))
-                })?;
+                let n = countable(d / dt - 1e-9)
+                    .ok_or_else(|| uncountable("dt", format!("Δt = {dt:e} s divides the duration {d:e} s")))?;
                 Ok(DriveTiming { period: n as f64 * dt, dt, steps_per_period: n, periodic: false })
             }
             (None, true) => {

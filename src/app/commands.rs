@@ -1,8 +1,8 @@
 //! What the CLI commands do, as library functions (the CLI only parses arguments).
 
+use crate::analysis::budget::Budget;
 use crate::analysis::case_run::AnalysisResult;
 use crate::analysis::modes;
-use crate::analysis::budget::Budget;
 use crate::app::runner::run_case_within;
 use crate::case::build::build_beam;
 use crate::case::{AnalysisSpec, LoadedCase};
@@ -100,7 +100,14 @@ pub fn default_out(case: &Path) -> PathBuf {
 }
 
 /// `beamflow run` within `budget` (`csv`: also write the results as tidy CSV tables).
-pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, csv: bool, budget: &Budget) -> Result<()> {
+pub fn run(
+    case: &Path,
+    out: Option<&Path>,
+    json: Option<&Path>,
+    plots: bool,
+    csv: bool,
+    budget: &Budget,
+) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
     let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");

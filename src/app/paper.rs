@@ -5,10 +5,10 @@
 //! actuator on the beam at 12 V, 60 Hz (Figs. 13–16). Each run's case file is in `cases/`
 //! (the top-mass variants are made from the rigid-base case), and each run writes its HDF5.
 
+use crate::analysis::budget::Budget;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
-use crate::analysis::budget::Budget;
 use crate::app::runner::run_case_within;
 use crate::case::{ActuatorType, LoadedCase};
 use crate::error::{Error, Result};

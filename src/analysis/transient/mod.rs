@@ -208,8 +208,8 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
 /// most (by its share of the kinetic energy).
 fn check_bounded(nm: &BandNewmark, sys: &System, ledger: &EnergyLedger, period: usize, steps: usize) -> Result<()> {
     let n = sys.n();
-    let at = |what: &str| format!("the time integration diverged in period {period} (by step {})", period * steps)
-        + what;
+    let at =
+        |what: &str| format!("the time integration diverged in period {period} (by step {})", period * steps) + what;
     let advice = "a smaller `dt`, an unconditionally stable scheme (average_acceleration) or inputs nearer \
                   physical values are needed";
     if let Some(d) = nm.u().iter().chain(nm.v()).position(|x| !x.is_finite()) {
