@@ -34,7 +34,9 @@ fn points_outside_the_beam() {
 #[test]
 fn unknown_fields_and_misplaced_fields() {
     expect("[beam]\nyoung = 1.0\n", &["unknown field", "young"]);
-    expect(&format!("[[actuator]]\ntype = \"inertial\"\nk_l = 1e9\n{SINE}"), &["actuator[0].k_l", "frame"]);
+    // A field of the other actuator type: named with the line of its table.
+    expect(&format!("[[actuator]]\ntype = \"inertial\"\nk_l = 1e9\n{SINE}"), &["line 1", "`k_l`", "only to a frame"]);
+    expect(&format!("[[actuator]]\ntype = \"frame\"\nm_t = 0.2\n{SINE}"), &["line 1", "`m_t`", "only to an inertial"]);
     expect(&format!("[[actuator]]\ntype = \"frame\"\n{SINE}amplitud = 3.0\n"), &["unknown field", "amplitud"]);
 }
 

@@ -345,14 +345,14 @@ fn frame_leg_impact_test_gives_a_leg_fragment() {
     eprintln!("leg impact: k error {:.2e}, c error {:.2e}", rel(p.k, k), rel(p.c, c));
     assert!(rel(p.k, k) < 0.01 && rel(p.c, c) < 0.06, "{p:?}");
     let lc = splice_leg(&out.fragment);
-    let ((kl, cl), (kr, cr)) = lc.case.actuator[0].legs();
+    let ((kl, cl), (kr, cr)) = legs(&lc.case.actuator[0]);
     assert!(rel(kl, p.k) < 1e-5 && rel(cl, p.c) < 1e-5 && kr == kl && cr == cl);
     // The right leg's fields.
     let right =
         identify_modal(&ModalRequest { plots: false, ..ModalRequest::new(&file[0], m, IdentifiedElement::LegRight) })
             .unwrap();
     let lc = splice_leg(&right.fragment);
-    let ((kl, _), (kr, cr)) = lc.case.actuator[0].legs();
+    let ((kl, _), (kr, cr)) = legs(&lc.case.actuator[0]);
     assert_eq!(kl, 1.5e9); // the default left leg
     assert!(rel(kr, p.k) < 1e-5 && rel(cr, p.c) < 1e-5);
 }
@@ -519,4 +519,12 @@ fn bad_files_fail_with_the_file_and_the_problem() {
     assert!(e.contains("--mass"), "{e}");
     // Nothing was written by the failed commands.
     assert!(!d.join("o").join("bouc-wen.toml").exists() && !d.join("o").join("dp.toml").exists());
+}
+
+/// ((k_l, c_l) left, (k_l, c_l) right) of a frame actuator.
+fn legs(a: &beamflow::case::ActuatorSpec) -> ((f64, f64), (f64, f64)) {
+    match &a.body {
+        beamflow::case::BodySpec::Frame(f) => ((f.left.k_l, f.left.c_l), (f.right.k_l, f.right.c_l)),
+        other => panic!("not a frame: {other:?}"),
+    }
 }

@@ -134,6 +134,28 @@ fn completions_are_printed_for_each_shell() {
     }
 }
 
+#[test]
+fn a_reader_that_stops_early_is_not_a_crash() {
+    // `beamflow completions bash | head -3`: the pipe closes before the script is written.
+    for args in
+        [&["completions", "bash"][..], &["run", "cases/beam-inertial-12V-60Hz.toml", "--json", "-", "--no-plots"]]
+    {
+        let out = tempfile::tempdir().unwrap();
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
+            .args(args)
+            .args(if args[0] == "run" { vec!["--out", out.path().to_str().unwrap()] } else { vec![] })
+            .current_dir(env!("CARGO_MANIFEST_DIR"))
+            .stdout(std::process::Stdio::piped())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let o = child.wait_with_output().unwrap();
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success() && !e.contains("panicked"), "{args:?}: {e}");
+    }
+}
+
 /// The keys of every analysis of a summary, sorted.
 fn analysis_keys(v: &serde_json::Value) -> Vec<Vec<String>> {
     v["analyses"]
@@ -205,8 +227,8 @@ fn read_csv(path: &Path) -> Csv {
 
 /// Columns that name or count rows rather than measure something: the only ones without a
 /// unit.
-const KEYS: [&str; 10] =
-    ["link", "load", "point", "kind", "actuator", "drive", "measurement", "harmonic", "mode", "case_index"];
+const KEYS: [&str; 11] =
+    ["link", "load", "point", "kind", "actuator", "drive", "measurement", "input", "harmonic", "mode", "case_index"];
 
 fn num(cell: &str) -> f64 {
     cell.parse().unwrap_or_else(|_| panic!("not a number: {cell}"))
@@ -237,7 +259,7 @@ fn csv_tables_carry_units_and_equal_the_hdf5_file() {
          [[load]]\nname = \"tap\"\nx = 0.292\n[load.force]\nkind = \"sine\"\namplitude = 0.5\nfrequency = 60.0\n\
          [[sensor]]\nname = \"mid\"\nx = 0.365\n\
          [[analysis]]\ntype = \"modes\"\ncount = 3\n\
-         [[analysis]]\ntype = \"harmonic\"\n[analysis.frequencies]\nvalues = [30.0, 60.0]\n\
+         [[analysis]]\ntype = \"harmonic\"\nsystem = \"coupled\"\n[analysis.frequencies]\nvalues = [30.0, 60.0]\n\
          [[analysis]]\ntype = \"steady_state\"\nharmonics = 5\nsamples_per_period = 256\n\
          [[analysis]]\ntype = \"transient\"\nperiods = 3\n[output]\nplots = false\n",
     )
@@ -324,6 +346,21 @@ fn csv_tables_carry_units_and_equal_the_hdf5_file() {
     for (i, r) in rows.iter().enumerate() {
         assert_eq!(num(&r[re]), v[(i % 2) * np + i / 2], "row {i}");
     }
+    // The coupled system's transfer functions, row by row: output, input, frequency.
+    let (head, rows) = csv("analysis_1_harmonic_transfer_velocity");
+    let col = |n: &str| head.iter().position(|(h, _)| h == n).unwrap();
+    let (re, im) = (
+        values(&tree, "analysis_1_harmonic/transfer_velocity", Some("re")).0,
+        values(&tree, "analysis_1_harmonic/transfer_velocity", Some("im")).0,
+    );
+    let ni = 2; // the shaker's foot and its drive
+    let np = rows.len() / (2 * ni);
+    for (r, row) in rows.iter().enumerate() {
+        let (o, i, k) = (r / (ni * 2), (r / 2) % ni, r % 2);
+        let c = num_complex::Complex64::new(re[k * np * ni + o * ni + i], im[k * np * ni + o * ni + i]);
+        assert_eq!((num(&row[col("transfer_velocity re")]), num(&row[col("|transfer_velocity|")])), (c.re, c.norm()));
+    }
+    assert_eq!(rows[0][col("input")], "shaker_stack");
     assert!(checked > 50, "{checked}");
 }
 

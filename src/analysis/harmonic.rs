@@ -1,4 +1,5 @@
-//! Harmonic response of the beam to point forces: mobilities and input power.
+//! Harmonic response of the beam, bare or coupled with its actuators, to point forces:
+//! mobilities, input power and the coupled system's transfer functions.
 
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
@@ -43,11 +44,55 @@ pub struct HarmonicResult {
     pub dissipated_power: Vec<f64>,
     /// |total − dissipated| / dissipated.
     pub balance_error: Vec<f64>,
+    /// The coupled system's transfer functions (a model with actuators; empty for the bare
+    /// beam): the inputs are a unit force at each attachment point on the beam (the link
+    /// feet, named as the links), then each actuator's unit stack force F_p (named
+    /// `<actuator>_drive`).
+    pub transfer_inputs: Vec<String>,
+    /// Velocity at each response point per unit input, [f][point][input] (m/(N·s)).
+    #[serde(skip)]
+    pub transfer_velocity: Vec<Vec<Vec<Complex64>>>,
+    /// The links (`<actuator>_<link>`) whose interface forces [`transfer_interface`]
+    /// holds.
+    ///
+    /// [`transfer_interface`]: HarmonicResult::transfer_interface
+    pub link_names: Vec<String>,
+    /// Interface force under each link's foot per unit input, [f][link][input] (N/N).
+    #[serde(skip)]
+    pub transfer_interface: Vec<Vec<Vec<Complex64>>>,
 }
 
-/// Runs the analysis on the bare beam `sys` (no actuators). With `modal` (modes and their
-/// damping ratios) the response is the modal sum over those modes instead of the direct
-/// solve with the Rayleigh matrix.
+/// An input of the coupled system's transfer functions: its load pattern and the stack
+/// force it stands for (actuator, for a drive).
+struct TransferInput {
+    name: String,
+    pattern: Vec<(usize, f64)>,
+    drive: Option<usize>,
+}
+
+/// The coupled system's transfer inputs: a unit force at each link foot on the beam, then
+/// each actuator's unit stack force.
+fn transfer_inputs(model: &Model, sys: &System) -> Vec<TransferInput> {
+    let link_name =
+        |l: &crate::assembly::system::LinkDofs| format!("{}_{}", model.actuators[l.actuator].name(), l.name);
+    let feet = sys
+        .links
+        .iter()
+        .filter_map(|l| l.foot_dof.map(|d| TransferInput { name: link_name(l), pattern: vec![(d, 1.0)], drive: None }));
+    let drives = sys.drives.iter().enumerate().map(|(a, b)| TransferInput {
+        name: format!("{}_drive", model.actuators[a].name()),
+        pattern: b.clone(),
+        drive: Some(a),
+    });
+    feet.chain(drives).collect()
+}
+
+/// Runs the analysis on `sys`: the bare beam (a model without actuators), or the coupled
+/// system of beam and passive actuators (stacks as their spring and damper, F_p the
+/// input), which adds the link feet as response points and the transfer functions from a
+/// unit force at each foot and each unit stack force. With `modal` (modes and their
+/// damping ratios; bare beam only) the response is the modal sum over those modes instead
+/// of the direct solve with the Rayleigh matrix.
 pub fn run(
     model: &Model,
     sys: &System,
@@ -63,6 +108,12 @@ pub fn run(
     for s in &model.sensors {
         points.push((s.x, s.name.clone(), sys.w_dof_at(model, s.x, "sensor.x")?));
     }
+    // The coupled system's attachment points: each link's foot on the beam.
+    for l in sys.links.iter().filter(|l| l.foot_dof.is_some()) {
+        let name = format!("{}_{}", model.actuators[l.actuator].name(), l.name);
+        points.push((l.foot_x.unwrap_or(f64::NAN), name, l.foot_dof));
+    }
+    let inputs = transfer_inputs(model, sys);
     let fdofs: Vec<Option<usize>> = points[..forces.len()].iter().map(|p| p.2).collect();
     let amps: Vec<Complex64> = forces.iter().map(|f| Complex64::from_polar(f.amplitude, f.phase)).collect();
     let mut res = HarmonicResult {
@@ -70,8 +121,15 @@ pub fn run(
         point_x: points.iter().map(|p| p.0).collect(),
         point_names: points.iter().map(|p| p.1.clone()).collect(),
         mesh_roundoff: super::roundoff::mesh_roundoff(model),
+        transfer_inputs: inputs.iter().map(|t| t.name.clone()).collect(),
+        link_names: if inputs.is_empty() {
+            Vec::new()
+        } else {
+            sys.links.iter().map(|l| format!("{}_{}", model.actuators[l.actuator].name(), l.name)).collect()
+        },
         ..Default::default()
     };
+    let mut tcols: Vec<Vec<Complex64>> = vec![vec![Complex64::default(); n]; inputs.len()];
     let mut dynk = match modal {
         None => Some(DynamicStiffness::of(sys)),
         Some(_) => None,
@@ -90,10 +148,16 @@ pub fn run(
                 col[d] = Complex64::new(1.0, 0.0);
             }
         }
+        for (t, col) in inputs.iter().zip(tcols.iter_mut()) {
+            col.iter_mut().for_each(|x| *x = Complex64::default());
+            for &(d, c) in &t.pattern {
+                col[d] += c;
+            }
+        }
         match (&mut dynk, modal) {
             (Some(dk), _) => {
                 dk.factorize(w)?;
-                for col in cols.iter_mut() {
+                for col in cols.iter_mut().chain(tcols.iter_mut()) {
                     dk.solve_in_place(col);
                 }
             }
@@ -118,9 +182,31 @@ pub fn run(
         let pin: Vec<f64> = (0..forces.len()).map(|j| mean_power(amps[j], v_all[j])).collect();
         let total: f64 = pin.iter().sum();
         let diss = match modal {
-            None => beam_dissipation(sys, &q, w),
+            // The structure's, and on a coupled system the links' dampers' ½ω²·c·|u|².
+            None => beam_dissipation(sys, &q, w) + links_dissipation(sys, &q, w),
             Some((modes, ratios)) => modal_dissipation(modes, ratios, &sys.m_beam, &q, w),
         };
+        if !inputs.is_empty() {
+            res.transfer_velocity.push(points.iter().map(|p| tcols.iter().map(|c| vel(p.2, c)).collect()).collect());
+            res.transfer_interface.push(
+                sys.links
+                    .iter()
+                    .map(|lk| {
+                        inputs
+                            .iter()
+                            .zip(&tcols)
+                            .map(|(t, c)| {
+                                let mut fp = vec![Complex64::default(); model.actuators.len()];
+                                if let Some(a) = t.drive {
+                                    fp[a] = Complex64::new(1.0, 0.0);
+                                }
+                                crate::power::link::link_harmonic(lk, c, w, &fp).interface
+                            })
+                            .collect()
+                    })
+                    .collect(),
+            );
+        }
         res.balance_error.push(balance_error(total, diss));
         res.mobility.push(mob);
         res.velocity.push(v_all);
@@ -129,6 +215,18 @@ pub fn run(
         res.dissipated_power.push(diss);
     }
     Ok(res)
+}
+
+/// Power the links' dampers dissipate in harmonic motion Q at ω: Σ_l ½ω²·c_l·|u_l|², u_l
+/// the link's stretch (zero without actuators).
+fn links_dissipation(sys: &System, q: &[Complex64], w: f64) -> f64 {
+    sys.links
+        .iter()
+        .map(|l| {
+            let u: Complex64 = l.stretch.iter().map(|&(d, c)| q[d] * c).sum();
+            0.5 * w * w * l.c * u.norm_sqr()
+        })
+        .sum()
 }
 
 /// Q = Σ_r φ_r·(φ_rᵀF)/(ω_r² − ω² + 2iζ_r·ω_r·ω).

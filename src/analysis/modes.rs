@@ -1,6 +1,7 @@
 //! Natural modes of the bare structure (the beam with its supports and attachments, no
 //! actuators): the modal analysis with closed-form references where they exist, and the
-//! modes other analyses need (Rayleigh calibration, the mode-resolved power flow).
+//! modes other analyses need (Rayleigh calibration, the mode-resolved power flow); and the
+//! modes of the coupled system (beam and actuators) beside them.
 
 use crate::assembly::system::structure_stiffness_root;
 use crate::assembly::{Model, System};
@@ -110,6 +111,47 @@ pub struct ModesResult {
     pub node_x: Vec<f64>,
     #[serde(skip)]
     pub shapes_w: Vec<Vec<f64>>,
+    /// The modes of the beam with its actuators attached, beside the bare beam's (a model
+    /// with actuators on a beam only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub coupled: Option<CoupledModes>,
+}
+
+/// Natural modes of the coupled system: the beam with its actuators' bodies and links (the
+/// stacks as springs), mass-normalised over the whole system.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct CoupledModes {
+    pub frequencies_hz: Vec<f64>,
+    /// w of each mode at each beam node (row per mode), m/√kg.
+    #[serde(skip)]
+    pub shapes_w: Vec<Vec<f64>>,
+    /// The actuators' body DOFs (`<actuator>_<dof>`) and each mode's amplitude on them (row
+    /// per mode; m/√kg, rad/√kg for rotations).
+    pub body_names: Vec<String>,
+    #[serde(skip)]
+    pub body_shapes: Vec<Vec<f64>>,
+}
+
+/// The lowest `count` modes of the coupled system `sys` of `model` (None without a beam or
+/// actuators): dense up to [`DENSE_EIGEN_LIMIT`] DOFs, shift-invert Lanczos beyond.
+pub fn coupled_modes(model: &Model, sys: &System, count: usize) -> Result<Option<CoupledModes>> {
+    if model.beam.is_none() || model.actuators.is_empty() {
+        return Ok(None);
+    }
+    let n = sys.n();
+    let modes = if n > DENSE_EIGEN_LIMIT && count < n / 4 {
+        crate::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, count, 0.0)?
+    } else {
+        eigen::modes(&sys.k, &sys.m, &(0..n).collect::<Vec<_>>(), count)?
+    };
+    let bodies = super::series::body_dofs(model, sys);
+    let shapes: Vec<Vec<f64>> = (0..modes.count()).map(|r| modes.shape_global(r, n)).collect();
+    Ok(Some(CoupledModes {
+        frequencies_hz: modes.frequencies_hz(),
+        shapes_w: shapes.iter().map(|g| sys.dofs.w.iter().map(|d| d.map_or(0.0, |d| g[d])).collect()).collect(),
+        body_names: bodies.iter().map(|b| format!("{}_{}", model.actuators[b.actuator].name(), b.name)).collect(),
+        body_shapes: shapes.iter().map(|g| bodies.iter().map(|b| g[b.dof]).collect()).collect(),
+    }))
 }
 
 /// End conditions of a beam supported only at its two ends, if it is uniform and bare.
@@ -198,5 +240,6 @@ pub fn run(beam: &Beam, count: usize) -> Result<ModesResult> {
         node_x: beam.mesh.x.clone(),
         shapes_w,
         modes,
+        coupled: None,
     })
 }

@@ -48,6 +48,12 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
             _ => s += &format!("{:>4}  {:>14.6}  {:>14}  {:>11}\n", i + 1, f, "–", "–"),
         }
     }
+    if let Some(c) = &r.coupled {
+        s += &format!("coupled with the actuators ({}):\n{:>4}  {:>14}\n", c.body_names.join(", "), "mode", "f (Hz)");
+        for (i, f) in c.frequencies_hz.iter().enumerate() {
+            s += &format!("{:>4}  {:>14.6}\n", i + 1, f);
+        }
+    }
     if let Some(&bound) = r.roundoff_bound.first() {
         if bound > 1e-3 {
             s += &format!(

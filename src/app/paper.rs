@@ -10,7 +10,7 @@ use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
 use crate::app::runner::run_case_within;
-use crate::case::{ActuatorType, LoadedCase};
+use crate::case::{BodySpec, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
 use crate::report::figures::{
@@ -232,8 +232,8 @@ fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f
     let mut mass_amp = Vec::new();
     for m_t in [0.1, 0.3, 0.5, 1.0] {
         let mut case = rigid_lc.case.clone();
-        case.actuator.retain(|a| a.kind == ActuatorType::Inertial);
-        case.actuator[0].m_t = Some(m_t);
+        case.actuator.retain(|a| matches!(a.body, BodySpec::Inertial { .. }));
+        case.actuator[0].body = BodySpec::Inertial { m_t };
         case.title = format!("Rigid base, 48 V, 30 Hz, inertial actuator, m_t = {m_t} kg");
         let lc = LoadedCase::from_case(case, &format!("{} (m_t = {m_t})", rigid_lc.file), rigid_lc.dir.clone())?;
         let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), w.store, &mut w.files)?;

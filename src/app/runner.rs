@@ -12,7 +12,7 @@ use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{Model, System};
 use crate::case::measured::Measured;
-use crate::case::{AnalysisSpec, LoadedCase, ReductionSpec, SchemeKind};
+use crate::case::{AnalysisSpec, HarmonicSystem, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
 use crate::power::modal::ModalDamping;
 use crate::signal::sampling::samples_for_harmonics;
@@ -110,8 +110,16 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                     need_beam()?;
                     budget.admit(&cost::modes(model, *count))
                 }
-                AnalysisSpec::Harmonic { force, frequencies } => {
+                AnalysisSpec::Harmonic { force, system: kind, frequencies } => {
                     need_beam()?;
+                    if *kind == HarmonicSystem::Coupled && model.modal_ratios().is_some() {
+                        return Err(Error::analysis_setting(
+                            "system",
+                            "the coupled system has no damping matrix with modal damping (its ratios belong to the \
+                             bare beam's modes): give the beam Rayleigh or hysteretic damping, or analyse the bare \
+                             beam",
+                        ));
+                    }
                     let f = cost::frequency_count(frequencies).unwrap_or(u64::MAX);
                     let forces = if force.is_empty() { model.loads.len() } else { force.len() };
                     let modal = model.modal_ratios().is_some();
@@ -240,8 +248,20 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
                 .ok_or_else(|| Error::input(&lc.file, &field, "this analysis needs a beam, but base = \"rigid\""))
         };
         let r = match spec {
-            AnalysisSpec::Modes { count } => AnalysisResult::Modes(modes::run(need_beam()?, *count)?),
-            AnalysisSpec::Harmonic { frequencies, force } => {
+            AnalysisSpec::Modes { count } => {
+                let mut r = modes::run(need_beam()?, *count)?;
+                r.coupled = modes::coupled_modes(&model, &system, *count)?;
+                AnalysisResult::Modes(r)
+            }
+            AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Coupled } => {
+                need_beam()?;
+                let forces = harmonic_forces(force, &model.loads);
+                AnalysisResult::Harmonic(
+                    harmonic::run(&model, &system, &frequencies.list(), &forces, None)
+                        .map_err(|e| e.in_analysis(&lc.file, &field))?,
+                )
+            }
+            AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Bare } => {
                 AnalysisResult::Harmonic(run.harmonic(need_beam()?, &frequencies.list(), force)?)
             }
             AnalysisSpec::Transient { reduction, .. } => {

@@ -26,10 +26,10 @@ pub fn required_points(case: &Case) -> Vec<RequiredPoint> {
     if case.base == BaseKind::Beam {
         for (i, a) in case.actuator.iter().enumerate() {
             add(a.x_e, format!("actuator[{i}].x_e"));
-            if a.kind == ActuatorType::Frame {
-                let xc = a.x_e - a.e();
-                add(xc - a.a(), format!("actuator[{i}] left leg (x_e − e − a)"));
-                add(xc + a.a(), format!("actuator[{i}] right leg (x_e − e + a)"));
+            if let BodySpec::Frame(f) = &a.body {
+                let (left, right) = f.leg_positions(a.x_e);
+                add(left, format!("actuator[{i}] left leg (x_e − e − a)"));
+                add(right, format!("actuator[{i}] right leg (x_e − e + a)"));
             }
         }
     }
@@ -161,22 +161,19 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
             BaseKind::Rigid => FootBase::Ground,
         };
         let name = a.effective_name(i, case.actuator.len());
-        actuators.push(match a.kind {
-            ActuatorType::Inertial => Actuator::Inertial(Inertial { name, stack, m_t: a.m_t(), foot }),
-            ActuatorType::Frame => {
-                let ((kl, cl), (kr, cr)) = a.legs();
-                Actuator::Frame(Frame {
-                    name,
-                    stack,
-                    m_b: a.m_b(),
-                    j_b: a.j_b(),
-                    a: a.a(),
-                    e: a.e(),
-                    left: Leg { k_l: kl, c_l: cl },
-                    right: Leg { k_l: kr, c_l: cr },
-                    x_e: matches!(foot, FootBase::Beam { .. }).then_some(a.x_e),
-                })
-            }
+        actuators.push(match &a.body {
+            BodySpec::Inertial { m_t } => Actuator::Inertial(Inertial { name, stack, m_t: *m_t, foot }),
+            BodySpec::Frame(f) => Actuator::Frame(Frame {
+                name,
+                stack,
+                m_b: f.m_b,
+                j_b: f.j_b,
+                a: f.a,
+                e: f.e,
+                left: Leg { k_l: f.left.k_l, c_l: f.left.c_l },
+                right: Leg { k_l: f.right.k_l, c_l: f.right.c_l },
+                x_e: matches!(foot, FootBase::Beam { .. }).then_some(a.x_e),
+            }),
         });
     }
     let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), x: s.x }).collect();

@@ -114,7 +114,7 @@ pub fn check(case: &Case, file: &str) -> Result<()> {
         signal(file, &format!("load[{i}].force"), &l.force, "N")?;
     }
     for (i, an) in case.analysis.iter().enumerate() {
-        if let AnalysisSpec::Harmonic { frequencies, force } = an {
+        if let AnalysisSpec::Harmonic { frequencies, force, .. } = an {
             let f = format!("analysis[{i}].frequencies");
             for (k, &v) in frequencies.values.iter().enumerate() {
                 within(file, &format!("{f}.values[{k}]"), v, FREQUENCY, "Hz")?;

@@ -212,6 +212,16 @@ impl Measurement {
         Ok(m)
     }
 
+    /// A measurement of the given columns (none of them time), not yet validated.
+    fn unchecked(file: String, time: Vec<f64>, columns: Vec<(Quantity, Vec<f64>)>) -> Self {
+        let mut m =
+            Measurement { file, time, dt: 0.0, voltage: None, displacement: None, force: None, acceleration: None };
+        for (q, c) in columns {
+            *m.slot(q).expect("time is not a column") = Some(c);
+        }
+        m
+    }
+
     fn slot(&mut self, q: Quantity) -> Option<&mut Option<Vec<f64>>> {
         match q {
             Quantity::Time => None,
@@ -382,18 +392,7 @@ pub fn parse(text: &str, file: &str, required: &[Quantity], opts: &LoadOptions) 
             columns.push((q, c));
         }
     }
-    let mut m = Measurement {
-        file: file.to_string(),
-        time,
-        dt: 0.0,
-        voltage: None,
-        displacement: None,
-        force: None,
-        acceleration: None,
-    };
-    for (q, c) in columns {
-        *m.slot(q).unwrap() = Some(c);
-    }
+    let mut m = Measurement::unchecked(file.to_string(), time, columns);
     m.validate(opts)?;
     Ok(m)
 }
@@ -611,18 +610,7 @@ pub fn load_point_hdf5(path: &Path, group: Option<&str>, point: &str, opts: &Loa
         columns.push((Quantity::Force, r.read_f64(&format!("{base}/{f}"))?.0));
     }
     let time = r.read_f64(&format!("/{g}/t"))?.0;
-    let mut m = Measurement {
-        file: format!("{file}:{base}"),
-        time,
-        dt: 0.0,
-        voltage: None,
-        displacement: None,
-        force: None,
-        acceleration: None,
-    };
-    for (q, c) in columns {
-        *m.slot(q).expect("not time") = Some(c);
-    }
+    let mut m = Measurement::unchecked(format!("{file}:{base}"), time, columns);
     if m.time.len() < 2 {
         return Err(Error::input(&m.file, "time", "fewer than 2 samples"));
     }

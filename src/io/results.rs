@@ -127,7 +127,28 @@ fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
         &[n, nx],
         "m/sqrt(kg)",
         "mass-normalised mode shapes: w at each node, one row per mode",
-    )
+    )?;
+    if let Some(c) = &r.coupled {
+        let cg = g.group("coupled")?;
+        let n = c.frequencies_hz.len();
+        cg.write_f64("frequencies_hz", &c.frequencies_hz, &[n], "Hz", "natural frequencies of beam and actuators")?;
+        cg.write_f64(
+            "shapes_w",
+            &c.shapes_w.concat(),
+            &[n, nx],
+            "m/sqrt(kg)",
+            "coupled mode shapes, mass-normalised over the whole system: w at each node, one row per mode",
+        )?;
+        cg.write_str_list("body_names", &c.body_names)?;
+        cg.write_f64(
+            "body_shapes",
+            &c.body_shapes.concat(),
+            &[n, c.body_names.len()],
+            "m/sqrt(kg)",
+            "each mode on the actuators' body DOFs (columns: body_names; rad/sqrt(kg) for rotations)",
+        )?;
+    }
+    Ok(())
 }
 
 fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
@@ -136,7 +157,7 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     let nforce = r.input_power.first().map_or(0, Vec::len);
     g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     g.write_f64("frequency_hz", &r.frequency_hz, &[nf], "Hz", "analysis frequencies")?;
-    g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, then sensors")?;
+    g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, sensors, then (coupled) link feet")?;
     g.write_str_list("point_names", &r.point_names)?;
     let mob: Vec<_> = r.mobility.iter().flat_map(|m| m.iter().flatten().copied()).collect();
     g.write_c64(
@@ -151,8 +172,38 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     let pin: Vec<f64> = r.input_power.iter().flatten().copied().collect();
     g.write_f64("input_power", &pin, &[nf, nforce], "W", "time-averaged input power per force point")?;
     g.write_f64("total_power", &r.total_power, &[nf], "W", "sum over force points")?;
-    g.write_f64("dissipated_power", &r.dissipated_power, &[nf], "W", "beam dissipation 0.5*w^2*Q^H*C*Q")?;
-    g.write_f64("balance_error", &r.balance_error, &[nf], "1", "|total - dissipated|/dissipated")
+    g.write_f64(
+        "dissipated_power",
+        &r.dissipated_power,
+        &[nf],
+        "W",
+        "dissipation 0.5*w^2*Q^H*C*Q (beam, and the links' dampers)",
+    )?;
+    g.write_f64("balance_error", &r.balance_error, &[nf], "1", "|total - dissipated|/dissipated")?;
+    let ni = r.transfer_inputs.len();
+    if ni > 0 {
+        let nl = r.link_names.len();
+        g.write_str_list("transfer_inputs", &r.transfer_inputs)?;
+        g.write_str_list("link_names", &r.link_names)?;
+        let flat = |t: &[Vec<Vec<num_complex::Complex64>>]| {
+            t.iter().flat_map(|m| m.iter().flatten().copied()).collect::<Vec<_>>()
+        };
+        g.write_c64(
+            "transfer_velocity",
+            &flat(&r.transfer_velocity),
+            &[nf, np * ni],
+            "m/(N*s)",
+            "coupled system: velocity at point i per unit input j (a foot force or a stack force); column i*n_inputs + j",
+        )?;
+        g.write_c64(
+            "transfer_interface",
+            &flat(&r.transfer_interface),
+            &[nf, nl * ni],
+            "1",
+            "coupled system: interface force under link l per unit input j (N/N); column l*n_inputs + j",
+        )?;
+    }
+    Ok(())
 }
 
 fn write_energy<S: GroupSink>(g: &S, name: &str, e: &EnergyBalance) -> Result<()> {

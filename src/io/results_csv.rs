@@ -52,9 +52,18 @@ pub fn tables(root: &Group) -> Vec<(String, Table)> {
         if gname.ends_with("_modes") {
             add("modes", modes(g));
             add("mode_shapes", mode_shapes(g));
+            if let Some(c) = g.group("coupled") {
+                add("coupled_modes", per_index(c, "frequencies_hz", Some("mode"), &[]));
+                add(
+                    "coupled_mode_shapes",
+                    g.datasets.get("node_x").and_then(|x| shapes(x, c.datasets.get("shapes_w")?)),
+                );
+            }
         } else if gname.ends_with("_harmonic") {
             add("harmonic", harmonic(g));
             add("harmonic_points", harmonic_points(g));
+            add("transfer_velocity", transfer(g, "transfer_velocity", "point_names", "point"));
+            add("transfer_interface", transfer(g, "transfer_interface", "link_names", "link"));
         } else {
             add("series", series(g));
             add("spectra", Some(long(g.group("spectra"), "link", "frequency")));
@@ -62,7 +71,9 @@ pub fn tables(root: &Group) -> Vec<(String, Table)> {
             add("point_power", point_power(g));
             add("net_power", net_power(g, &actuators));
             if let Some(m) = g.group("modal") {
-                add("modal_modes", per_index(m, "mode_frequency_hz", "mode"));
+                let per_mode =
+                    ["dissipation", "kinetic_energy", "strain_energy", "power_participation", "response_participation"];
+                add("modal_modes", per_index(m, "mode_frequency_hz", Some("mode"), &per_mode));
                 add("modal_point_power", modal_point_power(m, g));
                 add("modal_harmonics", modal_harmonics(m, &actuators));
             }
@@ -198,16 +209,19 @@ fn net_power(g: &Group, actuators: &[String]) -> Option<Table> {
     Some(t)
 }
 
-/// One row per entry of `index` (a 1-D dataset of `g`), numbered from 1 in `counter`,
-/// with every 1-D dataset of `g` of the same length.
-fn per_index(g: &Group, index: &str, counter: &str) -> Option<Table> {
+/// One row per entry of `index` (a 1-D dataset of `g`), numbered from 1 in `counter`
+/// (None: no counter), with the datasets `others` of `g` (those present, of the same
+/// length; named, since another of the same length may index something else).
+fn per_index(g: &Group, index: &str, counter: Option<&str>, others: &[&str]) -> Option<Table> {
     let ix = g.datasets.get(index)?;
     let n = ix.shape[0];
     let mut t = Table::default();
-    t.push(Column::int(counter, one_based(n)));
+    if let Some(c) = counter {
+        t.push(Column::int(c, one_based(n)));
+    }
     t.columns.extend(columns(index, ix, n));
-    for (name, d) in g.datasets.iter().filter(|(name, _)| name.as_str() != index) {
-        t.columns.extend(columns(name, d, n));
+    for name in others {
+        t.columns.extend(g.datasets.get(*name).map(|d| columns(name, d, n)).unwrap_or_default());
     }
     Some(t)
 }
@@ -315,16 +329,16 @@ fn measurements(g: &Group, quantity: &str) -> Option<Table> {
 
 /// The bare beam's natural frequencies, with the closed-form ones where they exist.
 fn modes(g: &Group) -> Option<Table> {
-    per_index(g, "frequencies_hz", "mode").map(|mut t| {
-        t.columns.retain(|c| c.name != "node_x");
-        t
-    })
+    per_index(g, "frequencies_hz", Some("mode"), &["analytic_hz", "relative_error"])
 }
 
 /// Mode shapes: node coordinate, then one column per mode.
 fn mode_shapes(g: &Group) -> Option<Table> {
-    let x = g.datasets.get("node_x")?;
-    let s = g.datasets.get("shapes_w")?;
+    shapes(g.datasets.get("node_x")?, g.datasets.get("shapes_w")?)
+}
+
+/// Node coordinates `x` and a modes × nodes matrix `s` as columns.
+fn shapes(x: &Dataset, s: &Dataset) -> Option<Table> {
     let (&[nm, nx], Some(v)) = (s.shape.as_slice(), real(s)) else { return None };
     let mut t = Table::default();
     t.columns.extend(columns("node_x", x, nx));
@@ -336,8 +350,7 @@ fn mode_shapes(g: &Group) -> Option<Table> {
 
 /// Per analysis frequency: powers and balance, and the input power of each force point.
 fn harmonic(g: &Group) -> Option<Table> {
-    let mut t = per_index(g, "frequency_hz", "step")?;
-    t.columns.remove(0);
+    let mut t = per_index(g, "frequency_hz", None, &["total_power", "dissipated_power", "balance_error"])?;
     let n = t.rows();
     let names = strings(g, "point_names");
     let d = g.datasets.get("input_power")?;
@@ -347,6 +360,37 @@ fn harmonic(g: &Group) -> Option<Table> {
             t.push(Column::num(format!("input_power {}", names.get(j).map_or("?", String::as_str)), &d.unit, col));
         }
     }
+    Some(t)
+}
+
+/// A coupled system's transfer functions `name` (frequency × (output · input)) in long
+/// form: output (`key`, named by `labels`), input, frequency; the complex value as real
+/// and imaginary parts, magnitude and phase.
+fn transfer(g: &Group, name: &str, labels: &str, key: &str) -> Option<Table> {
+    let d = g.datasets.get(name)?;
+    let Data::C64(v) = &d.data else { return None };
+    let (outputs, inputs) = (strings(g, labels), strings(g, "transfer_inputs"));
+    let f = real(g.datasets.get("frequency_hz")?)?;
+    let (nf, no, ni) = (f.len(), outputs.len(), inputs.len());
+    if d.shape != [nf, no * ni] {
+        return None;
+    }
+    let rows = nf * no * ni;
+    // Row order: output, input, frequency (each output's FRFs contiguous).
+    let at = |r: usize| (r / (ni * nf), (r / nf) % ni, r % nf);
+    let value: Vec<num_complex::Complex64> = (0..rows)
+        .map(|r| {
+            let (o, i, k) = at(r);
+            v[k * no * ni + o * ni + i]
+        })
+        .collect();
+    let mut t = Table::default();
+    t.push(Column::text(key, (0..rows).map(|r| outputs[at(r).0].clone()).collect()));
+    t.push(Column::text("input", (0..rows).map(|r| inputs[at(r).1].clone()).collect()));
+    t.push(Column::num("frequency_hz", "Hz", (0..rows).map(|r| f[at(r).2]).collect()));
+    t.columns.extend(Column::complex(name, &d.unit, &value));
+    t.push(Column::num(format!("|{name}|"), &d.unit, value.iter().map(|c| c.norm()).collect()));
+    t.push(Column::num(format!("{name} phase"), "rad", value.iter().map(|c| c.arg()).collect()));
     Some(t)
 }
 

@@ -16,8 +16,22 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     };
     for r in &run.results {
         analyses.push(match r {
-            AnalysisResult::Modes(m) => json!({"type": "modes", "frequencies_hz": m.frequencies_hz, "analytic_hz": m.analytic_hz, "relative_error": m.relative_error}),
-            AnalysisResult::Harmonic(h) => json!({"type": "harmonic", "frequency_hz": h.frequency_hz, "total_power_w": h.total_power, "dissipated_power_w": h.dissipated_power, "max_balance_error": h.balance_error.iter().fold(0.0f64, |a, b| a.max(*b)), "mesh_roundoff": h.mesh_roundoff}),
+            AnalysisResult::Modes(m) => {
+                let mut v = json!({"type": "modes", "frequencies_hz": m.frequencies_hz, "analytic_hz": m.analytic_hz, "relative_error": m.relative_error});
+                if let Some(c) = &m.coupled {
+                    v["coupled_frequencies_hz"] = json!(c.frequencies_hz);
+                }
+                v
+            }
+            AnalysisResult::Harmonic(h) => {
+                let mut v = json!({"type": "harmonic", "frequency_hz": h.frequency_hz, "total_power_w": h.total_power, "dissipated_power_w": h.dissipated_power, "max_balance_error": h.balance_error.iter().fold(0.0f64, |a, b| a.max(*b)), "mesh_roundoff": h.mesh_roundoff});
+                if !h.transfer_inputs.is_empty() {
+                    v["system"] = json!("coupled");
+                    v["transfer_inputs"] = json!(h.transfer_inputs);
+                    v["point_names"] = json!(h.point_names);
+                }
+                v
+            }
             AnalysisResult::Transient(t) => {
                 let mut points = Map::new();
                 for (l, p) in t.mean_power.iter().enumerate() {

@@ -5,7 +5,7 @@
 
 use super::quantity::{Outcome, Quantity};
 use crate::case::signal::SignalSpec;
-use crate::case::{ActuatorSpec, ActuatorType, BaseKind, Case, SupportKindSpec};
+use crate::case::{ActuatorSpec, BaseKind, BodySpec, Case, SupportKindSpec};
 
 /// The placement and drive limits (from the `[constraints]` table).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -70,20 +70,17 @@ pub struct Violation {
 /// The interval [lo, hi] (m) a foot-print covers: the point x_E of an inertial actuator,
 /// the legs' span x_c ± a of a frame (x_c = x_E − e).
 pub fn footprint(a: &ActuatorSpec) -> (f64, f64) {
-    match a.kind {
-        ActuatorType::Inertial => (a.x_e, a.x_e),
-        ActuatorType::Frame => {
-            let xc = a.x_e - a.e();
-            (xc - a.a(), xc + a.a())
-        }
+    match &a.body {
+        BodySpec::Inertial { .. } => (a.x_e, a.x_e),
+        BodySpec::Frame(f) => f.leg_positions(a.x_e),
     }
 }
 
 /// Where an actuator touches the beam: its stack foot, and a frame's legs.
 pub fn feet(a: &ActuatorSpec) -> Vec<(&'static str, f64)> {
-    match a.kind {
-        ActuatorType::Inertial => vec![("foot", a.x_e)],
-        ActuatorType::Frame => {
+    match a.body {
+        BodySpec::Inertial { .. } => vec![("foot", a.x_e)],
+        BodySpec::Frame(_) => {
             let (l, r) = footprint(a);
             vec![("stack foot", a.x_e), ("left leg", l), ("right leg", r)]
         }

@@ -8,7 +8,7 @@ use super::spec::Spec;
 use crate::analysis::drive::StackForceCache;
 use crate::analysis::plan::calibrated_model;
 use crate::analysis::steady_state::{self, Detail, HarmonicSolver};
-use crate::case::{ActuatorType, LoadedCase};
+use crate::case::LoadedCase;
 use crate::power::modal::{decompose, ModalDamping};
 use crate::power::point::net_power;
 use num_complex::Complex64;
@@ -182,16 +182,7 @@ impl<'s> Evaluator<'s> {
             modal_power,
             mode_frequency_hz,
             volt2: acts.iter().map(|a| peak_voltage(&a.voltage).powi(2)).sum(),
-            mass: acts
-                .iter()
-                .map(|a| {
-                    a.stack.m_p
-                        + match a.kind {
-                            ActuatorType::Inertial => a.m_t(),
-                            ActuatorType::Frame => a.m_b(),
-                        }
-                })
-                .sum(),
+            mass: acts.iter().map(|a| a.stack.m_p + a.body_mass()).sum(),
         })
     }
 }

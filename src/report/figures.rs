@@ -189,8 +189,14 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
     for (i, r) in run.results.iter().enumerate() {
         let tag = format!("{stem}_{i}");
         match r {
-            AnalysisResult::Modes(m) => out.extend(save(&modes_figure(m), dir, &format!("{tag}_modes"))?),
-            AnalysisResult::Harmonic(h) => out.extend(save(&harmonic_figure(h), dir, &format!("{tag}_harmonic"))?),
+            AnalysisResult::Modes(m) => {
+                out.extend(save(&modes_figure(m), dir, &format!("{tag}_modes"))?);
+                out.extend(super::coupled::modes_figure(dir, &tag, m)?);
+            }
+            AnalysisResult::Harmonic(h) => {
+                out.extend(save(&harmonic_figure(h), dir, &format!("{tag}_harmonic"))?);
+                out.extend(super::coupled::transfer_figure(dir, &tag, h)?);
+            }
             AnalysisResult::Transient(t) => {
                 // Figures show the last periods (a whole history, `[output] full_history`,
                 // is in the HDF5 file; drawn it would be hundreds of periods per panel).

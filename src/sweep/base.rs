@@ -6,7 +6,7 @@ use super::field::{get_path, set_path, Field, Segment};
 use crate::actuator::{link_id, Frame, Inertial};
 use crate::assembly::Rayleigh;
 use crate::case::signal::SignalSpec;
-use crate::case::{ActuatorType, AnalysisSpec, BaseKind, Case, DampingKind, LoadedCase, DEFAULT_HARMONICS};
+use crate::case::{AnalysisSpec, BaseKind, BodySpec, Case, DampingKind, LoadedCase, DEFAULT_HARMONICS};
 use crate::error::{Error, Result};
 use crate::signal::voltage::VoltageInput;
 use std::path::{Path, PathBuf};
@@ -223,9 +223,9 @@ fn names(case: &Case) -> (Vec<String>, Vec<String>) {
     let mut links = Vec::new();
     for (i, a) in case.actuator.iter().enumerate() {
         let name = a.effective_name(i, case.actuator.len());
-        let l: &[&str] = match a.kind {
-            ActuatorType::Inertial => &Inertial::LINKS,
-            ActuatorType::Frame => &Frame::LINKS,
+        let l: &[&str] = match a.body {
+            BodySpec::Inertial { .. } => &Inertial::LINKS,
+            BodySpec::Frame(_) => &Frame::LINKS,
         };
         links.extend(l.iter().map(|l| link_id(&name, l)));
         actuators.push(name);

@@ -216,8 +216,9 @@ fn dispatch(cmd: &Command) -> Result<()> {
         Command::Synth(a) => identify::synth(a),
         Command::Completions { shell } => {
             use clap::CommandFactory;
-            clap_complete::generate(*shell, &mut Cli::command(), "beamflow", &mut std::io::stdout());
-            Ok(())
+            let mut script = Vec::new();
+            clap_complete::generate(*shell, &mut Cli::command(), "beamflow", &mut script);
+            write_text_or_stdout(std::path::Path::new("-"), &String::from_utf8_lossy(&script))
         }
     }
 }

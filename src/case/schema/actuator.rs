@@ -7,56 +7,210 @@ use crate::actuator::bouc_wen::BoucWen;
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
-#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
-#[serde(rename_all = "snake_case")]
-pub enum ActuatorType {
-    Inertial,
-    Frame,
-}
-
-/// An actuator. Fields that do not apply to its type are rejected.
+/// An actuator as a case file writes it: the common fields, the stack, the drive and
+/// the body its type adds. Fields of the other type are refused when the file is read.
 #[derive(Clone, Debug, Deserialize, Serialize)]
-#[serde(deny_unknown_fields)]
+#[serde(try_from = "ActuatorToml", into = "ActuatorToml")]
 pub struct ActuatorSpec {
-    #[serde(rename = "type")]
-    pub kind: ActuatorType,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
-    /// Stack foot position on the beam x_E (m); default 0.150.
-    #[serde(default = "d_x_e")]
+    /// Stack foot position on the beam x_E (m).
     pub x_e: f64,
-    /// Inertial: top mass m_t (kg), default 0.1.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub m_t: Option<f64>,
-    /// Frame: top beam mass m_b (kg), default 0.2.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub m_b: Option<f64>,
-    /// Frame: top beam moment of inertia J_b (kg·m²), default 1.6667e-4.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub j_b: Option<f64>,
-    /// Frame: half leg spacing a (m), default 0.040.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub a: Option<f64>,
-    /// Frame: stack offset from the centre e (m), default 0.001.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub e: Option<f64>,
-    /// Frame: leg stiffness k_l (N/m), default 1.5e9, and damping c_l (N·s/m), default 100.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub k_l: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub c_l: Option<f64>,
-    /// Frame: right-leg values where the legs differ (default: as the left).
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub k_l_right: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub c_l_right: Option<f64>,
-    #[serde(default)]
+    pub body: BodySpec,
     pub stack: StackSpec,
     pub voltage: SignalSpec,
 }
 
+/// What an actuator's stack pushes against, by type, with every default resolved.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BodySpec {
+    /// An inertial actuator: a top mass on the stack.
+    Inertial {
+        /// Top mass m_t (kg).
+        m_t: f64,
+    },
+    /// A frame actuator: a top beam on two legs standing on the beam.
+    Frame(FrameSpec),
+}
+
+/// The frame of a frame actuator.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FrameSpec {
+    /// Top beam mass m_b (kg).
+    pub m_b: f64,
+    /// Top beam moment of inertia J_b (kg·m²).
+    pub j_b: f64,
+    /// Half leg spacing a (m).
+    pub a: f64,
+    /// Stack offset from the frame's centre e (m).
+    pub e: f64,
+    pub left: LegSpec,
+    pub right: LegSpec,
+}
+
+/// A frame leg: stiffness k_l (N/m) and damping c_l (N·s/m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LegSpec {
+    pub k_l: f64,
+    pub c_l: f64,
+}
+
+/// Defaults of the spec's actuators.
+pub const DEFAULT_X_E: f64 = 0.150;
+pub const DEFAULT_M_T: f64 = 0.1;
+pub const DEFAULT_M_B: f64 = 0.2;
+pub const DEFAULT_J_B: f64 = 1.6667e-4;
+pub const DEFAULT_A: f64 = 0.040;
+pub const DEFAULT_E: f64 = 0.001;
+pub const DEFAULT_LEG: LegSpec = LegSpec { k_l: 1.5e9, c_l: 100.0 };
+
+impl ActuatorSpec {
+    /// `"inertial"` or `"frame"`, as the case file's `type`.
+    pub fn type_name(&self) -> &'static str {
+        match self.body {
+            BodySpec::Inertial { .. } => "inertial",
+            BodySpec::Frame(_) => "frame",
+        }
+    }
+
+    /// The mass the actuator adds on top of its stack (kg): m_t or m_b.
+    pub fn body_mass(&self) -> f64 {
+        match &self.body {
+            BodySpec::Inertial { m_t } => *m_t,
+            BodySpec::Frame(f) => f.m_b,
+        }
+    }
+}
+
+impl FrameSpec {
+    /// Leg positions (m), left and right: x_c ∓ a with the frame centre x_c = x_E − e.
+    pub fn leg_positions(&self, x_e: f64) -> (f64, f64) {
+        let xc = x_e - self.e;
+        (xc - self.a, xc + self.a)
+    }
+}
+
+/// The `[[actuator]]` table as written: one flat table, type-specific fields optional.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+struct ActuatorToml {
+    #[serde(rename = "type")]
+    kind: ActuatorType,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    name: Option<String>,
+    #[serde(default = "d_x_e")]
+    x_e: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    m_t: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    m_b: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    j_b: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    a: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    e: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    k_l: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    c_l: Option<f64>,
+    /// Right-leg values where the legs differ (default: as the left).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    k_l_right: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    c_l_right: Option<f64>,
+    #[serde(default)]
+    stack: StackSpec,
+    voltage: SignalSpec,
+}
+
+#[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+enum ActuatorType {
+    Inertial,
+    Frame,
+}
+
 fn d_x_e() -> f64 {
-    0.150
+    DEFAULT_X_E
+}
+
+impl TryFrom<ActuatorToml> for ActuatorSpec {
+    type Error = String;
+
+    fn try_from(t: ActuatorToml) -> std::result::Result<ActuatorSpec, String> {
+        let frame_only = [
+            ("m_b", t.m_b),
+            ("j_b", t.j_b),
+            ("a", t.a),
+            ("e", t.e),
+            ("k_l", t.k_l),
+            ("c_l", t.c_l),
+            ("k_l_right", t.k_l_right),
+            ("c_l_right", t.c_l_right),
+        ];
+        let body = match t.kind {
+            ActuatorType::Inertial => {
+                if let Some((n, _)) = frame_only.iter().find(|(_, v)| v.is_some()) {
+                    return Err(format!(
+                        "actuator field `{n}` applies only to a frame actuator, and this one is inertial"
+                    ));
+                }
+                BodySpec::Inertial { m_t: t.m_t.unwrap_or(DEFAULT_M_T) }
+            }
+            ActuatorType::Frame => {
+                if t.m_t.is_some() {
+                    return Err(
+                        "actuator field `m_t` applies only to an inertial actuator (a frame has m_b, j_b)".into()
+                    );
+                }
+                let left = LegSpec { k_l: t.k_l.unwrap_or(DEFAULT_LEG.k_l), c_l: t.c_l.unwrap_or(DEFAULT_LEG.c_l) };
+                let right = LegSpec { k_l: t.k_l_right.unwrap_or(left.k_l), c_l: t.c_l_right.unwrap_or(left.c_l) };
+                BodySpec::Frame(FrameSpec {
+                    m_b: t.m_b.unwrap_or(DEFAULT_M_B),
+                    j_b: t.j_b.unwrap_or(DEFAULT_J_B),
+                    a: t.a.unwrap_or(DEFAULT_A),
+                    e: t.e.unwrap_or(DEFAULT_E),
+                    left,
+                    right,
+                })
+            }
+        };
+        Ok(ActuatorSpec { name: t.name, x_e: t.x_e, body, stack: t.stack, voltage: t.voltage })
+    }
+}
+
+impl From<ActuatorSpec> for ActuatorToml {
+    /// Every value written out, defaults included: a serialised case states what ran.
+    fn from(a: ActuatorSpec) -> ActuatorToml {
+        let mut t = ActuatorToml {
+            kind: ActuatorType::Inertial,
+            name: a.name,
+            x_e: a.x_e,
+            m_t: None,
+            m_b: None,
+            j_b: None,
+            a: None,
+            e: None,
+            k_l: None,
+            c_l: None,
+            k_l_right: None,
+            c_l_right: None,
+            stack: a.stack,
+            voltage: a.voltage,
+        };
+        match a.body {
+            BodySpec::Inertial { m_t } => t.m_t = Some(m_t),
+            BodySpec::Frame(f) => {
+                t.kind = ActuatorType::Frame;
+                (t.m_b, t.j_b, t.a, t.e) = (Some(f.m_b), Some(f.j_b), Some(f.a), Some(f.e));
+                (t.k_l, t.c_l) = (Some(f.left.k_l), Some(f.left.c_l));
+                if f.right != f.left {
+                    (t.k_l_right, t.c_l_right) = (Some(f.right.k_l), Some(f.right.c_l));
+                }
+            }
+        }
+        t
+    }
 }
 
 /// The piezo stack (defaults: the spec's 7×7×20 mm PZT stack).
@@ -130,10 +284,7 @@ impl ActuatorSpec {
     /// Its name: as given, or its type (with its index when the case has several).
     pub fn effective_name(&self, index: usize, count: usize) -> String {
         self.name.clone().unwrap_or_else(|| {
-            let kind = match self.kind {
-                ActuatorType::Inertial => "inertial",
-                ActuatorType::Frame => "frame",
-            };
+            let kind = self.type_name();
             if count > 1 {
                 format!("{kind}_{index}")
             } else {
@@ -143,57 +294,30 @@ impl ActuatorSpec {
     }
 
     pub(super) fn validate(&self, file: &str, f: &str, base: BaseKind, length: f64) -> Result<()> {
-        let frame_only = [
-            ("m_b", self.m_b),
-            ("j_b", self.j_b),
-            ("a", self.a),
-            ("e", self.e),
-            ("k_l", self.k_l),
-            ("c_l", self.c_l),
-            ("k_l_right", self.k_l_right),
-            ("c_l_right", self.c_l_right),
-        ];
-        match self.kind {
-            ActuatorType::Inertial => {
-                if let Some((n, _)) = frame_only.iter().find(|(_, v)| v.is_some()) {
-                    return Err(Error::input(file, format!("{f}.{n}"), "applies only to a frame actuator"));
-                }
-                positive(file, &format!("{f}.m_t"), self.m_t())?;
-            }
-            ActuatorType::Frame => {
-                if self.m_t.is_some() {
-                    return Err(Error::input(
-                        file,
-                        format!("{f}.m_t"),
-                        "applies only to an inertial actuator (a frame has m_b, j_b)",
-                    ));
-                }
-                positive(file, &format!("{f}.m_b"), self.m_b())?;
-                positive(file, &format!("{f}.j_b"), self.j_b())?;
-                positive(file, &format!("{f}.a"), self.a())?;
-                if !self.e().is_finite() || self.e().abs() >= self.a() {
+        match &self.body {
+            BodySpec::Inertial { m_t } => positive(file, &format!("{f}.m_t"), *m_t)?,
+            BodySpec::Frame(fr) => {
+                positive(file, &format!("{f}.m_b"), fr.m_b)?;
+                positive(file, &format!("{f}.j_b"), fr.j_b)?;
+                positive(file, &format!("{f}.a"), fr.a)?;
+                if !fr.e.is_finite() || fr.e.abs() >= fr.a {
                     return Err(Error::input(
                         file,
                         format!("{f}.e"),
-                        format!(
-                            "the stack offset must lie between the legs, |e| < a = {} m, got {}",
-                            self.a(),
-                            self.e()
-                        ),
+                        format!("the stack offset must lie between the legs, |e| < a = {} m, got {}", fr.a, fr.e),
                     ));
                 }
-                let (l, r) = self.legs();
-                positive(file, &format!("{f}.k_l"), l.0)?;
-                non_negative(file, &format!("{f}.c_l"), l.1)?;
-                positive(file, &format!("{f}.k_l_right"), r.0)?;
-                non_negative(file, &format!("{f}.c_l_right"), r.1)?;
+                positive(file, &format!("{f}.k_l"), fr.left.k_l)?;
+                non_negative(file, &format!("{f}.c_l"), fr.left.c_l)?;
+                positive(file, &format!("{f}.k_l_right"), fr.right.k_l)?;
+                non_negative(file, &format!("{f}.c_l_right"), fr.right.c_l)?;
             }
         }
         if base == BaseKind::Beam {
             on_beam(file, &format!("{f}.x_e"), self.x_e, length)?;
-            if self.kind == ActuatorType::Frame {
-                let xc = self.x_e - self.e();
-                for (leg, x) in [("left leg", xc - self.a()), ("right leg", xc + self.a())] {
+            if let BodySpec::Frame(fr) = &self.body {
+                let (left, right) = fr.leg_positions(self.x_e);
+                for (leg, x) in [("left leg", left), ("right leg", right)] {
                     if !(0.0..=length).contains(&x) {
                         return Err(Error::input(
                             file,
@@ -215,26 +339,49 @@ impl ActuatorSpec {
         self.voltage.validate(file, &format!("{f}.voltage"))?;
         Ok(())
     }
+}
 
-    pub fn m_t(&self) -> f64 {
-        self.m_t.unwrap_or(0.1)
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SINE: &str = "[voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
+
+    fn parse(text: &str) -> std::result::Result<ActuatorSpec, String> {
+        toml::from_str(&format!("{text}{SINE}")).map_err(|e| e.to_string())
     }
-    pub fn m_b(&self) -> f64 {
-        self.m_b.unwrap_or(0.2)
+
+    #[test]
+    fn defaults_are_resolved_when_read() {
+        let a = parse("type = \"frame\"\nk_l_right = 2e9\n").unwrap();
+        let BodySpec::Frame(f) = &a.body else { panic!("{a:?}") };
+        assert_eq!((f.m_b, f.j_b, f.a, f.e), (DEFAULT_M_B, DEFAULT_J_B, DEFAULT_A, DEFAULT_E));
+        assert_eq!(f.left, DEFAULT_LEG);
+        assert_eq!(f.right, LegSpec { k_l: 2e9, c_l: DEFAULT_LEG.c_l }, "the right leg takes the left's other values");
+        assert_eq!(a.x_e, DEFAULT_X_E);
+        let a = parse("type = \"inertial\"\n").unwrap();
+        assert_eq!(a.body, BodySpec::Inertial { m_t: DEFAULT_M_T });
+        assert_eq!(a.body_mass(), DEFAULT_M_T);
     }
-    pub fn j_b(&self) -> f64 {
-        self.j_b.unwrap_or(1.6667e-4)
+
+    #[test]
+    fn written_out_it_reads_back_the_same() {
+        for text in [
+            "type = \"frame\"\nc_l_right = 50.0\ne = -0.002\n",
+            "type = \"frame\"\n",
+            "type = \"inertial\"\nm_t = 0.3\n",
+        ] {
+            let a = parse(text).unwrap();
+            let back: ActuatorSpec = toml::from_str(&toml::to_string(&a).unwrap()).unwrap();
+            assert_eq!((back.body, back.x_e), (a.body, a.x_e), "{text}");
+        }
     }
-    pub fn a(&self) -> f64 {
-        self.a.unwrap_or(0.040)
-    }
-    pub fn e(&self) -> f64 {
-        self.e.unwrap_or(0.001)
-    }
-    /// ((k_l, c_l) left, (k_l, c_l) right).
-    pub fn legs(&self) -> ((f64, f64), (f64, f64)) {
-        let k = self.k_l.unwrap_or(1.5e9);
-        let c = self.c_l.unwrap_or(100.0);
-        ((k, c), (self.k_l_right.unwrap_or(k), self.c_l_right.unwrap_or(c)))
+
+    #[test]
+    fn fields_of_the_other_type_are_refused() {
+        let e = parse("type = \"inertial\"\nj_b = 1e-4\n").unwrap_err();
+        assert!(e.contains("`j_b` applies only to a frame"), "{e}");
+        let e = parse("type = \"frame\"\nm_t = 0.1\n").unwrap_err();
+        assert!(e.contains("`m_t` applies only to an inertial"), "{e}");
     }
 }

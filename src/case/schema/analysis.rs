@@ -7,6 +7,22 @@ use crate::error::{Error, Result};
 use crate::signal::sampling::require_samples;
 use serde::{Deserialize, Serialize};
 
+/// What a harmonic analysis solves: the bare beam, or the beam with its actuators attached
+/// (stacks as spring and damper; their feet and stack forces become inputs).
+#[derive(Clone, Copy, Debug, Default, Deserialize, Serialize, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum HarmonicSystem {
+    #[default]
+    Bare,
+    Coupled,
+}
+
+impl HarmonicSystem {
+    fn is_bare(&self) -> bool {
+        *self == HarmonicSystem::Bare
+    }
+}
+
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SensorSpec {
@@ -156,6 +172,9 @@ pub enum AnalysisSpec {
         frequencies: FrequencySpec,
         #[serde(default)]
         force: Vec<ForceSpec>,
+        /// The bare beam, or the beam coupled with its (passive) actuators.
+        #[serde(default, skip_serializing_if = "HarmonicSystem::is_bare")]
+        system: HarmonicSystem,
     },
     /// Time integration of the coupled system.
     Transient {
@@ -367,13 +386,23 @@ impl AnalysisSpec {
                     return Err(Error::input(file, format!("{f}.count"), "must be at least 1"));
                 }
             }
-            AnalysisSpec::Harmonic { frequencies, force } => {
+            AnalysisSpec::Harmonic { frequencies, force, system } => {
                 frequencies.validate(file, &format!("{f}.frequencies"))?;
-                if force.is_empty() && case.load.is_empty() {
+                // A coupled system has inputs of its own: its feet and its drives.
+                let coupled = *system == HarmonicSystem::Coupled && !case.actuator.is_empty();
+                if force.is_empty() && case.load.is_empty() && !coupled {
                     return Err(Error::input(
                         file,
                         format!("{f}.force"),
-                        "a harmonic analysis needs at least one [[analysis.force]] (or [[load]])",
+                        "a harmonic analysis needs at least one [[analysis.force]] (or [[load]], or \
+                         actuators with system = \"coupled\")",
+                    ));
+                }
+                if *system == HarmonicSystem::Coupled && case.actuator.is_empty() {
+                    return Err(Error::input(
+                        file,
+                        format!("{f}.system"),
+                        "system = \"coupled\" couples the beam with its actuators, and the case has none",
                     ));
                 }
                 if force.is_empty() {
