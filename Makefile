@@ -14,7 +14,8 @@ paper: deps
 # Slurm job array of docs/sweeps.md runs on a one-node cluster on localhost (slurm-wlm and
 # munge are installed with apt-get if missing; needs root or passwordless sudo), the
 # Python package is built in a fresh virtualenv and tested (scripts/test-python.sh), and
-# every command of the README runs as written in a fresh clone (scripts/test-readme.sh).
+# every command of the README runs as written in a fresh clone (scripts/test-readme.sh), and
+# each fuzz target runs for a minute (scripts/test-fuzz.sh, docs/testing.md).
 test: deps
 	cargo test --release
 	bash scripts/test-report.sh
@@ -22,6 +23,7 @@ test: deps
 	bash scripts/test-readme.sh
 	bash scripts/test-slurm.sh
 	bash scripts/test-python.sh
+	bash scripts/test-fuzz.sh
 
 # The Python package's build, tests and example alone.
 test-python: deps

@@ -1,6 +1,7 @@
 //! `beamflow check` refuses what `run` refuses, with the same message, and `run` refuses it
 //! before any solve: nothing is written.
 
+use beamflow::analysis::budget::Budget;
 use beamflow::app::commands;
 use std::path::Path;
 
@@ -57,12 +58,12 @@ fn check_refuses_what_run_refuses_before_any_solve() {
     for (i, (text, field, words)) in table().into_iter().enumerate() {
         let case = dir.path().join(format!("c{i}.toml"));
         std::fs::write(&case, &text).unwrap();
-        let checked = match commands::check(&case) {
+        let checked = match commands::check(&case, &Budget::default()) {
             Err(e) => e.to_string(),
             Ok(()) => panic!("case {i}: check accepted\n{text}"),
         };
         let out = dir.path().join(format!("out{i}"));
-        let ran = commands::run(&case, Some(&out), None, false, false).unwrap_err().to_string();
+        let ran = commands::run(&case, Some(&out), None, false, false, &Budget::default()).unwrap_err().to_string();
         assert_eq!(checked, ran, "case {i}: check and run differ");
         assert!(
             checked.contains(&format!("c{i}.toml")) && checked.contains(field) && checked.contains(words),

@@ -38,7 +38,8 @@ fn the_dof_map_names_the_stack_foot_and_the_top_mass_rows() {
     )
     .unwrap();
     let out = dir.path().join("out");
-    beamflow::app::commands::run(&case, Some(&out), None, false, false).unwrap();
+    beamflow::app::commands::run(&case, Some(&out), None, false, false, &beamflow::analysis::budget::Budget::default())
+        .unwrap();
     let k = read_matrix_market(&out.join("foot_K.mtx")).unwrap();
     assert!(std::fs::read_to_string(out.join("foot_K.mtx"))
         .unwrap()
@@ -103,7 +104,12 @@ fn json_may_not_replace_the_case_or_another_output() {
     let case = small_case(dir.path());
     let before = std::fs::read(&case).unwrap();
     let out = dir.path().join("out");
-    for target in [case.clone(), out.join("small.h5"), out.join("sub/../small.json")] {
+    let targets = [
+        (case.clone(), "the case file"),
+        (out.join("small.h5"), "another output"),
+        (out.join("sub/../small.json"), "another output"),
+    ];
+    for (target, why) in targets {
         let o = beamflow(&[
             "run",
             case.to_str().unwrap(),
@@ -113,7 +119,7 @@ fn json_may_not_replace_the_case_or_another_output() {
             target.to_str().unwrap(),
         ]);
         let e = String::from_utf8_lossy(&o.stderr);
-        assert!(!o.status.success() && e.contains("--json") && e.contains("another output"), "{e}");
+        assert!(!o.status.success() && e.contains("--json") && e.contains(why), "{e}");
     }
     assert_eq!(std::fs::read(&case).unwrap(), before);
 }

@@ -96,7 +96,15 @@ fn a_results_file_as_measurement_agrees_with_itself_and_lands_in_hdf5() {
     let dir = tempfile::tempdir().unwrap();
     let first = dir.path().join("first.toml");
     std::fs::write(&first, format!("{CASE}[output]\nplots = false\n")).unwrap();
-    beamflow::app::commands::run(&first, Some(&dir.path().join("a")), None, false, false).unwrap();
+    beamflow::app::commands::run(
+        &first,
+        Some(&dir.path().join("a")),
+        None,
+        false,
+        false,
+        &beamflow::analysis::budget::Budget::default(),
+    )
+    .unwrap();
     let second = dir.path().join("second.toml");
     std::fs::write(
         &second,
@@ -107,7 +115,15 @@ fn a_results_file_as_measurement_agrees_with_itself_and_lands_in_hdf5() {
     )
     .unwrap();
     let out = dir.path().join("b");
-    beamflow::app::commands::run(&second, Some(&out), None, false, true).unwrap();
+    beamflow::app::commands::run(
+        &second,
+        Some(&out),
+        None,
+        false,
+        true,
+        &beamflow::analysis::budget::Budget::default(),
+    )
+    .unwrap();
     let tree = beamflow::io::hdf5::ResultsReader::open(out.join("second.h5")).unwrap().read_tree().unwrap();
     let g = tree.group("analysis_0_steady_state/measurements/foot/power").expect("the comparison's group");
     assert_eq!(g.attrs["agrees"], beamflow::io::tree::Attr::I64(1));
@@ -158,6 +174,7 @@ fn bad_measurements_are_refused_before_any_solve() {
     // `check` refuses the same way.
     let case = dir.path().join("c.toml");
     std::fs::write(&case, format!("{CASE}[[measurement]]\nfile = \"long.csv\"\npoint = \"nowhere\"\n")).unwrap();
-    let e = beamflow::app::commands::check(&case).unwrap_err().to_string();
+    let e =
+        beamflow::app::commands::check(&case, &beamflow::analysis::budget::Budget::default()).unwrap_err().to_string();
     assert!(e.contains("measurement[0].point"), "{e}");
 }

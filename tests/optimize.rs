@@ -437,7 +437,9 @@ fn the_written_best_case_reproduces_the_optimum() {
     let file = dir.path().join("t.opt.toml");
     std::fs::write(&file, TWO.replace("evaluations = 1500", "evaluations = 200")).unwrap();
     let out = dir.path().join("out");
-    let (_, r, files) = beamflow::app::optimize::optimize(&file, &out, Some(2), false).unwrap();
+    let (_, r, files) =
+        beamflow::app::optimize::optimize(&file, &out, Some(2), false, &beamflow::analysis::budget::Budget::default())
+            .unwrap();
     for f in ["best.toml", "history.csv", "optima.csv", "summary.json"] {
         assert!(files.contains(&out.join(f)), "{f} missing in {files:?}");
     }

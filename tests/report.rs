@@ -101,7 +101,8 @@ fn the_report_holds_every_figure_and_every_number_of_the_summary() {
     let dir = tempfile::tempdir().unwrap();
     let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml");
     let out = dir.path().join("out");
-    beamflow::app::commands::run(&case, Some(&out), None, true, false).unwrap();
+    beamflow::app::commands::run(&case, Some(&out), None, true, false, &beamflow::analysis::budget::Budget::default())
+        .unwrap();
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     let svgs: Vec<String> = std::fs::read_dir(&out)
         .unwrap()
@@ -148,7 +149,8 @@ fn the_report_escapes_what_the_user_wrote() {
     )
     .unwrap();
     let out = dir.path().join("out");
-    beamflow::app::commands::run(&case, Some(&out), None, false, false).unwrap();
+    beamflow::app::commands::run(&case, Some(&out), None, false, false, &beamflow::analysis::budget::Budget::default())
+        .unwrap();
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     assert!(!html.contains("<script") && !html.contains("<b>") && !html.contains("<x>"), "{html}");
     assert!(html.contains("&lt;script&gt;alert(&#39;t&#39;)&lt;/script&gt; &amp; &lt;b&gt;"));
@@ -175,7 +177,15 @@ fn measurements_and_the_coupled_system_appear_in_figures_and_report() {
     let steady = "[[analysis]]\ntype = \"steady_state\"\nharmonics = 5\n";
     let bench = dir.path().join("bench.toml");
     std::fs::write(&bench, linear_case(12.6, steady)).unwrap();
-    beamflow::app::commands::run(&bench, Some(&dir.path().join("bench")), None, false, false).unwrap();
+    beamflow::app::commands::run(
+        &bench,
+        Some(&dir.path().join("bench")),
+        None,
+        false,
+        false,
+        &beamflow::analysis::budget::Budget::default(),
+    )
+    .unwrap();
     let analyses = "[[analysis]]\ntype = \"modes\"\ncount = 4\n\
                     [[analysis]]\ntype = \"harmonic\"\nsystem = \"coupled\"\n\
                     [analysis.frequencies]\nvalues = [30.0, 60.0, 90.0]\n";
@@ -190,7 +200,15 @@ fn measurements_and_the_coupled_system_appear_in_figures_and_report() {
         let case = dir.path().join("c.toml");
         std::fs::write(&case, linear_case(12.0, &format!("{analyses}{steady}{}", measurement(tol)))).unwrap();
         let out = dir.path().join(format!("out{tol}"));
-        beamflow::app::commands::run(&case, Some(&out), None, true, false).unwrap();
+        beamflow::app::commands::run(
+            &case,
+            Some(&out),
+            None,
+            true,
+            false,
+            &beamflow::analysis::budget::Budget::default(),
+        )
+        .unwrap();
         let html = std::fs::read_to_string(out.join("report.html")).unwrap();
         // Without forces the harmonic analysis has transfer functions only: no mobility figure.
         assert!(!out.join("c_harmonic.png").exists());

@@ -93,7 +93,7 @@ impl NativeCase {
 impl NativeCase {
     #[staticmethod]
     fn from_file(path: PathBuf) -> PyResult<Self> {
-        let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e)).py_err()?;
+        let text = beamflow::input_file::read_text(&path).py_err()?;
         let dir = path.parent().map(PathBuf::from).unwrap_or_default();
         NativeCase::parse(&text, &path.display().to_string(), dir).py_err()
     }

@@ -27,7 +27,31 @@ pub struct CaseRun {
     pub measured: Vec<crate::analysis::measured::Comparison>,
 }
 
+/// The largest energy-balance error a result may have (relative): the analyses balance to
+/// 1e-6 or better on every shipped and tested case (exactly, up to round-off, for the
+/// frequency-domain ones and average acceleration), so an error this large means the
+/// numbers describe no motion of the model and are refused.
+pub const BALANCE_TOLERANCE: f64 = 1e-3;
+
 impl AnalysisResult {
+    /// The result's energy-balance error (relative) and what it balances: power in against
+    /// power dissipated (harmonic: the largest over the frequencies; steady state), or the
+    /// work put in against dissipation and stored energy over the run (transient). None for
+    /// modes.
+    pub fn balance(&self) -> Option<(&'static str, f64)> {
+        match self {
+            AnalysisResult::Modes(_) => None,
+            AnalysisResult::Harmonic(h) => Some((
+                "power in − dissipated, largest over the frequencies",
+                h.balance_error.iter().fold(0.0, |a, &b| a.max(b)),
+            )),
+            AnalysisResult::Transient(t) => {
+                Some(("work in − dissipated − Δ stored over the run", t.energy_run.system.relative_error()))
+            }
+            AnalysisResult::SteadyState(s) => Some(("power in − dissipated", s.balance_error)),
+        }
+    }
+
     /// The first reported quantity that is not a finite number (NaN or ±∞), named: such a
     /// result is never reported as a success. Series are checked whole, headline numbers
     /// one by one.

@@ -84,14 +84,26 @@ impl DriveTiming {
         if let (Some(p), None) = (period, duration) {
             let fastest = model.drive_signals().filter_map(|s| s.fundamental_frequency()).fold(1.0 / p, f64::max);
             let resolve_hz = fastest * harmonics.unwrap_or(1) as f64;
-            let n_min = (20.0 * resolve_hz * p * (1.0 - 1e-12)).ceil().max(1.0) as usize;
             let what = match harmonics {
                 Some(h) => format!("harmonic {h} of the drive ({resolve_hz:.6e} Hz)"),
                 None => format!("the drive frequency ({resolve_hz:.6e} Hz)"),
             };
+            let n_min = countable(20.0 * resolve_hz * p * (1.0 - 1e-12)).ok_or_else(|| {
+                Error::analysis_setting(
+                    if harmonics.is_some() { "harmonics" } else { "dt" },
+                    format!(
+                        "resolving {what} over the drive period {p:e} s takes {:.3e} steps per period, more \
+                         than can be counted ({MAX_STEPS:.1e}): analyse fewer harmonics",
+                        20.0 * resolve_hz * p
+                    ),
+                )
+            })?;
             return match dt {
                 Some(dt) => {
                     let steps = p / dt;
+                    if countable(steps).is_none() {
+                        return Err(uncountable("dt", format!("Δt = {dt:e} s divides the drive period {p:e} s")));
+                    }
                     let n = steps.round();
                     if (steps - n).abs() > 1e-9 * steps || n < 1.0 {
                         let (lo, hi) = (steps.floor().max(1.0), steps.ceil().max(1.0));
@@ -127,11 +139,17 @@ impl DriveTiming {
         let hf = model.drive_signals().filter_map(|s| s.highest_frequency()).fold(0.0, f64::max);
         match (dt, hf > 0.0) {
             (Some(dt), _) => {
-                let n = (d / dt - 1e-9).ceil().max(1.0) as usize;
+                let n = countable(d / dt - 1e-9)
+                    .ok_or_else(|| uncountable("dt", format!("Δt = {dt:e} s divides the duration {d:e} s")))?;
                 Ok(DriveTiming { period: n as f64 * dt, dt, steps_per_period: n, periodic: false })
             }
             (None, true) => {
-                let n = (d * 20.0 * hf - 1e-9).ceil().max(1.0) as usize;
+                let n = countable(d * 20.0 * hf - 1e-9).ok_or_else(|| {
+                    uncountable(
+                        "duration",
+                        format!("20 steps per period of the drive's highest frequency ({hf:e} Hz) divide {d:e} s"),
+                    )
+                })?;
                 Ok(DriveTiming { period: d, dt: d / n as f64, steps_per_period: n, periodic: false })
             }
             (None, false) => {
@@ -156,6 +174,27 @@ impl DriveTiming {
     }
 }
 
+/// The most steps one period (or one non-periodic run) may be divided into: the largest
+/// count every smaller count of which f64 holds exactly (2⁵³), far above any step budget.
+pub const MAX_STEPS: f64 = 9_007_199_254_740_992.0;
+
+/// `x` rounded up to a whole count ≥ 1, None when it is not finite or above [`MAX_STEPS`].
+fn countable(x: f64) -> Option<usize> {
+    if x.is_nan() {
+        return None;
+    }
+    let n = x.ceil().max(1.0);
+    (n <= MAX_STEPS).then(|| usize::try_from(n as u64).ok()).flatten()
+}
+
+/// The error of a step count beyond [`MAX_STEPS`]: `what` divides something into it.
+fn uncountable(field: &str, what: String) -> Error {
+    Error::analysis_setting(
+        field,
+        format!("{what} into more steps than can be counted ({MAX_STEPS:.1e}): give a larger `dt` or a shorter run"),
+    )
+}
+
 /// The period the model's drives — actuators' voltages and point loads' forces — repeat
 /// with together (s): the longest of their periods, each commensurate with the first's;
 /// None when any of them does not repeat. Errors without any drive or with incommensurate
@@ -175,7 +214,9 @@ pub fn common_period(model: &Model) -> Result<Option<f64>> {
     for (i, p) in periods.iter().enumerate().skip(1) {
         if let (Some(p0), Some(pi)) = (period, *p) {
             let ratio = p0.max(pi) / p0.min(pi);
-            if (ratio - ratio.round()).abs() > 1e-9 {
+            // Written so that a ratio that is not a finite number (a period of 0 or ∞)
+            // is refused too.
+            if !((ratio - ratio.round()).abs() <= 1e-9) {
                 return Err(Error::case_field(
                     &fields[i],
                     format!(

@@ -5,7 +5,9 @@
 //! result vocabulary the analyses share; the power flow itself is computed by
 //! [`crate::power`].
 
+pub mod budget;
 pub mod case_run;
+pub mod cost;
 pub mod drive;
 pub mod harmonic;
 pub mod measured;

@@ -5,6 +5,8 @@
 //! once per model. Errors of the model's own settings are named in the case file at this
 //! boundary.
 
+use super::budget::Budget;
+use super::cost;
 use super::modes::bare_modes;
 use crate::assembly::{Damping, Model, Rayleigh, System};
 use crate::beam::Beam;
@@ -21,6 +23,20 @@ pub fn calibrated_model(lc: &LoadedCase) -> Result<Model> {
 /// The calibrated model and its assembled system, errors named in the case file.
 pub fn model_and_system(lc: &LoadedCase) -> Result<(Model, System)> {
     let model = calibrated_model(lc)?;
+    let system = System::assemble(&model).map_err(|e| e.in_file(&lc.file))?;
+    Ok((model, system))
+}
+
+/// [`model_and_system`] within `budget`: the mesh is sized before it is built, and the
+/// model (its DOFs and the modes its damping is calibrated at) before it is calibrated
+/// and assembled.
+pub fn model_and_system_within(lc: &LoadedCase, budget: &Budget) -> Result<(Model, System)> {
+    if let Some(c) = cost::mesh(lc) {
+        budget.admit(&c).map_err(|e| e.in_file(&lc.file))?;
+    }
+    let mut model = build_model(lc)?;
+    budget.admit(&cost::model(&model)).map_err(|e| e.in_file(&lc.file))?;
+    calibrate(&mut model).map_err(|e| e.in_file(&lc.file))?;
     let system = System::assemble(&model).map_err(|e| e.in_file(&lc.file))?;
     Ok((model, system))
 }

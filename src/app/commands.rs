@@ -1,17 +1,20 @@
 //! What the CLI commands do, as library functions (the CLI only parses arguments).
 
+use crate::analysis::budget::Budget;
 use crate::analysis::case_run::AnalysisResult;
 use crate::analysis::modes;
-use crate::app::runner::run_case;
+use crate::app::runner::run_case_within;
 use crate::case::build::build_beam;
 use crate::case::{AnalysisSpec, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
+use crate::io::paths::{output_file, refuse_duplicates, refuse_input, refuse_output, Input};
 use std::path::{Path, PathBuf};
 
 /// `beamflow modes`: prints the table and optionally writes JSON.
 pub fn modes(case: &Path, count: Option<usize>, json: Option<&Path>) -> Result<()> {
     let lc = LoadedCase::load(case)?;
+    check_json_target(json, &case_inputs(&lc), &[])?;
     let count = count
         .or_else(|| {
             lc.case
@@ -63,11 +66,11 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
     s.trim_end().to_string()
 }
 
-/// `beamflow check`: loads and builds the model, prints what it contains.
-pub fn check(case: &Path) -> Result<()> {
+/// `beamflow check`: loads and builds the model, holds every analysis to `budget` as
+/// `run` does, prints what it contains.
+pub fn check(case: &Path, budget: &Budget) -> Result<()> {
     let lc = LoadedCase::load(case)?;
-    let (built, sys) = crate::analysis::plan::model_and_system(&lc)?;
-    crate::app::runner::preflight(&lc, &built, &sys)?;
+    let (built, sys, _) = crate::app::runner::planned(&lc, budget)?;
     let elements = built.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
     crate::say!(
         "{}: ok — {} elements, {} DOFs, {} actuator(s), {} load(s), {} analysis(es)",
@@ -81,27 +84,20 @@ pub fn check(case: &Path) -> Result<()> {
     Ok(())
 }
 
-/// Whether two paths name the same file: equal as absolute paths with `.` and `..`
-/// resolved, or (when both exist) the same file after following links.
-fn same_path(a: &Path, b: &Path) -> bool {
-    let lexical = |p: &Path| {
-        let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
-        let mut out = PathBuf::new();
-        for c in abs.components() {
-            match c {
-                std::path::Component::ParentDir => {
-                    out.pop();
-                }
-                std::path::Component::CurDir => {}
-                c => out.push(c),
-            }
-        }
-        out
-    };
-    match (a.canonicalize(), b.canonicalize()) {
-        (Ok(x), Ok(y)) => x == y,
-        _ => lexical(a) == lexical(b),
+/// The files a loaded case reads, for the overwrite checks of [`crate::io::paths`].
+pub fn case_inputs(lc: &LoadedCase) -> Vec<Input> {
+    lc.input_files().into_iter().map(|(p, what)| Input::new(p, what)).collect()
+}
+
+/// Refuses a `--json` file that is an input, the output folder or one of `outputs`.
+fn check_json_target(json: Option<&Path>, inputs: &[Input], outputs: &[PathBuf]) -> Result<()> {
+    let Some(j) = json.filter(|j| !crate::app::cli::is_stdout(j)) else { return Ok(()) };
+    refuse_input("--json", j, inputs)?;
+    refuse_output("--json", j, outputs)?;
+    if j.is_dir() {
+        return Err(Error::input("<cli>", "--json", format!("{} is a folder; name a file", j.display())));
     }
+    Ok(())
 }
 
 /// Default output directory for a case: out/<file stem>.
@@ -109,43 +105,49 @@ pub fn default_out(case: &Path) -> PathBuf {
     PathBuf::from("out").join(case.file_stem().unwrap_or_default())
 }
 
-/// `beamflow run` (`csv`: also write the results as tidy CSV tables).
-pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, csv: bool) -> Result<()> {
+/// `beamflow run` within `budget` (`csv`: also write the results as tidy CSV tables).
+pub fn run(
+    case: &Path,
+    out: Option<&Path>,
+    json: Option<&Path>,
+    plots: bool,
+    csv: bool,
+    budget: &Budget,
+) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
     let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
-    if let Some(j) = json.filter(|j| !crate::app::cli::is_stdout(j)) {
-        let taken = [
-            case.to_path_buf(),
-            dir.join(format!("{stem}.h5")),
-            dir.join(format!("{stem}.json")),
-            dir.join(crate::report::run_page::FILE),
-        ];
-        if taken.iter().any(|p| same_path(p, j)) {
-            return Err(Error::input(
-                "<cli>",
-                "--json",
-                format!("{} is the case file or another output of this run; name a different file", j.display()),
-            ));
-        }
-    }
-    let run = run_case(&lc)?;
+    let inputs = case_inputs(&lc);
+    refuse_input("--out", &dir, &inputs)?;
+    let named = |name: String| output_file(&dir, &name);
+    check_json_target(
+        json,
+        &inputs,
+        &[
+            dir.clone(),
+            named(format!("{stem}.h5"))?,
+            named(format!("{stem}.json"))?,
+            named(crate::report::run_page::FILE.to_string())?,
+        ],
+    )?;
+    let run = run_case_within(&lc, budget)?;
     // Every file goes to a staging folder first and appears in `dir` only once all are
     // complete (io::output_set).
     let set = crate::io::output_set::OutputSet::begin(&dir)?;
+    let staged = |name: String| output_file(set.dir(), &name);
     let mut written = Vec::new();
     if lc.case.output.hdf5 {
-        let h5 = set.dir().join(format!("{stem}.h5"));
+        let h5 = staged(format!("{stem}.h5"))?;
         crate::io::results::write(&h5, &lc, &run)?;
         written.push(h5);
     }
     if lc.case.output.matrices {
         for (name, m) in [("K", &run.system.k), ("M", &run.system.m), ("C", &run.system.c)] {
-            let p = set.dir().join(format!("{stem}_{name}.mtx"));
+            let p = staged(format!("{stem}_{name}.mtx"))?;
             crate::io::mtx::write_system_matrix(&p, m.as_sprs())?;
             written.push(p);
         }
-        let p = set.dir().join(format!("{stem}_dofs.csv"));
+        let p = staged(format!("{stem}_dofs.csv"))?;
         crate::io::mtx::write_dof_map(&p, &crate::assembly::dof_rows(&run.model, &run.system))?;
         written.push(p);
     }
@@ -157,14 +159,20 @@ pub fn run(case: &Path, out: Option<&Path>, json: Option<&Path>, plots: bool, cs
     }
     let summary = crate::io::summary::summary(&lc, &run);
     let text = serde_json::to_string_pretty(&summary).expect("plain data serialises");
-    let json_path = set.dir().join(format!("{stem}.json"));
+    let json_path = staged(format!("{stem}.json"))?;
     write_atomic_string(&json_path, &text)?;
     written.push(json_path);
     let page = crate::report::run_page::RunReport { lc: &lc, run: &run, summary: &summary, files: &written }.html()?;
-    let report_path = set.dir().join(crate::report::run_page::FILE);
+    let report_path = staged(crate::report::run_page::FILE.to_string())?;
     write_atomic_string(&report_path, &page)?;
     written.push(report_path);
     let finals: Vec<PathBuf> = written.iter().map(|p| set.final_path(p)).collect();
+    // Checked before anything becomes visible: an uncommitted set is removed.
+    refuse_duplicates(&finals)?;
+    for f in &finals {
+        refuse_input("--out", f, &inputs)?;
+    }
+    check_json_target(json, &inputs, &finals)?;
     set.commit()?;
     for p in &finals {
         crate::say!("wrote {}", p.display());

@@ -24,6 +24,7 @@ use crate::identify::measurement::{self, LoadOptions, Quantity};
 use crate::identify::modal_fit::{self, DynamicParameters, IdentifiedElement, ModalFit, RfpOptions, SdofOptions};
 use crate::identify::synth::{self, SynthKind, SynthOptions, Truth};
 use crate::io::atomic::write_atomic_string;
+use crate::io::paths::{output_file, refuse_input, refuse_output, Input};
 use crate::report::identify as plots;
 
 /// Names the measurement file in an identification step's errors: the settings it could
@@ -39,8 +40,30 @@ fn prepare_dir(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))
 }
 
+/// Refuses an output folder `dir` where one of the files an identification writes
+/// (`names`, figures as `.png` and `.svg`) would replace one of its measurement `sources`
+/// (CSV files, or `FILE.h5[:ACTUATOR]`).
+fn refuse_over_sources(dir: Option<&Path>, names: &[&str], sources: &[&Path]) -> Result<()> {
+    let Some(dir) = dir else { return Ok(()) };
+    let inputs: Vec<Input> = sources
+        .iter()
+        .map(|s| {
+            let text = s.to_string_lossy();
+            let file = measurement::split_hdf5_source(&text).map_or_else(|| s.to_path_buf(), |(f, _)| PathBuf::from(f));
+            Input::new(file, "a measurement file")
+        })
+        .collect();
+    for name in names {
+        let exts: &[&str] = if name.contains('.') { &[""] } else { &[".png", ".svg"] };
+        for ext in exts {
+            refuse_input("--out", &output_file(dir, &format!("{name}{ext}"))?, &inputs)?;
+        }
+    }
+    Ok(())
+}
+
 fn write_text(dir: &Path, name: &str, text: &str, written: &mut Vec<PathBuf>) -> Result<()> {
-    let p = dir.join(name);
+    let p = output_file(dir, name)?;
     write_atomic_string(&p, text)?;
     written.push(p);
     Ok(())
@@ -114,6 +137,7 @@ impl DpOutcome {
 pub fn identify_dp(req: &DpRequest) -> Result<DpOutcome> {
     let need: &[Quantity] =
         if req.options.k_p.is_some() { &[Quantity::Voltage] } else { &[Quantity::Voltage, Quantity::Displacement] };
+    refuse_over_sources(req.out.as_deref(), &["dp.toml", "dp.json", "dp-difference"], &[&req.first, &req.second])?;
     let a = measurement::load_source(&req.first, need, &req.load)?;
     let b = measurement::load_source(&req.second, need, &req.load)?;
     let estimate = dp::estimate_dp(&a, &b, &req.options)?;
@@ -243,6 +267,11 @@ pub fn identify_bouc_wen(req: &BoucWenRequest) -> Result<BoucWenOutcome> {
         FitTarget::Stroke => &[Quantity::Voltage, Quantity::Displacement],
         FitTarget::BlockedForce { .. } => &[Quantity::Voltage, Quantity::Force],
     };
+    refuse_over_sources(
+        req.out.as_deref(),
+        &["bouc-wen.toml", "bouc-wen.json", "bouc-wen-loop", "bouc-wen-convergence"],
+        &[&req.file],
+    )?;
     let m = measurement::load_source(&req.file, need, &req.load)?;
     let data = CycleData::from_measurement(&m, req.target, &req.cycle)?;
     let fit = bouc_wen_fit::fit_multi_seed(&data, &req.fit, &req.seeds).map_err(|e| attribute(e, &m.file))?;
@@ -418,6 +447,7 @@ pub fn identify_modal(req: &ModalRequest) -> Result<ModalOutcome> {
             return Err(Error::input("<cli>", "--band", format!("need 0 <= F1 < F2, got {lo},{hi}")));
         }
     }
+    refuse_over_sources(req.out.as_deref(), &["modal.toml", "modal.json", "modal-frf"], &[&req.file])?;
     let m = measurement::load_source(&req.file, &[Quantity::Force, Quantity::Acceleration], &req.load)?;
     let file = m.file.clone();
     let force = m.column(Quantity::Force)?;
@@ -578,6 +608,11 @@ pub fn synth(req: &SynthRequest) -> Result<SynthOutcome> {
     let lc = LoadedCase::load(&req.case)?;
     let s = synth::synthesize(&lc, &req.options)?;
     let paths = record_paths(&req.out, s.records.len());
+    let inputs = crate::app::commands::case_inputs(&lc);
+    for (k, p) in paths.iter().enumerate() {
+        refuse_input("--out", p, &inputs)?;
+        refuse_output("--out", p, &paths[..k])?;
+    }
     if let Some(dir) = req.out.parent().filter(|d| !d.as_os_str().is_empty()) {
         prepare_dir(dir)?;
     }

@@ -3,13 +3,19 @@
 //! for two objectives), a JSON summary and the figures that explain the optimum — as one
 //! output set (io::output_set).
 
+use crate::analysis::budget::Budget;
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
+use crate::io::paths::{output_file, refuse_input, Input};
 use crate::optimize::evaluate::Evaluation;
 use crate::optimize::{self, RunOptions, RunResult, Spec};
 use crate::report::sweep::num;
 use crate::sweep::field::set_path;
 use std::path::{Path, PathBuf};
+
+/// Every file an optimisation may write into its output folder.
+const OUTPUTS: [&str; 7] =
+    ["best.toml", "history.csv", "optima.csv", "pareto.csv", "summary.json", "profiles.png", "modes.png"];
 
 /// Points per real variable in the profile figure.
 const PROFILE_POINTS: usize = 41;
@@ -22,15 +28,31 @@ pub fn optimize(
     out: &Path,
     threads: Option<usize>,
     plots: bool,
+    budget: &Budget,
 ) -> Result<(Spec, RunResult, Vec<PathBuf>)> {
     let spec = optimize::load(file)?;
+    let numbers = spec.variables.len() + spec.objectives.len() + 2 * spec.base.actuators.len();
+    let cost = crate::analysis::cost::cases(
+        "this optimisation",
+        spec.max_evaluations(),
+        numbers as u64,
+        format!("{} evaluations of {} variables", spec.search.evaluations, spec.variables.len()),
+        "search.evaluations",
+        "give fewer `evaluations` or `pareto_points`",
+    );
+    budget.admit(&cost).map_err(|e| e.in_file(&spec.file))?;
+    let mut inputs = vec![Input::new(file, "the optimisation file")];
+    inputs.extend(spec.base.input_files(&spec.file).into_iter().map(|(p, what)| Input::new(p, what)));
+    for name in OUTPUTS {
+        refuse_input("--out", &output_file(out, name)?, &inputs)?;
+    }
     let opts = RunOptions { threads, progress: true, ..Default::default() };
     let r = optimize::run(&spec, &opts)?;
     let set = crate::io::output_set::OutputSet::begin(out)?;
     let dir = set.dir().to_path_buf();
     let mut written = Vec::new();
     let mut put = |name: &str, text: String| -> Result<()> {
-        let p = dir.join(name);
+        let p = output_file(&dir, name)?;
         write_atomic_string(&p, &text)?;
         written.push(p);
         Ok(())
@@ -55,11 +77,11 @@ pub fn optimize(
             )
         });
         let o = &spec.objectives[0];
-        let p = dir.join("profiles.png");
+        let p = output_file(&dir, "profiles.png")?;
         crate::report::optimize::plot_profiles(&p, "Objective through the optimum", &o.label, &o.unit(), &profiles)?;
         written.push(p);
         if let Some(m) = modal {
-            let p = dir.join("modes.png");
+            let p = output_file(&dir, "modes.png")?;
             crate::report::optimize::plot_modal(&p, &m)?;
             written.push(p);
         }

@@ -5,10 +5,11 @@
 //! actuator on the beam at 12 V, 60 Hz (Figs. 13–16). Each run's case file is in `cases/`
 //! (the top-mass variants are made from the rigid-base case), and each run writes its HDF5.
 
+use crate::analysis::budget::Budget;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
-use crate::app::runner::run_case;
+use crate::app::runner::run_case_within;
 use crate::case::{BodySpec, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
@@ -53,14 +54,15 @@ fn link_index(run: &CaseRun, actuator: usize, name: &str) -> usize {
     run.system.links.iter().position(|l| l.actuator == actuator && l.name == name).expect("link exists")
 }
 
-/// Runs a case and writes its HDF5 file (and, with `csv`, its CSV tables) into `out`.
-fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, csv: bool, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
+/// Runs a case within `budget` and writes its HDF5 file (and, with `csv`, its CSV tables)
+/// into `out`.
+fn run_and_store(lc: &LoadedCase, out: &Path, stem: &str, w: Store, written: &mut Vec<PathBuf>) -> Result<CaseRun> {
     crate::say!("running {stem} …");
-    let run = run_case(lc)?;
-    let h5 = out.join(format!("{stem}.h5"));
+    let run = run_case_within(lc, &w.budget)?;
+    let h5 = crate::io::paths::output_file(out, &format!("{stem}.h5"))?;
     crate::io::results::write(&h5, lc, &run)?;
     written.push(h5);
-    if csv {
+    if w.csv {
         written.extend(crate::io::results_csv::write(out, stem, lc, &run)?);
     }
     Ok(run)
@@ -73,8 +75,14 @@ const PAPER_POWER_RATIO: f64 = 300.0;
 struct Written {
     files: Vec<PathBuf>,
     max_balance: f64,
-    /// Whether each run also writes its CSV tables.
+    store: Store,
+}
+
+/// How each run is held and stored: within `budget`, with its CSV tables if `csv`.
+#[derive(Clone, Copy)]
+struct Store {
     csv: bool,
+    budget: Budget,
 }
 
 /// What the rigid-base run shows about the transmitted forces.
@@ -101,11 +109,11 @@ struct BeamFindings {
     lines: Vec<f64>,
 }
 
-/// Runs everything and writes figures, HDF5 files (and, with `csv`, CSV tables) and the
+/// Runs everything within `budget` and writes figures, HDF5 files (and, with `csv`, CSV tables) and the
 /// summaries into `out`.
-pub fn run(out: &Path, csv: bool) -> Result<()> {
+pub fn run(out: &Path, csv: bool, budget: &Budget) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
-    let mut w = Written { files: Vec::new(), max_balance: 0.0, csv };
+    let mut w = Written { files: Vec::new(), max_balance: 0.0, store: Store { csv, budget: *budget } };
     let rigid_lc = load("rigid-base-48V-30Hz.toml")?;
     let rigid = rigid_base(&rigid_lc, out, &mut w)?;
     let mass_amp = top_mass(&rigid_lc, out, &mut w)?;
@@ -130,14 +138,14 @@ pub fn run(out: &Path, csv: bool) -> Result<()> {
         "energy_balance_max_rel_error": w.max_balance,
         "notes": "powers at the drive frequency from the frequency-domain periodic steady state (exact); the *_transient_* values are the Newmark steady state at Δt = T/200",
     });
-    let json_path = out.join("summary.json");
+    let json_path = crate::io::paths::output_file(out, "summary.json")?;
     write_atomic_string(&json_path, &serde_json::to_string_pretty(&summary).expect("serialisable"))?;
     w.files.push(json_path);
     let md = summary_md(&summary, &mass_amp);
-    let md_path = out.join("summary.md");
+    let md_path = crate::io::paths::output_file(out, "summary.md")?;
     write_atomic_string(&md_path, &md)?;
     w.files.push(md_path);
-    let report_path = out.join(crate::report::run_page::FILE);
+    let report_path = crate::io::paths::output_file(out, crate::report::run_page::FILE)?;
     write_atomic_string(&report_path, &report_page(&md, &w.files, &[&rigid_lc, &bi_lc, &bf_lc])?)?;
     w.files.push(report_path);
     crate::say!("{md}");
@@ -147,8 +155,8 @@ pub fn run(out: &Path, csv: bool) -> Result<()> {
 
 /// Figs. 8, 9, 10 and 12 from the rigid-base run at 48 V, 30 Hz, and what they show.
 fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<RigidFindings> {
-    let (written, max_balance, csv) = (&mut w.files, &mut w.max_balance, w.csv);
-    let rigid = run_and_store(rigid_lc, out, "rigid-base-48V-30Hz", csv, written)?;
+    let (store, written, max_balance) = (w.store, &mut w.files, &mut w.max_balance);
+    let rigid = run_and_store(rigid_lc, out, "rigid-base-48V-30Hz", store, written)?;
     let rt = transient(&rigid)?;
     *max_balance = max_balance.max(rt.energy_run.system.relative_error());
     let (i_stack, f_stack, f_left, f_right) = (
@@ -241,7 +249,7 @@ fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f
         case.actuator[0].body = BodySpec::Inertial { m_t };
         case.title = format!("Rigid base, 48 V, 30 Hz, inertial actuator, m_t = {m_t} kg");
         let lc = LoadedCase::from_case(case, &format!("{} (m_t = {m_t})", rigid_lc.file), rigid_lc.dir.clone())?;
-        let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), w.csv, &mut w.files)?;
+        let run = run_and_store(&lc, out, &format!("rigid-inertial-mt-{m_t}"), w.store, &mut w.files)?;
         let t = transient(&run)?;
         w.max_balance = w.max_balance.max(t.energy_run.system.relative_error());
         fig11.series.push(Series::line(format!("m_{{t}} = {m_t} kg"), ms_axis(&t.t), t.links[0].transmitted.clone()));
@@ -254,9 +262,9 @@ fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f
 
 /// Figs. 13–16 from the two actuators on the beam at 12 V, 60 Hz, and the powers they show.
 fn on_beam(bi_lc: &LoadedCase, bf_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<BeamFindings> {
-    let (written, max_balance, csv) = (&mut w.files, &mut w.max_balance, w.csv);
-    let bi = run_and_store(bi_lc, out, "beam-inertial-12V-60Hz", csv, written)?;
-    let bf = run_and_store(bf_lc, out, "beam-frame-12V-60Hz", csv, written)?;
+    let (store, written, max_balance) = (w.store, &mut w.files, &mut w.max_balance);
+    let bi = run_and_store(bi_lc, out, "beam-inertial-12V-60Hz", store, written)?;
+    let bf = run_and_store(bf_lc, out, "beam-frame-12V-60Hz", store, written)?;
     let (bit, bis, bft, bfs) = (transient(&bi)?, steady(&bi)?, transient(&bf)?, steady(&bf)?);
     for t in [bit, bft] {
         *max_balance = max_balance

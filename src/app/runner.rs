@@ -1,6 +1,8 @@
 //! Runs every analysis a case asks for. Pure computation: writing is in [`crate::io`].
 
-use crate::analysis::case_run::{AnalysisResult, CaseRun};
+use crate::analysis::budget::Budget;
+use crate::analysis::case_run::{AnalysisResult, CaseRun, BALANCE_TOLERANCE};
+use crate::analysis::cost;
 use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
 use crate::analysis::modes;
@@ -85,10 +87,11 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
 /// Everything about a case's analyses that can be refused without solving them: beams they
 /// need, points on nodes, time steps (as given, resolving the drive, stable for the
 /// scheme), periodic drives where the analysis needs one, damping the analysis can apply.
+/// Each analysis's memory and steps are estimated and held to `budget` first.
 /// `beamflow check` runs it, and [`run_case`] before its first analysis, so both refuse the
 /// same cases with the same messages. Returns the case's measurements (`[[measurement]]`),
 /// read and checked against the model.
-pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<Vec<Measured>> {
+pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budget) -> Result<Vec<Measured>> {
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
         let need_beam = || {
@@ -103,10 +106,13 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<Vec<
                 mesh_roundoff(model)?;
             }
             match spec {
-                AnalysisSpec::Modes { .. } => need_beam(),
-                AnalysisSpec::Harmonic { force, system, .. } => {
+                AnalysisSpec::Modes { count } => {
                     need_beam()?;
-                    if *system == HarmonicSystem::Coupled && model.modal_ratios().is_some() {
+                    budget.admit(&cost::modes(model, *count))
+                }
+                AnalysisSpec::Harmonic { force, system: kind, frequencies } => {
+                    need_beam()?;
+                    if *kind == HarmonicSystem::Coupled && model.modal_ratios().is_some() {
                         return Err(Error::analysis_setting(
                             "system",
                             "the coupled system has no damping matrix with modal damping (its ratios belong to the \
@@ -114,6 +120,10 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<Vec<
                              beam",
                         ));
                     }
+                    let f = cost::frequency_count(frequencies).unwrap_or(u64::MAX);
+                    let forces = if force.is_empty() { model.loads.len() } else { force.len() };
+                    let modal = model.modal_ratios().is_some();
+                    budget.admit(&cost::harmonic(system, f, forces, model.sensors.len(), modal))?;
                     let mesh = &model.beam.as_ref().expect("checked").mesh;
                     for (j, f) in force.iter().enumerate() {
                         if mesh.node_at(f.x).is_none() {
@@ -133,6 +143,7 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<Vec<
                     let s = transient_settings(spec, false).expect("transient");
                     let timing =
                         DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
+                    budget.admit(&cost::transient(model, system, &s, &timing))?;
                     transient::record_segments(&timing, s.segment)?;
                     match reduction {
                         // Modal damping is a matrix only in modal coordinates.
@@ -147,6 +158,7 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System) -> Result<Vec<
                     }
                 }
                 AnalysisSpec::SteadyState { samples_per_period, reduction, .. } => {
+                    budget.admit(&cost::steady_state(model, system, *samples_per_period))?;
                     DriveTiming::sampled(model, *samples_per_period)?;
                     if model.loss_factor() > 0.0 && reduction.is_some() {
                         return Err(Error::analysis_setting(
@@ -206,10 +218,24 @@ fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
     ))
 }
 
-/// Builds the model and runs the case's analyses in order, after [`preflight`].
+/// The model, system and measurements of a case whose every analysis passed [`preflight`]
+/// within `budget`: what `beamflow check` and [`run_case_within`] do before any analysis
+/// runs.
+pub fn planned(lc: &LoadedCase, budget: &Budget) -> Result<(Model, System, Vec<Measured>)> {
+    let (model, system) = plan::model_and_system_within(lc, budget)?;
+    let measured = preflight(lc, &model, &system, budget)?;
+    Ok((model, system, measured))
+}
+
+/// [`run_case_within`] the machine's default [`Budget`].
 pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
-    let (model, system) = plan::model_and_system(lc)?;
-    let measured = preflight(lc, &model, &system)?;
+    run_case_within(lc, &Budget::default())
+}
+
+/// Builds the model and runs the case's analyses in order, after [`planned`] held them to
+/// `budget`.
+pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
+    let (model, system, measured) = planned(lc, budget)?;
     let mut run =
         Runner { model: &model, system: &system, reduced: ReducedCache::default(), complete: OnceCell::new() };
     let mut results = Vec::new();
@@ -260,6 +286,17 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
                     "the result is not a finite number ({q}): the inputs are out of the range double precision \
                      can carry (amplitudes, material constants or frequencies many orders of magnitude from \
                      physical values) or the solution diverged; nothing was written"
+                ),
+            ));
+        }
+        if let Some((what, e)) = r.balance().filter(|(_, e)| !(*e <= BALANCE_TOLERANCE)) {
+            return Err(Error::input(
+                &lc.file,
+                format!("analysis[{i}]"),
+                format!(
+                    "the energy balance ({what}) is off by {e:.3e} of its terms, above the tolerance \
+                     {BALANCE_TOLERANCE:e}: the result is not a solution of the model; inputs nearer physical \
+                     values, a finer step or more harmonics are needed; nothing was written"
                 ),
             ));
         }

@@ -52,6 +52,23 @@ impl DofMap {
         d
     }
 
+    /// Where DOF `d` is, for messages: `w (deflection) at node 12`, `θ (rotation) at node
+    /// 3`, or `body DOF 1 of actuator 0`.
+    pub fn describe(&self, d: usize) -> String {
+        let at = |v: &[Option<usize>]| v.iter().position(|&x| x == Some(d));
+        if let Some(node) = at(&self.w) {
+            format!("DOF {d}, w (deflection) at beam node {node}")
+        } else if let Some(node) = at(&self.theta) {
+            format!("DOF {d}, θ (rotation) at beam node {node}")
+        } else if let Some((a, k)) =
+            self.bodies.iter().enumerate().find_map(|(a, b)| b.iter().position(|&x| x == d).map(|k| (a, k)))
+        {
+            format!("DOF {d}, body DOF {k} of actuator {a}")
+        } else {
+            format!("DOF {d}")
+        }
+    }
+
     /// The global DOFs of a beam element's (w₁, θ₁, w₂, θ₂).
     pub fn element_dofs(&self, nodes: [usize; 2]) -> [Option<usize>; 4] {
         [self.w[nodes[0]], self.theta[nodes[0]], self.w[nodes[1]], self.theta[nodes[1]]]

@@ -151,11 +151,15 @@ impl Mesh {
 
     /// Reads a mesh file. Properties not given in the file come from `section`/`material`.
     pub fn read(path: &Path, section: Section, material: Material) -> Result<Mesh> {
-        let file = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::input_file::read_text(path)?;
+        Mesh::parse(&text, &path.display().to_string(), section, material)
+    }
+
+    /// [`Mesh::read`] on text already in memory; `file` names it in messages.
+    pub fn parse(text: &str, file: &str, section: Section, material: Material) -> Result<Mesh> {
         let raw: MeshFile =
-            toml::from_str(&text).map_err(|e| Error::Parse { file: file.clone(), message: e.to_string() })?;
-        raw.into_mesh(&file, section, material)
+            toml::from_str(text).map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string() })?;
+        raw.into_mesh(file, section, material)
     }
 }
 

@@ -59,7 +59,12 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
     let mesh = match &b.mesh.file {
         Some(f) => {
             let path = lc.dir.join(f);
-            let mesh = Mesh::read(&path, section, material)?;
+            // Named from the case's side too: a mesh that cannot be read at all is the case's
+            // `beam.mesh.file` pointing at the wrong file.
+            let mesh = Mesh::read(&path, section, material).map_err(|e| match e {
+                Error::Io { .. } | Error::Parse { .. } => Error::input(&lc.file, "beam.mesh.file", e.to_string()),
+                e => e,
+            })?;
             let mfile = path.display().to_string();
             if (mesh.length() - b.length).abs() > 1e-9 * b.length {
                 return Err(Error::input(

@@ -7,6 +7,7 @@
 
 pub mod build;
 pub mod measured;
+pub mod ranges;
 pub mod schema;
 pub mod signal;
 
@@ -31,7 +32,7 @@ pub struct LoadedCase {
 impl LoadedCase {
     /// Reads and validates a case file.
     pub fn load(path: &Path) -> Result<LoadedCase> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+        let text = crate::input_file::read_text(path)?;
         let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         LoadedCase::from_str(&text, &path.display().to_string(), dir)
     }
@@ -44,11 +45,39 @@ impl LoadedCase {
         Ok(LoadedCase { case, file: file.to_string(), dir, text: text.to_string() })
     }
 
+    /// The files this case reads, each with what it is (for messages): the case file
+    /// itself and its [`Case::data_files`].
+    pub fn input_files(&self) -> Vec<(PathBuf, String)> {
+        let mut files = vec![(PathBuf::from(&self.file), "the case file".to_string())];
+        files.extend(self.case.data_files(&self.dir, &self.file));
+        files
+    }
+
     /// A case built in code (sweeps): serialised back to TOML so results embed what ran.
     pub fn from_case(case: Case, file: &str, dir: PathBuf) -> Result<LoadedCase> {
         case.validate(file)?;
         let text = toml::to_string(&case)
             .map_err(|e| Error::Parse { file: file.to_string(), message: format!("cannot serialise the case: {e}") })?;
         Ok(LoadedCase { case, file: file.to_string(), dir, text })
+    }
+}
+
+impl Case {
+    /// The files besides itself a case (`file`) reads, relative paths resolved against
+    /// `dir`, each with what it is: its mesh file and the CSV files of tabulated drives and
+    /// loads.
+    pub fn data_files(&self, dir: &Path, file: &str) -> Vec<(PathBuf, String)> {
+        let mut files = Vec::new();
+        if let Some(m) = &self.beam.mesh.file {
+            files.push((dir.join(m), format!("the mesh file of {file} (beam.mesh.file)")));
+        }
+        let drives = self.actuator.iter().enumerate().map(|(i, a)| (format!("actuator[{i}].voltage"), &a.voltage));
+        let loads = self.load.iter().enumerate().map(|(i, l)| (format!("load[{i}].force"), &l.force));
+        for (field, signal) in drives.chain(loads) {
+            if let crate::case::signal::SignalSpec::Series { file: csv, .. } = signal {
+                files.push((dir.join(csv), format!("the series file of {file} ({field}.file)")));
+            }
+        }
+        files
     }
 }

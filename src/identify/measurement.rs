@@ -316,7 +316,7 @@ impl Measurement {
 /// required) and loading every other recognised column present.
 pub fn load(path: &Path, required: &[Quantity], opts: &LoadOptions) -> Result<Measurement> {
     let file = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::input_file::read_text(path)?;
     parse(&text, &file, required, opts)
 }
 

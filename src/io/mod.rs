@@ -15,6 +15,9 @@
 //! * [`mtx`]: Matrix Market export of sparse system matrices, for checking them in
 //!   other tools (SciPy, MATLAB, Julia).
 //!
+//! * [`output_set`]: a run's files committed as a set; [`paths`]: output paths that stay
+//!   inside the output folder and never name an input.
+//!
 //! Every function returns [`crate::error::Result`], and every error names the file.
 
 pub mod atomic;
@@ -22,6 +25,7 @@ pub mod csv;
 pub mod hdf5;
 pub mod mtx;
 pub mod output_set;
+pub mod paths;
 pub mod results;
 pub mod results_csv;
 pub mod sink;

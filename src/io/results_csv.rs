@@ -25,7 +25,7 @@ pub fn write(dir: &Path, stem: &str, lc: &LoadedCase, run: &CaseRun) -> Result<V
     super::results::write_into(&sink, lc, run)?;
     let mut written = Vec::new();
     for (name, table) in tables(&sink.tree()) {
-        let p = dir.join(format!("{stem}_{name}.csv"));
+        let p = crate::io::paths::output_file(dir, &format!("{stem}_{name}.csv"))?;
         table.write(&p)?;
         written.push(p);
     }

@@ -125,13 +125,8 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
     let ev = Evaluator::new(spec);
     let s = &spec.search;
     let d = spec.variables.len();
-    let polish = if s.polish { (s.evaluations / 10).clamp(40 * d, 800) } else { 0 };
-    let scalarisations = if spec.objectives.len() == 2 { s.pareto_points } else { 1 };
-    // CMA-ES ends a start after the generation that spends its share, so each start may
-    // take up to one population (4 + ⌊3 ln d⌋) more.
-    let population = 4 + (3.0 * (d as f64).ln()).floor() as usize;
-    let total = (s.evaluations + polish + s.starts * population) * scalarisations;
-    let bar = progress_bar(opts.progress, total as u64);
+    let polish = spec.polish_evaluations();
+    let bar = progress_bar(opts.progress, spec.max_evaluations().unwrap_or(u64::MAX));
 
     let mut history: Vec<Evaluation> = Vec::new();
     let mut evaluations = 0;

@@ -198,8 +198,37 @@ pub struct Spec {
 }
 
 /// Reads and checks an optimisation file.
+impl Spec {
+    /// Evaluations of the polish: a tenth of the global search's, at most 800 but at least
+    /// 40 per variable.
+    pub fn polish_evaluations(&self) -> usize {
+        let s = &self.search;
+        if s.polish {
+            (s.evaluations / 10).min(800).max(self.variables.len().saturating_mul(40))
+        } else {
+            0
+        }
+    }
+
+    /// The most evaluations a run takes (None: beyond 64 bits): the global search, the
+    /// polish and, since CMA-ES ends a start after the generation that spends its share,
+    /// up to one population (4 + ⌊3 ln d⌋) more per start — once per scalarisation (the
+    /// Pareto points of two objectives).
+    pub fn max_evaluations(&self) -> Option<u64> {
+        let s = &self.search;
+        let population = 4 + (3.0 * (self.variables.len() as f64).ln()).floor() as usize;
+        let scalarisations = if self.objectives.len() == 2 { s.pareto_points } else { 1 };
+        let total = s
+            .evaluations
+            .checked_add(self.polish_evaluations())?
+            .checked_add(s.starts.checked_mul(population)?)?
+            .checked_mul(scalarisations)?;
+        u64::try_from(total).ok()
+    }
+}
+
 pub fn load(path: &Path) -> Result<Spec> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::input_file::read_text(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     Spec::from_str(&text, &path.display().to_string(), &dir)
 }
@@ -313,7 +342,7 @@ fn check_search(s: &Search, file: &str) -> Result<()> {
     if s.starts == 0 {
         return bad("starts", "must be at least 1");
     }
-    if s.evaluations < 10 * s.starts {
+    if s.evaluations < s.starts.saturating_mul(10) {
         return bad("evaluations", "must be at least 10 per start");
     }
     if s.top == 0 {

@@ -38,7 +38,7 @@ impl Figure for BarChart {
 pub fn save(fig: &dyn Figure, dir: &Path, name: &str) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     for ext in ["png", "svg"] {
-        let p = dir.join(format!("{name}.{ext}"));
+        let p = crate::io::paths::output_file(dir, &format!("{name}.{ext}"))?;
         fig.render_to(&p)?;
         out.push(p);
     }

@@ -106,17 +106,27 @@ impl Figure {
     }
 }
 
-/// `out`'s folder and file stem: the sweep's other outputs go beside it.
-fn beside(out: &Path) -> (PathBuf, String) {
+/// The report file `<stem>.<suffix>` beside the table `out`.
+fn beside(out: &Path, suffix: &str) -> Result<PathBuf> {
     let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
-    (out.parent().map(Path::to_path_buf).unwrap_or_default(), stem)
+    let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
+    crate::io::paths::output_file(&dir, &format!("{stem}.{suffix}"))
+}
+
+const FIGURE: &str = "net_power.png";
+const BEST: &str = "best.md";
+const REPORT: &str = "report.html";
+
+/// The report files [`plot`], [`write_markdown`] and [`write_report`] may write beside the
+/// table `out`.
+pub fn files_beside(out: &Path) -> Vec<PathBuf> {
+    [FIGURE, BEST, REPORT].iter().filter_map(|s| beside(out, s).ok()).collect()
 }
 
 /// Writes the figures for a table next to `out` (`<stem>.net_power.png`) and returns the
 /// files written (none if the table's shape has no figure).
 pub fn plot(t: &SweepTable, out: &Path) -> Result<Vec<PathBuf>> {
-    let (dir, stem) = beside(out);
-    let png = dir.join(format!("{stem}.net_power.png"));
+    let png = beside(out, FIGURE)?;
     match figure(t) {
         Some(f) => {
             f.render(&png)?;
@@ -130,8 +140,7 @@ pub fn plot(t: &SweepTable, out: &Path) -> Result<Vec<PathBuf>> {
 /// self-contained page, and the sweep file when it can be read. Returns its path.
 pub fn write_report(t: &SweepTable, out: &Path) -> Result<PathBuf> {
     use crate::report::html::{escape, markdown, Page};
-    let (dir, stem) = beside(out);
-    let path = dir.join(format!("{stem}.report.html"));
+    let path = beside(out, REPORT)?;
     let mut p = Page::new();
     p.section("best", "Best cases");
     // The Markdown report's own heading is the page's.
@@ -285,9 +294,7 @@ pub fn markdown_report(t: &SweepTable) -> String {
 
 /// Writes `<stem>.best.md` next to `out` and returns its path.
 pub fn write_markdown(t: &SweepTable, out: &Path) -> Result<PathBuf> {
-    let stem = out.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_else(|| "sweep".into());
-    let dir = out.parent().map(Path::to_path_buf).unwrap_or_default();
-    let md = dir.join(format!("{stem}.best.md"));
+    let md = beside(out, BEST)?;
     crate::io::atomic::write_atomic_string(&md, &markdown_report(t))?;
     Ok(md)
 }

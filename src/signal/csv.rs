@@ -69,7 +69,7 @@ fn is_skipped(line: &str) -> bool {
 /// a row with a different number of fields than the header, an empty or unparsable cell, a
 /// NaN or infinite value.
 pub fn read_columns(path: &Path, names: &[&str]) -> Result<Vec<Vec<f64>>> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::input_file::read_text(path)?;
     parse_columns(&text, &path.display().to_string(), names)
 }
 

@@ -117,7 +117,8 @@ fn sgn(x: f64) -> i8 {
 /// Bisection for a sign change of `f` in `[a, b]`, `fa = f(a)`, to [`BISECT_TOL`].
 fn bisect(f: &impl Fn(f64) -> f64, mut a: f64, mut b: f64, mut fa: f64) -> f64 {
     loop {
-        if b - a <= BISECT_TOL {
+        // Written so that a NaN bracket ends the search too.
+        if !(b - a > BISECT_TOL) {
             break;
         }
         let m = 0.5 * (a + b);
@@ -432,20 +433,21 @@ impl VoltageInput {
                 if *amplitude == 0.0 {
                     return Vec::new();
                 }
+                // V̇ = 0 where ωt + φ = (k + ½)π. The phase counts modulo 2π only, and
+                // reduced it keeps k small enough for f64 to count in steps of one; the
+                // count of k in (t0, t1) is taken up front, so the loop ends whatever the
+                // numbers (a frequency or phase beyond double precision gives no points).
                 let w = TAU * frequency;
-                let mut k = ((w * t0 + phase) / PI - 0.5).floor();
-                let mut out = Vec::new();
-                loop {
-                    let t = ((k + 0.5) * PI - phase) / w;
-                    if t >= t1 {
-                        break;
-                    }
-                    if t > t0 {
-                        out.push(t);
-                    }
-                    k += 1.0;
+                let phase = phase.rem_euclid(TAU);
+                let k0 = ((w * t0 + phase) / PI - 0.5).floor();
+                let span = ((w * t1 + phase) / PI - 0.5).floor() - k0;
+                if !(k0.is_finite() && span.is_finite() && span >= 0.0 && k0.abs() < 1e15 && span < 1e15) {
+                    return Vec::new();
                 }
-                out
+                (0..=span as u64)
+                    .map(|j| ((k0 + j as f64 + 0.5) * PI - phase) / w)
+                    .filter(|&t| t > t0 && t < t1)
+                    .collect()
             }
             VoltageInput::Sines { components, .. } => {
                 let fmax = components.iter().map(|c| c.frequency).fold(0.0, f64::max);

@@ -36,14 +36,22 @@ pub struct BaseCase {
 }
 
 impl BaseCase {
+    /// The files the study `study` reads through its base case: the base case file and its
+    /// data files, each with what it is.
+    pub fn input_files(&self, study: &str) -> Vec<(PathBuf, String)> {
+        let mut files = vec![(PathBuf::from(&self.file), format!("the base case file of {study}"))];
+        files.extend(self.case.data_files(&self.dir, &self.file));
+        files
+    }
+
     /// Reads the base case `rel` (relative to `dir`, the study file's directory) named by
     /// field `field` of `study`. It must be a valid case on its own (its errors name the
     /// base file) and have at least one actuator.
     pub fn load(study: &str, field: &str, dir: &Path, rel: &str) -> Result<BaseCase> {
         let path = dir.join(rel);
         let file = path.display().to_string();
-        let text = std::fs::read_to_string(&path)
-            .map_err(|e| Error::input(study, field, format!("cannot read the base case {file}: {e}")))?;
+        let text = crate::input_file::read_text(&path)
+            .map_err(|e| Error::input(study, field, format!("cannot read the base case: {e}")))?;
         let base_dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
         let lc = LoadedCase::from_str(&text, &file, base_dir.clone())?;
         let mut value: toml::Value = toml::from_str(&text)

@@ -294,7 +294,7 @@ fn open_checkpoint(dir: &Path, sweep: &Sweep) -> Result<()> {
     let id = dir.join("sweep-id");
     let text = format!("{}\n{}\n", sweep.hash, sweep.len());
     if dir.exists() {
-        if let Ok(found) = std::fs::read_to_string(&id) {
+        if let Ok(found) = crate::input_file::read_text(&id) {
             if found != text {
                 return Err(Error::input(
                     dir.display().to_string(),

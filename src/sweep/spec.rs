@@ -132,9 +132,12 @@ pub fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
 
 pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
 
+/// Most values one parameter's range may take (its values are held before any case runs).
+pub const MAX_PARAMETER_VALUES: usize = 100_000;
+
 /// Reads and checks a sweep file.
 pub fn load(path: &Path) -> Result<Sweep> {
-    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+    let text = crate::input_file::read_text(path)?;
     let dir = path.parent().map(Path::to_path_buf).unwrap_or_default();
     Sweep::from_str(&text, &path.display().to_string(), &dir)
 }
@@ -202,6 +205,16 @@ impl Sweep {
             }
         }
 
+        let counts: Vec<usize> = parameters.iter().map(|p| p.values.len()).collect();
+        if sf.combine == Combine::Cartesian && counts.iter().try_fold(1usize, |a, &n| a.checked_mul(n)).is_none() {
+            let factors = counts.iter().map(|n| n.to_string()).collect::<Vec<_>>().join(" × ");
+            return Err(Error::input(
+                file,
+                "parameter",
+                format!("{factors} cases are more than can be counted (2⁶⁴): vary fewer parameters or fewer values"),
+            ));
+        }
+
         // Each parameter on its own, over all its values, on the base case: unknown paths,
         // integer fields and out-of-range values fail here, before anything runs.
         for (i, p) in parameters.iter_mut().enumerate() {
@@ -217,7 +230,6 @@ impl Sweep {
         h = fnv1a(base.text.as_bytes(), h);
         h = fnv1a(b"\0", h);
         h = fnv1a(version.as_bytes(), h);
-        let counts = parameters.iter().map(|p| p.values.len()).collect();
         Ok(Sweep {
             file: file.to_string(),
             text: text.to_string(),
@@ -371,6 +383,16 @@ fn parameter_values(p: &ParameterFile, file: &str, field: &str) -> Result<Vec<f6
             }
             if n == 0 {
                 return Err(Error::input(file, format!("{field}.count"), "must be at least 1"));
+            }
+            if n > MAX_PARAMETER_VALUES {
+                return Err(Error::input(
+                    file,
+                    format!("{field}.count"),
+                    format!(
+                        "{n} values are more than one parameter may take ({MAX_PARAMETER_VALUES}); the cases of a \
+                         sweep are the product of its parameters' values"
+                    ),
+                ));
             }
             if n > 1 && a == b {
                 return Err(Error::input(

@@ -199,6 +199,40 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
     }
     let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
     stability::check_step(sys, s.scheme, &timing)?;
+    integrate(model, sys, s, timing)
+}
+
+/// Refuses a run that diverges, after `period` periods of `steps` steps: a displacement or
+/// velocity that is no longer a finite number, or more energy stored than the start held
+/// and the drives ever put in (see [`EnergyLedger::runaway`]). Names the DOF that moves
+/// most (by its share of the kinetic energy).
+fn check_bounded(nm: &BandNewmark, sys: &System, ledger: &EnergyLedger, period: usize, steps: usize) -> Result<()> {
+    let n = sys.n();
+    let at =
+        |what: &str| format!("the time integration diverged in period {period} (by step {})", period * steps) + what;
+    let advice = "a smaller `dt`, an unconditionally stable scheme (average_acceleration) or inputs nearer \
+                  physical values are needed";
+    if let Some(d) = nm.u().iter().chain(nm.v()).position(|x| !x.is_finite()) {
+        let q = if d < n { "displacement" } else { "velocity" };
+        let what = format!(": the {q} of {} is no longer a finite number; {advice}", sys.dofs.describe(d % n));
+        return Err(crate::error::Error::analysis_setting("dt", at(&what)));
+    }
+    if let Some((stored, supplied)) = ledger.runaway() {
+        let kinetic = |d: usize| sys.m.get(d, d) * nm.v()[d].powi(2);
+        let d = (0..n).max_by(|&a, &b| kinetic(a).total_cmp(&kinetic(b))).unwrap_or(0);
+        let what = format!(
+            ": the structure stores {stored:.3e} J, {:.1e} times the {supplied:.3e} J the start held and the \
+             drives put in (it cannot store more), moving most at {}; {advice}",
+            stored / supplied,
+            sys.dofs.describe(d)
+        );
+        return Err(crate::error::Error::analysis_setting("dt", at(&what)));
+    }
+    Ok(())
+}
+
+/// The time stepping of [`run`] on `timing`, whose step [`run`] checked.
+fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTiming) -> Result<TransientResult> {
     let welch = record_segments(&timing, s.segment)?;
     let layout = Readout::new(model, sys)?;
     let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
@@ -229,21 +263,7 @@ pub fn run(model: &Model, sys: &System, s: &TransientSettings) -> Result<Transie
         ledger.open_period(&nm);
         let pb = stepper.period(&mut nm, sys, &layout, &stacks, (!timing.periodic).then_some(&task));
         ledger.close_period(&nm, pb);
-        if let Some(d) = nm.u().iter().chain(nm.v()).position(|x| !x.is_finite()) {
-            let n = sys.n();
-            return Err(crate::error::Error::analysis_setting(
-                "dt",
-                format!(
-                    "the time integration diverged in period {} (by step {}): the {} of DOF {} is no longer a \
-                     finite number; a smaller `dt`, an unconditionally stable scheme or inputs nearer physical \
-                     values are needed",
-                    p + 1,
-                    (p + 1) * timing.steps_per_period,
-                    if d < n { "displacement" } else { "velocity" },
-                    d % n
-                ),
-            ));
-        }
+        check_bounded(&nm, sys, &ledger, p + 1, timing.steps_per_period)?;
         let n = timing.steps_per_period;
         rec.store_drives(&stacks.times[..n], &stacks.v, &stacks.h, &stepper.f_p, &stacks.load_f);
         rec.store_readouts(&layout, &stepper.observed);
@@ -353,5 +373,43 @@ fn add_links(result: &mut TransientResult, sys: &System, all: &PeriodRecord, har
         let (ih, vh, ah) = (harmonics(interface), harmonics(velocity), harmonics(&ls.base_acceleration[start..]));
         result.spectra.push(LinkSpectrum::new(result.period, n, hmax, fh, ih, vh, ah));
         result.links.push(ls);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::case::LoadedCase;
+
+    /// A coarse beam driven by an inertial actuator, integrated by linear acceleration
+    /// (stable for ω_max·Δt < 2√3), with the step `factor` times that limit: the model,
+    /// its system, the settings and the timing, bypassing the check before the run.
+    fn linear_acceleration_at(factor: f64) -> Result<TransientResult> {
+        let text = "[beam.mesh]\nelements = 6\n[[actuator]]\ntype = \"inertial\"\nx_e = 0.2\n\
+                    [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n\
+                    [[analysis]]\ntype = \"transient\"\nscheme = \"linear_acceleration\"\nperiods = 3\n";
+        let lc = LoadedCase::from_str(text, "t.toml", ".".into()).unwrap();
+        let (model, sys) = crate::analysis::plan::model_and_system(&lc).unwrap();
+        let all: Vec<usize> = (0..sys.n()).collect();
+        let omega_max = *crate::solve::eigen::modes(&sys.k, &sys.m, &all, sys.n()).unwrap().omega.last().unwrap();
+        let limit = 2.0 * 3f64.sqrt() / omega_max;
+        let mut s = crate::app::runner::transient_settings(&lc.case.analysis[0], false).unwrap();
+        let steps = ((1.0 / 60.0) / (factor * limit)).round() as usize;
+        s.steps_per_period = Some(steps);
+        let timing = DriveTiming::stepped(&model, Step::of(None, Some(steps)), None, None).unwrap();
+        assert!((timing.dt / limit - factor).abs() < 0.05 * factor, "Δt/limit = {}", timing.dt / limit);
+        integrate(&model, &sys, &s, timing)
+    }
+
+    #[test]
+    fn a_run_beyond_the_stability_limit_is_stopped_by_the_energy_no_drive_supplied() {
+        // Just beyond the limit the highest mode grows slowly: caught by its energy, long
+        // before its numbers overflow, with the period and the place named.
+        let e = linear_acceleration_at(1.05).unwrap_err().to_string();
+        assert!(e.contains("diverged in period") && e.contains("times the") && e.contains("beam node"), "{e}");
+        // Within the limit the same run completes, and its balance closes.
+        let r = linear_acceleration_at(0.9).unwrap();
+        assert!(r.energy_run.system.relative_error() < 1e-2, "{}", r.energy_run.system.relative_error());
+        assert!(r.net_power.iter().all(|p| p.is_finite() && *p > 0.0), "{:?}", r.net_power);
     }
 }

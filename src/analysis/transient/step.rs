@@ -217,6 +217,12 @@ impl Stepper {
 /// period).
 const PROGRESS_STEPS: usize = 1024;
 
+/// How many times the energy the start held and the drives put in a run may store before
+/// it counts as diverging. Exactly it stores at most that energy (dissipation is never
+/// negative); a stable scheme's quadrature of the work is off by far less than this, a
+/// diverging one exceeds it by orders of magnitude within a period or two.
+pub(super) const RUNAWAY_FACTOR: f64 = 1e3;
+
 /// The two energy balances of a run (beam and system), closed at each period boundary
 /// with the stored energies there.
 pub(super) struct EnergyLedger {
@@ -226,6 +232,8 @@ pub(super) struct EnergyLedger {
     boundary: (f64, f64),
     /// The integrator's dissipation at the start of the current period (J).
     dissipated_before: f64,
+    /// The work put into the system so far, each period's counted by its magnitude (J).
+    supplied: f64,
     pub run: Balances,
     pub last_period: Balances,
 }
@@ -239,9 +247,20 @@ impl EnergyLedger {
             start,
             boundary: start,
             dissipated_before: 0.0,
+            supplied: 0.0,
             run: Balances::default(),
             last_period: Balances::default(),
         }
+    }
+
+    /// The system's stored energy at the latest period boundary and the energy it could
+    /// hold at most — what it held at the start plus all work put in (J) — when it holds
+    /// more than [`RUNAWAY_FACTOR`] times that: energy no drive supplied, which only a
+    /// diverging time integration makes.
+    pub fn runaway(&self) -> Option<(f64, f64)> {
+        let stored = self.boundary.1;
+        let supplied = self.start.1 + self.supplied;
+        (stored > RUNAWAY_FACTOR * supplied && stored > 0.0).then_some((stored, supplied))
     }
 
     /// Marks the start of a period.
@@ -264,6 +283,7 @@ impl EnergyLedger {
             acc.input += x.input;
             acc.dissipated += x.dissipated;
         }
+        self.supplied += pb.system.input.abs();
         self.last_period = pb;
         self.run.beam.stored_change = eb1 - self.start.0;
         self.run.system.stored_change = es1 - self.start.1;

@@ -57,6 +57,8 @@ pub enum Command {
         /// Also write the results as tidy CSV tables (units in the header line).
         #[arg(long)]
         csv: bool,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// Reproduces the paper's experiments (Figs. 8–16): figures, HDF5 and a summary.
     Paper {
@@ -66,11 +68,15 @@ pub enum Command {
         /// Also write each run's results as tidy CSV tables (units in the header line).
         #[arg(long)]
         csv: bool,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
-    /// Checks a case file without running it.
+    /// Checks a case file without running it (with the same bounds as `run`).
     Check {
         /// The case file (TOML; see docs/case-format.md).
         case: PathBuf,
+        #[command(flatten)]
+        budget: BudgetArgs,
     },
     /// Runs a parameter sweep in parallel.
     Sweep(sweep::SweepArgs),
@@ -87,6 +93,27 @@ pub enum Command {
         /// The shell.
         shell: clap_complete::Shell,
     },
+}
+
+/// What one request may take: memory and steps, estimated before it runs and refused
+/// above these (see `crate::analysis::budget`).
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct BudgetArgs {
+    /// Most memory one analysis may take, e.g. 8G or 512M (default: half of the memory the
+    /// machine has available).
+    #[arg(long, value_name = "SIZE", value_parser = crate::analysis::budget::parse_bytes)]
+    pub max_memory: Option<u64>,
+    /// Most time steps (or samples) one analysis may step through, and most cases of a
+    /// sweep or an optimisation, e.g. 1e10 (default: 1e9).
+    #[arg(long, value_name = "N", value_parser = crate::analysis::budget::parse_steps)]
+    pub max_steps: Option<u64>,
+}
+
+impl BudgetArgs {
+    /// The machine's default budget with these overrides.
+    pub fn budget(&self) -> crate::analysis::budget::Budget {
+        crate::analysis::budget::Budget::with(self.max_memory, self.max_steps)
+    }
 }
 
 /// Where status lines go: standard output, standard error (when standard output carries
@@ -185,11 +212,11 @@ pub fn main() -> ExitCode {
 fn dispatch(cmd: &Command) -> Result<()> {
     match cmd {
         Command::Modes { case, count, json } => crate::app::commands::modes(case, *count, json.as_deref()),
-        Command::Run { case, out, json, no_plots, csv } => {
-            crate::app::commands::run(case, out.as_deref(), json.as_deref(), !no_plots, *csv)
+        Command::Run { case, out, json, no_plots, csv, budget } => {
+            crate::app::commands::run(case, out.as_deref(), json.as_deref(), !no_plots, *csv, &budget.budget())
         }
-        Command::Paper { out, csv } => crate::app::paper::run(out, *csv),
-        Command::Check { case } => crate::app::commands::check(case),
+        Command::Paper { out, csv, budget } => crate::app::paper::run(out, *csv, &budget.budget()),
+        Command::Check { case, budget } => crate::app::commands::check(case, &budget.budget()),
         Command::Sweep(a) => sweep::sweep(a),
         Command::Merge(a) => sweep::merge(a),
         Command::Optimize(a) => optimize::optimize(a),

@@ -18,6 +18,8 @@ pub struct OptimizeArgs {
     /// Skip the figures.
     #[arg(long)]
     pub no_plots: bool,
+    #[command(flatten)]
+    pub budget: super::BudgetArgs,
 }
 
 pub fn optimize(args: &OptimizeArgs) -> Result<()> {
@@ -27,7 +29,8 @@ pub fn optimize(args: &OptimizeArgs) -> Result<()> {
     let name = args.spec.file_name().and_then(|s| s.to_str()).unwrap_or("optimize");
     let stem = name.strip_suffix(".toml").unwrap_or(name).trim_end_matches(".opt");
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(stem));
-    let (spec, r, files) = crate::app::optimize::optimize(&args.spec, &out, args.threads, !args.no_plots)?;
+    let (spec, r, files) =
+        crate::app::optimize::optimize(&args.spec, &out, args.threads, !args.no_plots, &args.budget.budget())?;
     eprintln!(
         "{}: {} variables, {} evaluations in {:.2} s ({:.0} per second)",
         spec.file,

@@ -1,6 +1,7 @@
 //! `beamflow sweep` and `beamflow merge`.
 
 use crate::error::{Error, Result};
+use crate::io::paths::{refuse_input, Input};
 use crate::report::sweep as report;
 use crate::sweep::{self, RunOptions, Shard, SweepTable};
 use clap::Args;
@@ -27,6 +28,8 @@ pub struct SweepArgs {
     /// Also write the table as tidy CSV beside the HDF5 table (FILE.csv).
     #[arg(long)]
     pub csv: bool,
+    #[command(flatten)]
+    pub budget: super::BudgetArgs,
 }
 
 /// Arguments of `beamflow merge`.
@@ -71,7 +74,22 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         return Err(Error::input("<cli>", "--threads", "must be at least 1"));
     }
     let s = sweep::load(&args.sweep)?;
-    let n = shard.indices(s.len()).len();
+    let mut inputs = vec![Input::new(&args.sweep, "the sweep file")];
+    inputs.extend(s.base.input_files(&s.file).into_iter().map(|(p, what)| Input::new(p, what)));
+    refuse_overwrite(&args.out, &inputs)?;
+    let n = s.len().saturating_sub(shard.k - 1).div_ceil(shard.n);
+    let numbers = s.parameters.len() + s.base.actuators.len() + 3 * s.base.links.len();
+    let sep = if s.combine == sweep::Combine::Zip { " zipped with " } else { " × " };
+    let factors = s.parameters.iter().map(|p| p.values.len().to_string()).collect::<Vec<_>>().join(sep);
+    let cost = crate::analysis::cost::cases(
+        "this sweep",
+        u64::try_from(n).ok(),
+        numbers as u64,
+        format!("{factors} values{}", if shard == Shard::ALL { String::new() } else { format!(", shard {shard}") }),
+        "parameter",
+        "vary fewer values, or split the sweep with --shard",
+    );
+    args.budget.budget().admit(&cost).map_err(|e| e.in_file(&s.file))?;
     eprintln!(
         "{}: {} cases{}, {} analysis, {} harmonics{}",
         s.file,
@@ -106,12 +124,25 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     if args.shards.is_empty() {
         return Err(Error::input("<cli>", "SHARD", "give the shard files to merge"));
     }
+    let inputs: Vec<Input> = args.shards.iter().map(|p| Input::new(p, "a shard to merge")).collect();
+    refuse_overwrite(&args.out, &inputs)?;
     let t = sweep::merge_files(&args.shards)?;
     t.write(&args.out)?;
     crate::say!("merged {} shards, {} cases: wrote {}", args.shards.len(), t.rows.len(), args.out.display());
     write_csv(&t, &args.out, args.csv)?;
     if !args.no_plots {
         report_files(&t, &args.out)?;
+    }
+    Ok(())
+}
+
+/// Refuses an `--out` table whose file, checkpoint folder or report files (beside it)
+/// would replace one of `inputs`.
+fn refuse_overwrite(out: &Path, inputs: &[Input]) -> Result<()> {
+    let mut outputs = vec![out.to_path_buf(), sweep::parts_dir(out)];
+    outputs.extend(report::files_beside(out));
+    for o in &outputs {
+        refuse_input("--out", o, inputs)?;
     }
     Ok(())
 }

@@ -136,7 +136,7 @@ impl FrequencySpec {
                 return Err(Error::input(file, format!("{field}.count"), "must be at least 1"));
             }
         }
-        if self.list().is_empty() {
+        if self.values.is_empty() && self.count.is_none() {
             return Err(Error::input(file, field, "no frequencies given: set `values` or `start`, `stop`, `count`"));
         }
         Ok(())

@@ -128,36 +128,61 @@ fn valid_name(file: &str, field: &str, name: &str) -> Result<()> {
     }
 }
 
+/// Endings a name may not have: results name an actuator's interface points
+/// `<actuator>_stack`, `<actuator>_left_leg`, `<actuator>_right_leg` beside the loads, and
+/// its figures `<actuator>_power_spectrum` beside an actuator's `_spectrum` figure.
+const RESERVED_ENDINGS: [&str; 4] = ["_stack", "_left_leg", "_right_leg", "_power"];
+
+/// Checks that `name` is not a name results give to something else: one of
+/// [`RESERVED_ENDINGS`], or `force_<n>` (a harmonic analysis's force points).
+fn not_reserved(file: &str, field: &str, name: &str) -> Result<()> {
+    let lower = name.to_ascii_lowercase();
+    let forced = lower.strip_prefix("force_").is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()));
+    match RESERVED_ENDINGS.iter().find(|e| lower.ends_with(*e)) {
+        Some(e) => Err(Error::input(
+            file,
+            field,
+            format!(
+                "{name:?} ends in `{e}`, which results use for an actuator's points and figures; choose another name"
+            ),
+        )),
+        None if forced => Err(Error::input(
+            file,
+            field,
+            format!("{name:?} is reserved: harmonic analyses name their force points force_<n>; choose another name"),
+        )),
+        None => Ok(()),
+    }
+}
+
 impl Case {
-    /// Names of actuators (as given) and sensors: valid and unique among their kind, so no
-    /// two results, groups or figure files share a name.
+    /// Names of actuators (as given), loads and sensors: valid, not reserved, and unique
+    /// across all three ignoring case, so no two result groups or figure files share a
+    /// name (not even on a file system that ignores case).
     fn validate_names(&self, file: &str) -> Result<()> {
+        let count = self.actuator.len();
+        let actuators = self
+            .actuator
+            .iter()
+            .enumerate()
+            .map(|(i, a)| (format!("actuator[{i}].name"), a.name.is_some(), a.effective_name(i, count)));
+        let loads = self.load.iter().enumerate().map(|(i, l)| (format!("load[{i}].name"), true, l.effective_name(i)));
+        let sensors = self.sensor.iter().enumerate().map(|(i, s)| (format!("sensor[{i}].name"), true, s.name.clone()));
         let mut seen = std::collections::HashMap::new();
-        for (i, a) in self.actuator.iter().enumerate() {
-            let field = format!("actuator[{i}].name");
-            if let Some(name) = &a.name {
-                valid_name(file, &field, name)?;
+        for (field, given, name) in actuators.chain(loads).chain(sensors) {
+            if given {
+                valid_name(file, &field, &name)?;
+                not_reserved(file, &field, &name)?;
             }
-            let name = a.effective_name(i, self.actuator.len());
-            if let Some(first) = seen.insert(name.clone(), field.clone()) {
-                return Err(Error::input(file, field, format!("{name:?} is already the name of {first}")));
-            }
-        }
-        let mut seen = std::collections::HashMap::new();
-        for (i, l) in self.load.iter().enumerate() {
-            let field = format!("load[{i}].name");
-            let name = l.effective_name(i);
-            valid_name(file, &field, &name)?;
-            if let Some(first) = seen.insert(name.clone(), field.clone()) {
-                return Err(Error::input(file, field, format!("{name:?} is already the name of {first}")));
-            }
-        }
-        let mut seen = std::collections::HashMap::new();
-        for (i, s) in self.sensor.iter().enumerate() {
-            let field = format!("sensor[{i}].name");
-            valid_name(file, &field, &s.name)?;
-            if let Some(first) = seen.insert(s.name.clone(), field.clone()) {
-                return Err(Error::input(file, field, format!("{:?} is already the name of {first}", s.name)));
+            if let Some(first) = seen.insert(name.to_ascii_lowercase(), field.clone()) {
+                return Err(Error::input(
+                    file,
+                    field,
+                    format!(
+                        "{name:?} is already the name of {first} (names are unique across actuators, loads and \
+                         sensors, ignoring case)"
+                    ),
+                ));
             }
         }
         Ok(())
@@ -189,6 +214,6 @@ impl Case {
         for (i, an) in self.analysis.iter().enumerate() {
             an.validate(file, &format!("analysis[{i}]"), self)?;
         }
-        Ok(())
+        super::ranges::check(self, file)
     }
 }

@@ -1,0 +1,254 @@
+//! What each analysis of a case will take — memory and steps — computed from the case,
+//! the model and its assembled system alone, before the analysis allocates or steps
+//! anything. [`crate::analysis::budget::Budget::admit`] compares a [`Cost`] with the budget.
+//!
+//! The estimates are upper bounds at the peak, by the sizes the analyses allocate: the
+//! assembled system and its solvers per DOF ([`BYTES_PER_DOF`], measured: 1.7–2.4 kB a DOF
+//! for meshes of 10⁴–4·10⁵ elements), dense eigen-decompositions (n² doubles, five times),
+//! and each recorded series as the run, its window, the results and their copies for
+//! output hold it (four times). Every product is checked: one beyond 64 bits is refused.
+
+use super::budget::{count, product, sum, whole, Cost, CostScope};
+use super::drive::{DriveTiming, CYCLE_MAX_PERIODS};
+use super::modes::DENSE_EIGEN_LIMIT;
+use super::series::body_dofs;
+use super::transient::TransientSettings;
+use crate::assembly::{Damping, Model, System};
+use crate::case::LoadedCase;
+
+/// Memory per DOF of an assembled system, its factorisations, work vectors and a few of its
+/// modes (bytes).
+pub const BYTES_PER_DOF: u64 = 4096;
+
+/// Copies of a recorded series alive at the peak (the run's window, the joined record, the
+/// result series and the output's copy).
+const SERIES_COPIES: u64 = 4;
+
+/// Copies of an n × n matrix a dense eigen-decomposition holds (K, M, the factor, the
+/// reduced matrix, the eigenvectors).
+const DENSE_COPIES: u64 = 5;
+
+fn cost(bytes: Option<u64>, steps: Option<u64>, unit: &'static str, what: String, detail: String) -> Cost {
+    Cost { bytes, steps, unit, what, detail, field: String::new(), scope: CostScope::Analysis, advice: String::new() }
+}
+
+impl Cost {
+    /// The same cost, driven by the analysis setting `field`.
+    fn of_setting(mut self, field: &str, advice: impl Into<String>) -> Self {
+        self.field = field.to_string();
+        self.scope = CostScope::Analysis;
+        self.advice = advice.into();
+        self
+    }
+
+    /// The same cost, driven by the case field `field` (a dotted path from the root).
+    fn of_case_field(mut self, field: &str, advice: impl Into<String>) -> Self {
+        self.field = field.to_string();
+        self.scope = CostScope::Case;
+        self.advice = advice.into();
+        self
+    }
+}
+
+/// Bytes of `n` DOFs' assembled system and solvers.
+fn system_bytes(n: u64) -> Option<u64> {
+    product(&[n, BYTES_PER_DOF])
+}
+
+/// Bytes of the lowest `wanted` modes of an `n`-DOF structure, by the solver
+/// [`crate::analysis::modes::bare_modes_of`] picks: dense below [`DENSE_EIGEN_LIMIT`] DOFs
+/// or for a quarter of the modes or more, Lanczos (a basis of about 3·count vectors) else.
+pub fn eigen_bytes(n: u64, wanted: u64) -> Option<u64> {
+    let c = wanted.min(n);
+    if n <= count(DENSE_EIGEN_LIMIT) || c >= n / 4 {
+        product(&[n, n, 8, DENSE_COPIES])
+    } else {
+        product(&[n, 8, c.checked_mul(3)?.checked_add(64)?])
+    }
+}
+
+/// The DOFs of a beam of `nodes` nodes carrying `bodies` actuator DOFs (w and θ per node).
+fn dofs(nodes: u64, bodies: u64) -> Option<u64> {
+    nodes.checked_mul(2)?.checked_add(bodies)
+}
+
+/// The mesh a case asks for, before it is built: a uniform mesh's elements (plus the nodes
+/// inserted at the case's points) make its DOFs. A mesh file is sized once read (its size
+/// is bounded by the reader), by [`model`].
+pub fn mesh(lc: &LoadedCase) -> Option<Cost> {
+    let case = &lc.case;
+    if case.base == crate::case::BaseKind::Rigid || case.beam.mesh.file.is_some() {
+        return None;
+    }
+    let elements = count(case.beam.mesh.elements);
+    let points = count(case.actuator.len() * 3 + case.sensor.len() + case.load.len() + case.beam.support.len() + 2);
+    let n = elements.checked_add(1).and_then(|e| e.checked_add(points)).and_then(|nodes| dofs(nodes, 0));
+    let bytes = n.and_then(system_bytes);
+    Some(
+        cost(
+            bytes,
+            Some(0),
+            "steps",
+            "the mesh".into(),
+            format!(
+                "{} elements, ≈ {} DOFs at {} kB each",
+                elements,
+                n.map_or("> 2⁶⁴".into(), |n| n.to_string()),
+                BYTES_PER_DOF / 1024
+            ),
+        )
+        .of_case_field("beam.mesh.elements", "use fewer elements (the shipped cases use 200)"),
+    )
+}
+
+/// The built model before its damping is calibrated: its DOFs, and the modes
+/// `rayleigh_ratio` damping names.
+pub fn model(model: &Model) -> Cost {
+    let nodes = model.beam.as_ref().map_or(0, |b| count(b.mesh.n_nodes()));
+    let n = dofs(nodes, count(model.actuators.len() * 3)).unwrap_or(u64::MAX);
+    let (wanted, field) = match model.damping {
+        Damping::RayleighRatio { modes, .. } if model.beam.is_some() => {
+            (count(modes[0].max(modes[1])), "damping.modes")
+        }
+        _ => (0, "beam.mesh"),
+    };
+    let eigen =
+        if wanted > 0 { eigen_bytes(n.saturating_sub(count(model.actuators.len() * 3)), wanted) } else { Some(0) };
+    let bytes = sum(&[system_bytes(n), eigen]);
+    let detail = if wanted > 0 {
+        format!("{n} DOFs, and {wanted} modes of the bare beam to calibrate the damping")
+    } else {
+        format!("{n} DOFs")
+    };
+    cost(bytes, Some(0), "steps", "the model".into(), detail)
+        .of_case_field(field, "use a coarser mesh, or calibrate the damping at lower modes")
+}
+
+/// A modes analysis of `count` modes (the case's `count`).
+pub fn modes(model: &Model, wanted: usize) -> Cost {
+    let nodes = model.beam.as_ref().map_or(0, |b| count(b.mesh.n_nodes()));
+    let n = nodes.saturating_mul(2);
+    let c = count(wanted).min(n);
+    let bytes = sum(&[system_bytes(n), eigen_bytes(n, c), product(&[c, n, 8, 3])]);
+    cost(bytes, Some(0), "steps", "this modes analysis".into(), format!("{c} modes of {n} DOFs"))
+        .of_setting("count", "ask for fewer modes, or use a coarser mesh")
+}
+
+/// A harmonic analysis at `frequencies` frequencies with `forces` force points and `sensors`
+/// more response points; `modal`: with modal damping (every mode of the bare beam).
+pub fn harmonic(sys: &System, frequencies: u64, forces: usize, sensors: usize, modal: bool) -> Cost {
+    let n = count(sys.n());
+    let (f, p) = (count(forces), count(forces + sensors));
+    // Per frequency: mobilities p × f and velocities p (complex), input powers f, balance.
+    let per_frequency = product(&[p, f.saturating_add(3), 16]).and_then(|b| b.checked_add(f * 8 + 128));
+    let eigen = if modal { eigen_bytes(n, n) } else { Some(0) };
+    let bytes = sum(&[system_bytes(n), eigen, per_frequency.and_then(|b| b.checked_mul(frequencies))]);
+    cost(
+        bytes,
+        Some(frequencies),
+        "frequencies",
+        "this harmonic analysis".into(),
+        format!("{frequencies} frequencies × {p} points × {f} forces"),
+    )
+    .of_setting("frequencies.count", "ask for fewer frequencies")
+}
+
+/// The series a run records per sample (time, each link's four channels, each body DOF's
+/// three, each stack's voltage, h and F_p, each sensor's three, each load's four), and the
+/// read-out rows the integrator evaluates per step.
+fn channels(model: &Model, sys: &System) -> (u64, u64) {
+    let (nl, nb) = (count(sys.links.len()), count(body_dofs(model, sys).len()));
+    let (na, ns, np) = (count(sys.drives.len()), count(model.sensors.len()), count(sys.loads.len()));
+    (1 + 4 * nl + 3 * nb + 3 * na + 3 * ns + 4 * np, 2 * nl + na + ns + nb + np)
+}
+
+/// Samples the hysteresis cycle of the model's hysteretic stacks may take to settle at
+/// `samples` per period (each at most [`CYCLE_MAX_PERIODS`] periods).
+fn cycle_steps(model: &Model, samples: u64) -> Option<u64> {
+    let hysteretic = count(model.actuators.iter().filter(|a| a.stack().hysteresis_on).count());
+    product(&[hysteretic, samples, count(CYCLE_MAX_PERIODS)])
+}
+
+/// A transient on `timing` with settings `s`.
+pub fn transient(model: &Model, sys: &System, s: &TransientSettings, timing: &DriveTiming) -> Cost {
+    let spp = count(timing.steps_per_period);
+    let (periods, field, advice) = match (timing.periodic, s.periods) {
+        (false, _) => (1, if s.dt.is_some() { "dt" } else { "duration" }, "give a shorter `duration` or a larger `dt`"),
+        (true, Some(p)) => (count(p), "periods", "run fewer `periods` or fewer steps per period"),
+        (true, None) if s.steady_state => {
+            (count(s.max_periods), "max_periods", "lower `max_periods` or the steps per period")
+        }
+        (true, None) => (1, "dt", "use fewer steps per period"),
+    };
+    // A period finer than the default dominates: name what sets it.
+    let (field, advice) = if timing.periodic && spp > 100_000 {
+        let f = match (s.dt, s.steps_per_period, s.harmonics) {
+            (Some(_), _, _) => "dt",
+            (_, Some(_), _) => "steps_per_period",
+            (_, _, Some(_)) => "harmonics",
+            _ => "dt",
+        };
+        (f, "use fewer steps per period (a larger `dt`, fewer `harmonics`)")
+    } else {
+        (field, advice)
+    };
+    let keep = if s.full_history {
+        periods
+    } else if timing.periodic {
+        count(s.record_periods).min(periods)
+    } else {
+        1
+    };
+    let (ch, rows) = channels(model, sys);
+    let kept = product(&[keep, spp, ch, 8, SERIES_COPIES]);
+    let per_period = product(&[spp.saturating_add(1), 3 * rows + ch, 8, 2]);
+    let bytes = sum(&[system_bytes(count(sys.n())), kept, per_period]);
+    let stepped = product(&[periods, spp]);
+    let reference = if timing.periodic && s.steady_state { cycle_steps(model, spp) } else { Some(0) };
+    let steps = sum(&[stepped, reference]);
+    let detail = format!(
+        "{} period(s) × {} steps per period (Δt = {:.3e} s), {} period(s) of {ch} series kept",
+        periods, spp, timing.dt, keep
+    );
+    cost(bytes, steps, "time steps", "this transient".into(), detail).of_setting(field, advice)
+}
+
+/// A frequency-domain steady state from `samples` per period: every harmonic they resolve
+/// is solved (to choose or check the count), so its amplitudes are held for all DOFs.
+pub fn steady_state(model: &Model, sys: &System, samples: usize) -> Cost {
+    let (n, samples) = (count(sys.n()), count(samples));
+    let harmonics = samples / 2 + 1;
+    let (ch, _) = channels(model, sys);
+    // Q_k for each DOF and harmonic (twice: the count is chosen, then solved again),
+    // the drive cycles and the rebuilt period's series.
+    let amplitudes = product(&[harmonics, n, 16, 2]);
+    let series = product(&[samples, ch, 8, SERIES_COPIES]);
+    let bytes = sum(&[system_bytes(n), amplitudes, series]);
+    let steps = sum(&[Some(samples), cycle_steps(model, samples)]);
+    let detail = format!("{samples} samples per period, {harmonics} harmonics × {n} DOFs");
+    cost(bytes, steps, "samples", "this steady state".into(), detail)
+        .of_setting("samples_per_period", "use fewer `samples_per_period` (default 1024)")
+}
+
+/// The number of frequencies a harmonic analysis's list holds, None past 64 bits.
+pub fn frequency_count(spec: &crate::case::FrequencySpec) -> Option<u64> {
+    count(spec.values.len()).checked_add(spec.count.map_or(0, count))
+}
+
+/// Steps of `x` seconds at Δt (for messages of runs refused before their timing exists).
+pub fn steps_of(x: f64, dt: f64) -> Option<u64> {
+    whole(x / dt)
+}
+
+/// Bytes a sweep or optimisation holds per case besides its row's numbers: the case's
+/// index in the shard's and the to-do lists, and the row's vectors.
+const CASE_OVERHEAD: u64 = 128;
+
+/// A sweep or an optimisation of `cases` case runs (None: beyond 64 bits), each keeping a
+/// row of `numbers` values (its inputs and results) in the table, driven by the case field
+/// `field`; `detail` gives the factors.
+pub fn cases(what: &str, cases: Option<u64>, numbers: u64, detail: String, field: &str, advice: &str) -> Cost {
+    let row = numbers.saturating_mul(8 * SERIES_COPIES).saturating_add(CASE_OVERHEAD);
+    let bytes = cases.and_then(|n| n.checked_mul(row));
+    cost(bytes, cases, "cases", what.to_string(), detail).of_case_field(field, advice)
+}
