@@ -47,6 +47,11 @@ pub enum Error {
     /// A solver met a situation it cannot handle (singular matrix, no convergence).
     #[error("numerical failure: {0}")]
     Numerical(String),
+    /// A factorisation met a zero, negative or non-finite pivot at `row` of the matrix it
+    /// factors; the layer that knows the matrix's DOFs names the place
+    /// ([`crate::assembly::DofMap::locate`]).
+    #[error("numerical failure: {detail} (row {row})")]
+    Singular { row: usize, detail: String },
 }
 
 /// What the field of an [`Error::Setting`] is relative to.
@@ -102,6 +107,9 @@ impl Error {
         match self {
             Error::Setting { scope: Scope::Analysis, field, reason } => {
                 Error::Input { file: file.to_string(), field: format!("{analysis}.{field}"), reason }
+            }
+            e @ (Error::Numerical(_) | Error::Singular { .. }) => {
+                Error::Input { file: file.to_string(), field: analysis.to_string(), reason: e.to_string() }
             }
             e => e.in_file(file),
         }

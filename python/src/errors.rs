@@ -24,6 +24,7 @@ pub fn to_py(e: Error) -> PyErr {
         Error::Io { path, source } => raise(py, "IoError", (path, source.to_string(), source.raw_os_error())),
         Error::Hdf5 { path, message } => raise(py, "Hdf5Error", (path, message)),
         Error::Numerical(message) => raise(py, "NumericalError", (message,)),
+        e @ Error::Singular { .. } => raise(py, "NumericalError", (e.to_string(),)),
     })
 }
 

@@ -8,7 +8,7 @@
 use super::budget::Budget;
 use super::cost;
 use super::modes::bare_modes;
-use crate::assembly::{Damping, Model, Rayleigh, System};
+use crate::assembly::{Damping, DofMap, Model, Rayleigh, System};
 use crate::beam::Beam;
 use crate::case::{build_model, LoadedCase};
 use crate::error::{Error, Result};
@@ -56,7 +56,13 @@ pub fn calibrate(model: &mut Model) -> Result<()> {
 /// Rayleigh coefficients giving damping ratio ζ at the bare beam's modes `modes` (1-based).
 pub fn rayleigh_from_ratio(beam: &Beam, zeta: f64, modes: [usize; 2]) -> Result<Rayleigh> {
     let need = modes[0].max(modes[1]);
-    let m = bare_modes(beam, need)?;
+    let m = bare_modes(beam, need).map_err(|e| match DofMap::number(Some(beam), &[], &[]).locate(e, &beam.mesh.x) {
+        e @ (Error::Numerical(_) | Error::Singular { .. }) => Error::case_field(
+            "damping",
+            format!("the damping ratio is calibrated at the bare beam's modes, which cannot be computed: {e}"),
+        ),
+        e => e,
+    })?;
     if m.count() < need {
         return Err(Error::case_field("damping.modes", format!("the mesh has only {} modes", m.count())));
     }

@@ -10,7 +10,7 @@ use crate::analysis::plan;
 use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
 use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
-use crate::assembly::{Model, System};
+use crate::assembly::{DofMap, Model, System};
 use crate::case::measured::Measured;
 use crate::case::{AnalysisSpec, HarmonicSystem, LoadedCase, ReductionSpec, SchemeKind};
 use crate::error::{Error, Result};
@@ -232,6 +232,11 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     run_case_within(lc, &Budget::default())
 }
 
+/// The DOF numbering of a beam without actuators (bare-beam modes and harmonic analyses).
+fn beam_only(beam: &crate::beam::Beam) -> DofMap {
+    DofMap::number(Some(beam), &[], &[])
+}
+
 /// Builds the model and runs the case's analyses in order, after [`planned`] held them to
 /// `budget`.
 pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
@@ -239,6 +244,7 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
     let mut run =
         Runner { model: &model, system: &system, reduced: ReducedCache::default(), complete: OnceCell::new() };
     let mut results = Vec::new();
+    let node_x = model.beam.as_ref().map(|b| b.mesh.x.clone()).unwrap_or_default();
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
         let need_beam = || {
@@ -247,27 +253,31 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
                 .as_ref()
                 .ok_or_else(|| Error::input(&lc.file, &field, "this analysis needs a beam, but base = \"rigid\""))
         };
-        let r = match spec {
+        // Which DOF numbering a failed factorisation's row refers to.
+        let (r, numbering) = match spec {
             AnalysisSpec::Modes { count } => {
-                let mut r = modes::run(need_beam()?, *count)?;
-                r.coupled = modes::coupled_modes(&model, &system, *count)?;
-                AnalysisResult::Modes(r)
+                let beam = need_beam()?;
+                let r = modes::run(beam, *count).map_err(|e| beam_only(beam).locate(e, &node_x)).and_then(|mut r| {
+                    r.coupled = modes::coupled_modes(&model, &system, *count)?;
+                    Ok(AnalysisResult::Modes(r))
+                });
+                (r, Some(&system.dofs))
             }
             AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Coupled } => {
                 need_beam()?;
                 let forces = harmonic_forces(force, &model.loads);
-                AnalysisResult::Harmonic(
-                    harmonic::run(&model, &system, &frequencies.list(), &forces, None)
-                        .map_err(|e| e.in_analysis(&lc.file, &field))?,
-                )
+                let r = harmonic::run(&model, &system, &frequencies.list(), &forces, None);
+                (r.map(AnalysisResult::Harmonic), Some(&system.dofs))
             }
             AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Bare } => {
-                AnalysisResult::Harmonic(run.harmonic(need_beam()?, &frequencies.list(), force)?)
+                let beam = need_beam()?;
+                let r = run.harmonic(beam, &frequencies.list(), force);
+                (r.map(AnalysisResult::Harmonic).map_err(|e| beam_only(beam).locate(e, &node_x)), None)
             }
             AnalysisSpec::Transient { reduction, .. } => {
                 let s = transient_settings(spec, lc.case.output.full_history).expect("transient");
                 let r = run.transient(&s, reduction.as_ref());
-                AnalysisResult::Transient(Box::new(r.map_err(|e| e.in_analysis(&lc.file, &field))?))
+                (r.map(|r| AnalysisResult::Transient(Box::new(r))), reduction.is_none().then_some(&system.dofs))
             }
             AnalysisSpec::SteadyState { harmonics, harmonic_tolerance, samples_per_period, reduction } => {
                 let count = match harmonics {
@@ -275,9 +285,14 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
                     None => HarmonicCount::Tolerance(*harmonic_tolerance),
                 };
                 let r = run.steady_state(count, *samples_per_period, reduction.as_ref());
-                AnalysisResult::SteadyState(Box::new(r.map_err(|e: Error| e.in_analysis(&lc.file, &field))?))
+                (r.map(|r| AnalysisResult::SteadyState(Box::new(r))), reduction.is_none().then_some(&system.dofs))
             }
         };
+        let located = |e: Error| match numbering {
+            Some(d) => d.locate(e, &node_x),
+            None => e,
+        };
+        let r = r.map_err(|e| located(e).in_analysis(&lc.file, &field))?;
         if let Some(q) = r.non_finite() {
             return Err(Error::input(
                 &lc.file,

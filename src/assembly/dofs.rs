@@ -1,6 +1,7 @@
 //! DOF numbering.
 
 use crate::beam::Beam;
+use crate::error::Error;
 
 /// Global DOF index of every beam node DOF and every actuator body DOF.
 #[derive(Clone, Debug, Default)]
@@ -69,8 +70,54 @@ impl DofMap {
         }
     }
 
+    /// Names the place of a [`Error::Singular`] pivot of a matrix numbered by this map, with
+    /// the beam node's position (`node_x`, m) and what to change; other errors pass through.
+    pub fn locate(&self, e: Error, node_x: &[f64]) -> Error {
+        let Error::Singular { row, detail } = e else { return e };
+        if row >= self.n {
+            return Error::Singular { row, detail };
+        }
+        let node_of = |v: &[Option<usize>]| v.iter().position(|&x| x == Some(row));
+        let node = node_of(&self.w).or_else(|| node_of(&self.theta));
+        let at = match node.and_then(|n| node_x.get(n)) {
+            Some(x) => format!("{} (x = {x} m)", self.describe(row)),
+            None => self.describe(row),
+        };
+        Error::Numerical(format!(
+            "{detail} at {at}: the structure is not held against that motion (check beam.support and \
+             beam.spring), or a frequency meets an undamped resonance (add damping)"
+        ))
+    }
+
     /// The global DOFs of a beam element's (w₁, θ₁, w₂, θ₂).
     pub fn element_dofs(&self, nodes: [usize; 2]) -> [Option<usize>; 4] {
         [self.w[nodes[0]], self.theta[nodes[0]], self.w[nodes[1]], self.theta[nodes[1]]]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::Skyline;
+
+    /// A cantilever of two elements (node 0 clamped): rows 0, 1 are w, θ of node 1 and
+    /// rows 2, 3 those of node 2; a singular column at node 2's w is named by node and x.
+    #[test]
+    fn a_singular_pivot_is_named_by_node_and_position() {
+        let map = DofMap { n: 4, w: vec![None, Some(0), Some(2)], theta: vec![None, Some(1), Some(3)], bodies: vec![] };
+        // Diagonal except row 2, which repeats row 0: the pivot of row 2 vanishes.
+        let mut a = Skyline::<f64>::zeros(Skyline::<f64>::envelope_of(4, [(0, 2)]));
+        for (i, v) in [(0, 2.0), (1, 1.0), (2, 2.0), (3, 1.0)] {
+            a.add(i, i, v);
+        }
+        a.add(2, 0, 2.0);
+        let e = a.factorize().map(|_| ()).unwrap_err();
+        assert!(matches!(e, Error::Singular { row: 2, .. }), "{e:?}");
+        let msg = map.locate(e, &[0.0, 0.25, 0.5]).to_string();
+        assert!(msg.contains("w (deflection) at beam node 2 (x = 0.5 m)") && msg.contains("beam.support"), "{msg}");
+        // Rows past the map and other errors pass through unchanged.
+        let e = map.locate(Error::Singular { row: 9, detail: "d".into() }, &[]);
+        assert!(matches!(e, Error::Singular { row: 9, .. }));
+        assert!(matches!(map.locate(Error::Numerical("n".into()), &[]), Error::Numerical(_)));
     }
 }

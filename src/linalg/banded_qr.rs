@@ -147,11 +147,14 @@ impl BandedR {
             let d = self.values[j * w];
             let scale = self.gram_diagonal[j].max(f64::MIN_POSITIVE);
             if !d.is_finite() || d * d <= 1e-13 * scale {
-                return Err(Error::Numerical(format!(
-                    "square-root factor: pivot {j} is {d:e} (column scale {:e}): the stiffness is singular or \
-                     nearly so — is the structure supported?",
-                    scale.sqrt()
-                )));
+                return Err(Error::Singular {
+                    row: j,
+                    detail: format!(
+                        "square-root factor: pivot {d:e} against the column scale {:e}: the stiffness is singular \
+                         or nearly so",
+                        scale.sqrt()
+                    ),
+                });
             }
             inv.push(1.0 / d);
         }

@@ -169,10 +169,12 @@ impl<T: Scalar> SkylineLdlt<T> {
             }
             let scale = a_ii.modulus().max(f64::MIN_POSITIVE);
             if !d.is_finite() || d.modulus() <= 1e-13 * scale {
-                return Err(Error::Numerical(format!(
-                    "LDLᵀ pivot {i} is {:?} (diagonal {:?}): the system is singular or nearly so — is the structure supported?",
-                    d, a_ii
-                )));
+                return Err(Error::Singular {
+                    row: i,
+                    detail: format!(
+                        "LDLᵀ pivot {d:?} against the diagonal {a_ii:?}: the system is singular or nearly so"
+                    ),
+                });
             }
             self.values[si + i - fi] = d;
             self.diag.push(d);

@@ -275,9 +275,10 @@ fn check_pivot(i: usize, d: Complex64, a_ii: Complex64) -> Result<()> {
     }
     let scale = a_ii.norm().max(f64::MIN_POSITIVE);
     if !finite || d.norm() <= 1e-13 * scale {
-        return Err(Error::Numerical(format!(
-            "LDLᵀ pivot {i} is {d:?} (diagonal {a_ii:?}): the system is singular or nearly so — is the structure supported?"
-        )));
+        return Err(Error::Singular {
+            row: i,
+            detail: format!("LDLᵀ pivot {d:?} against the diagonal {a_ii:?}: the system is singular or nearly so"),
+        });
     }
     Ok(())
 }
