@@ -206,8 +206,13 @@ pub fn transient(model: &Model, sys: &System, s: &TransientSettings, timing: &Dr
     let stepped = product(&[periods, spp]);
     let reference = if timing.periodic && s.steady_state { cycle_steps(model, spp) } else { Some(0) };
     let steps = sum(&[stepped, reference]);
+    let cycle = match reference {
+        Some(0) => String::new(),
+        Some(r) => format!(", and up to {r} steps of the stacks' periodic hysteresis cycle"),
+        None => ", and more steps of the stacks' periodic hysteresis cycle than 64 bits count".into(),
+    };
     let detail = format!(
-        "{} period(s) × {} steps per period (Δt = {:.3e} s), {} period(s) of {ch} series kept",
+        "{} period(s) × {} steps per period (Δt = {:.3e} s){cycle}, {} period(s) of {ch} series kept",
         periods, spp, timing.dt, keep
     );
     cost(bytes, steps, "time steps", "this transient".into(), detail).of_setting(field, advice)
