@@ -197,7 +197,8 @@ fn inline(s: &str) -> String {
         if i % 2 == 1 {
             out += &format!("<code>{}</code>", escape(part));
         } else {
-            out += &escape(part);
+            // Subscripts are the one tag Markdown text may carry (`F<sub>T</sub>`).
+            out += &escape(part).replace("&lt;sub&gt;", "<sub>").replace("&lt;/sub&gt;", "</sub>");
         }
     }
     out
@@ -231,6 +232,7 @@ mod tests {
     #[test]
     fn markdown_tables_and_code() {
         let h = markdown("# Title\n\ntext `a<b` more\n\n| x | y |\n|---|---:|\n| 1 | <2> |\n");
+        assert!(markdown("F<sub>T</sub> <sub onload=x>").contains("F<sub>T</sub> &lt;sub onload=x&gt;"));
         assert_eq!(
             h,
             "<h2>Title</h2>\n<p>text <code>a&lt;b</code> more</p>\n<table>\n<tr><th>x</th><th>y</th></tr>\n\

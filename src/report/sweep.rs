@@ -220,9 +220,9 @@ pub fn best_table(t: &SweepTable, n: usize) -> String {
         s += &format!(" {} |", label(t, k));
     }
     for a in &t.actuators {
-        s += &format!(" P {a} (W) |");
+        s += &format!(" P {a} |");
     }
-    s += " beam dissipation (W) | balance error |\n|---:|---:|";
+    s += " beam dissipation | balance error |\n|---:|---:|";
     s += &"---:|".repeat(t.parameters.len() + t.actuators.len() + 2);
     s.push('\n');
     for (rank, &j) in order.iter().take(n).enumerate() {
@@ -232,11 +232,16 @@ pub fn best_table(t: &SweepTable, n: usize) -> String {
             s += &format!(" {} |", num(*v));
         }
         for v in &r.net_power {
-            s += &format!(" {v:.4e} |");
+            s += &format!(" {} |", watts(*v));
         }
-        s += &format!(" {:.4e} | {:.1e} |\n", r.beam_dissipation, r.balance_error);
+        s += &format!(" {} | {:.1e} |\n", watts(r.beam_dissipation), r.balance_error);
     }
     s
+}
+
+/// A power in the tables: four significant digits on an SI-prefixed watt (`12.35 µW`).
+fn watts(v: f64) -> String {
+    crate::report::plot::text::si(v, "W", 4)
 }
 
 /// With a position parameter and one other: for each value of the other, the best and the
@@ -249,7 +254,7 @@ pub fn best_positions(t: &SweepTable) -> Option<String> {
     let py = 1 - px;
     let ys = sorted_unique(t.rows.iter().map(|r| r.inputs[py]));
     let mut s = format!(
-        "| {} | best {} | net power (W) | worst {} | net power (W) | best/worst |\n|---:|---:|---:|---:|---:|---:|\n",
+        "| {} | best {} | net power | worst {} | net power | best/worst |\n|---:|---:|---:|---:|---:|---:|\n",
         label(t, py),
         label(t, px),
         label(t, px)
@@ -260,11 +265,13 @@ pub fn best_positions(t: &SweepTable) -> Option<String> {
         let worst = rows.iter().min_by(|a, b| a.total_net_power().total_cmp(&b.total_net_power()))?;
         let (pb, pw) = (best.total_net_power(), worst.total_net_power());
         s += &format!(
-            "| {} | {} | {pb:.4e} | {} | {pw:.4e} | {} |\n",
+            "| {} | {} | {} | {} | {} | {} |\n",
             num(y),
             num(best.inputs[px]),
+            watts(pb),
             num(worst.inputs[px]),
-            if pw != 0.0 { format!("{:.3e}", pb / pw) } else { "–".into() }
+            watts(pw),
+            if pw != 0.0 { format!("{}×", crate::report::plot::text::significant(pb / pw, 4)) } else { "–".into() }
         );
     }
     Some(s)
