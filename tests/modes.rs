@@ -227,3 +227,28 @@ fn zero_modes_is_an_argument_error_even_with_a_singular_stiffness() {
         beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 0, 0.0).unwrap_err().to_string();
     assert!(err.contains("at least one mode"), "{err}");
 }
+
+/// The written results carry each frequency's round-off bound (JSON, CSV), so a mesh
+/// without a closed form still states its accuracy.
+#[test]
+fn results_files_state_the_roundoff_bound() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("fine.toml");
+    std::fs::write(&case, "[beam.mesh]\nelements = 20000\n[[analysis]]\ntype = \"modes\"\ncount = 4\n").unwrap();
+    let out = dir.path().join("out");
+    let status = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
+        .args(["run", "--quiet", "--no-plots", "--csv", "--out"])
+        .args([&out, &case])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let expected = modes::run(&beam_case(20_000, ""), 4).unwrap().roundoff_bound;
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("fine.json")).unwrap()).unwrap();
+    let written: Vec<f64> =
+        json["analyses"][0]["roundoff_bound"].as_array().unwrap().iter().map(|v| v.as_f64().unwrap()).collect();
+    assert_eq!(written, expected);
+    assert!(written.iter().all(|&b| b > 0.0 && b < 1e-6), "{written:?}");
+    let csv = std::fs::read_to_string(out.join("fine_analysis_0_modes_modes.csv")).unwrap();
+    assert!(csv.lines().next().unwrap().ends_with("roundoff_bound [1]"), "{csv}");
+}

@@ -118,6 +118,13 @@ fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
             "(f - f_analytic)/f_analytic",
         )?;
     }
+    g.write_f64(
+        "roundoff_bound",
+        &r.roundoff_bound,
+        &[r.roundoff_bound.len()],
+        "1",
+        "order-of-magnitude bound on each frequency's relative round-off",
+    )?;
     let nx = r.node_x.len();
     g.write_f64("node_x", &r.node_x, &[nx], "m", "node coordinates")?;
     let flat: Vec<f64> = r.shapes_w.iter().flatten().copied().collect();

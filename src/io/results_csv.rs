@@ -329,7 +329,7 @@ fn measurements(g: &Group, quantity: &str) -> Option<Table> {
 
 /// The bare beam's natural frequencies, with the closed-form ones where they exist.
 fn modes(g: &Group) -> Option<Table> {
-    per_index(g, "frequencies_hz", Some("mode"), &["analytic_hz", "relative_error"])
+    per_index(g, "frequencies_hz", Some("mode"), &["analytic_hz", "relative_error", "roundoff_bound"])
 }
 
 /// Mode shapes: node coordinate, then one column per mode.

@@ -330,11 +330,12 @@ impl RunReport<'_> {
                             num(m.frequencies_hz[i], "Hz"),
                             num(m.analytic_hz.get(i).copied().unwrap_or(f64::NAN), "Hz"),
                             num(m.relative_error.get(i).copied().unwrap_or(f64::NAN), ""),
+                            num(m.roundoff_bound.get(i).copied().unwrap_or(f64::NAN), ""),
                         ]
                     })
                     .collect();
                 s += &format!("<p>Reference: {}</p>\n", escape(&m.reference));
-                s += &table(&["mode", "f", "closed form", "relative error"], &rows);
+                s += &table(&["mode", "f", "closed form", "relative error", "round-off bound"], &rows);
                 if let Some(c) = &m.coupled {
                     s += &coupled_modes(m, c);
                 }
