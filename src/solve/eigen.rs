@@ -79,9 +79,13 @@ pub fn modes(k: &Csr, m: &Csr, dofs: &[usize], count: usize) -> Result<Modes> {
             let tm: f64 = (0..n).map(|i| md[(i, i)]).sum();
             shift = 1e-6 * tk / tm;
             let shifted = Mat::from_fn(n, n, |i, j| kd[(i, j)] + shift * md[(i, j)]);
-            shifted
-                .llt(Side::Lower)
-                .map_err(|_| Error::Numerical("the stiffness matrix is not positive semi-definite".into()))?
+            shifted.llt(Side::Lower).map_err(|_| {
+                Error::Numerical(
+                    "the stiffness matrix is not positive semi-definite, even shifted by its mass: some \
+                         stiffness is negative or not a number (springs, supports, material constants)"
+                        .into(),
+                )
+            })?
         }
     };
     reduce(llt.L(), md, shift, dofs, count, false)
@@ -124,7 +128,12 @@ fn reduce(
     let mut b = md.transpose().to_owned();
     solve_lower_triangular_in_place(l, b.as_mut(), Par::Seq);
     let b = Mat::from_fn(n, n, |i, j| 0.5 * (b[(i, j)] + b[(j, i)]));
-    let evd = b.self_adjoint_eigen(Side::Lower).map_err(|e| Error::Numerical(format!("eigensolver failed: {e:?}")))?;
+    let evd = b.self_adjoint_eigen(Side::Lower).map_err(|e| {
+        Error::Numerical(format!(
+            "the eigensolver did not converge ({e:?}): the stiffness and mass values span more than \
+             double precision carries; bring material constants, masses and springs nearer physical values"
+        ))
+    })?;
     let take = count.min(n);
     let mu = evd.S().column_vector();
     // Eigenvalues come ascending: the largest μ (lowest λ) are last.

@@ -131,9 +131,13 @@ fn lanczos(
             0.0
         }
     });
-    let evd = t
-        .self_adjoint_eigen(Side::Lower)
-        .map_err(|e| Error::Numerical(format!("tridiagonal eigensolver failed: {e:?}")))?;
+    let evd = t.self_adjoint_eigen(Side::Lower).map_err(|e| {
+        Error::Numerical(format!(
+            "the tridiagonal eigensolver did not converge ({e:?}): the stiffness and mass values span \
+                 more than double precision carries; bring material constants, masses and springs nearer \
+                 physical values"
+        ))
+    })?;
     let theta = evd.S().column_vector();
     let s = evd.U();
     let take = count.min(mdim);
