@@ -128,12 +128,7 @@ fn reduce(
     let mut b = md.transpose().to_owned();
     solve_lower_triangular_in_place(l, b.as_mut(), Par::Seq);
     let b = Mat::from_fn(n, n, |i, j| 0.5 * (b[(i, j)] + b[(j, i)]));
-    let evd = b.self_adjoint_eigen(Side::Lower).map_err(|e| {
-        Error::Numerical(format!(
-            "the eigensolver did not converge ({e:?}): the stiffness and mass values span more than \
-             double precision carries; bring material constants, masses and springs nearer physical values"
-        ))
-    })?;
+    let evd = b.self_adjoint_eigen(Side::Lower).map_err(|e| not_converged("eigensolver", e))?;
     let take = count.min(n);
     let mu = evd.S().column_vector();
     // Eigenvalues come ascending: the largest μ (lowest λ) are last.
@@ -169,6 +164,15 @@ fn reduce(
         }
     }
     Ok(Modes { omega, shapes: x, dofs: dofs.to_vec(), from_root })
+}
+
+/// A dense eigensolver that did not converge (`solver` names it), with the likely cause:
+/// matrix entries spread beyond what double precision resolves.
+pub(crate) fn not_converged(solver: &str, e: impl std::fmt::Debug) -> Error {
+    Error::Numerical(format!(
+        "the {solver} did not converge ({e:?}): the stiffness and mass values span more than double \
+         precision carries; bring material constants, masses and springs nearer physical values"
+    ))
 }
 
 /// Damping ratio ζ of mode r (0-based) from a case's modal damping list, whose last entry

@@ -131,13 +131,8 @@ fn lanczos(
             0.0
         }
     });
-    let evd = t.self_adjoint_eigen(Side::Lower).map_err(|e| {
-        Error::Numerical(format!(
-            "the tridiagonal eigensolver did not converge ({e:?}): the stiffness and mass values span \
-                 more than double precision carries; bring material constants, masses and springs nearer \
-                 physical values"
-        ))
-    })?;
+    let evd =
+        t.self_adjoint_eigen(Side::Lower).map_err(|e| super::eigen::not_converged("tridiagonal eigensolver", e))?;
     let theta = evd.S().column_vector();
     let s = evd.U();
     let take = count.min(mdim);
