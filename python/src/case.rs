@@ -105,7 +105,7 @@ impl NativeCase {
 
     #[staticmethod]
     fn from_value(value: &Bound<'_, PyAny>, name: &str, dir: PathBuf) -> PyResult<Self> {
-        let doc = to_toml(value)?;
+        let doc = to_toml(value, name, "")?;
         if !doc.is_table() {
             return Err(Error::input(name, "<case>", "a case is a table (a dict)")).py_err();
         }
@@ -144,12 +144,13 @@ impl NativeCase {
     }
 
     fn set(&mut self, path: String, value: &Bound<'_, PyAny>) -> PyResult<()> {
-        let v = to_toml(value)?;
+        let v = to_toml(value, &self.file, &path)?;
         self.apply(&[(path, v)]).py_err()
     }
 
     fn update(&mut self, items: Vec<(String, Bound<'_, PyAny>)>) -> PyResult<()> {
-        let changes = items.iter().map(|(p, v)| Ok((p.clone(), to_toml(v)?))).collect::<PyResult<Vec<_>>>()?;
+        let changes =
+            items.iter().map(|(p, v)| Ok((p.clone(), to_toml(v, &self.file, p)?))).collect::<PyResult<Vec<_>>>()?;
         self.apply(&changes).py_err()
     }
 

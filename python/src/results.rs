@@ -2,30 +2,40 @@
 //! kept with the run itself for the figures and the headline summary.
 
 use crate::background;
+use crate::errors::IntoPy;
 use beamflow::analysis::case_run::CaseRun;
+use beamflow::app::commands::case_inputs;
 use beamflow::app::runner::run_case;
 use beamflow::case::LoadedCase;
 use beamflow::io::hdf5::{ResultsFile, ResultsReader};
+use beamflow::io::paths::{refuse_input, Input};
 use beamflow::io::tree::{Group, TreeSink};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-/// A results tree (of a run, or read from a file).
+/// A results tree (of a run, or read from a file), with the files it came from: the case
+/// and its data files, or the results file it was read from. Writing over one of them is
+/// refused, as the command line refuses an output that names an input.
 #[pyclass(module = "beamflow._native", frozen)]
-pub struct NativeTree(Arc<Group>);
+pub struct NativeTree {
+    tree: Arc<Group>,
+    inputs: Arc<Vec<Input>>,
+}
 
 #[pymethods]
 impl NativeTree {
     /// The tree as nested dicts of numpy arrays (see `convert::tree`).
     fn to_python<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
-        crate::convert::tree(py, &self.0)
+        crate::convert::tree(py, &self.tree)
     }
 
-    /// Writes the tree as an HDF5 results file (atomically).
+    /// Writes the tree as an HDF5 results file (atomically), unless `path` is one of the
+    /// files the results came from.
     fn write_hdf5(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
-        let tree = self.0.clone();
+        refuse_input("path", &path, &self.inputs).py_err()?;
+        let tree = self.tree.clone();
         background::run(py, None, move || {
             let f = ResultsFile::create(&path)?;
             tree.write_to(&f.root_group())?;
@@ -37,8 +47,9 @@ impl NativeTree {
 /// Reads an HDF5 file written by beamflow (a case run or a sweep table) into a tree.
 #[pyfunction]
 pub fn read_results(py: Python<'_>, path: PathBuf) -> PyResult<NativeTree> {
+    let inputs = vec![Input::new(&path, "the results file these results were read from")];
     let tree = background::run(py, None, move || ResultsReader::open(&path)?.read_tree())?;
-    Ok(NativeTree(Arc::new(tree)))
+    Ok(NativeTree { tree: Arc::new(tree), inputs: Arc::new(inputs) })
 }
 
 /// A finished case run.
@@ -47,6 +58,7 @@ pub struct NativeRun {
     lc: Arc<LoadedCase>,
     run: Arc<CaseRun>,
     tree: Arc<Group>,
+    inputs: Arc<Vec<Input>>,
 }
 
 impl NativeRun {
@@ -59,14 +71,15 @@ impl NativeRun {
             let tree = sink.tree();
             Ok((lc, run, tree))
         })?;
-        Ok(NativeRun { lc: Arc::new(lc), run: Arc::new(run), tree: Arc::new(tree) })
+        let inputs = case_inputs(&lc);
+        Ok(NativeRun { lc: Arc::new(lc), run: Arc::new(run), tree: Arc::new(tree), inputs: Arc::new(inputs) })
     }
 }
 
 #[pymethods]
 impl NativeRun {
     fn tree(&self) -> NativeTree {
-        NativeTree(self.tree.clone())
+        NativeTree { tree: self.tree.clone(), inputs: self.inputs.clone() }
     }
 
     /// The headline numbers, as the command line's `<case>.json`.
