@@ -40,5 +40,6 @@ pub mod signal;
 pub mod simd;
 pub mod solve;
 pub mod sweep;
+pub mod toml_input;
 
 pub use error::{Error, Result};

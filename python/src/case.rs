@@ -41,10 +41,10 @@ impl NativeCase {
     }
 
     fn case(&self) -> beamflow::Result<Case> {
-        self.doc.clone().try_into().map_err(|e: toml::de::Error| Error::Parse {
-            file: self.file.clone(),
-            message: e.message().trim_end().to_string(),
-        })
+        let toml::Value::Table(doc) = &self.doc else {
+            return Err(Error::input(&self.file, "<case>", "a case is a table (a dict)"));
+        };
+        beamflow::toml_input::from_value(doc.clone(), &self.file, beamflow::toml_input::Kind::Case)
     }
 
     fn segments(&self, path: &str) -> beamflow::Result<Vec<Segment>> {

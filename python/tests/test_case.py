@@ -151,8 +151,12 @@ def test_construction_errors_name_the_file() -> None:
     with pytest.raises(beamflow.IoError) as e:
         beamflow.Case.from_file("cases/absent.toml")
     assert isinstance(e.value, OSError) and e.value.errno == errno.ENOENT and "absent.toml" in e.value.path
-    with pytest.raises(beamflow.ParseError, match="unknown field"):
+    with pytest.raises(beamflow.InputError, match="did you mean `length`") as e:
         beamflow.Case.from_toml("[beam]\nlenght = 0.5\n")
+    assert e.value.field == "beam.lenght" and "line 2" in e.value.reason
+    with pytest.raises(beamflow.InputError, match="unknown field") as e:
+        beamflow.Case.from_dict({"actuator": [{"type": "inertial", "x_e": 0.1, "voltage": {"kind": "sine", "amplitud": 1}}]})
+    assert e.value.field == "actuator[0].voltage.amplitud"
 
 
 def test_check_reports_the_model() -> None:

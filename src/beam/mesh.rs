@@ -157,8 +157,7 @@ impl Mesh {
 
     /// [`Mesh::read`] on text already in memory; `file` names it in messages.
     pub fn parse(text: &str, file: &str, section: Section, material: Material) -> Result<Mesh> {
-        let raw: MeshFile =
-            toml::from_str(text).map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string() })?;
+        let raw: MeshFile = crate::toml_input::parse(text, file, crate::toml_input::Kind::Mesh)?;
         raw.into_mesh(file, section, material)
     }
 }

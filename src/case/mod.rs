@@ -39,8 +39,7 @@ impl LoadedCase {
 
     /// Parses and validates case text; `file` names it in messages.
     pub fn from_str(text: &str, file: &str, dir: PathBuf) -> Result<LoadedCase> {
-        let case: Case = toml::from_str(text)
-            .map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string().trim_end().to_string() })?;
+        let case: Case = crate::toml_input::parse(text, file, crate::toml_input::Kind::Case)?;
         case.validate(file)?;
         Ok(LoadedCase { case, file: file.to_string(), dir, text: text.to_string() })
     }

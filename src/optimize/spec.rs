@@ -237,8 +237,7 @@ impl Spec {
     /// Parses and checks optimisation text; `file` names it in messages and `dir` is where
     /// the base case path is resolved.
     pub fn from_str(text: &str, file: &str, dir: &Path) -> Result<Spec> {
-        let of: OptimizeFile = toml::from_str(text)
-            .map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string().trim_end().to_string() })?;
+        let of: OptimizeFile = crate::toml_input::parse(text, file, crate::toml_input::Kind::Optimization)?;
         let mut base = BaseCase::load(file, "base", dir, &of.base)?;
         let (harmonics, samples_per_period) = harmonic_counts(of.harmonics, of.samples_per_period, &base, file)?;
         check_search(&of.search, file)?;

@@ -164,8 +164,7 @@ impl Sweep {
     /// Parses and checks sweep text; `file` names it in messages and `dir` is where the
     /// base case path is resolved.
     pub fn from_str(text: &str, file: &str, dir: &Path) -> Result<Sweep> {
-        let sf: SweepFile = toml::from_str(text)
-            .map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string().trim_end().to_string() })?;
+        let sf: SweepFile = crate::toml_input::parse(text, file, crate::toml_input::Kind::Sweep)?;
         let mut base = BaseCase::load(file, "base", dir, &sf.base)?;
         let (harmonics, samples_per_period) = harmonic_counts(sf.harmonics, sf.samples_per_period, &base, file)?;
         if sf.best == 0 {
