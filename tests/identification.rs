@@ -317,9 +317,9 @@ fn multi_mode_fit_through_a_file() {
     assert!(rel(out.parameters.k, m2 * out.multi_mode.modes[1].omega_n.powi(2)) < 1e-12);
     assert_eq!(out.single_mode.modes.len(), 1);
     assert!(dir.path().join("modal/modal-frf.png").exists());
-    // A mode that was not found is an error naming the file.
+    // A mode beyond those fitted is refused before the file is read, naming the flags.
     let e = identify_modal(&ModalRequest { use_mode: 3, out: None, ..req }).unwrap_err().to_string();
-    assert!(e.contains("chain.csv") && e.contains("--use-mode 3"), "{e}");
+    assert!(e.contains("--use-mode 3") && e.contains("--modes 2") && !e.contains("chain.csv"), "{e}");
 }
 
 #[test]

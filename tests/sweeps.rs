@@ -523,3 +523,36 @@ fn cli_sweep_shards_merge_and_report() {
     let (ok, text) = run(&[&os("merge"), &p(&d.path("s1.h5")), &os("--out"), &p(&d.path("y.h5"))]);
     assert!(!ok && text.contains("missing"), "{text}");
 }
+
+/// A title is text in `best.md`: its HTML, Markdown and newlines are escaped, so it can
+/// neither add markup nor start a heading of its own.
+#[test]
+fn sweep_title_is_escaped_in_best_md() {
+    let _serial = exclusive();
+    let d = Dir::new();
+    let title = r#"<img src=x onerror=alert(1)>\n# Injected *bold* [link](http://e.x) | `code`"#;
+    let sp = d.write(
+        "t.sweep.toml",
+        &format!(
+            "title = \"{title}\"\nbase = \"base.toml\"\n[[parameter]]\npath = \"actuator[0].x_e\"\nvalues = [0.1, 0.3]\n"
+        ),
+    );
+    let out = d.path("t.h5");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
+        .args([std::ffi::OsStr::new("sweep"), sp.as_os_str(), "--out".as_ref(), out.as_os_str()])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(d.path("t.best.md")).unwrap();
+    let first = md.lines().next().unwrap();
+    assert!(first.starts_with("# Sweep results: \\<img src=x onerror=alert\\(1\\)\\> \\# Injected"), "{md}");
+    assert_eq!(md.lines().filter(|l| l.starts_with('#') && !l.starts_with("##")).count(), 1, "{md}");
+    // Every character Markdown or HTML reads as markup is escaped with a backslash.
+    let title_md = first.trim_start_matches("# Sweep results: ");
+    let chars: Vec<char> = title_md.chars().collect();
+    for (i, c) in chars.iter().enumerate() {
+        if "<>*[]()|`#".contains(*c) {
+            assert!(i > 0 && chars[i - 1] == '\\', "`{c}` at {i} reached best.md unescaped: {title_md}");
+        }
+    }
+}

@@ -36,6 +36,35 @@ fn attribute(e: Error, file: &str) -> Error {
     }
 }
 
+/// An option given on the command line (or as a Python argument) that cannot be used,
+/// named by its flag: the measurement file is not at fault.
+fn flag_error(flag: &str, reason: impl Into<String>) -> Error {
+    Error::input("<cli>", flag, reason)
+}
+
+fn positive_flag(flag: &str, x: f64, unit: &str) -> Result<()> {
+    if x > 0.0 && x.is_finite() {
+        return Ok(());
+    }
+    Err(flag_error(flag, format!("must be a positive, finite number ({unit}), got {x}")))
+}
+
+fn at_least(flag: &str, n: usize, min: usize, what: &str) -> Result<()> {
+    if n >= min {
+        return Ok(());
+    }
+    Err(flag_error(flag, format!("must be at least {min} ({what}), got {n}")))
+}
+
+/// Checks the options every identification reads its files with.
+fn check_load(load: &LoadOptions) -> Result<()> {
+    let t = load.uniform_tolerance;
+    if t > 0.0 && t < 1.0 {
+        return Ok(());
+    }
+    Err(flag_error("--uniform-tolerance", format!("must lie in (0, 1) (a relative jitter of the time step), got {t}")))
+}
+
 fn prepare_dir(out: &Path) -> Result<()> {
     std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))
 }
@@ -135,6 +164,11 @@ impl DpOutcome {
 
 /// d_p from two records whose voltages differ by a constant offset.
 pub fn identify_dp(req: &DpRequest) -> Result<DpOutcome> {
+    check_load(&req.load)?;
+    if let Some(k) = req.options.k_p {
+        positive_flag("--k-p", k, "N/m")?;
+    }
+    positive_flag("--offset-tolerance", req.options.offset_tolerance, "a fraction of |ΔV|")?;
     let need: &[Quantity] =
         if req.options.k_p.is_some() { &[Quantity::Voltage] } else { &[Quantity::Voltage, Quantity::Displacement] };
     refuse_over_sources(req.out.as_deref(), &["dp.toml", "dp.json", "dp-difference"], &[&req.first, &req.second])?;
@@ -261,8 +295,28 @@ impl BoucWenOutcome {
     }
 }
 
+/// Checks a Bouc–Wen request's options before any file is read, naming each flag.
+fn check_bouc_wen(req: &BoucWenRequest) -> Result<()> {
+    check_load(&req.load)?;
+    crate::case::ranges::within("<cli>", "--d-p", req.fit.d_p, crate::case::ranges::D_P, "m/V")?;
+    if let FitTarget::BlockedForce { k_p } = req.target {
+        positive_flag("--k-p", k_p, "N/m")?;
+    }
+    if let Some(p) = req.cycle.period {
+        positive_flag("--period", p, "s")?;
+    }
+    at_least("--cycles", req.cycle.cycles, 1, "whole periods fitted, from the end of the record")?;
+    at_least("--particles", req.fit.pso.particles, 2, "a swarm needs two particles to move")?;
+    at_least("--max-iterations", req.fit.pso.max_iterations, 1, "iterations of the swarm")?;
+    if req.seeds.is_empty() {
+        return Err(flag_error("--seeds", "give at least one seed"));
+    }
+    Ok(())
+}
+
 /// α, β, γ by particle swarm, once per seed.
 pub fn identify_bouc_wen(req: &BoucWenRequest) -> Result<BoucWenOutcome> {
+    check_bouc_wen(req)?;
     let need: &[Quantity] = match req.target {
         FitTarget::Stroke => &[Quantity::Voltage, Quantity::Displacement],
         FitTarget::BlockedForce { .. } => &[Quantity::Voltage, Quantity::Force],
@@ -434,6 +488,41 @@ fn hammer_band(frf: &Frf) -> (f64, f64) {
     (frf.freq[1], frf.freq[k_hi])
 }
 
+/// Checks the modal request's options besides mass, modes and band before any file is
+/// read, naming each flag.
+fn check_modal(req: &ModalRequest) -> Result<()> {
+    check_load(&req.load)?;
+    if req.use_mode < 1 || req.use_mode > req.modes {
+        return Err(flag_error(
+            "--use-mode",
+            format!(
+                "--use-mode {} picks a mode of the {}-mode fit (--modes {}): it must lie in 1..={}; raise --modes \
+                 to fit more modes",
+                req.use_mode, req.modes, req.modes, req.modes
+            ),
+        ));
+    }
+    if let Some(n) = req.segment {
+        at_least("--segment", n, 8, "samples per hit")?;
+    }
+    if let Some(e) = req.exp_window {
+        if !(e > 0.0 && e < 1.0) {
+            return Err(flag_error(
+                "--exp-window",
+                format!("must lie in (0, 1) (the window's value at the end), got {e}"),
+            ));
+        }
+    }
+    if let Some(w) = req.force_window {
+        positive_flag("--force-window", w, "s")?;
+    }
+    let c = req.min_coherence;
+    if !(0.0..=1.0).contains(&c) {
+        return Err(flag_error("--min-coherence", format!("must lie in [0, 1], got {c}")));
+    }
+    Ok(())
+}
+
 /// H1 with coherence, single- and multi-mode fits, and k = m·ω_n², c = 2ζ·m·ω_n.
 pub fn identify_modal(req: &ModalRequest) -> Result<ModalOutcome> {
     if !(req.mass > 0.0 && req.mass.is_finite()) {
@@ -447,6 +536,7 @@ pub fn identify_modal(req: &ModalRequest) -> Result<ModalOutcome> {
             return Err(Error::input("<cli>", "--band", format!("need 0 <= F1 < F2, got {lo},{hi}")));
         }
     }
+    check_modal(req)?;
     refuse_over_sources(req.out.as_deref(), &["modal.toml", "modal.json", "modal-frf"], &[&req.file])?;
     let m = measurement::load_source(&req.file, &[Quantity::Force, Quantity::Acceleration], &req.load)?;
     let file = m.file.clone();
@@ -493,7 +583,7 @@ pub fn identify_modal(req: &ModalRequest) -> Result<ModalOutcome> {
     )
     .map_err(|e| attribute(e, &file))?;
     let (used, mode) = if req.modes > 1 {
-        let i = req.use_mode.max(1) - 1;
+        let i = req.use_mode - 1;
         let mode = multi_mode.modes.get(i).ok_or_else(|| {
             Error::input(
                 &file,

@@ -66,6 +66,7 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
                 e => e,
             })?;
             let mfile = path.display().to_string();
+            super::ranges::mesh_nodes(&mfile, &mesh.x)?;
             if (mesh.length() - b.length).abs() > 1e-9 * b.length {
                 return Err(Error::input(
                     &mfile,

@@ -85,9 +85,6 @@ pub fn load_measurements(lc: &LoadedCase) -> Result<Vec<Measured>> {
     for (i, spec) in lc.case.measurement.iter().enumerate() {
         let field = |f: &str| format!("measurement[{i}].{f}");
         let name = spec.name.clone().unwrap_or_else(|| spec.point.clone());
-        if name.is_empty() || name.contains('/') {
-            return Err(Error::input(&lc.file, field("name"), "must be non-empty, without `/`"));
-        }
         if out.iter().any(|m| m.name == name) {
             return Err(Error::input(
                 &lc.file,

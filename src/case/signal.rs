@@ -180,6 +180,9 @@ impl SignalSpec {
                 let t = cols.pop().unwrap_or_default();
                 let label = path.display().to_string();
                 check_time_axis(&label, &time_column, &t, false)?;
+                // A load's series is a force, an actuator's a voltage.
+                let unit = if field.ends_with(".force") { "N" } else { "V" };
+                super::ranges::series_values(&label, &voltage_column, &v, unit)?;
                 VoltageInput::from_samples(&label, t, v)?
             }
         })

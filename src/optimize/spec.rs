@@ -517,6 +517,24 @@ fn check_quantity(q: &Quantity, case: &Case, harmonics: usize, file: &str, field
     }
 }
 
+/// Why the band [lo, hi] (Hz) holds none of the bare-beam modes at `f` (Hz, ascending):
+/// the modes on either side of it.
+fn empty_band(lo: f64, hi: f64, f: &[f64]) -> String {
+    let mode = |r: usize| format!("mode {} at {:.2} Hz", r + 1, f[r]);
+    let below = f.iter().rposition(|&x| x < lo).map(mode);
+    let above = f.iter().position(|&x| x > hi).map(mode);
+    let around = match (below, above) {
+        (Some(b), Some(a)) => format!("{b} lies below it and {a} above"),
+        (Some(b), None) => format!("{b}, the highest computed, lies below it"),
+        (None, Some(a)) => format!("{a}, the lowest, lies above it"),
+        (None, None) => "no mode was computed".to_string(),
+    };
+    format!(
+        "no bare-beam mode lies in the band {lo}..{hi} Hz, so its modal power is 0 W for every candidate: {around}; \
+         widen the band to hold one"
+    )
+}
+
 /// How many bare-beam modes `q` needs: its highest mode, or for a band every mode up to
 /// its upper frequency (from the base case's bare beam, which the placements do not change).
 fn modes_for(q: &Quantity, base: &BaseCase, file: &str, field: &str) -> Result<usize> {
@@ -530,15 +548,12 @@ fn modes_for(q: &Quantity, base: &BaseCase, file: &str, field: &str) -> Result<u
     let beam = crate::case::build::build_beam(&lc)?;
     let dofs = crate::analysis::modes::bare_system(&beam)?.n();
     match q {
-        Quantity::ModalPower(ModeSet::Band(_, hi)) => {
+        Quantity::ModalPower(ModeSet::Band(lo, hi)) => {
             let all = crate::analysis::modes::bare_modes(&beam, dofs.min(60))?;
-            let n = all.frequencies_hz().iter().take_while(|&&f| f <= *hi).count();
-            if n == 0 {
-                return Err(Error::input(
-                    file,
-                    field,
-                    format!("no bare-beam mode lies in the band (mode 1 is at {:.2} Hz)", all.frequencies_hz()[0]),
-                ));
+            let f = all.frequencies_hz();
+            let n = f.iter().take_while(|&&f| f <= *hi).count();
+            if !f.iter().any(|x| (*lo..=*hi).contains(x)) {
+                return Err(Error::input(file, field, empty_band(*lo, *hi, &f)));
             }
             Ok(n)
         }

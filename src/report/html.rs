@@ -190,17 +190,59 @@ pub fn markdown(md: &str) -> String {
     out
 }
 
-/// Escapes a line of Markdown and turns its `code` spans into `<code>`.
-fn inline(s: &str) -> String {
-    let mut out = String::new();
-    for (i, part) in s.split('`').enumerate() {
-        if i % 2 == 1 {
-            out += &format!("<code>{}</code>", escape(part));
-        } else {
-            // Subscripts are the one tag Markdown text may carry (`F<sub>T</sub>`).
-            out += &escape(part).replace("&lt;sub&gt;", "<sub>").replace("&lt;/sub&gt;", "</sub>");
+/// User text as Markdown shows it literally, on one line: control characters (a newline
+/// would start a heading or a list) become spaces, and every character Markdown or HTML
+/// gives a meaning (`* _ [ ] # | < > &` …) is escaped with a backslash.
+pub fn markdown_escape(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            c if c.is_control() => o.push(' '),
+            '\\' | '`' | '*' | '_' | '[' | ']' | '<' | '>' | '&' | '|' | '#' | '~' | '!' | '(' | ')' => {
+                o.push('\\');
+                o.push(c);
+            }
+            c => o.push(c),
         }
     }
+    o
+}
+
+/// User text (a file name) as a Markdown code span, on one line; as escaped text when it
+/// holds a backtick, which would end the span.
+pub fn markdown_code(s: &str) -> String {
+    if s.contains('`') {
+        return markdown_escape(s);
+    }
+    format!("`{}`", s.chars().map(|c| if c.is_control() { ' ' } else { c }).collect::<String>())
+}
+
+/// Escapes a line of Markdown, turns its `code` spans into `<code>` and its backslash
+/// escapes into the characters they stand for.
+fn inline(s: &str) -> String {
+    // Subscripts are the one tag Markdown text may carry (`F<sub>T</sub>`); an escaped
+    // character never forms part of one.
+    let flush = |text: &mut String, out: &mut String| {
+        *out += &escape(text).replace("&lt;sub&gt;", "<sub>").replace("&lt;/sub&gt;", "</sub>");
+        text.clear();
+    };
+    let (mut out, mut text) = (String::new(), String::new());
+    let mut chars = s.chars().peekable();
+    while let Some(c) = chars.next() {
+        match c {
+            '\\' if chars.peek().is_some_and(char::is_ascii_punctuation) => {
+                flush(&mut text, &mut out);
+                out += &escape(&chars.next().unwrap_or(c).to_string());
+            }
+            '`' => {
+                flush(&mut text, &mut out);
+                let code: String = chars.by_ref().take_while(|&n| n != '`').collect();
+                out += &format!("<code>{}</code>", escape(&code));
+            }
+            c => text.push(c),
+        }
+    }
+    flush(&mut text, &mut out);
     out
 }
 
@@ -217,6 +259,18 @@ mod tests {
         assert!(!html.contains("<script>") && !html.contains("<i>"), "{html}");
         assert!(html.contains("&lt;script&gt;") && html.contains("x &amp; y"));
         assert_eq!(cell("F_{T} \"q\""), "<td>F<sub>T</sub> &quot;q&quot;</td>");
+    }
+
+    #[test]
+    fn user_text_in_markdown_stays_text() {
+        let title = "<script>x</script>\n# heading | cell *b* `c` \\";
+        let md = markdown_escape(title);
+        assert!(!md.contains('\n') && !md.contains("<script>") && !md.contains(" # "), "{md}");
+        let h = markdown(&format!("# Sweep: {md}\n"));
+        assert_eq!(h.matches("<h2>").count(), 1, "{h}");
+        assert!(h.contains("&lt;script&gt;x&lt;/script&gt; # heading | cell *b* `c` \\"), "{h}");
+        assert_eq!(markdown_code("a`b\nc"), "a\\`b c");
+        assert_eq!(markdown_code("dir/s.toml"), "`dir/s.toml`");
     }
 
     #[test]

@@ -279,12 +279,13 @@ pub fn best_positions(t: &SweepTable) -> Option<String> {
 
 /// The whole Markdown report (best cases, and best positions where it applies).
 pub fn markdown_report(t: &SweepTable) -> String {
+    use crate::report::html::{markdown_code, markdown_escape};
     let mut s = format!(
-        "# Sweep results: {}\n\nSweep `{}` (id `{}`), {} of {} cases, analysis `{}` with {} harmonics. Ranked by the \
+        "# Sweep results: {}\n\nSweep {} (id {}), {} of {} cases, analysis `{}` with {} harmonics. Ranked by the \
          net power into the beam (sum over actuators).\n\n## Best {} cases\n\n{}",
-        if t.title.is_empty() { "(untitled)" } else { &t.title },
-        t.sweep_file,
-        t.hash,
+        if t.title.is_empty() { "(untitled)".to_string() } else { markdown_escape(&t.title) },
+        markdown_code(&t.sweep_file),
+        markdown_code(&t.hash),
         t.rows.len(),
         t.total_cases,
         t.analysis,

@@ -45,6 +45,8 @@ pub enum IdentifyCommand {
     ///
     /// Each file: CSV with time, voltage and displacement (or force with --k-p) columns, or a
     /// beamflow results file FILE.h5[:ACTUATOR].
+    // Negative numbers reach the checks that name their flag.
+    #[command(allow_negative_numbers = true)]
     Dp {
         /// The record at the base voltage: CSV with time, voltage and displacement (or force)
         /// columns, or FILE.h5[:ACTUATOR].
@@ -64,7 +66,7 @@ pub enum IdentifyCommand {
         common: CommonArgs,
     },
     /// α, β, γ by particle swarm against a stroke or blocked-force cycle (writes bouc-wen.toml).
-    #[command(name = "bouc-wen")]
+    #[command(name = "bouc-wen", allow_negative_numbers = true)]
     BoucWen {
         /// CSV with time, voltage and displacement (or force), or FILE.h5[:ACTUATOR].
         file: PathBuf,
@@ -97,6 +99,7 @@ pub enum IdentifyCommand {
     },
     /// k, c from an impact test (force, acceleration): H1, modal fit, k = m·ω_n², c = 2ζ·m·ω_n
     /// (writes modal.toml).
+    #[command(allow_negative_numbers = true)]
     Modal {
         /// CSV with time, force and acceleration columns.
         file: PathBuf,
@@ -175,6 +178,7 @@ pub enum KindArg {
 
 /// Arguments of `beamflow synth`.
 #[derive(Args, Debug)]
+#[command(allow_negative_numbers = true)]
 pub struct SynthArgs {
     /// The case whose actuator is "measured".
     pub case: PathBuf,

@@ -374,6 +374,37 @@ fn d_samples() -> usize {
     DEFAULT_SAMPLES_PER_PERIOD
 }
 
+impl SchemeKind {
+    /// The name a case file writes.
+    fn name(self) -> &'static str {
+        match self {
+            SchemeKind::AverageAcceleration => "average_acceleration",
+            SchemeKind::LinearAcceleration => "linear_acceleration",
+            SchemeKind::Hht => "hht",
+            SchemeKind::GeneralizedAlpha => "generalized_alpha",
+        }
+    }
+}
+
+/// Refuses a scheme parameter (`param`, given or not) that only `owner` reads: with any
+/// other scheme it would be silently ignored.
+fn refuse_unused(file: &str, f: &str, param: &str, given: bool, scheme: SchemeKind, owner: SchemeKind) -> Result<()> {
+    if !given || scheme == owner {
+        return Ok(());
+    }
+    Err(Error::input(
+        file,
+        format!("{f}.{param}"),
+        format!(
+            "`{param}` is a parameter of scheme = \"{}\", and scheme = \"{}\" ignores it: set scheme = \"{}\" \
+             or remove `{param}`",
+            owner.name(),
+            scheme.name(),
+            owner.name()
+        ),
+    ))
+}
+
 impl AnalysisSpec {
     /// Checks the analysis `f` (its table path, e.g. `analysis[0]`) of `case`.
     pub(super) fn validate(&self, file: &str, f: &str, case: &Case) -> Result<()> {
@@ -505,6 +536,8 @@ impl AnalysisSpec {
         if *max_periods == 0 || *harmonics == Some(0) {
             return Err(Error::input(file, f, "`max_periods` and `harmonics` must be at least 1"));
         }
+        refuse_unused(file, f, "alpha", alpha.is_some(), *scheme, SchemeKind::Hht)?;
+        refuse_unused(file, f, "rho_inf", rho_inf.is_some(), *scheme, SchemeKind::GeneralizedAlpha)?;
         if let Some(a) = alpha {
             if !(0.0..=1.0 / 3.0).contains(a) {
                 return Err(Error::input(file, format!("{f}.alpha"), format!("HHT α must lie in [0, 1/3], got {a}")));

@@ -139,7 +139,7 @@ pub struct DampingSpec {
     #[serde(default = "d_zeta")]
     pub zeta: f64,
     /// The two bare-beam modes (1-based) where ζ is matched.
-    #[serde(default = "d_modes")]
+    #[serde(default = "d_modes", deserialize_with = "two_modes")]
     pub modes: [usize; 2],
     /// Explicit coefficients for `rayleigh`: a₀ (1/s), a₁ (s).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -163,6 +163,19 @@ fn d_zeta() -> f64 {
 }
 fn d_modes() -> [usize; 2] {
     [1, 3]
+}
+
+/// Exactly two mode numbers: a list of any other length is refused, not cut or padded
+/// (a fixed-size array alone would read `[1, 2, 3]` as `[1, 2]`).
+fn two_modes<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<[usize; 2], D::Error> {
+    let modes = Vec::<usize>::deserialize(d)?;
+    <[usize; 2]>::try_from(modes.as_slice()).map_err(|_| {
+        serde::de::Error::custom(format!(
+            "damping.modes: Rayleigh damping by ratio matches ζ at exactly two modes (a₀ and a₁ are two \
+             unknowns), got {} ({modes:?}); for a ratio per mode use kind = \"modal\" with `ratios`",
+            modes.len()
+        ))
+    })
 }
 
 impl Default for DampingSpec {

@@ -188,6 +188,18 @@ impl Case {
         Ok(())
     }
 
+    /// Measurement names (as given, or their point's) name figure files and result groups,
+    /// so they follow the same rule, checked here rather than when a figure is written.
+    fn validate_measurement_names(&self, file: &str) -> Result<()> {
+        for (i, m) in self.measurement.iter().enumerate() {
+            match &m.name {
+                Some(name) => valid_name(file, &format!("measurement[{i}].name"), name)?,
+                None => valid_name(file, &format!("measurement[{i}].point"), &m.point)?,
+            }
+        }
+        Ok(())
+    }
+
     /// Checks every field; the first problem is returned, naming file and field.
     pub fn validate(&self, file: &str) -> Result<()> {
         let b = &self.beam;
@@ -211,6 +223,7 @@ impl Case {
             l.force.validate(file, &format!("load[{i}].force"))?;
         }
         self.validate_names(file)?;
+        self.validate_measurement_names(file)?;
         for (i, an) in self.analysis.iter().enumerate() {
             an.validate(file, &format!("analysis[{i}]"), self)?;
         }
