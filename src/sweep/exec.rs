@@ -282,7 +282,8 @@ fn read_parts(dir: &Path, hash: &str, shape: (usize, usize, usize)) -> Vec<Row> 
     files
         .par_iter()
         .flat_map_iter(|p| {
-            let b = std::fs::read(p).unwrap_or_default();
+            // Only the regular files this program wrote: a FIFO planted here would block.
+            let b = crate::input_file::regular_file(p).ok().and_then(|()| std::fs::read(p).ok()).unwrap_or_default();
             b.chunks_exact(record).filter_map(|c| decode_part(c, hash, shape)).collect::<Vec<_>>()
         })
         .collect()
