@@ -24,7 +24,7 @@ use crate::identify::measurement::{self, LoadOptions, Quantity};
 use crate::identify::modal_fit::{self, DynamicParameters, IdentifiedElement, ModalFit, RfpOptions, SdofOptions};
 use crate::identify::synth::{self, SynthKind, SynthOptions, Truth};
 use crate::io::atomic::write_atomic_string;
-use crate::io::lock::FolderLock;
+use crate::io::lock::OutputLock;
 use crate::io::paths::{output_file, refuse_input, refuse_output, Input};
 use crate::report::identify as plots;
 
@@ -141,7 +141,7 @@ pub fn identify_dp(req: &DpRequest) -> Result<DpOutcome> {
     let fragment = estimate.to_case_fragment();
     let mut written = Vec::new();
     if let Some(dir) = &req.out {
-        let _lock = FolderLock::acquire(dir)?;
+        let _lock = OutputLock::folder(dir)?;
         write_text(dir, "dp.toml", &fragment, &mut written)?;
         write_json(dir, "dp.json", &estimate, &mut written)?;
         if req.plots {
@@ -277,7 +277,7 @@ pub fn identify_bouc_wen(req: &BoucWenRequest) -> Result<BoucWenOutcome> {
     let mut out = BoucWenOutcome { fit, data, simulated, fragment, written: Vec::new() };
     if let Some(dir) = &req.out {
         let mut written = Vec::new();
-        let _lock = FolderLock::acquire(dir)?;
+        let _lock = OutputLock::folder(dir)?;
         write_text(dir, "bouc-wen.toml", &out.fragment, &mut written)?;
         write_json(dir, "bouc-wen.json", &out, &mut written)?;
         if req.plots {
@@ -535,7 +535,7 @@ pub fn identify_modal(req: &ModalRequest) -> Result<ModalOutcome> {
     };
     if let Some(dir) = &req.out {
         let mut written = Vec::new();
-        let _lock = FolderLock::acquire(dir)?;
+        let _lock = OutputLock::folder(dir)?;
         write_text(dir, "modal.toml", &out.fragment, &mut written)?;
         write_json(dir, "modal.json", &out, &mut written)?;
         if req.plots {
@@ -610,7 +610,7 @@ pub fn synth(req: &SynthRequest) -> Result<SynthOutcome> {
         refuse_input("--out", p, &inputs)?;
         refuse_output("--out", p, &paths[..k])?;
     }
-    let _lock = FolderLock::beside(&req.out)?;
+    let _lock = OutputLock::file(&req.out)?;
     let mut samples = Vec::new();
     for (k, (m, p)) in s.records.iter().zip(&paths).enumerate() {
         let mut comments = s.truth.comments();

@@ -1,13 +1,16 @@
-//! One writer at a time per output folder.
+//! One writer at a time per output.
 //!
-//! Two commands writing into one folder at once (two identical sweeps, a run and its
+//! Two commands writing the same outputs at once (two identical sweeps, a run and its
 //! rerun) would share checkpoints and staging, and one would remove what the other still
-//! needs. So every command takes an advisory lock (`flock`) on `.beamflow.lock` in its
-//! output folder before it writes there. A second one waits, saying once for which
-//! process, and then finds the folder as the first left it (a second identical sweep
+//! needs. So every command takes an advisory lock (`flock`) before it writes: on
+//! `.beamflow.lock` in its output folder, or for a command whose output is one named file
+//! and the files derived from its name (a sweep table with its checkpoints and reports,
+//! synthetic records), on `.<file name>.beamflow.lock` beside it, so that the shards of one
+//! sweep still run at once into one folder. A second writer waits, saying once for which
+//! process, and then finds the outputs as the first left them (a second identical sweep
 //! reuses the finished table).
 //!
-//! The lock file is the program's own: created exclusively, holding a marker line with the
+//! A lock file is the program's own: created exclusively, holding a marker line with the
 //! creator's process id, and removed by its holder before the lock is let go. A waiter that
 //! then gets the lock on the removed file notices that the name no longer leads to it and
 //! starts over. A file of that name without the marker is the user's: it is locked as it
@@ -19,27 +22,48 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
 
-/// The lock file's name in the output folder.
+/// The lock file's name in an output folder.
 pub const LOCK_FILE: &str = ".beamflow.lock";
+/// The end of the lock file's name beside an output file.
+const FILE_LOCK_SUFFIX: &str = ".beamflow.lock";
 
 /// The first line of a lock file this program wrote.
 const MAGIC: &str = "beamflow output-folder lock, process ";
 
-/// Holds the lock on one output folder until dropped.
+/// Holds the lock on one output (a folder, or a file) until dropped.
 #[derive(Debug)]
-pub struct FolderLock {
+pub struct OutputLock {
     path: PathBuf,
     file: fs::File,
     /// Whether this process wrote the lock file (and removes it on release).
     owned: bool,
 }
 
-impl FolderLock {
+impl OutputLock {
     /// Creates the output folder `dir` if needed and locks it, waiting while another
     /// process holds it.
-    pub fn acquire(dir: &Path) -> Result<FolderLock> {
+    pub fn folder(dir: &Path) -> Result<OutputLock> {
+        Self::acquire(dir, dir.join(LOCK_FILE), dir)
+    }
+
+    /// Locks the output file `file` (creating its folder if needed): the file, and the files
+    /// a command derives from its name beside it.
+    pub fn file(file: &Path) -> Result<OutputLock> {
+        let dir = match file.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p,
+            _ => Path::new("."),
+        };
+        let name = file.file_name().map(|n| format!(".{}{FILE_LOCK_SUFFIX}", n.to_string_lossy()));
+        match name.filter(|n| n.len() <= crate::io::paths::FILE_NAME_MAX) {
+            Some(n) => Self::acquire(dir, dir.join(n), file),
+            // A name too long to carry the suffix: the whole folder is locked instead.
+            None => Self::folder(dir),
+        }
+    }
+
+    /// Locks the lock file `path` in the output folder `dir`, for the output `what`.
+    fn acquire(dir: &Path, path: PathBuf, what: &Path) -> Result<OutputLock> {
         fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let path = dir.join(LOCK_FILE);
         let mut told = false;
         loop {
             let Some((file, created)) = open(&path)? else { continue };
@@ -47,11 +71,7 @@ impl FolderLock {
                 Ok(()) => {}
                 Err(fs::TryLockError::WouldBlock) => {
                     if !told {
-                        eprintln!(
-                            "{}: waiting for {}, which is writing into this folder",
-                            dir.display(),
-                            holder(&path)
-                        );
+                        eprintln!("{}: waiting for {}, which is writing it", what.display(), holder(&path));
                         told = true;
                     }
                     file.lock().map_err(|e| Error::io(&path, e))?;
@@ -67,20 +87,12 @@ impl FolderLock {
             if !created && is_ours(&path) && fs::remove_file(&path).is_ok() {
                 continue;
             }
-            return Ok(FolderLock { path, file, owned: created });
-        }
-    }
-
-    /// Locks the folder that holds the output file `file` (`.` for a bare name).
-    pub fn beside(file: &Path) -> Result<FolderLock> {
-        match file.parent() {
-            Some(p) if !p.as_os_str().is_empty() => Self::acquire(p),
-            _ => Self::acquire(Path::new(".")),
+            return Ok(OutputLock { path, file, owned: created });
         }
     }
 }
 
-impl Drop for FolderLock {
+impl Drop for OutputLock {
     /// Removes the lock file while still holding the lock (a waiter then starts over on a
     /// fresh file), unless it is not this process's file.
     fn drop(&mut self) {
@@ -163,13 +175,13 @@ mod tests {
     fn a_second_holder_waits_and_the_file_goes_with_the_last() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");
-        let first = FolderLock::acquire(&out).unwrap();
+        let first = OutputLock::folder(&out).unwrap();
         let path = out.join(LOCK_FILE);
         assert_eq!(marked_pid(&path), Some(std::process::id()));
         let got = std::sync::atomic::AtomicBool::new(false);
         std::thread::scope(|s| {
             let waiter = s.spawn(|| {
-                let second = FolderLock::acquire(&out).unwrap();
+                let second = OutputLock::folder(&out).unwrap();
                 got.store(true, std::sync::atomic::Ordering::SeqCst);
                 drop(second);
             });
@@ -187,11 +199,11 @@ mod tests {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join(LOCK_FILE);
         fs::write(&path, "my notes\n").unwrap();
-        drop(FolderLock::acquire(dir.path()).unwrap());
+        drop(OutputLock::folder(dir.path()).unwrap());
         assert_eq!(fs::read_to_string(&path).unwrap(), "my notes\n");
         // A holder killed before it could remove its file (pid above the kernel's maximum).
         fs::write(&path, format!("{MAGIC}4194305\n")).unwrap();
-        let lock = FolderLock::acquire(dir.path()).unwrap();
+        let lock = OutputLock::folder(dir.path()).unwrap();
         assert_eq!(marked_pid(&path), Some(std::process::id()));
         drop(lock);
         assert!(!path.exists());
@@ -205,9 +217,23 @@ mod tests {
         let out = dir.path().join("out");
         fs::create_dir(&out).unwrap();
         std::os::unix::fs::symlink(&target, out.join(LOCK_FILE)).unwrap();
-        let e = FolderLock::acquire(&out).unwrap_err().to_string();
+        let e = OutputLock::folder(&out).unwrap_err().to_string();
         assert!(e.contains(LOCK_FILE) && e.contains("not a regular file"), "{e}");
         assert!(fs::symlink_metadata(out.join(LOCK_FILE)).unwrap().is_symlink());
         assert_eq!(fs::read_to_string(&target).unwrap(), "x");
+    }
+
+    #[test]
+    fn two_files_in_one_folder_are_locked_apart() {
+        let dir = tempfile::tempdir().unwrap();
+        let a = OutputLock::file(&dir.path().join("shard-1.h5")).unwrap();
+        assert_eq!(marked_pid(&dir.path().join(".shard-1.h5.beamflow.lock")), Some(std::process::id()));
+        let (tx, rx) = std::sync::mpsc::channel();
+        let other = dir.path().join("shard-2.h5");
+        std::thread::spawn(move || tx.send(OutputLock::file(&other).map(drop).is_ok()).unwrap());
+        let got = rx.recv_timeout(std::time::Duration::from_secs(10));
+        assert_eq!(got, Ok(true), "the second file's lock must not wait for the first's");
+        drop(a);
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 0);
     }
 }

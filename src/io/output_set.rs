@@ -20,7 +20,7 @@ use std::fs;
 use std::io::Write;
 use std::path::{Path, PathBuf};
 
-use super::lock::FolderLock;
+use super::lock::OutputLock;
 use crate::error::{Error, Result};
 
 const MARKER: &str = "COMMIT";
@@ -40,14 +40,14 @@ pub struct OutputSet {
     staging: PathBuf,
     committed: bool,
     /// Held until the set is committed or dropped (declared last: released last).
-    _lock: FolderLock,
+    _lock: OutputLock,
 }
 
 impl OutputSet {
     /// Creates `dest` if needed, locks it, recovers what killed runs left there, and opens
     /// a fresh staging folder.
     pub fn begin(dest: &Path) -> Result<Self> {
-        let lock = FolderLock::acquire(dest)?;
+        let lock = OutputLock::folder(dest)?;
         recover(dest)?;
         let staging = create_staging(dest, std::process::id())?;
         Ok(OutputSet { dest: dest.to_path_buf(), staging, committed: false, _lock: lock })
