@@ -24,6 +24,7 @@ use crate::identify::measurement::{self, LoadOptions, Quantity};
 use crate::identify::modal_fit::{self, DynamicParameters, IdentifiedElement, ModalFit, RfpOptions, SdofOptions};
 use crate::identify::synth::{self, SynthKind, SynthOptions, Truth};
 use crate::io::atomic::write_atomic_string;
+use crate::io::lock::OutputLock;
 use crate::io::paths::{output_file, refuse_input, refuse_output, Input};
 use crate::report::identify as plots;
 
@@ -63,10 +64,6 @@ fn check_load(load: &LoadOptions) -> Result<()> {
         return Ok(());
     }
     Err(flag_error("--uniform-tolerance", format!("must lie in (0, 1) (a relative jitter of the time step), got {t}")))
-}
-
-fn prepare_dir(out: &Path) -> Result<()> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))
 }
 
 /// Refuses an output folder `dir` where one of the files an identification writes
@@ -178,7 +175,7 @@ pub fn identify_dp(req: &DpRequest) -> Result<DpOutcome> {
     let fragment = estimate.to_case_fragment();
     let mut written = Vec::new();
     if let Some(dir) = &req.out {
-        prepare_dir(dir)?;
+        let _lock = OutputLock::folder(dir)?;
         write_text(dir, "dp.toml", &fragment, &mut written)?;
         write_json(dir, "dp.json", &estimate, &mut written)?;
         if req.plots {
@@ -334,7 +331,7 @@ pub fn identify_bouc_wen(req: &BoucWenRequest) -> Result<BoucWenOutcome> {
     let mut out = BoucWenOutcome { fit, data, simulated, fragment, written: Vec::new() };
     if let Some(dir) = &req.out {
         let mut written = Vec::new();
-        prepare_dir(dir)?;
+        let _lock = OutputLock::folder(dir)?;
         write_text(dir, "bouc-wen.toml", &out.fragment, &mut written)?;
         write_json(dir, "bouc-wen.json", &out, &mut written)?;
         if req.plots {
@@ -628,7 +625,7 @@ pub fn identify_modal(req: &ModalRequest) -> Result<ModalOutcome> {
     };
     if let Some(dir) = &req.out {
         let mut written = Vec::new();
-        prepare_dir(dir)?;
+        let _lock = OutputLock::folder(dir)?;
         write_text(dir, "modal.toml", &out.fragment, &mut written)?;
         write_json(dir, "modal.json", &out, &mut written)?;
         if req.plots {
@@ -703,9 +700,7 @@ pub fn synth(req: &SynthRequest) -> Result<SynthOutcome> {
         refuse_input("--out", p, &inputs)?;
         refuse_output("--out", p, &paths[..k])?;
     }
-    if let Some(dir) = req.out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        prepare_dir(dir)?;
-    }
+    let _lock = OutputLock::file(&req.out)?;
     let mut samples = Vec::new();
     for (k, (m, p)) in s.records.iter().zip(&paths).enumerate() {
         let mut comments = s.truth.comments();

@@ -155,7 +155,7 @@ struct BeamFindings {
 /// Runs everything within `budget` and writes figures, HDF5 files (and, with `csv`, CSV tables) and the
 /// summaries into `out`.
 pub fn run(out: &Path, csv: bool, budget: &Budget) -> Result<()> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out, e))?;
+    let _lock = crate::io::lock::OutputLock::folder(out)?;
     let mut w = Written { files: Vec::new(), max_balance: 0.0, store: Store { csv, budget: *budget } };
     let rigid_lc = load("rigid-base-48V-30Hz.toml")?;
     let rigid = rigid_base(&rigid_lc, out, &mut w)?;

@@ -324,8 +324,9 @@ impl ResultsReader {
     /// Opens an existing file read-only.
     pub fn open(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref().to_path_buf();
-        // Report a missing file as the plain I/O error it is, not an HDF5 stack.
-        std::fs::metadata(&path).map_err(|e| Error::io(&path, e))?;
+        // Report a missing file as the plain I/O error it is, not an HDF5 stack; refuse a
+        // FIFO or device before the HDF5 library opens (and blocks on) it.
+        crate::input_file::regular_file(&path)?;
         let file = ::hdf5::File::open(&path).map_err(h5err(&path, "opening file"))?;
         Ok(ResultsReader { file, path })
     }

@@ -15,14 +15,16 @@
 //! * [`mtx`]: Matrix Market export of sparse system matrices, for checking them in
 //!   other tools (SciPy, MATLAB, Julia).
 //!
-//! * [`output_set`]: a run's files committed as a set; [`paths`]: output paths that stay
-//!   inside the output folder and never name an input.
+//! * [`output_set`]: a run's files committed as a set; [`lock`]: one writer at a time per
+//!   output folder; [`paths`]: output paths that stay inside the output folder and never
+//!   name an input.
 //!
 //! Every function returns [`crate::error::Result`], and every error names the file.
 
 pub mod atomic;
 pub mod csv;
 pub mod hdf5;
+pub mod lock;
 pub mod mtx;
 pub mod output_set;
 pub mod paths;

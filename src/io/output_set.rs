@@ -5,20 +5,33 @@
 //! file beside the previous run's JSON. So the files are first written into a staging
 //! folder inside the output folder (`.staging-<pid>-<n>`, same file system, so a rename is
 //! atomic), a `COMMIT` marker is written there once the last one is complete, and only then
-//! are they renamed into place.
+//! are they renamed into place. The output folder is locked ([`super::lock`]) from the
+//! staging folder's creation to its commit.
 //!
-//! The next run in the same folder recovers what a killed one left: a staging folder whose
-//! process is gone is rolled forward if it holds the marker (its set was complete; the
-//! renames are finished) and removed otherwise (the set never became visible). Stray
-//! temporary files of dead processes (`.<name>.tmp-<pid>-…`) are removed too.
+//! The output folder is the user's: the next run in it touches only what a killed run of
+//! this program left there. A staging folder is created exclusively (never an existing
+//! entry, never through a link) and marked as ours at once with an owner file naming its
+//! process. A staging folder whose process is gone and which carries that mark is rolled
+//! forward if it holds the commit marker (its set was complete; the renames are finished)
+//! and removed otherwise (the set never became visible; its temporary files go with it).
+//! Anything else — a folder or file merely named like ours, a link — is left alone.
 
 use std::fs;
+use std::io::Write;
 use std::path::{Path, PathBuf};
 
+use super::lock::OutputLock;
 use crate::error::{Error, Result};
 
 const MARKER: &str = "COMMIT";
 const PREFIX: &str = ".staging-";
+/// The owner file of a staging folder: hidden, so never an output name.
+const OWNER: &str = ".beamflow-staging";
+
+/// What the owner file of process `pid`'s staging folder holds.
+fn owner_text(pid: u32) -> String {
+    format!("beamflow staging folder of process {pid}\n")
+}
 
 /// The staging folder of one run's outputs.
 #[derive(Debug)]
@@ -26,24 +39,18 @@ pub struct OutputSet {
     dest: PathBuf,
     staging: PathBuf,
     committed: bool,
+    /// Held until the set is committed or dropped (declared last: released last).
+    _lock: OutputLock,
 }
 
 impl OutputSet {
-    /// Creates `dest` if needed, recovers what killed runs left there, and opens a fresh
-    /// staging folder.
+    /// Creates `dest` if needed, locks it, recovers what killed runs left there, and opens
+    /// a fresh staging folder.
     pub fn begin(dest: &Path) -> Result<Self> {
-        fs::create_dir_all(dest).map_err(|e| Error::io(dest, e))?;
+        let lock = OutputLock::folder(dest)?;
         recover(dest)?;
-        let pid = std::process::id();
-        for n in 0..1000u32 {
-            let staging = dest.join(format!("{PREFIX}{pid}-{n}"));
-            match fs::create_dir(&staging) {
-                Ok(()) => return Ok(OutputSet { dest: dest.to_path_buf(), staging, committed: false }),
-                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
-                Err(e) => return Err(Error::io(&staging, e)),
-            }
-        }
-        Err(Error::io(dest, std::io::Error::other("no free staging folder name")))
+        let staging = create_staging(dest, std::process::id())?;
+        Ok(OutputSet { dest: dest.to_path_buf(), staging, committed: false, _lock: lock })
     }
 
     /// Where the run writes its files (they become visible in [`Self::dest`] on commit).
@@ -83,13 +90,40 @@ impl Drop for OutputSet {
     }
 }
 
-/// Moves the files of a complete staging folder into `dest` and removes the folder.
+/// Creates a fresh staging folder of process `pid` in `dest`, marked with its owner file.
+fn create_staging(dest: &Path, pid: u32) -> Result<PathBuf> {
+    for n in 0..1000u32 {
+        let staging = dest.join(format!("{PREFIX}{pid}-{n}"));
+        // `create_dir` fails on any existing entry (a link too) and never follows one.
+        match fs::create_dir(&staging) {
+            Ok(()) => {
+                let owner = staging.join(OWNER);
+                let marked = fs::OpenOptions::new()
+                    .write(true)
+                    .create_new(true)
+                    .open(&owner)
+                    .and_then(|mut f| f.write_all(owner_text(pid).as_bytes()));
+                if let Err(e) = marked {
+                    let _ = fs::remove_dir_all(&staging);
+                    return Err(Error::io(&owner, e));
+                }
+                return Ok(staging);
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => continue,
+            Err(e) => return Err(Error::io(&staging, e)),
+        }
+    }
+    Err(Error::io(dest, std::io::Error::other("no free staging folder name")))
+}
+
+/// Moves the files of a complete staging folder into `dest` and removes the folder (with
+/// its owner file, commit marker and any temporary file: hidden names are never outputs).
 fn roll_forward(staging: &Path, dest: &Path) -> Result<()> {
     let entries = fs::read_dir(staging).map_err(|e| Error::io(staging, e))?;
     for entry in entries {
         let entry = entry.map_err(|e| Error::io(staging, e))?;
         let name = entry.file_name();
-        if name == MARKER || name.to_string_lossy().contains(".tmp-") {
+        if name == MARKER || name.to_string_lossy().starts_with('.') {
             continue;
         }
         let to = dest.join(&name);
@@ -98,33 +132,46 @@ fn roll_forward(staging: &Path, dest: &Path) -> Result<()> {
     fs::remove_dir_all(staging).map_err(|e| Error::io(staging, e))
 }
 
-/// Whether the process that named a staging folder or temporary file is gone.
-fn dead(pid: &str) -> bool {
-    match pid.parse::<u32>() {
-        Ok(p) if p == std::process::id() => false,
-        Ok(p) => !Path::new(&format!("/proc/{p}")).exists(),
-        Err(_) => false,
-    }
+/// Whether process `pid` is gone.
+fn dead(pid: u32) -> bool {
+    pid != std::process::id() && !Path::new(&format!("/proc/{pid}")).exists()
 }
 
-/// Finishes or removes what killed runs left in `dest`.
+/// The process of `path` (named `name`) if it is a staging folder this program made: a
+/// real folder (not a link) named `.staging-<pid>-<n>` whose owner file names that
+/// process. None for anything else.
+fn staging_owner(path: &Path, name: &str) -> Option<u32> {
+    let (pid, n) = name.strip_prefix(PREFIX)?.split_once('-')?;
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
+    if !digits(pid) || !digits(n) {
+        return None;
+    }
+    let pid: u32 = pid.parse().ok()?;
+    if !fs::symlink_metadata(path).ok()?.is_dir() {
+        return None;
+    }
+    let owner = path.join(OWNER);
+    if !fs::symlink_metadata(&owner).ok()?.is_file() {
+        return None;
+    }
+    let text = crate::input_file::read_text_limited(&owner, 128).ok()?;
+    (text == owner_text(pid)).then_some(pid)
+}
+
+/// Finishes or removes the staging folders killed runs of this program left in `dest`;
+/// everything else there is left alone.
 pub fn recover(dest: &Path) -> Result<()> {
     let Ok(entries) = fs::read_dir(dest) else { return Ok(()) };
     for entry in entries.flatten() {
-        let name = entry.file_name().to_string_lossy().into_owned();
         let path = entry.path();
-        if let Some(rest) = name.strip_prefix(PREFIX) {
-            if dead(rest.split('-').next().unwrap_or("")) {
-                if path.join(MARKER).exists() {
-                    roll_forward(&path, dest)?;
-                } else {
-                    fs::remove_dir_all(&path).map_err(|e| Error::io(&path, e))?;
-                }
-            }
-        } else if let Some((_, after)) = name.split_once(".tmp-") {
-            if name.starts_with('.') && dead(after.split('-').next().unwrap_or("")) {
-                fs::remove_file(&path).map_err(|e| Error::io(&path, e))?;
-            }
+        let Some(pid) = staging_owner(&path, &entry.file_name().to_string_lossy()) else { continue };
+        if !dead(pid) {
+            continue;
+        }
+        if fs::symlink_metadata(path.join(MARKER)).is_ok_and(|m| m.is_file()) {
+            roll_forward(&path, dest)?;
+        } else {
+            fs::remove_dir_all(&path).map_err(|e| Error::io(&path, e))?;
         }
     }
     Ok(())
@@ -153,26 +200,62 @@ mod tests {
         assert_eq!(fs::read_dir(&out).unwrap().count(), 1);
     }
 
+    // pid 1 is alive (init) on Linux; a pid above the kernel's maximum never is.
+    const DEAD: u32 = 4_194_305;
+
     #[test]
-    fn a_dead_run_is_rolled_forward_if_complete_and_removed_if_not() {
+    fn a_dead_runs_marked_folder_is_rolled_forward_if_complete_and_removed_if_not() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path();
-        // pid 1 is alive (init) on Linux; a pid above the kernel's maximum never is.
-        let dead_pid = 4_194_305u32;
-        let complete = out.join(format!("{PREFIX}{dead_pid}-0"));
-        fs::create_dir_all(&complete).unwrap();
+        let complete = create_staging(out, DEAD).unwrap();
         fs::write(complete.join("x.h5"), "new").unwrap();
+        fs::write(complete.join(format!(".x.tmp-{DEAD}-7.h5")), "").unwrap();
         fs::write(complete.join(MARKER), "").unwrap();
-        let partial = out.join(format!("{PREFIX}{dead_pid}-1"));
-        fs::create_dir_all(&partial).unwrap();
+        let partial = create_staging(out, DEAD).unwrap();
         fs::write(partial.join("y.h5"), "half").unwrap();
-        let alive = out.join(format!("{PREFIX}1-0"));
-        fs::create_dir_all(&alive).unwrap();
-        let stray = out.join(format!(".x.tmp-{dead_pid}-7.h5"));
-        fs::write(&stray, "").unwrap();
+        let alive = create_staging(out, 1).unwrap();
         recover(out).unwrap();
         assert_eq!(fs::read_to_string(out.join("x.h5")).unwrap(), "new");
-        assert!(!complete.exists() && !partial.exists() && !out.join("y.h5").exists() && !stray.exists());
+        assert!(!complete.exists() && !partial.exists() && !out.join("y.h5").exists());
         assert!(alive.exists(), "a running process's staging folder is left alone");
+        let mut left: Vec<_> = fs::read_dir(out).unwrap().map(|e| e.unwrap().file_name()).collect();
+        left.sort();
+        assert_eq!(left, [alive.file_name().unwrap(), "x.h5".as_ref()]);
+    }
+
+    #[test]
+    fn what_only_looks_like_ours_is_left_alone() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("out");
+        fs::create_dir(&out).unwrap();
+        // A user's folder and file named like a staging folder and a temporary file.
+        let users = out.join(format!("{PREFIX}{DEAD}-0"));
+        fs::create_dir(&users).unwrap();
+        fs::write(users.join("notes.txt"), "mine").unwrap();
+        fs::write(users.join(MARKER), "").unwrap();
+        let notes = out.join(format!(".notes.tmp-{DEAD}-1.txt"));
+        fs::write(&notes, "mine").unwrap();
+        // A forged owner file naming another process.
+        let forged = out.join(format!("{PREFIX}{DEAD}-1"));
+        fs::create_dir(&forged).unwrap();
+        fs::write(forged.join(OWNER), owner_text(DEAD + 1)).unwrap();
+        // A link to another folder, marked and committed there.
+        let other = create_staging(dir.path(), DEAD).unwrap();
+        fs::write(other.join("theirs.h5"), "theirs").unwrap();
+        fs::write(other.join(MARKER), "").unwrap();
+        let link = out.join(format!("{PREFIX}{DEAD}-2"));
+        std::os::unix::fs::symlink(&other, &link).unwrap();
+        let set = OutputSet::begin(&out).unwrap();
+        fs::write(set.dir().join("r.json"), "1").unwrap();
+        set.commit().unwrap();
+        assert_eq!(fs::read_to_string(users.join("notes.txt")).unwrap(), "mine");
+        assert!(users.join(MARKER).exists() && forged.join(OWNER).exists());
+        assert_eq!(fs::read_to_string(&notes).unwrap(), "mine");
+        assert!(fs::symlink_metadata(&link).unwrap().is_symlink());
+        assert_eq!(fs::read_to_string(other.join("theirs.h5")).unwrap(), "theirs");
+        assert!(!out.join("theirs.h5").exists());
+        assert_eq!(fs::read_to_string(out.join("r.json")).unwrap(), "1");
+        // The four planted entries and the output; the set's staging folder and lock are gone.
+        assert_eq!(fs::read_dir(&out).unwrap().count(), 5);
     }
 }

@@ -150,7 +150,9 @@ pub fn write_report(t: &SweepTable, out: &Path) -> Result<PathBuf> {
         p.section("figure", "Net power into the beam");
         p.push(&format!("<figure>\n{}\n</figure>\n", f.svg(&path.display().to_string())?));
     }
-    if let Ok(text) = std::fs::read_to_string(&t.sweep_file) {
+    // The table names the file it came from (a merged shard may name any path): read it as
+    // any input, or leave the section out.
+    if let Ok(text) = crate::input_file::read_text(std::path::Path::new(&t.sweep_file)) {
         p.section("sweep", "Sweep file");
         p.push(&format!("<p><code>{}</code></p>\n<pre>{}</pre>\n", escape(&t.sweep_file), escape(&text)));
     }

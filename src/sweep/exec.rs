@@ -282,18 +282,30 @@ fn read_parts(dir: &Path, hash: &str, shape: (usize, usize, usize)) -> Vec<Row> 
     files
         .par_iter()
         .flat_map_iter(|p| {
-            let b = std::fs::read(p).unwrap_or_default();
+            // Only the regular files this program wrote: a FIFO planted here would block.
+            let b = crate::input_file::regular_file(p).ok().and_then(|()| std::fs::read(p).ok()).unwrap_or_default();
             b.chunks_exact(record).filter_map(|c| decode_part(c, hash, shape)).collect::<Vec<_>>()
         })
         .collect()
 }
 
 /// Prepares a checkpoint directory: creates it with a `sweep-id` file, or checks that an
-/// existing one belongs to this sweep.
+/// existing one belongs to this sweep. The directory is removed once the table is written,
+/// so one this program did not make (a link, a folder of other files) is refused.
 fn open_checkpoint(dir: &Path, sweep: &Sweep) -> Result<()> {
     let id = dir.join("sweep-id");
     let text = format!("{}\n{}\n", sweep.hash, sweep.len());
-    if dir.exists() {
+    if let Ok(meta) = std::fs::symlink_metadata(dir) {
+        let empty = || std::fs::read_dir(dir).is_ok_and(|mut d| d.next().is_none());
+        let ours = meta.is_dir() && (std::fs::symlink_metadata(&id).is_ok_and(|m| m.is_file()) || empty());
+        if !ours {
+            return Err(Error::input(
+                dir.display().to_string(),
+                "sweep-id",
+                "is not a checkpoint folder of a sweep (a link, or a folder of other files): move it away or \
+                 choose another --out",
+            ));
+        }
         if let Ok(found) = crate::input_file::read_text(&id) {
             if found != text {
                 return Err(Error::input(

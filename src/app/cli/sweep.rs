@@ -1,6 +1,7 @@
 //! `beamflow sweep` and `beamflow merge`.
 
 use crate::error::{Error, Result};
+use crate::io::lock::OutputLock;
 use crate::io::paths::{refuse_input, Input};
 use crate::report::sweep as report;
 use crate::sweep::{self, RunOptions, Shard, SweepTable};
@@ -102,6 +103,9 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
             None => String::new(),
         }
     );
+    // Held to the last report file: a second sweep into the same table waits, then reuses
+    // it (shards into one folder have tables of their own and run at once).
+    let _lock = OutputLock::file(&args.out)?;
     let opts = RunOptions { threads: args.threads, shard, progress: true, ..Default::default() };
     let t0 = std::time::Instant::now();
     let ex = sweep::execute(&s, &args.out, &opts)?;
@@ -127,6 +131,7 @@ pub fn merge(args: &MergeArgs) -> Result<()> {
     let inputs: Vec<Input> = args.shards.iter().map(|p| Input::new(p, "a shard to merge")).collect();
     refuse_overwrite(&args.out, &inputs)?;
     let t = sweep::merge_files(&args.shards)?;
+    let _lock = OutputLock::file(&args.out)?;
     t.write(&args.out)?;
     crate::say!("merged {} shards, {} cases: wrote {}", args.shards.len(), t.rows.len(), args.out.display());
     write_csv(&t, &args.out, args.csv)?;
