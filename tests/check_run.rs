@@ -72,3 +72,25 @@ fn check_refuses_what_run_refuses_before_any_solve() {
         assert_eq!(visible_files(&out), 0, "case {i}: run wrote files before refusing");
     }
 }
+
+/// `--quiet` means nothing on either stream, whichever command it is given to.
+#[test]
+fn quiet_commands_print_nothing() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let out = tempfile::tempdir().unwrap();
+    let o = |name: &str| out.path().join(name).to_string_lossy().into_owned();
+    let cases = |name: &str| root.join("cases").join(name).to_string_lossy().into_owned();
+    let commands: Vec<Vec<String>> = vec![
+        vec!["check".into(), cases("two-frames.toml")],
+        vec!["modes".into(), cases("paper-beam.toml")],
+        vec!["run".into(), cases("placement-frame.toml"), "--no-plots".into(), "--out".into(), o("run")],
+        vec!["sweep".into(), cases("placement-frame.sweep.toml"), "--out".into(), o("sweep.h5")],
+        vec!["optimize".into(), cases("two_frames.opt.toml"), "--no-plots".into(), "--out".into(), o("opt")],
+    ];
+    for args in commands {
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow")).arg("--quiet").args(&args).output().unwrap();
+        assert!(r.status.success(), "{args:?}: {}", String::from_utf8_lossy(&r.stderr));
+        let (stdout, stderr) = (String::from_utf8_lossy(&r.stdout), String::from_utf8_lossy(&r.stderr));
+        assert!(stdout.is_empty() && stderr.is_empty(), "{args:?} printed:\n{stdout}{stderr}");
+    }
+}

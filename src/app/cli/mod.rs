@@ -158,6 +158,14 @@ pub fn write_text_or_stdout(path: &std::path::Path, text: &str) -> Result<()> {
 }
 
 /// The body of [`say!`](crate::say).
+/// A status line that belongs on standard error whatever `--json` does (a sweep's and an
+/// optimisation's counts and timings); nothing with `--quiet`.
+pub fn note_line(args: std::fmt::Arguments) {
+    if !matches!(status(), Status::Quiet) {
+        eprintln!("{args}");
+    }
+}
+
 pub fn say_line(args: std::fmt::Arguments) {
     use std::io::Write;
     match status() {

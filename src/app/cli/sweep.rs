@@ -91,7 +91,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         "vary fewer values, or split the sweep with --shard",
     );
     args.budget.budget().admit(&cost).map_err(|e| e.in_file(&s.file))?;
-    eprintln!(
+    crate::app::cli::note_line(format_args!(
         "{}: {} cases{}, {} analysis, {} harmonics{}",
         s.file,
         s.len(),
@@ -102,7 +102,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
             Some(r) => format!(", Rayleigh a0 = {:.6e} 1/s, a1 = {:.6e} s computed once", r.a0, r.a1),
             None => String::new(),
         }
-    );
+    ));
     // Held to the last report file: a second sweep into the same table waits, then reuses
     // it (shards into one folder have tables of their own and run at once).
     let _lock = OutputLock::file(&args.out)?;
@@ -110,12 +110,12 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
     let ex = sweep::execute(&s, &args.out, &opts)?;
     let dt = t0.elapsed().as_secs_f64();
-    eprintln!(
+    crate::app::cli::note_line(format_args!(
         "{} cases computed in {dt:.2} s ({:.1} cases/s), {} reused",
         ex.computed,
         if dt > 0.0 { ex.computed as f64 / dt } else { 0.0 },
         ex.reused
-    );
+    ));
     crate::say!("wrote {}", args.out.display());
     write_csv(&ex.table, &args.out, args.csv)?;
     if !args.no_plots {
