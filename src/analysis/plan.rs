@@ -21,11 +21,10 @@ pub fn calibrated_model(lc: &LoadedCase) -> Result<Model> {
     Ok(model)
 }
 
-/// The calibrated model and its assembled system, errors named in the case file.
+/// The calibrated model and its assembled system, errors named in the case file, within
+/// the machine's default [`Budget`] (what the Python package builds).
 pub fn model_and_system(lc: &LoadedCase) -> Result<(Model, System)> {
-    let model = calibrated_model(lc)?;
-    let system = System::assemble(&model).map_err(|e| e.in_file(&lc.file))?;
-    Ok((model, system))
+    model_and_system_within(lc, &Budget::default())
 }
 
 /// [`model_and_system`] within `budget`: the mesh is sized before it is built, and the
