@@ -14,7 +14,7 @@ seconds="${FUZZ_SECONDS:-60}"
 timeout_s="${FUZZ_TIMEOUT:-10}"
 rss="${FUZZ_RSS_MB:-2048}"
 targets=("$@")
-[[ ${#targets[@]} -eq 0 ]] && targets=(case csv mesh)
+[[ ${#targets[@]} -eq 0 ]] && targets=(case csv mesh sweep optimize)
 reg="$root/tests/data/hostile/fuzz"
 
 cd "$root/fuzz"
@@ -24,7 +24,13 @@ for t in "${targets[@]}"; do
         case) seeds=("$root/cases" "$root/tests/data/hostile/names" "$root/tests/data/hostile/paths" "$reg") ;;
         csv) seeds=("$root/fuzz/seeds/csv" "$root/tests/data" "$reg/csv") ;;
         mesh) seeds=("$root/meshes" "$reg/mesh") ;;
-        *) echo "test-fuzz: unknown target $t (case, csv, mesh)" >&2; exit 2 ;;
+        # The shipped studies, copied apart from the cases they name as their base.
+        sweep | optimize)
+            ext=$([[ $t == sweep ]] && echo sweep || echo opt)
+            mkdir -p "corpus/seeds-$t"
+            cp "$root"/cases/*."$ext".toml "corpus/seeds-$t/"
+            seeds=("$root/fuzz/corpus/seeds-$t" "$reg/$t") ;;
+        *) echo "test-fuzz: unknown target $t (case, csv, mesh, sweep, optimize)" >&2; exit 2 ;;
     esac
     existing=()
     for s in "${seeds[@]}"; do [[ -d "$s" ]] && existing+=("$s"); done

@@ -16,7 +16,12 @@
 //! # expect: actuator[0].name | valid name
 //! # files: sensor.csv
 //! # names: sensor.csv
+//! # seconds: 1
+//! # memory: 100M
 //! ```
+//! `seconds` and `memory` bound the row's wall time and the peak resident memory of the
+//! program and everything it starts (measured by `wait4`), for rows that must be refused
+//! from their sizes alone, before any work or allocation.
 //! All rows run before the test reports, so one run lists every failing row.
 
 use std::collections::BTreeMap;
@@ -44,6 +49,10 @@ struct Row {
     files: Vec<String>,
     /// The file the message must name (default: the case file's name).
     names: Option<String>,
+    /// Most wall time the row may take.
+    seconds: Option<Duration>,
+    /// Most resident memory (bytes) the program may reach.
+    memory: Option<u64>,
 }
 
 fn table_dir() -> PathBuf {
@@ -62,6 +71,8 @@ fn parse_row(path: &Path) -> Result<Row, String> {
         expect: Vec::new(),
         files: Vec::new(),
         names: None,
+        seconds: None,
+        memory: None,
     };
     let list = |v: &str, sep: char| v.split(sep).map(str::trim).filter(|s| !s.is_empty()).map(String::from).collect();
     for line in text.lines().map(str::trim).take_while(|l| l.starts_with('#')) {
@@ -73,6 +84,11 @@ fn parse_row(path: &Path) -> Result<Row, String> {
             "expect" => row.expect = list(value, '|'),
             "files" => row.files = list(value, ','),
             "names" => row.names = Some(value.to_string()),
+            "seconds" => {
+                let s: f64 = value.parse().map_err(|_| format!("`# seconds: {value}` is not a number"))?;
+                row.seconds = Some(Duration::from_secs_f64(s));
+            }
+            "memory" => row.memory = Some(beamflow::analysis::budget::parse_bytes(value)?),
             _ => {}
         }
     }
@@ -185,14 +201,33 @@ fn output_non_finite(path: &Path) -> Option<String> {
     }
 }
 
-/// Runs `program` with `args` in `cwd`, killed after [`TIMEOUT`]: exit status (None when
-/// killed), standard error, time taken.
-fn run_with_timeout(
-    program: &Path,
-    args: &[String],
-    cwd: &Path,
-    err_path: &Path,
-) -> Result<(Option<i32>, String, Duration), String> {
+/// How a row's program ended.
+struct Ended {
+    /// Exit status (None when killed at [`TIMEOUT`]; -1 when ended by a signal).
+    status: Option<i32>,
+    stderr: String,
+    took: Duration,
+    /// Peak resident memory of the program and the processes it waited for (bytes).
+    peak: u64,
+}
+
+/// Reaps `pid` (`block`: waits for it), with its resource usage, or None while it runs.
+fn reap(pid: libc::pid_t, block: bool) -> Result<Option<(i32, libc::rusage)>, String> {
+    let mut status = 0;
+    // SAFETY: an all-zero rusage is a valid value of the plain C struct.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: `pid` is a child of this process not yet reaped (only this function reaps
+    // it), and both out-pointers are valid for the call.
+    let r = unsafe { libc::wait4(pid, &mut status, if block { 0 } else { libc::WNOHANG }, &mut usage) };
+    match r {
+        0 => Ok(None),
+        r if r == pid => Ok(Some((status, usage))),
+        _ => Err(format!("wait4: {}", std::io::Error::last_os_error())),
+    }
+}
+
+/// Runs `program` with `args` in `cwd`, killed after [`TIMEOUT`].
+fn run_with_timeout(program: &Path, args: &[String], cwd: &Path, err_path: &Path) -> Result<Ended, String> {
     let err_file = std::fs::File::create(err_path).map_err(|e| e.to_string())?;
     let start = Instant::now();
     let mut child = Command::new(program)
@@ -204,20 +239,24 @@ fn run_with_timeout(
         .stderr(err_file)
         .spawn()
         .map_err(|e| format!("cannot start {}: {e}", program.display()))?;
-    let status = loop {
-        if let Some(s) = child.try_wait().map_err(|e| e.to_string())? {
-            break Some(s);
+    let pid = child.id() as libc::pid_t;
+    let (status, usage) = loop {
+        if let Some((status, usage)) = reap(pid, false)? {
+            let code = if libc::WIFEXITED(status) { libc::WEXITSTATUS(status) } else { -1 };
+            break (Some(code), usage);
         }
         if start.elapsed() > TIMEOUT {
             let _ = child.kill();
-            let _ = child.wait();
-            break None;
+            let (_, usage) = reap(pid, true)?.expect("a blocking wait reaps");
+            break (None, usage);
         }
         std::thread::sleep(Duration::from_millis(10));
     };
     let took = start.elapsed();
     let stderr = std::fs::read_to_string(err_path).unwrap_or_default();
-    Ok((status.map(|s| s.code().unwrap_or(-1)), stderr, took))
+    // Linux counts ru_maxrss in KiB.
+    let peak = u64::try_from(usage.ru_maxrss).unwrap_or(0) * 1024;
+    Ok(Ended { status, stderr, took, peak })
 }
 
 /// Runs one row in a fresh sandbox; every problem found, and the time it took.
@@ -248,10 +287,17 @@ fn check_row(program: &Path, row: &Row) -> (Vec<String>, Duration) {
     };
     let args: Vec<String> = row.args.iter().map(expand).collect();
     let before = snapshot(&root);
-    let (status, stderr, took) = match run_with_timeout(program, &args, &dir, &sandbox.path().join("stderr.txt")) {
-        Ok(r) => r,
-        Err(e) => return (vec![e], Duration::ZERO),
-    };
+    let Ended { status, stderr, took, peak } =
+        match run_with_timeout(program, &args, &dir, &sandbox.path().join("stderr.txt")) {
+            Ok(r) => r,
+            Err(e) => return (vec![e], Duration::ZERO),
+        };
+    if let Some(limit) = row.seconds.filter(|&l| took > l) {
+        problems.push(format!("took {took:.2?}, more than the row's {limit:?}"));
+    }
+    if let Some(limit) = row.memory.filter(|&l| peak > l) {
+        problems.push(format!("reached {} MB of memory, more than the row's {} MB", peak >> 20, limit >> 20));
+    }
     match status {
         None => problems.push(format!("no answer within {TIMEOUT:?} (a hang)")),
         Some(code) if code != row.exit => problems.push(format!("exit status {code}, expected {}", row.exit)),
@@ -357,6 +403,8 @@ fn the_runner_catches_escapes_nan_panics_and_wrong_status() {
         expect: Vec::new(),
         files: Vec::new(),
         names: None,
+        seconds: Some(Duration::from_secs(1)),
+        memory: Some(100 << 20),
     };
     let fails = |script: &str, exit: i32, what: &str| {
         let (problems, _) = check_row(&sh, &row(script, exit));
@@ -372,4 +420,7 @@ fn the_runner_catches_escapes_nan_panics_and_wrong_status() {
     fails("echo 'thread main panicked' >&2; exit 1", 1, "panic");
     fails("echo 'error: something' >&2; exit 1", 1, "does not name the file `x.toml`");
     fails("exit 3", 1, "exit status 3");
+    fails("sleep 1.5", 0, "more than the row's 1s");
+    // A child of the program that grows past the limit counts too.
+    fails("dd if=/dev/zero of=/dev/null bs=300M count=1 2>/dev/null", 0, "MB of memory");
 }

@@ -174,10 +174,12 @@ impl NativeCase {
         self.clone()
     }
 
-    /// Builds the model and assembles the system, as `beamflow check` does.
+    /// Builds the model and assembles the system, and holds every analysis to the
+    /// machine's default budget, as `beamflow check` does.
     fn check<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let lc = self.loaded().py_err()?;
-        let (built, sys) = background::run(py, None, move || beamflow::analysis::plan::model_and_system(&lc))?;
+        let budget = beamflow::analysis::budget::Budget::default();
+        let (built, sys, _) = background::run(py, None, move || beamflow::app::runner::planned(&lc, &budget))?;
         let d = PyDict::new(py);
         d.set_item("elements", built.beam.as_ref().map_or(0, |b| b.mesh.elements.len()))?;
         d.set_item("dofs", sys.n())?;

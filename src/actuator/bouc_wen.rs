@@ -272,14 +272,19 @@ impl BoucWen {
     /// the monotone pieces between the input's turning points. What a time stepper calls once
     /// per step.
     pub fn advance_time(&self, input: &VoltageInput, h: f64, t0: f64, t1: f64) -> f64 {
+        let turns: Vec<f64> = input.turning_points(t0, t1).into_iter().map(|t| input.value(t)).collect();
+        self.advance_through(h, input.value(t0), &turns, input.value(t1))
+    }
+
+    /// `h` after the voltage runs from `v0` through `turns` (its values at its turning
+    /// points, in order) to `v1`: [`advance`](Self::advance) over each monotone piece.
+    fn advance_through(&self, h: f64, v0: f64, turns: &[f64], v1: f64) -> f64 {
         let mut acc = Accumulator::new(h);
-        let mut v = input.value(t0);
-        for tp in input.turning_points(t0, t1) {
-            let vt = input.value(tp);
+        let mut v = v0;
+        for &vt in turns.iter().chain(std::iter::once(&v1)) {
             acc.add(self.increment(acc.value(), v, vt));
             v = vt;
         }
-        acc.add(self.increment(acc.value(), v, input.value(t1)));
         acc.value()
     }
 
@@ -384,10 +389,14 @@ impl BoucWen {
             return Err(Error::argument("tol", format!("must be a finite number ≥ 0, got {tol}")));
         }
         let scale = self.bound(h0).max(f64::MIN_POSITIVE);
+        // The input repeats with `period`: the turning points of one period serve every
+        // settling period, so the search over the input runs once, not once a period.
+        let turns: Vec<f64> = input.turning_points(0.0, period).into_iter().map(|t| input.value(t)).collect();
+        let (v_start, v_end) = (input.value(0.0), input.value(period));
         // Period p runs from p·T to (p + 1)·T, starting at h_start.
         let (mut p, mut h_start) = (0, h0);
         let change = loop {
-            let h_end = self.advance_time(input, h_start, p as f64 * period, (p as f64 + 1.0) * period);
+            let h_end = self.advance_through(h_start, v_start, &turns, v_end);
             let change = (h_end - h_start).abs() / scale;
             if change <= tol || p + 1 == max_periods {
                 break change;

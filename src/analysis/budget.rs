@@ -62,6 +62,7 @@ impl Budget {
         Err(match cost.scope {
             CostScope::Analysis => Error::analysis_setting(&cost.field, reason),
             CostScope::Case => Error::case_field(&cost.field, reason),
+            CostScope::Argument => Error::argument(&cost.field, reason),
         })
     }
 }
@@ -73,6 +74,8 @@ pub enum CostScope {
     Analysis,
     /// A dotted path from the case's root.
     Case,
+    /// An argument of a command (e.g. `--particles`).
+    Argument,
 }
 
 /// The estimated memory and steps of a request, with the field that drives them.

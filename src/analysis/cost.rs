@@ -235,6 +235,57 @@ pub fn steady_state(model: &Model, sys: &System, samples: usize) -> Cost {
         .of_setting("samples_per_period", "use fewer `samples_per_period` (default 1024)")
 }
 
+/// The turning-point search over the drives of the hysteretic stacks, for the drive that
+/// takes the most ([`crate::signal::voltage::VoltageInput::search_evaluations`]): `span`
+/// seconds of drive cut into `intervals`. Each evaluation counts as a step (it is far
+/// cheaper than one). None when no stack's drive needs a search.
+pub fn drive_search(model: &Model, span: f64, intervals: u64) -> Option<Cost> {
+    let (a, evaluations) = model
+        .actuators
+        .iter()
+        .enumerate()
+        .filter(|(_, a)| a.stack().hysteresis_on)
+        .map(|(i, a)| (i, a.stack().voltage.search_evaluations(span, intervals)))
+        .max_by_key(|(_, n)| n.unwrap_or(u64::MAX))?;
+    if evaluations == Some(0) {
+        return None;
+    }
+    let detail = format!("{span:.3e} s of drive searched for its turning points (hysteresis), {intervals} intervals");
+    Some(
+        cost(Some(0), evaluations, "drive evaluations", "the drive's turning-point search".into(), detail)
+            .of_case_field(
+                &format!("actuator[{a}].voltage"),
+                "give the drive fewer components or lower frequencies (or a shorter run)",
+            ),
+    )
+}
+
+/// The turning-point search of a stack's periodic cycle on `timing`: one period searched
+/// for the periods it takes to settle, one at its samples.
+pub fn cycle_search(model: &Model, timing: &DriveTiming) -> Option<Cost> {
+    drive_search(model, 2.0 * timing.period, count(timing.steps_per_period))
+}
+
+/// A request sized by the arguments of a command (a fit, a synthetic record): `bytes` at
+/// the peak and `steps` counted in `unit`, driven by the argument `flag`.
+pub fn of_arguments(
+    what: &str,
+    (bytes, steps): (Option<u64>, Option<u64>),
+    unit: &'static str,
+    detail: String,
+    flag: &str,
+    advice: &str,
+) -> Cost {
+    let mut c = cost(bytes, steps, unit, what.to_string(), detail);
+    (c.field, c.scope, c.advice) = (flag.to_string(), CostScope::Argument, advice.to_string());
+    c
+}
+
+/// A recorded series of `samples` rows of `columns` numbers, held as numbers and as CSV text.
+pub fn record_bytes(samples: u64, columns: u64) -> Option<u64> {
+    product(&[samples, columns, 8 * SERIES_COPIES + 24])
+}
+
 /// The number of frequencies a harmonic analysis's list holds, None past 64 bits.
 pub fn frequency_count(spec: &crate::case::FrequencySpec) -> Option<u64> {
     count(spec.values.len()).checked_add(spec.count.map_or(0, count))

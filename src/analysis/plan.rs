@@ -8,9 +8,10 @@
 use super::budget::Budget;
 use super::cost;
 use super::modes::bare_modes;
+use super::roundoff;
 use crate::assembly::{Damping, DofMap, Model, Rayleigh, System};
 use crate::beam::Beam;
-use crate::case::{build_model, LoadedCase};
+use crate::case::{build_model, AnalysisSpec, LoadedCase};
 use crate::error::{Error, Result};
 
 /// The model a case describes, with its damping calibrated: the model every analysis runs.
@@ -20,22 +21,30 @@ pub fn calibrated_model(lc: &LoadedCase) -> Result<Model> {
     Ok(model)
 }
 
-/// The calibrated model and its assembled system, errors named in the case file.
+/// The calibrated model and its assembled system, errors named in the case file, within
+/// the machine's default [`Budget`] (what the Python package builds).
 pub fn model_and_system(lc: &LoadedCase) -> Result<(Model, System)> {
-    let model = calibrated_model(lc)?;
-    let system = System::assemble(&model).map_err(|e| e.in_file(&lc.file))?;
-    Ok((model, system))
+    model_and_system_within(lc, &Budget::default())
 }
 
 /// [`model_and_system`] within `budget`: the mesh is sized before it is built, and the
 /// model (its DOFs and the modes its damping is calibrated at) before it is calibrated
-/// and assembled.
+/// and assembled. A case with an analysis that solves on the mesh (any but `modes`) has
+/// its elements held to [`roundoff::MESH_ELEMENTS_LIMIT`] as written, and a mesh file's
+/// once read, before the damping is calibrated on it.
 pub fn model_and_system_within(lc: &LoadedCase, budget: &Budget) -> Result<(Model, System)> {
+    let solves = lc.case.analysis.iter().any(|a| !matches!(a, AnalysisSpec::Modes { .. }));
     if let Some(c) = cost::mesh(lc) {
         budget.admit(&c).map_err(|e| e.in_file(&lc.file))?;
+        if solves {
+            roundoff::admit_elements(lc.case.beam.mesh.elements).map_err(|e| e.in_file(&lc.file))?;
+        }
     }
     let mut model = build_model(lc)?;
     budget.admit(&cost::model(&model)).map_err(|e| e.in_file(&lc.file))?;
+    if let (true, Some(beam)) = (solves, &model.beam) {
+        roundoff::admit_elements(beam.mesh.elements.len()).map_err(|e| e.in_file(&lc.file))?;
+    }
     calibrate(&mut model).map_err(|e| e.in_file(&lc.file))?;
     let system = System::assemble(&model).map_err(|e| e.in_file(&lc.file))?;
     Ok((model, system))

@@ -11,6 +11,7 @@
 //! this way.
 
 use crate::assembly::Model;
+use crate::error::{Error, Result};
 
 /// Most elements for which the solves hold point powers and mobilities to 1e-6.
 pub const MESH_ELEMENTS_LIMIT: usize = 500;
@@ -18,5 +19,28 @@ pub const MESH_ELEMENTS_LIMIT: usize = 500;
 /// The estimated relative round-off of point powers and mobilities on `model`'s mesh
 /// (0 without a beam): 1.5e-5·(elements / 1000)⁴, an upper envelope of the measured error.
 pub fn mesh_roundoff(model: &Model) -> f64 {
-    model.beam.as_ref().map_or(0.0, |b| 1.5e-5 * (b.mesh.elements.len() as f64 / 1000.0).powi(4))
+    model.beam.as_ref().map_or(0.0, |b| roundoff_of(b.mesh.elements.len()))
+}
+
+/// The estimated relative round-off of a mesh of `elements` elements.
+fn roundoff_of(elements: usize) -> f64 {
+    1.5e-5 * (elements as f64 / 1000.0).powi(4)
+}
+
+/// Refuses a mesh of more than [`MESH_ELEMENTS_LIMIT`] elements for the analyses that
+/// solve on it (harmonic, steady state, transient): a count, so it is refused from the case
+/// as written, before the mesh is built.
+pub fn admit_elements(elements: usize) -> Result<()> {
+    if elements <= MESH_ELEMENTS_LIMIT {
+        return Ok(());
+    }
+    Err(Error::case_field(
+        "beam.mesh.elements",
+        format!(
+            "{elements} elements: the round-off of the assembled stiffness would reach ≈ {:.0e} of the point \
+             powers and mobilities (it grows as elements⁴), above 1e-6; harmonic, steady-state and transient \
+             analyses take at most {MESH_ELEMENTS_LIMIT} elements (modes analyses any number)",
+            roundoff_of(elements)
+        ),
+    ))
 }

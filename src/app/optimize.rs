@@ -46,7 +46,7 @@ pub fn optimize(
     for name in OUTPUTS {
         refuse_input("--out", &output_file(out, name)?, &inputs)?;
     }
-    let opts = RunOptions { threads, progress: true, ..Default::default() };
+    let opts = RunOptions { threads, progress: true, budget: *budget, ..Default::default() };
     let r = optimize::run(&spec, &opts)?;
     let set = crate::io::output_set::OutputSet::begin(out)?;
     let dir = set.dir().to_path_buf();

@@ -143,7 +143,12 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                     let s = transient_settings(spec, false).expect("transient");
                     let timing =
                         DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
-                    budget.admit(&cost::transient(model, system, &s, &timing))?;
+                    let stepping = cost::transient(model, system, &s, &timing);
+                    budget.admit(&stepping)?;
+                    let steps = stepping.steps.unwrap_or(u64::MAX);
+                    if let Some(search) = cost::drive_search(model, steps as f64 * timing.dt, steps) {
+                        budget.admit(&search)?;
+                    }
                     transient::record_segments(&timing, s.segment)?;
                     match reduction {
                         // Modal damping is a matrix only in modal coordinates.
@@ -159,7 +164,10 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                 }
                 AnalysisSpec::SteadyState { samples_per_period, reduction, .. } => {
                     budget.admit(&cost::steady_state(model, system, *samples_per_period))?;
-                    DriveTiming::sampled(model, *samples_per_period)?;
+                    let timing = DriveTiming::sampled(model, *samples_per_period)?;
+                    if let Some(search) = cost::cycle_search(model, &timing) {
+                        budget.admit(&search)?;
+                    }
                     if model.loss_factor() > 0.0 && reduction.is_some() {
                         return Err(Error::analysis_setting(
                             "reduction",
@@ -202,20 +210,7 @@ pub use crate::analysis::roundoff::MESH_ELEMENTS_LIMIT;
 /// Refuses a mesh whose round-off would exceed 1e-6 of the point powers (see
 /// [`crate::analysis::roundoff`]).
 fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
-    let Some(beam) = &model.beam else { return Ok(()) };
-    let n = beam.mesh.elements.len();
-    if n <= MESH_ELEMENTS_LIMIT {
-        return Ok(());
-    }
-    let estimate = crate::analysis::roundoff::mesh_roundoff(model);
-    Err(Error::case_field(
-        "beam.mesh.elements",
-        format!(
-            "{n} elements: the round-off of the assembled stiffness would reach ≈ {estimate:.0e} of the point \
-             powers and mobilities (it grows as elements⁴), above 1e-6; harmonic, steady-state and transient \
-             analyses take at most {MESH_ELEMENTS_LIMIT} elements (modes analyses any number)"
-        ),
-    ))
+    model.beam.as_ref().map_or(Ok(()), |beam| crate::analysis::roundoff::admit_elements(beam.mesh.elements.len()))
 }
 
 /// The model, system and measurements of a case whose every analysis passed [`preflight`]

@@ -192,6 +192,9 @@ pub struct FitOptions {
     /// Swarm settings (the seed is taken from here by [`fit`]).
     #[serde(default)]
     pub pso: PsoOptions,
+    /// What the fits may take (`--max-memory`, `--max-steps`), held before the swarm starts.
+    #[serde(skip)]
+    pub budget: crate::analysis::budget::Budget,
 }
 
 fn default_alpha() -> (f64, f64) {
@@ -204,7 +207,13 @@ fn default_beta() -> (f64, f64) {
 impl FitOptions {
     /// Defaults with the given d_p.
     pub fn new(d_p: f64) -> Self {
-        FitOptions { d_p, alpha_range: default_alpha(), beta_range: default_beta(), pso: PsoOptions::default() }
+        FitOptions {
+            d_p,
+            alpha_range: default_alpha(),
+            beta_range: default_beta(),
+            pso: PsoOptions::default(),
+            budget: Default::default(),
+        }
     }
 
     fn validate(&self, file: &str) -> Result<()> {
@@ -414,11 +423,37 @@ impl MultiSeedFit {
     }
 }
 
+/// What the swarms of `seeds` fits take: each particle simulates the cycle once an
+/// iteration (and once at the start), and holds its position, velocity and best.
+fn swarm_cost(data: &CycleData, opts: &FitOptions, seeds: usize) -> crate::analysis::budget::Cost {
+    use crate::analysis::budget::{count, product, sum};
+    let (particles, iterations) = (count(opts.pso.particles), count(opts.pso.max_iterations));
+    let samples = count(data.voltage.len());
+    let steps = product(&[count(seeds), particles, iterations.saturating_add(1), samples]);
+    let bytes = sum(&[product(&[particles, 3 * 8 * 4]), product(&[samples, 8 * 8])]);
+    // The argument furthest above its default drives the estimate.
+    let defaults = PsoOptions::default();
+    let flag = if particles * count(defaults.max_iterations) >= iterations * count(defaults.particles) {
+        "--particles"
+    } else {
+        "--max-iterations"
+    };
+    crate::analysis::cost::of_arguments(
+        "this identification",
+        (bytes, steps),
+        "cycle samples simulated",
+        format!("{seeds} seeds × {particles} particles × {iterations} iterations × {samples} samples per cycle"),
+        flag,
+        "use fewer --particles, --max-iterations or --seeds",
+    )
+}
+
 /// [`fit`] once per seed (the seeds replace `opts.pso.seed`).
 pub fn fit_multi_seed(data: &CycleData, opts: &FitOptions, seeds: &[u64]) -> Result<MultiSeedFit> {
     if seeds.is_empty() {
         return Err(Error::input(&data.file, "seeds", "give at least one seed"));
     }
+    opts.budget.admit(&swarm_cost(data, opts, seeds.len())).map_err(|e| e.in_file("<cli>"))?;
     let mut fits = Vec::with_capacity(seeds.len());
     for &seed in seeds {
         let mut o = opts.clone();

@@ -84,6 +84,9 @@ pub struct SynthOptions {
     pub mass: Option<f64>,
     /// Impact test: number of hammer hits (default 8).
     pub hits: usize,
+    /// What the records may take (`--max-memory`, `--max-steps`).
+    #[serde(skip)]
+    pub budget: crate::analysis::budget::Budget,
 }
 
 impl Default for SynthOptions {
@@ -101,6 +104,7 @@ impl Default for SynthOptions {
             element: IdentifiedElement::Stack,
             mass: None,
             hits: 8,
+            budget: Default::default(),
         }
     }
 }
@@ -236,7 +240,17 @@ impl SynthOptions {
                 return Err(cli_err("--offset", format!("must be a non-zero voltage, got {dv}")));
             }
         }
-        Ok(())
+        use crate::analysis::{budget, cost};
+        let samples = budget::product(&[budget::count(self.periods), budget::count(self.samples_per_period), 2]);
+        let c = cost::of_arguments(
+            "this synthetic measurement",
+            (samples.and_then(|n| cost::record_bytes(n, 3)), samples),
+            "samples",
+            format!("{} periods × {} samples per period, two records at most", self.periods, self.samples_per_period),
+            if self.periods >= self.samples_per_period { "--periods" } else { "--samples-per-period" },
+            "ask for fewer periods or samples per period",
+        );
+        self.budget.admit(&c).map_err(|e| e.in_file("<cli>"))
     }
 }
 

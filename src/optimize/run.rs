@@ -20,6 +20,8 @@ pub struct RunOptions {
     pub progress: bool,
     /// Called after each evaluation (tests count them).
     pub on_evaluated: Option<Arc<dyn Fn() + Send + Sync>>,
+    /// What each candidate may take, held before the search starts ([`Spec::admit`]).
+    pub budget: crate::analysis::budget::Budget,
 }
 
 /// What an optimisation found.
@@ -119,6 +121,7 @@ impl Recorder<'_> {
 /// is solved; when no solved candidate meets the constraints, the error names the one
 /// broken most often.
 pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
+    spec.admit(&opts.budget)?;
     spec.check_limits_can_hold(2000)?;
     let pool = crate::sweep::exec::thread_pool(opts.threads)?;
     let t0 = std::time::Instant::now();

@@ -317,6 +317,24 @@ impl Spec {
         })
     }
 
+    /// Holds every candidate to `budget` before the search starts: each variable at its
+    /// bounds (or each of its values), and the steady state on the largest case
+    /// ([`BaseCase::admit_cases`]).
+    pub fn admit(&self, budget: &crate::analysis::budget::Budget) -> Result<()> {
+        let mut extremes = Vec::new();
+        for (i, v) in self.variables.iter().enumerate() {
+            let values = match &v.domain {
+                Domain::Choice(values) => values.clone(),
+                _ => vec![v.value(0.0), v.value(1.0)],
+            };
+            for f in &v.fields {
+                extremes.extend(values.iter().map(|x| (format!("variable[{i}]"), f, x.clone())));
+            }
+        }
+        let counts = (self.harmonics, self.samples_per_period);
+        self.base.admit_cases(&self.file, &extremes, crate::sweep::SweepAnalysis::SteadyState, counts, budget)
+    }
+
     /// The fields and values of the candidate u (one u per variable, in [0, 1]).
     pub fn assignment<'s>(&'s self, u: &[f64]) -> Vec<(&'s Field, toml::Value)> {
         self.variables.iter().zip(u).flat_map(|(v, &x)| v.fields.iter().map(move |f| (f, v.value(x)))).collect()

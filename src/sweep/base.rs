@@ -3,7 +3,11 @@
 //! of the fields the study varies. Every message names the study file or the base file.
 
 use super::field::{get_path, set_path, Field, Segment};
+use super::spec::SweepAnalysis;
 use crate::actuator::{link_id, Frame, Inertial};
+use crate::analysis::budget::Budget;
+use crate::analysis::drive::{DriveTiming, Step};
+use crate::analysis::{cost, plan, roundoff, transient::TransientSettings};
 use crate::assembly::Rayleigh;
 use crate::case::signal::SignalSpec;
 use crate::case::{AnalysisSpec, BaseKind, BodySpec, Case, DampingKind, LoadedCase, DEFAULT_HARMONICS};
@@ -71,6 +75,9 @@ impl BaseCase {
                 _ => None,
             })
             .unwrap_or((DEFAULT_HARMONICS, None));
+        if let Some(elements) = elements_as_written(&lc) {
+            roundoff::admit_elements(elements).map_err(|e| e.in_file(&file))?;
+        }
         let (actuators, links) = names(&lc.case);
         if actuators.is_empty() {
             return Err(Error::input(&file, "actuator", "a study's base case needs at least one actuator"));
@@ -157,6 +164,7 @@ impl BaseCase {
         })?;
         let lc = LoadedCase { case: stripped, file: self.file.clone(), dir: self.dir.clone(), text: String::new() };
         let beam = crate::case::build::build_beam(&lc)?;
+        roundoff::admit_elements(beam.mesh.elements.len()).map_err(|e| e.in_file(&self.file))?;
         let d = &lc.case.damping;
         let r =
             crate::analysis::plan::rayleigh_from_ratio(&beam, d.zeta, d.modes).map_err(|e| e.in_file(&self.file))?;
@@ -167,6 +175,61 @@ impl BaseCase {
         self.value.as_table_mut().expect("a case is a table").insert("damping".into(), toml::Value::Table(t));
         self.cached_damping = Some(r);
         Ok(())
+    }
+
+    /// Holds every case a study can make to `budget` before any case is built. Each varied
+    /// field at each of its `extremes` (`(name, field, value)`: a parameter's or variable's
+    /// least and greatest values) sizes its case's mesh from the counts, held to the budget
+    /// and to the elements the solves take; the case with the largest mesh is then built
+    /// and `analysis` at `harmonics` and `samples` per period estimated on it. Errors name
+    /// `study` and the varied field (`name`) or the study's own setting.
+    pub fn admit_cases(
+        &self,
+        study: &str,
+        extremes: &[(String, &Field, toml::Value)],
+        analysis: SweepAnalysis,
+        (harmonics, samples): (usize, usize),
+        budget: &Budget,
+    ) -> Result<()> {
+        let mut largest = (0, None);
+        for (name, field, value) in extremes {
+            let at = |reason: String| Error::input(study, name, format!("`{}` = {value}: {reason}", field.path));
+            let lc = self.case_with([(*field, value.clone())], &self.file).map_err(at)?;
+            if let Some(c) = cost::mesh(&lc) {
+                budget.admit(&c).map_err(|e| at(e.to_string()))?;
+                let bytes = c.bytes.unwrap_or(u64::MAX);
+                if bytes > largest.0 {
+                    largest = (bytes, Some(lc.clone()));
+                }
+            }
+            if let Some(elements) = elements_as_written(&lc) {
+                roundoff::admit_elements(elements).map_err(|e| at(e.to_string()))?;
+            }
+        }
+        let lc = match largest.1 {
+            Some(lc) => lc,
+            None => self.case_with([], &self.file).map_err(|r| Error::input(study, "base", r))?,
+        };
+        let (model, sys) = plan::model_and_system_within(&lc, budget).map_err(|e| e.in_file(study))?;
+        if let Some(beam) = &model.beam {
+            roundoff::admit_elements(beam.mesh.elements.len()).map_err(|e| e.in_file(&self.file))?;
+        }
+        let (solve, search) = match analysis {
+            SweepAnalysis::SteadyState => {
+                let timing = DriveTiming::sampled(&model, samples).map_err(|e| e.in_file(study))?;
+                (cost::steady_state(&model, &sys, samples), cost::cycle_search(&model, &timing))
+            }
+            SweepAnalysis::Transient => {
+                let s = TransientSettings { harmonics: Some(harmonics), ..Default::default() };
+                let timing = DriveTiming::stepped(&model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)
+                    .map_err(|e| e.in_file(study))?;
+                let solve = cost::transient(&model, &sys, &s, &timing);
+                let steps = solve.steps.unwrap_or(u64::MAX);
+                (solve, cost::drive_search(&model, steps as f64 * timing.dt, steps))
+            }
+        };
+        budget.admit(&solve).map_err(|e| e.in_file(study))?;
+        search.map_or(Ok(()), |c| budget.admit(&c).map_err(|e| e.in_file(&self.file)))
     }
 
     /// The base document with each `(field, value)` set.
@@ -214,6 +277,11 @@ impl BaseCase {
         spec.validate(label, &field).map_err(|e| e.to_string())?;
         spec.build(&self.dir, label, &field).map_err(|e| e.to_string())
     }
+}
+
+/// The elements of a case's uniform mesh as written (None: a mesh file, or no beam).
+fn elements_as_written(lc: &LoadedCase) -> Option<usize> {
+    (lc.case.base == BaseKind::Beam && lc.case.beam.mesh.file.is_none()).then_some(lc.case.beam.mesh.elements)
 }
 
 /// Actuator names (given, or `inertial`/`frame`, numbered when there are several) and

@@ -3,6 +3,7 @@
 
 use super::spec::{Sweep, SweepAnalysis};
 use super::table::{decode_part, encode_part, Row, Shard, SweepTable};
+use crate::analysis::budget::Budget;
 use crate::analysis::drive::StackForceCache;
 use crate::analysis::plan::{self, calibrated_model};
 use crate::analysis::reduction::complete_modal_basis;
@@ -39,6 +40,8 @@ pub struct RunOptions {
     pub reference: bool,
     /// Set to stop: cases not yet started are skipped and the table comes back incomplete.
     pub cancel: Option<Arc<AtomicBool>>,
+    /// What each case may take, held before any case runs ([`Sweep::admit`]).
+    pub budget: Budget,
 }
 
 impl std::fmt::Debug for RunOptions {
@@ -326,12 +329,26 @@ fn open_checkpoint(dir: &Path, sweep: &Sweep) -> Result<()> {
     crate::io::atomic::write_atomic_string(&id, &text)
 }
 
+/// Most worker threads a study starts: many times the cores of any machine it runs on, so
+/// that a typo of a few orders of magnitude is refused rather than spawned.
+pub const MAX_THREADS: usize = 1024;
+
+/// The worker threads `threads` asks for (`None`: one per available core), or why not:
+/// none, or more than [`MAX_THREADS`].
+pub fn worker_threads(threads: Option<usize>) -> std::result::Result<usize, String> {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    match threads.unwrap_or(cores) {
+        0 => Err("must be at least 1".into()),
+        n if n > MAX_THREADS => {
+            Err(format!("{n} worker threads: give at most {MAX_THREADS} (this machine has {cores} cores)"))
+        }
+        n => Ok(n),
+    }
+}
+
 /// The worker threads of a run: `threads`, or one per available core.
 pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
-    let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    if threads == 0 {
-        return Err(Error::argument("threads", "must be at least 1"));
-    }
+    let threads = worker_threads(threads).map_err(|r| Error::argument("threads", r))?;
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -347,6 +364,7 @@ pub fn thread_pool(threads: Option<usize>) -> Result<rayon::ThreadPool> {
 /// only in their drives share the assembled system ([`Evaluator::evaluate_group`]), which
 /// gives the same bits as building it per case.
 pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
+    sweep.admit(&opts.budget)?;
     let mut table = SweepTable::new(sweep, opts.shard);
     let indices = opts.shard.indices(sweep.len());
     let pool = thread_pool(opts.threads)?;

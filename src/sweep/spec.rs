@@ -257,6 +257,21 @@ impl Sweep {
         self.len() == 0
     }
 
+    /// Holds every case of the sweep to `budget` before any runs: each parameter at its
+    /// least and greatest value, and the analysis on the largest case
+    /// ([`BaseCase::admit_cases`]).
+    pub fn admit(&self, budget: &crate::analysis::budget::Budget) -> Result<()> {
+        let mut extremes = Vec::new();
+        for (i, p) in self.parameters.iter().enumerate() {
+            let (lo, hi) = p.values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
+            for v in [lo, hi] {
+                extremes.push((format!("parameter[{i}]"), &p.field, p.field.toml(v)));
+            }
+        }
+        let counts = (self.harmonics, self.samples_per_period);
+        self.base.admit_cases(&self.file, &extremes, self.analysis, counts, budget)
+    }
+
     /// Parameter paths, in file order.
     pub fn parameter_names(&self) -> Vec<String> {
         self.parameters.iter().map(|p| p.field.path.clone()).collect()

@@ -31,6 +31,8 @@ pub struct CommonArgs {
     /// Allowed relative jitter of the time steps in the measurement files.
     #[arg(long, default_value_t = 1e-3)]
     pub uniform_tolerance: f64,
+    #[command(flatten)]
+    pub budget: super::BudgetArgs,
 }
 
 impl CommonArgs {
@@ -223,6 +225,8 @@ pub struct SynthArgs {
     /// Significant digits of the data columns (0: shortest exact form).
     #[arg(long, default_value_t = 7)]
     pub digits: usize,
+    #[command(flatten)]
+    pub budget: super::BudgetArgs,
 }
 
 /// `F1,F2` in Hz.
@@ -284,6 +288,7 @@ pub fn identify(args: &IdentifyArgs) -> Result<()> {
                 cycle: CycleOptions { period: *period, cycles: *cycles },
                 fit: FitOptions {
                     pso: PsoOptions { particles: *particles, max_iterations: *max_iterations, ..PsoOptions::default() },
+                    budget: common.budget.budget(),
                     ..FitOptions::new(*d_p)
                 },
                 seeds: seeds.clone(),
@@ -347,6 +352,7 @@ pub fn synth(args: &SynthArgs) -> Result<()> {
             element: args.element.into(),
             mass: args.mass,
             hits: args.hits,
+            budget: args.budget.budget(),
             ..SynthOptions::default()
         },
         digits: (args.digits > 0).then_some(args.digits),

@@ -23,9 +23,7 @@ pub struct OptimizeArgs {
 }
 
 pub fn optimize(args: &OptimizeArgs) -> Result<()> {
-    if args.threads == Some(0) {
-        return Err(Error::input("<cli>", "--threads", "must be at least 1"));
-    }
+    crate::sweep::exec::worker_threads(args.threads).map_err(|r| Error::input("<cli>", "--threads", r))?;
     let name = args.spec.file_name().and_then(|s| s.to_str()).unwrap_or("optimize");
     let stem = name.strip_suffix(".toml").unwrap_or(name).trim_end_matches(".opt");
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(stem));

@@ -71,9 +71,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         Some(s) => Shard::parse(s, "<cli>", "--shard")?,
         None => Shard::ALL,
     };
-    if args.threads == Some(0) {
-        return Err(Error::input("<cli>", "--threads", "must be at least 1"));
-    }
+    sweep::exec::worker_threads(args.threads).map_err(|r| Error::input("<cli>", "--threads", r))?;
     let s = sweep::load(&args.sweep)?;
     let mut inputs = vec![Input::new(&args.sweep, "the sweep file")];
     inputs.extend(s.base.input_files(&s.file).into_iter().map(|(p, what)| Input::new(p, what)));
@@ -106,7 +104,8 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     // Held to the last report file: a second sweep into the same table waits, then reuses
     // it (shards into one folder have tables of their own and run at once).
     let _lock = OutputLock::file(&args.out)?;
-    let opts = RunOptions { threads: args.threads, shard, progress: true, ..Default::default() };
+    let opts =
+        RunOptions { threads: args.threads, shard, progress: true, budget: args.budget.budget(), ..Default::default() };
     let t0 = std::time::Instant::now();
     let ex = sweep::execute(&s, &args.out, &opts)?;
     let dt = t0.elapsed().as_secs_f64();
