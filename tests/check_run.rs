@@ -94,3 +94,23 @@ fn quiet_commands_print_nothing() {
         assert!(stdout.is_empty() && stderr.is_empty(), "{args:?} printed:\n{stdout}{stderr}");
     }
 }
+
+/// A value admissible but likely a slip of units is named with the slip, on `check` and
+/// `run`; a refusal it causes elsewhere names it too.
+#[test]
+fn slips_of_units_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let sine = "[[actuator]]\ntype = \"inertial\"\nx_e = 0.15\n[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n";
+    let beamflow =
+        |args: &[&str]| std::process::Command::new(env!("CARGO_BIN_EXE_beamflow")).args(args).output().unwrap();
+    let light = dir.path().join("light.toml");
+    std::fs::write(&light, format!("[beam]\ndensity = 7.85\n{sine}[[analysis]]\ntype = \"modes\"\n")).unwrap();
+    let r = beamflow(&["check", light.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(r.status.success() && err.contains("warning") && err.contains("densities are in kg/m³"), "{err}");
+    let long = dir.path().join("long.toml");
+    std::fs::write(&long, format!("[beam]\nlength = 730.0\n{sine}")).unwrap();
+    let r = beamflow(&["check", long.to_str().unwrap()]);
+    let err = String::from_utf8_lossy(&r.stderr);
+    assert!(!r.status.success() && err.contains("lengths are in metres (730 mm is 0.73)"), "{err}");
+}

@@ -66,10 +66,19 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
     s.trim_end().to_string()
 }
 
+/// Says on standard error which values of the case look like a slip of units
+/// ([`crate::case::plausible`]); the run goes on.
+fn warn_implausible(lc: &LoadedCase) {
+    for w in crate::case::plausible::warnings(&lc.case) {
+        crate::app::cli::note_line(format_args!("warning: {}: {w}", lc.file));
+    }
+}
+
 /// `beamflow check`: loads and builds the model, holds every analysis to `budget` as
 /// `run` does, prints what it contains.
 pub fn check(case: &Path, budget: &Budget) -> Result<()> {
     let lc = LoadedCase::load(case)?;
+    warn_implausible(&lc);
     let (built, sys, _) = crate::app::runner::planned(&lc, budget)?;
     let elements = built.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
     crate::say!(
@@ -115,6 +124,7 @@ pub fn run(
     budget: &Budget,
 ) -> Result<()> {
     let lc = LoadedCase::load(case)?;
+    warn_implausible(&lc);
     let dir = out.map(Path::to_path_buf).unwrap_or_else(|| default_out(case));
     let stem = case.file_stem().and_then(|s| s.to_str()).unwrap_or("case");
     let inputs = case_inputs(&lc);

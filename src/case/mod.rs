@@ -7,6 +7,7 @@
 
 pub mod build;
 pub mod measured;
+pub mod plausible;
 pub mod ranges;
 pub mod schema;
 pub mod signal;
@@ -40,7 +41,7 @@ impl LoadedCase {
     /// Parses and validates case text; `file` names it in messages.
     pub fn from_str(text: &str, file: &str, dir: PathBuf) -> Result<LoadedCase> {
         let case: Case = crate::toml_input::parse(text, file, crate::toml_input::Kind::Case)?;
-        case.validate(file)?;
+        case.validate(file).map_err(|e| plausible::blame_slips(e, &case))?;
         Ok(LoadedCase { case, file: file.to_string(), dir, text: text.to_string() })
     }
 

@@ -258,7 +258,7 @@ impl RunReport<'_> {
 
     /// Warnings a reader should not miss, from the stated accuracies.
     pub fn warnings(&self) -> Vec<String> {
-        let mut w = Vec::new();
+        let mut w = crate::case::plausible::warnings(&self.lc.case);
         for (a, tag) in self.analyses().into_iter().zip(analysis_tags(self.run)) {
             if a["converged"] == false {
                 w.push(format!(
