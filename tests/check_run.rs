@@ -114,3 +114,42 @@ fn slips_of_units_are_named() {
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success() && err.contains("lengths are in metres (730 mm is 0.73)"), "{err}");
 }
+
+/// A mesh file of 10⁶ nodes for an analysis that solves on the mesh is refused from a
+/// count of its text, before the TOML parser builds its document: within a second and
+/// 100 MB (peak resident memory of the child, from `wait4`).
+#[test]
+fn a_million_node_mesh_file_is_refused_before_it_is_parsed() {
+    let dir = tempfile::tempdir().unwrap();
+    let n = 1_000_000;
+    let nodes: Vec<String> = (0..=n).map(|i| format!("{:.7}", 0.73 * i as f64 / n as f64)).collect();
+    std::fs::write(
+        dir.path().join("fine.toml"),
+        format!("format = \"beamflow-mesh-1\"\nnodes = [{}]\n", nodes.join(", ")),
+    )
+    .unwrap();
+    let case = dir.path().join("c.toml");
+    std::fs::write(
+        &case,
+        "[beam.mesh]\nfile = \"fine.toml\"\n[[actuator]]\ntype = \"inertial\"\nx_e = 0.1825\n\
+         [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n[[analysis]]\ntype = \"steady_state\"\n",
+    )
+    .unwrap();
+    let start = std::time::Instant::now();
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
+        .args(["check", case.to_str().unwrap()])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stderr = String::new();
+    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut stderr).unwrap();
+    let (mut status, mut usage) = (0, unsafe { std::mem::zeroed::<libc::rusage>() });
+    let pid = unsafe { libc::wait4(child.id() as i32, &mut status, 0, &mut usage) };
+    let took = start.elapsed();
+    assert_eq!(pid, child.id() as i32);
+    assert!(libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 1, "{stderr}");
+    assert!(stderr.contains("beam.mesh.elements") && stderr.contains("1000000 elements"), "{stderr}");
+    let peak = usage.ru_maxrss as u64 * 1024;
+    assert!(took.as_secs_f64() < 1.0 && peak < 100 << 20, "took {took:?}, peak {} MB", peak >> 20);
+}

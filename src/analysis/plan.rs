@@ -40,6 +40,13 @@ pub fn model_and_system_within(lc: &LoadedCase, budget: &Budget) -> Result<(Mode
             roundoff::admit_elements(lc.case.beam.mesh.elements).map_err(|e| e.in_file(&lc.file))?;
         }
     }
+    if let (true, Some(file)) = (solves, &lc.case.beam.mesh.file) {
+        // Unreadable files are left to the build, which names the field.
+        if let Ok(text) = crate::input_file::read_text(&lc.dir.join(file)) {
+            let elements = crate::beam::Mesh::elements_at_least(&text);
+            roundoff::admit_elements(elements).map_err(|e| e.in_file(&lc.file))?;
+        }
+    }
     let mut model = build_model(lc)?;
     budget.admit(&cost::model(&model)).map_err(|e| e.in_file(&lc.file))?;
     if let (true, Some(beam)) = (solves, &model.beam) {
