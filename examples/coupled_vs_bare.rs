@@ -1,4 +1,4 @@
-//! The issue-7 ratio "coupled run against the bare step, per DOF", measured in pairs.
+//! The ratio "coupled run against the bare step, per DOF", measured in pairs.
 //!
 //! On a shared VM the same binary runs ≈ 1.6× slower for minutes at a time, so two criterion
 //! runs taken minutes apart cannot give a ratio to a few per cent. This alternates the two

@@ -1,4 +1,4 @@
-//! beamflow's response on the issue-7 anchor problem against another code's: the same
+//! beamflow's response on the OpenSees anchor problem against another code's: the same
 //! discrete problem (200 Euler–Bernoulli elements with consistent mass, C = a₀·M + a₁·K, a
 //! unit sine force at 60 Hz on the node x = 41·L/200, Newmark average acceleration, 20,000
 //! steps at Δt = 1e-4 s, from rest), so the w(t) at the load differ only by each code's

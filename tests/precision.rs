@@ -1,5 +1,5 @@
 //! The transient against an independent reference in double-double arithmetic (≈ 32
-//! digits): the bare paper beam's Newmark response, the issue-7 anchor problem.
+//! digits): the bare paper beam's Newmark response, the OpenSees anchor problem.
 //!
 //! The reference builds its own element matrices from the beam's data (not beamflow's
 //! element code), factorises the band of K_eff = K + γ/(βΔt)·C + M/(βΔt²) and steps the
