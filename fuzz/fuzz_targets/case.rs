@@ -33,7 +33,14 @@ fn clamp(case: &mut Case) {
                 frequencies.count = frequencies.count.map(|n| n.min(FREQUENCIES));
             }
             AnalysisSpec::Transient {
-                dt, steps_per_period, periods, duration, max_periods, harmonics, segment, ..
+                dt,
+                steps_per_period,
+                periods,
+                duration,
+                max_periods,
+                harmonics,
+                segment,
+                ..
             } => {
                 // The step follows the drive period (steps_per_period), never a given dt
                 // that could divide a long period into billions of steps.

@@ -7,7 +7,7 @@
 //! without panicking, hanging or allocating without bound. No candidate is solved.
 #![no_main]
 
-use beamflow::analysis::budget::{count, Budget, DEFAULT_STEPS};
+use beamflow::analysis::budget::{Budget, DEFAULT_STEPS};
 use beamflow::optimize::Spec;
 use libfuzzer_sys::fuzz_target;
 use std::path::PathBuf;
@@ -24,16 +24,7 @@ fn dir() -> PathBuf {
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
     let Ok(spec) = Spec::from_str(text, "fuzz.opt.toml", &dir()) else { return };
-    let numbers = spec.variables.len() + spec.objectives.len() + 2 * spec.base.actuators.len();
-    let evaluations = beamflow::analysis::cost::cases(
-        "this optimisation",
-        spec.max_evaluations(),
-        count(numbers),
-        String::new(),
-        "search.evaluations",
-        "",
-    );
-    if BUDGET.admit(&evaluations).is_ok() {
+    if BUDGET.admit(&spec.evaluations_cost()).is_ok() {
         let _ = spec.admit(&BUDGET);
     }
 });

@@ -6,8 +6,8 @@
 //! panicking, hanging or allocating without bound. No case is solved.
 #![no_main]
 
-use beamflow::analysis::budget::{count, Budget, DEFAULT_STEPS};
-use beamflow::sweep::Sweep;
+use beamflow::analysis::budget::{Budget, DEFAULT_STEPS};
+use beamflow::sweep::{Shard, Sweep};
 use libfuzzer_sys::fuzz_target;
 use std::path::PathBuf;
 
@@ -23,16 +23,7 @@ fn dir() -> PathBuf {
 fuzz_target!(|data: &[u8]| {
     let Ok(text) = std::str::from_utf8(data) else { return };
     let Ok(s) = Sweep::from_str(text, "fuzz.sweep.toml", &dir()) else { return };
-    let numbers = s.parameters.len() + s.base.actuators.len() + 3 * s.base.links.len();
-    let cases = beamflow::analysis::cost::cases(
-        "this sweep",
-        Some(count(s.len())),
-        count(numbers),
-        String::new(),
-        "parameter",
-        "",
-    );
-    if BUDGET.admit(&cases).is_ok() {
+    if BUDGET.admit(&s.cases_cost(Shard::ALL).1).is_ok() {
         let _ = s.admit(&BUDGET);
     }
 });

@@ -31,16 +31,7 @@ pub fn optimize(
     budget: &Budget,
 ) -> Result<(Spec, RunResult, Vec<PathBuf>)> {
     let spec = optimize::load(file)?;
-    let numbers = spec.variables.len() + spec.objectives.len() + 2 * spec.base.actuators.len();
-    let cost = crate::analysis::cost::cases(
-        "this optimisation",
-        spec.max_evaluations(),
-        numbers as u64,
-        format!("{} evaluations of {} variables", spec.search.evaluations, spec.variables.len()),
-        "search.evaluations",
-        "give fewer `evaluations` or `pareto_points`",
-    );
-    budget.admit(&cost).map_err(|e| e.in_file(&spec.file))?;
+    budget.admit(&spec.evaluations_cost()).map_err(|e| e.in_file(&spec.file))?;
     let mut inputs = vec![Input::new(file, "the optimisation file")];
     inputs.extend(spec.base.input_files(&spec.file).into_iter().map(|(p, what)| Input::new(p, what)));
     for name in OUTPUTS {

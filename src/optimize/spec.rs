@@ -225,6 +225,21 @@ impl Spec {
             .checked_mul(scalarisations)?;
         u64::try_from(total).ok()
     }
+
+    /// The evaluations a run takes, as a [`Cost`] to hold to a budget before the search.
+    ///
+    /// [`Cost`]: crate::analysis::budget::Cost
+    pub fn evaluations_cost(&self) -> crate::analysis::budget::Cost {
+        let numbers = self.variables.len() + self.objectives.len() + 2 * self.base.actuators.len();
+        crate::analysis::cost::cases(
+            "this optimisation",
+            self.max_evaluations(),
+            numbers as u64,
+            format!("{} evaluations of {} variables", self.search.evaluations, self.variables.len()),
+            "search.evaluations",
+            "give fewer `evaluations` or `pareto_points`",
+        )
+    }
 }
 
 pub fn load(path: &Path) -> Result<Spec> {

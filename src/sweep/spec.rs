@@ -257,6 +257,27 @@ impl Sweep {
         self.len() == 0
     }
 
+    /// The cases `shard` of this sweep takes (`n` of them), as a [`Cost`] to hold to a
+    /// budget before any case runs.
+    ///
+    /// [`Cost`]: crate::analysis::budget::Cost
+    pub fn cases_cost(&self, shard: super::Shard) -> (usize, crate::analysis::budget::Cost) {
+        let n = self.len().saturating_sub(shard.k - 1).div_ceil(shard.n);
+        let numbers = self.parameters.len() + self.base.actuators.len() + 3 * self.base.links.len();
+        let sep = if self.combine == Combine::Zip { " zipped with " } else { " × " };
+        let factors = self.parameters.iter().map(|p| p.values.len().to_string()).collect::<Vec<_>>().join(sep);
+        let of_shard = if shard == super::Shard::ALL { String::new() } else { format!(", shard {shard}") };
+        let cost = crate::analysis::cost::cases(
+            "this sweep",
+            u64::try_from(n).ok(),
+            numbers as u64,
+            format!("{factors} values{of_shard}"),
+            "parameter",
+            "vary fewer values, or split the sweep with --shard",
+        );
+        (n, cost)
+    }
+
     /// Holds every case of the sweep to `budget` before any runs: each parameter at its
     /// least and greatest value, and the analysis on the largest case
     /// ([`BaseCase::admit_cases`]).

@@ -76,18 +76,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     let mut inputs = vec![Input::new(&args.sweep, "the sweep file")];
     inputs.extend(s.base.input_files(&s.file).into_iter().map(|(p, what)| Input::new(p, what)));
     refuse_overwrite(&args.out, &inputs)?;
-    let n = s.len().saturating_sub(shard.k - 1).div_ceil(shard.n);
-    let numbers = s.parameters.len() + s.base.actuators.len() + 3 * s.base.links.len();
-    let sep = if s.combine == sweep::Combine::Zip { " zipped with " } else { " × " };
-    let factors = s.parameters.iter().map(|p| p.values.len().to_string()).collect::<Vec<_>>().join(sep);
-    let cost = crate::analysis::cost::cases(
-        "this sweep",
-        u64::try_from(n).ok(),
-        numbers as u64,
-        format!("{factors} values{}", if shard == Shard::ALL { String::new() } else { format!(", shard {shard}") }),
-        "parameter",
-        "vary fewer values, or split the sweep with --shard",
-    );
+    let (n, cost) = s.cases_cost(shard);
     args.budget.budget().admit(&cost).map_err(|e| e.in_file(&s.file))?;
     crate::app::cli::note_line(format_args!(
         "{}: {} cases{}, {} analysis, {} harmonics{}",
