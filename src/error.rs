@@ -52,6 +52,9 @@ pub enum Error {
     /// ([`crate::assembly::DofMap::locate`]).
     #[error("numerical failure: {detail} (row {row})")]
     Singular { row: usize, detail: String },
+    /// The work was asked to stop ([`crate::progress::Cancel`]) before it finished.
+    #[error("stopped on request (interrupted) before the work was done")]
+    Cancelled,
 }
 
 /// What the field of an [`Error::Setting`] is relative to.

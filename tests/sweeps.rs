@@ -5,9 +5,10 @@ use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state;
 use beamflow::assembly::System;
 use beamflow::case::LoadedCase;
+use beamflow::progress::Cancel;
 use beamflow::sweep::{self, RunOptions, Shard, SweepTable};
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 /// A small beam (40 elements) keeps each case well under a millisecond.
@@ -216,13 +217,13 @@ fn interrupted_sweep_resumes_without_recomputing() {
 
     // Library level: a checkpoint directory and a cancel flag set after 7 evaluations.
     let parts = d.path("parts");
-    let cancel = Arc::new(AtomicBool::new(false));
+    let cancel = Cancel::new();
     let (c1, cb) = counter();
     let (flag, seen) = (cancel.clone(), c1.clone());
     let stop_after_7: sweep::OnEvaluated = Arc::new(move |i| {
         cb(i);
         if seen.load(Ordering::SeqCst) >= 7 {
-            flag.store(true, Ordering::SeqCst);
+            flag.cancel();
         }
     });
     let opts = RunOptions {
@@ -270,9 +271,9 @@ fn interrupted_sweep_resumes_without_recomputing() {
     // CLI level (`execute`): an interrupted run leaves FILE.h5.parts and no table; the rerun
     // computes the rest; a third run computes nothing.
     let out = d.path("resume.h5");
-    let cancel = Arc::new(AtomicBool::new(false));
+    let cancel = Cancel::new();
     let flag = cancel.clone();
-    let stop_now: sweep::OnEvaluated = Arc::new(move |_| flag.store(true, Ordering::SeqCst));
+    let stop_now: sweep::OnEvaluated = Arc::new(move |_| flag.cancel());
     let e = sweep::execute(&s, &out, &RunOptions { cancel: Some(cancel), on_evaluated: Some(stop_now), ..threads(1) })
         .unwrap_err()
         .to_string();

@@ -137,7 +137,7 @@ pub fn run(
     let mut cols: Vec<Vec<Complex64>> = vec![vec![Complex64::default(); n]; forces.len()];
     let task = crate::progress::Task::start("harmonic analysis", Some(frequencies.len() as u64), "frequencies");
     for (done, &fhz) in frequencies.iter().enumerate() {
-        task.set(done as u64);
+        task.set(done as u64)?;
         if !(fhz > 0.0) {
             return Err(Error::analysis_setting("frequencies", format!("frequencies must be positive, got {fhz} Hz")));
         }

@@ -513,7 +513,7 @@ impl<'s> HarmonicSolver<'s> {
         // at a time, in less time.
         let task = crate::progress::Task::start("steady state", Some(active.len() as u64), "harmonics solved");
         for (done, pair) in active.chunks(2).enumerate() {
-            task.set(2 * done as u64);
+            task.set(2 * done as u64)?;
             match *pair {
                 [ka, kb] => {
                     self.dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?;

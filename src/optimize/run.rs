@@ -7,6 +7,7 @@ use super::evaluate::{penalised, Evaluation, Evaluator, Status};
 use super::search::{self, Cost, Options};
 use super::spec::Spec;
 use crate::error::{Error, Result};
+use crate::progress::{self, Cancel};
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
@@ -22,6 +23,9 @@ pub struct RunOptions {
     pub on_evaluated: Option<Arc<dyn Fn() + Send + Sync>>,
     /// What each candidate may take, held before the search starts ([`Spec::admit`]).
     pub budget: crate::analysis::budget::Budget,
+    /// Set to stop: the candidates being solved stop at their next step, no more are
+    /// evaluated, and the run ends in [`Error::Cancelled`].
+    pub cancel: Option<Cancel>,
 }
 
 /// What an optimisation found.
@@ -71,11 +75,17 @@ struct Recorder<'a> {
     bar: &'a indicatif::ProgressBar,
     on_evaluated: Option<Arc<dyn Fn() + Send + Sync>>,
     count: AtomicUsize,
+    cancel: Option<Cancel>,
 }
 
 impl Cost for Recorder<'_> {
     fn cost(&self, u: &[f64]) -> f64 {
-        let e = self.ev.evaluate(u);
+        // What a stopped run would evaluate is of no use: the search winds down unsolved.
+        let e = match &self.cancel {
+            Some(c) if c.is_cancelled() => return f64::INFINITY,
+            Some(c) => progress::cancellable(c.clone(), || self.ev.evaluate(u)),
+            None => self.ev.evaluate(u),
+        };
         let c = self.scalar.of(self.ev.spec, &e);
         if e.feasible() {
             let mut b = self.best.lock().expect("not poisoned");
@@ -143,15 +153,18 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
             bar: &bar,
             on_evaluated: opts.on_evaluated.clone(),
             count: AtomicUsize::new(0),
+            cancel: opts.cancel.clone(),
         };
         let o = Options { seed, starts: s.starts, evaluations: evals, polish };
         pool.install(|| search::minimize(d, &rec, &o));
         evaluations += rec.count.load(Ordering::Relaxed);
         rec.take()
     };
+    let stopped = || opts.cancel.as_ref().map_or(Ok(()), Cancel::check);
 
     let (best, pareto) = if spec.objectives.len() == 1 {
         history = search_with(Scalar::One(0), s.seed, s.evaluations);
+        stopped()?;
         let best = best_of(spec, &history, Scalar::One(0)).ok_or_else(|| infeasible(spec, &history))?;
         (best, Vec::new())
     } else {
@@ -160,6 +173,7 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
         let per = s.evaluations;
         for k in 0..2 {
             history.extend(search_with(Scalar::One(k), s.seed.wrapping_add(k as u64), per));
+            stopped()?;
         }
         let anchors: Vec<Evaluation> = (0..2)
             .map(|k| best_of(spec, &history, Scalar::One(k)).ok_or_else(|| infeasible(spec, &history)))
@@ -175,6 +189,7 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
             let w0 = j as f64 / (n - 1) as f64;
             let scalar = Scalar::Chebyshev { w: [w0, 1.0 - w0], ideal, range };
             history.extend(search_with(scalar, s.seed.wrapping_add(2 + j as u64), per));
+            stopped()?;
         }
         let front = pareto_front(spec, &history);
         let knee = Scalar::Chebyshev { w: [0.5, 0.5], ideal, range };

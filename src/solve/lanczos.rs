@@ -96,7 +96,7 @@ fn lanczos(
     let mut alpha = Vec::with_capacity(steps);
     let mut beta: Vec<f64> = Vec::with_capacity(steps);
     for j in 0..steps {
-        task.set(j as u64);
+        task.set(j as u64)?;
         let mut w = mq[j].clone();
         solve(&mut w);
         let aj = dot(&w, &mq[j]);

@@ -12,10 +12,11 @@ use crate::analysis::transient::{self, TransientResult};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
+use crate::progress::{self, Cancel};
 use rayon::prelude::*;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Arc;
 
 /// Called after each case is evaluated, with its index (tests count evaluations).
@@ -38,8 +39,9 @@ pub struct RunOptions {
     /// Evaluate through the full `steady_state::run` (with its period in time) rather than
     /// its headline mode (checks, timing).
     pub reference: bool,
-    /// Set to stop: cases not yet started are skipped and the table comes back incomplete.
-    pub cancel: Option<Arc<AtomicBool>>,
+    /// Set to stop: the cases running stop at their next step, cases not yet started are
+    /// skipped, and the table comes back with the rows finished so far.
+    pub cancel: Option<Cancel>,
     /// What each case may take, held before any case runs ([`Sweep::admit`]).
     pub budget: Budget,
 }
@@ -106,6 +108,14 @@ impl Headline {
     }
 }
 
+/// Names the case an error of its evaluation came from; a cancellation stays one.
+fn in_case(sweep: &Sweep, i: usize) -> impl Fn(Error) -> Error + '_ {
+    move |e| match e {
+        Error::Cancelled => e,
+        e => Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string()),
+    }
+}
+
 impl<'a> Evaluator<'a> {
     pub fn new(sweep: &'a Sweep, reference: bool) -> Self {
         Evaluator { sweep, forces: StackForceCache::default(), reference }
@@ -116,9 +126,9 @@ impl<'a> Evaluator<'a> {
     pub fn evaluate(&self, i: usize) -> Result<Row> {
         let sweep = self.sweep;
         let lc = sweep.case(i)?;
-        let wrap = |e: Error| Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string());
-        let model = calibrated_model(&lc).map_err(wrap)?;
-        let sys = frequency_domain_system(&model, &lc.file, sweep.analysis).map_err(wrap)?;
+        let wrap = in_case(sweep, i);
+        let model = calibrated_model(&lc).map_err(&wrap)?;
+        let sys = frequency_domain_system(&model, &lc.file, sweep.analysis).map_err(&wrap)?;
         let head = match (sweep.analysis, self.reference) {
             (SweepAnalysis::SteadyState, false) => self.steady_state(&model, &mut HarmonicSolver::new(&sys)),
             (SweepAnalysis::SteadyState, true) => {
@@ -130,7 +140,7 @@ impl<'a> Evaluator<'a> {
                 transient::run(&model, &sys, &s).map(Headline::of_transient)
             }
         };
-        self.row(i, head.map_err(wrap)?)
+        self.row(i, head.map_err(&wrap)?)
     }
 
     /// The steady state of `model` in its headline mode, against `solver`'s system (the
@@ -171,9 +181,7 @@ impl<'a> Evaluator<'a> {
             return Ok(());
         }
         let sweep = self.sweep;
-        let wrap = |i: usize| {
-            move |e: Error| Error::input(&sweep.file, format!("case {i} ({})", sweep.describe(i)), e.to_string())
-        };
+        let wrap = |i: usize| in_case(sweep, i);
         debug_assert!(indices.iter().all(|&i| sweep.model_key(i) == sweep.model_key(first)));
         let lc = sweep.case(first)?;
         let mut model = calibrated_model(&lc).map_err(wrap(first))?;
@@ -405,28 +413,38 @@ pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
     } else {
         todo.iter().map(|&i| vec![i]).collect()
     };
-    let cancelled = || opts.cancel.as_ref().is_some_and(|c| c.load(Ordering::SeqCst));
+    let cancelled = || opts.cancel.as_ref().is_some_and(Cancel::is_cancelled);
     let new: Vec<Row> = pool.install(|| {
         groups
             .par_iter()
             .map(|g| {
                 let mut rows = Vec::with_capacity(g.len());
                 let mut unsaved = 0;
-                let result = ev.evaluate_group(g, cancelled, |row| {
-                    if let Some(cb) = &opts.on_evaluated {
-                        cb(row.index);
-                    }
-                    bar.inc(1);
-                    rows.push(row);
-                    unsaved += 1;
-                    if unsaved == ROWS_PER_PART {
-                        if let Some(dir) = &opts.checkpoint {
-                            write_part(dir, &rows[rows.len() - unsaved..], &sweep.hash)?;
+                let mut evaluate = || {
+                    ev.evaluate_group(g, cancelled, |row| {
+                        if let Some(cb) = &opts.on_evaluated {
+                            cb(row.index);
                         }
-                        unsaved = 0;
-                    }
-                    Ok(())
-                });
+                        bar.inc(1);
+                        rows.push(row);
+                        unsaved += 1;
+                        if unsaved == ROWS_PER_PART {
+                            if let Some(dir) = &opts.checkpoint {
+                                write_part(dir, &rows[rows.len() - unsaved..], &sweep.hash)?;
+                            }
+                            unsaved = 0;
+                        }
+                        Ok(())
+                    })
+                };
+                // A case stopped mid-solve ends its group like a case never started.
+                let result = match &opts.cancel {
+                    Some(c) => match progress::cancellable(c.clone(), evaluate) {
+                        Err(Error::Cancelled) => Ok(()),
+                        r => r,
+                    },
+                    None => evaluate(),
+                };
                 // Save what the group finished, also when it stopped early.
                 if let Some(dir) = &opts.checkpoint {
                     write_part(dir, &rows[rows.len() - unsaved..], &sweep.hash)?;

@@ -261,7 +261,7 @@ fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTi
         stacks.advance(p, &timing);
         let mut rec = window.next_record(&layout);
         ledger.open_period(&nm);
-        let pb = stepper.period(&mut nm, sys, &layout, &stacks, (!timing.periodic).then_some(&task));
+        let pb = stepper.period(&mut nm, sys, &layout, &stacks, (!timing.periodic).then_some(&task))?;
         ledger.close_period(&nm, pb);
         check_bounded(&nm, sys, &ledger, p + 1, timing.steps_per_period)?;
         let n = timing.steps_per_period;
@@ -271,7 +271,7 @@ fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTi
         // Every period kept for output must be settled, not only the last.
         settled_run = if settle.settled_after(&sys.links, &rec) { settled_run + 1 } else { 0 };
         if timing.periodic {
-            task.set_with(periods_run as u64, || settling_message(&settle, s.tolerance));
+            task.set_with(periods_run as u64, || settling_message(&settle, s.tolerance))?;
         }
         window.push(rec);
         if timing.periodic && s.steady_state && settled_run >= plan.min {

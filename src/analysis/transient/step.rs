@@ -8,6 +8,7 @@ use crate::actuator::Stack;
 use crate::analysis::drive::DriveTiming;
 use crate::analysis::series::Balances;
 use crate::assembly::{LinkDofs, Model, System};
+use crate::error::Result;
 use crate::power::energy::StoredEnergy;
 use crate::power::link::{interface_force, transmitted_force};
 use crate::power::point::{damper_dissipation, midpoint_work};
@@ -163,13 +164,13 @@ impl Stepper {
         layout: &Readout,
         stacks: &StackHistories,
         steps: Option<&crate::progress::Task>,
-    ) -> Balances {
+    ) -> Result<Balances> {
         let mut pb = Balances::default();
         self.observed.clear();
         self.f_p.clear();
         for j in 0..stacks.times.len() - 1 {
             if let Some(t) = steps.filter(|_| j % PROGRESS_STEPS == 0) {
-                t.set(j as u64);
+                t.set(j as u64)?;
             }
             // The state at t_j as it stands, sorted into series once the period is over.
             self.observed.extend_from_slice(nm.observed());
@@ -209,7 +210,7 @@ impl Stepper {
             pb.beam.dissipated -= d_links;
             pb.system.input += w_sys;
         }
-        pb
+        Ok(pb)
     }
 }
 
