@@ -186,7 +186,20 @@ pub fn say_line(args: std::fmt::Arguments) {
 
 /// Entry point of the binary.
 pub fn main() -> ExitCode {
-    let cli = Cli::parse();
+    ExitCode::from(main_with(std::env::args_os()))
+}
+
+/// The command line on `args` (the program name first), as the binary runs it; returns its
+/// exit status (the Python package's `beamflow` command calls this).
+pub fn main_with<I: IntoIterator<Item = T>, T: Into<std::ffi::OsString> + Clone>(args: I) -> u8 {
+    let cli = match Cli::try_parse_from(args) {
+        Ok(cli) => cli,
+        // --help and --version too: printed as clap prints them, with clap's status.
+        Err(e) => {
+            let _ = e.print();
+            return e.exit_code() as u8;
+        }
+    };
     let json_to_stdout = match &cli.command {
         Command::Modes { json, .. } | Command::Run { json, .. } => json.as_deref().is_some_and(is_stdout),
         _ => false,
@@ -200,7 +213,7 @@ pub fn main() -> ExitCode {
     });
     if let Some(Err(e)) = cli.dpi.map(crate::report::plot::set_png_dpi) {
         eprintln!("error: {e}");
-        return ExitCode::FAILURE;
+        return 1;
     }
     // Progress bars for the long computations of this thread, where someone can see them.
     let result = if !cli.quiet && std::io::IsTerminal::is_terminal(&std::io::stderr()) {
@@ -209,10 +222,10 @@ pub fn main() -> ExitCode {
         dispatch(&cli.command)
     };
     match result {
-        Ok(()) => ExitCode::SUCCESS,
+        Ok(()) => 0,
         Err(e) => {
             eprintln!("error: {e}");
-            ExitCode::FAILURE
+            1
         }
     }
 }
