@@ -20,6 +20,7 @@ Errors are :mod:`beamflow.errors` exceptions carrying the file, field and reason
 from . import errors
 from ._case import Case
 from ._native import __version__
+from ._progress import ProgressArg
 from ._results import Analysis, Group, Quantity, Results, read_results
 from ._sweep import SweepTable, read_sweep_table, sweep
 from ._system import DofMap, Modes, System
@@ -40,5 +41,6 @@ __all__ = [
     "DofMap",
     "Modes",
     "errors",
+    "ProgressArg",
     *errors.__all__,
 ]

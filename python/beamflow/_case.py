@@ -2,13 +2,17 @@
 
 from __future__ import annotations
 
+import html
 import os
+import warnings
 from pathlib import Path
 from typing import Any, Dict, Iterable, Mapping, Optional, Tuple, Union
 
 from . import _native
+from ._progress import ProgressArg, callback
 from ._results import Results
 from ._system import Modes, System, _modes, _system
+from .errors import ConvergenceWarning
 
 __all__ = ["Case"]
 
@@ -123,6 +127,38 @@ class Case:
     def __repr__(self) -> str:
         return f"<beamflow.Case {self.file}>"
 
+    def __eq__(self, other: object) -> bool:
+        """Two cases are equal when they describe the same model and analyses: every field
+        alike, defaults filled in, and relative paths resolving in the same directory (how
+        they were written, or the label messages give them, does not count)."""
+        if not isinstance(other, Case):
+            return NotImplemented
+        return (
+            self.to_dict(defaults=True) == other.to_dict(defaults=True)
+            and self.base_dir.resolve() == other.base_dir.resolve()
+        )
+
+    __hash__ = None  # type: ignore[assignment]  (a case changes: not a dict key)
+
+    def __reduce__(self) -> Tuple[Any, Tuple[str, str, str]]:
+        """Pickles as its TOML text, label and directory (for multiprocessing, joblib,
+        Dask); unpickling checks the case again, its files relative to the same directory."""
+        return (_unpickle, (self.to_toml(), self.file, str(self.base_dir)))
+
+    def _repr_html_(self) -> str:
+        """A notebook's view: the title, the actuators and analyses, the TOML on demand."""
+        d = self.to_dict(defaults=True)
+        rows = [("file", self.file), ("title", d.get("title") or "")]
+        for i, a in enumerate(d.get("actuator", [])):
+            v = a.get("voltage", {})
+            drive = ", ".join(f"{k} {v[k]}" for k in ("kind", "amplitude", "frequency") if k in v)
+            rows.append((f"actuator[{i}]", f"{a.get('name', '')} ({a.get('type')}) at x_e = {a.get('x_e')} m; {drive}"))
+        for i, a in enumerate(d.get("analysis", [])):
+            rows.append((f"analysis[{i}]", a.get("type", "")))
+        body = "".join(f"<tr><th style='text-align:left'>{html.escape(k)}</th><td style='text-align:left'>{html.escape(str(v))}</td></tr>" for k, v in rows)
+        toml = html.escape(self.to_toml())
+        return f"<b>beamflow.Case</b><table>{body}</table><details><summary>TOML</summary><pre>{toml}</pre></details>"
+
     # -- running ------------------------------------------------------------------------
 
     def check(self) -> Dict[str, Any]:
@@ -131,17 +167,28 @@ class Case:
         any problem (naming the file, the field and the reason)."""
         return self._native.check()
 
-    def run(self) -> Results:
+    def run(self, *, progress: ProgressArg = None) -> Results:
         """Runs every analysis of the case and returns its :class:`Results` (the same
         numbers, bit for bit, as ``beamflow run``'s HDF5 and JSON).
 
         The solve runs with the GIL released, so other Python threads (another case) run
-        at the same time. Ctrl-C raises ``KeyboardInterrupt`` at once; the abandoned solve
-        then finishes in the background and its result is dropped (a case run has no
-        cancellation point of its own; a sweep stops between cases).
+        at the same time. Ctrl-C raises ``KeyboardInterrupt`` at once and stops the solve
+        at its next step (period, harmonic, frequency), so no core stays busy with it.
+
+        ``progress=True`` shows bars (tqdm's if installed); a callable is called with each
+        task's progress (see :data:`beamflow.ProgressArg`). A transient that did not settle
+        warns with :class:`beamflow.ConvergenceWarning` and says so on its analysis
+        (:attr:`Analysis.settled`).
         """
-        run = self._native.run()
-        return Results(run.tree(), run)
+        cb, close = callback(progress)
+        try:
+            run = self._native.run(cb)
+        finally:
+            close()
+        results = Results(run.tree(), run)
+        for note in results.warnings:
+            warnings.warn(note, ConvergenceWarning, stacklevel=2)
+        return results
 
     def system(self) -> System:
         """The assembled M, C, K (``scipy.sparse.csr_matrix``) and the DOF map of the full
@@ -157,3 +204,7 @@ class Case:
         """The undamped modes of the beam with its actuators attached (the assembled K, M
         over every DOF); shapes over the global DOFs (see :attr:`Modes.dofs`)."""
         return _modes(self._native.coupled_modes(count), coupled=True)
+
+
+def _unpickle(text: str, name: str, base_dir: str) -> Case:
+    return Case.from_toml(text, name=name, base_dir=base_dir)

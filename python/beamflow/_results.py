@@ -9,10 +9,12 @@ usually wants: net and point powers, power per harmonic, time histories, energy 
 
 from __future__ import annotations
 
+import html
 import json
 import os
+import tempfile
 from pathlib import Path
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Union
+from typing import Any, Callable, Dict, Iterator, List, Mapping, Optional, Tuple, Union
 
 import numpy as np
 
@@ -149,13 +151,50 @@ class Analysis(Group):
     mean and net powers; the steady state also its mode-resolved tables (``modal``).
     """
 
-    def __init__(self, raw: Dict[str, Any], path: str, actuators: List[str]) -> None:
+    def __init__(
+        self, raw: Dict[str, Any], path: str, actuators: List[str], tables: Callable[[], Dict[str, Any]]
+    ) -> None:
         super().__init__(raw, path)
         name = path.strip("/")
         _, index, kind = name.split("_", 2)
         self.index = int(index)
         self.kind = kind
         self.actuators = actuators
+        self._all_tables = tables
+
+    def tables(self) -> Dict[str, Any]:
+        """This analysis's tidy tables as pandas DataFrames, by name (``point_power``,
+        ``net_power``, ``spectra``, ``series``, ``modal_point_power``, ``harmonic``, …):
+        the tables of ``beamflow run --csv``, column names with their unit in brackets
+        (``mean power [W]``), the same numbers bit for bit (docs/results-format.md)."""
+        prefix = self.path.strip("/") + "_"
+        return {k[len(prefix):]: v for k, v in self._all_tables().items() if k.startswith(prefix)}
+
+    def table(self, name: str) -> Any:
+        """One of :attr:`tables` (e.g. ``"point_power"``, ``"spectra"``) as a DataFrame."""
+        tables = self.tables()
+        if name not in tables:
+            raise KeyError(f"{self.path}: no table {name!r} (there are {', '.join(tables) or 'none'})")
+        return tables[name]
+
+    @property
+    def settled(self) -> Optional[bool]:
+        """Whether a transient that was to run until its start-up transient died away did
+        (False: it ran out of periods, and its powers may be far off). None where nothing
+        was to settle (other analyses, a fixed number of periods, a record)."""
+        if self.kind != "transient" or "settling_estimate" not in self.attrs:
+            return None
+        return bool(self.attrs["converged"])
+
+    def _not_settled(self) -> Optional[str]:
+        """What the command line says of a transient that did not settle, else None."""
+        if self.settled is not False:
+            return None
+        left, periods = float(self.attrs["settling_estimate"]), int(self.attrs["periods_run"])
+        return (
+            f"analysis {self.index} (transient) NOT settled after {periods} periods: start-up transient left "
+            f"{left:.1e} (relative), so its powers are not the steady state's; raise `max_periods`"
+        )
 
     def _members(self, name: str) -> Dict[str, Group]:
         """The subgroups of group ``name`` (empty if the analysis has none)."""
@@ -290,9 +329,13 @@ class Results(Group):
     figures (results of :meth:`Case.run` only).
     """
 
-    def __init__(self, tree: "_native.NativeTree", run: Optional["_native.NativeRun"] = None) -> None:
+    def __init__(
+        self, tree: "_native.NativeTree", run: Optional["_native.NativeRun"] = None, summary: Optional[str] = None
+    ) -> None:
         self._tree = tree
         self._run = run
+        self._summary = summary if summary is not None or run is None else run.summary_json()
+        self._tables: Optional[Dict[str, Any]] = None
         raw = tree.to_python()
         model = raw["groups"].get("model")
         listing = model["datasets"].get("actuators") if model else None
@@ -302,8 +345,52 @@ class Results(Group):
     def _child(self, raw: Dict[str, Any], path: str) -> Group:
         name = path.strip("/")
         if name.startswith("analysis_"):
-            return Analysis(raw, path, self._actuators)
+            return Analysis(raw, path, self._actuators, self.tables)
         return Group(raw, path)
+
+    def tables(self) -> Dict[str, Any]:
+        """Every tidy table of ``beamflow run --csv`` as a pandas DataFrame, by the name
+        its file has after the case's stem (``analysis_1_steady_state_point_power``);
+        column names carry their unit in brackets. :meth:`Analysis.tables` has one
+        analysis's."""
+        if self._tables is None:
+            import pandas as pd
+
+            self._tables = {
+                name: pd.DataFrame({header: column for header, column in columns})
+                for name, columns in self._tree.tables().items()
+            }
+        return dict(self._tables)
+
+    @property
+    def warnings(self) -> List[str]:
+        """What the results say of their own accuracy that should not pass unseen: each
+        transient that did not settle (also warned of as :class:`ConvergenceWarning` by
+        :meth:`Case.run`)."""
+        return [n for n in (a._not_settled() for a in self.analyses) if n]
+
+    def __reduce__(self) -> Tuple[Any, Tuple[bytes, Optional[str]]]:
+        """Pickles as the HDF5 file :meth:`to_hdf5` writes (every number bit for bit) and
+        the summary; unpickled results have no figures (:meth:`write_figures`)."""
+        with tempfile.TemporaryDirectory(prefix="beamflow-pickle-") as d:
+            path = Path(d) / "results.h5"
+            self._tree.write_hdf5(path)
+            data = path.read_bytes()
+        return (_unpickle, (data, self._summary))
+
+    def _repr_html_(self) -> str:
+        """A notebook's view: title, case, and per analysis its headline numbers and state."""
+        rows = []
+        for a in self.analyses:
+            if a.kind in ("transient", "steady_state") and "net_power" in a.datasets:
+                numbers = ", ".join(f"{k}: {v:.4g} W" for k, v in a.net_power.items())
+            else:
+                numbers = ""
+            state = {True: "settled", False: "<b>NOT settled</b>", None: ""}[a.settled]
+            rows.append(f"<tr><td>{a.index}</td><td>{a.kind}</td><td>{html.escape(numbers)}</td><td>{state}</td></tr>")
+        head = "<tr><th>analysis</th><th>kind</th><th>net power</th><th>state</th></tr>"
+        title = html.escape(f"{self.title} ({self.case_file})")
+        return f"<b>beamflow.Results</b> {title}<table>{head}{''.join(rows)}</table>"
 
     @property
     def title(self) -> str:
@@ -341,9 +428,9 @@ class Results(Group):
     @property
     def summary(self) -> Dict[str, Any]:
         """The headline numbers, exactly as the command line's ``<case>.json``."""
-        if self._run is None:
+        if self._summary is None:
             raise AttributeError("results read from a file have no summary; it is written next to it as <case>.json")
-        return json.loads(self._run.summary_json())
+        return json.loads(self._summary)
 
     def to_hdf5(self, path: Union[str, "os.PathLike[str]"]) -> Path:
         """Writes these results as an HDF5 file (atomically); returns its path."""
@@ -367,3 +454,10 @@ def read_results(path: Union[str, "os.PathLike[str]"]) -> Results:
     gives them as columns.
     """
     return Results(_native.read_results(Path(path)))
+
+
+def _unpickle(data: bytes, summary: Optional[str]) -> Results:
+    with tempfile.TemporaryDirectory(prefix="beamflow-pickle-") as d:
+        path = Path(d) / "results.h5"
+        path.write_bytes(data)
+        return Results(_native.read_results(path), summary=summary)

@@ -11,7 +11,9 @@ import numpy as np
 
 from . import _native
 from ._case import Case
+from ._progress import ProgressArg, callback
 from ._results import Quantity
+from .errors import SweepInterrupted
 
 __all__ = ["SweepTable", "sweep", "read_sweep_table"]
 
@@ -91,6 +93,7 @@ def sweep(
     base_dir: Optional[PathLike] = None,
     threads: Optional[int] = None,
     as_frame: Optional[bool] = None,
+    progress: ProgressArg = None,
 ) -> Any:
     """Runs a parameter sweep (``docs/sweeps.md``) on the library's parallel runner.
 
@@ -108,7 +111,12 @@ def sweep(
     Returns a pandas DataFrame when pandas is installed (``as_frame=None``, the default),
     else a :class:`SweepTable` of numpy columns; ``as_frame=False`` always gives the
     :class:`SweepTable`. The numbers are those of ``beamflow sweep``, bit for bit, whatever
-    ``threads`` (default: one per core). Ctrl-C stops the sweep between cases.
+    ``threads`` (default: one per core).
+
+    ``progress=True`` shows a bar of the cases done (tqdm's if installed); a callable is
+    called with each change. Ctrl-C stops the cases being solved at their next step and
+    raises :class:`beamflow.SweepInterrupted` (a ``KeyboardInterrupt``) whose ``table``
+    holds the cases finished.
     """
     if isinstance(spec, Mapping):
         spec = dict(spec)
@@ -119,7 +127,7 @@ def sweep(
         try:
             text = _native.toml_dumps(spec)
             directory = Path(base_dir or ".")
-            return _result(SweepTable(_native.run_sweep(text, "<dict>", directory, threads)), as_frame)
+            return _run(text, "<dict>", directory, threads, as_frame, progress)
         finally:
             if tmp is not None:
                 tmp.cleanup()
@@ -132,7 +140,21 @@ def sweep(
 
             raise IoError(str(path), e.strerror or str(e), e.errno) from None
         directory = Path(base_dir) if base_dir is not None else path.parent
-        return _result(SweepTable(_native.run_sweep(text, str(path), directory, threads)), as_frame)
+        return _run(text, str(path), directory, threads, as_frame, progress)
+
+
+def _run(text: str, name: str, directory: Path, threads: Optional[int], as_frame: Optional[bool], progress: ProgressArg) -> Any:
+    cb, close = callback(progress)
+    try:
+        raw, stopped = _native.run_sweep(text, name, directory, threads, cb)
+    finally:
+        close()
+    table = SweepTable(raw)
+    if isinstance(stopped, KeyboardInterrupt):
+        raise SweepInterrupted(_result(table, as_frame), table.rows, int(table.meta["total_cases"])) from stopped
+    if stopped is not None:
+        raise stopped
+    return _result(table, as_frame)
 
 
 def _standalone(case: Case, directory: Path) -> Path:

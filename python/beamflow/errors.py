@@ -11,7 +11,7 @@ attributes, so a script can report or handle them precisely::
 
 from __future__ import annotations
 
-from typing import Optional
+from typing import Any, Optional
 
 __all__ = [
     "BeamflowError",
@@ -21,6 +21,8 @@ __all__ = [
     "IoError",
     "Hdf5Error",
     "NumericalError",
+    "ConvergenceWarning",
+    "SweepInterrupted",
 ]
 
 
@@ -91,3 +93,21 @@ class NumericalError(BeamflowError, ArithmeticError):
     def __init__(self, message: str) -> None:
         super().__init__(f"numerical failure: {message}")
         self.message = message
+
+
+class ConvergenceWarning(RuntimeWarning):
+    """A result that did not reach the accuracy it was asked for: a transient that ran out
+    of periods before its start-up transient died away (the command line prints "NOT
+    settled"). Its numbers are those of the last period run, and may be far off (even of the
+    wrong sign); the result says so too (:attr:`beamflow.Analysis.settled`)."""
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """Ctrl-C stopped a sweep. ``table`` holds the cases finished before it (the ``case``
+    column says which), in the form the sweep would have returned; ``total_cases`` is how
+    many the whole sweep has."""
+
+    def __init__(self, table: Any, done: int, total_cases: int) -> None:
+        super().__init__(f"sweep interrupted with {done} of {total_cases} cases done (kept in the exception's `table`)")
+        self.table = table
+        self.total_cases = total_cases

@@ -179,7 +179,7 @@ impl NativeCase {
     fn check<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let lc = self.loaded().py_err()?;
         let budget = beamflow::analysis::budget::Budget::default();
-        let (built, sys, _) = background::run(py, None, move || beamflow::app::runner::planned(&lc, &budget))?;
+        let (built, sys, _) = background::run(py, move || beamflow::app::runner::planned(&lc, &budget))?;
         let d = PyDict::new(py);
         d.set_item("elements", built.beam.as_ref().map_or(0, |b| b.mesh.elements.len()))?;
         d.set_item("dofs", sys.n())?;
@@ -195,10 +195,12 @@ impl NativeCase {
         Ok(d)
     }
 
-    /// Runs every analysis of the case (GIL released; Ctrl-C returns at once).
-    fn run(&self, py: Python<'_>) -> PyResult<NativeRun> {
+    /// Runs every analysis of the case (GIL released; Ctrl-C stops the solve and raises at
+    /// once); `progress` is called with each task's progress.
+    #[pyo3(signature = (progress=None))]
+    fn run(&self, py: Python<'_>, progress: Option<Bound<'_, PyAny>>) -> PyResult<NativeRun> {
         let lc = self.loaded().py_err()?;
-        NativeRun::compute(py, lc)
+        NativeRun::compute(py, lc, progress.as_ref())
     }
 
     fn system<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

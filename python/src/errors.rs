@@ -3,7 +3,7 @@
 
 use beamflow::Error;
 use pyo3::call::PyCallArgs;
-use pyo3::exceptions::PyRuntimeError;
+use pyo3::exceptions::{PyKeyboardInterrupt, PyRuntimeError};
 use pyo3::prelude::*;
 
 /// An instance of `beamflow.errors.<class>` built from `args`.
@@ -25,6 +25,7 @@ pub fn to_py(e: Error) -> PyErr {
         Error::Hdf5 { path, message } => raise(py, "Hdf5Error", (path, message)),
         Error::Numerical(message) => raise(py, "NumericalError", (message,)),
         e @ Error::Singular { .. } => raise(py, "NumericalError", (e.to_string(),)),
+        e @ Error::Cancelled => PyKeyboardInterrupt::new_err(e.to_string()),
     })
 }
 

@@ -1,17 +1,19 @@
 //! A case run's results: the in-memory tree of the results layout (what `Results` shows),
 //! kept with the run itself for the figures and the headline summary.
 
-use crate::background;
+use crate::background::{self, OnInterrupt};
+use crate::convert::array;
 use crate::errors::IntoPy;
 use beamflow::analysis::case_run::CaseRun;
 use beamflow::app::commands::case_inputs;
 use beamflow::app::runner::run_case;
 use beamflow::case::LoadedCase;
+use beamflow::io::csv::Cells;
 use beamflow::io::hdf5::{ResultsFile, ResultsReader};
 use beamflow::io::paths::{refuse_input, Input};
 use beamflow::io::tree::{Group, TreeSink};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
 use std::sync::Arc;
 
@@ -31,12 +33,33 @@ impl NativeTree {
         crate::convert::tree(py, &self.tree)
     }
 
+    /// The tidy tables of `beamflow run --csv`, by the name of their file
+    /// (`<analysis group>_<table>`): each a list of `(header, column)`, the header with its
+    /// unit in brackets, the column a numpy array (a list of text for a text column).
+    fn tables<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+        let out = PyDict::new(py);
+        for (name, t) in beamflow::io::results_csv::tables(&self.tree) {
+            let cols = PyList::empty(py);
+            for c in &t.columns {
+                let n = c.cells.len();
+                let data = match &c.cells {
+                    Cells::Num(v) => array(py, v.clone(), &[n])?,
+                    Cells::Int(v) => array(py, v.clone(), &[n])?,
+                    Cells::Text(v) => PyList::new(py, v)?.into_any(),
+                };
+                cols.append((c.header(), data))?;
+            }
+            out.set_item(name, cols)?;
+        }
+        Ok(out)
+    }
+
     /// Writes the tree as an HDF5 results file (atomically), unless `path` is one of the
     /// files the results came from.
     fn write_hdf5(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         refuse_input("path", &path, &self.inputs).py_err()?;
         let tree = self.tree.clone();
-        background::run(py, None, move || {
+        background::run(py, move || {
             let f = ResultsFile::create(&path)?;
             tree.write_to(&f.root_group())?;
             f.finish()
@@ -48,7 +71,7 @@ impl NativeTree {
 #[pyfunction]
 pub fn read_results(py: Python<'_>, path: PathBuf) -> PyResult<NativeTree> {
     let inputs = vec![Input::new(&path, "the results file these results were read from")];
-    let tree = background::run(py, None, move || ResultsReader::open(&path)?.read_tree())?;
+    let tree = background::run(py, move || ResultsReader::open(&path)?.read_tree())?;
     Ok(NativeTree { tree: Arc::new(tree), inputs: Arc::new(inputs) })
 }
 
@@ -62,9 +85,10 @@ pub struct NativeRun {
 }
 
 impl NativeRun {
-    /// Runs the case and lays its results out in memory, both on a worker thread.
-    pub fn compute(py: Python<'_>, lc: LoadedCase) -> PyResult<NativeRun> {
-        let (lc, run, tree) = background::run(py, None, move || {
+    /// Runs the case and lays its results out in memory, both on a worker thread;
+    /// `progress` is called with the library's tasks as they go (periods, harmonics).
+    pub fn compute(py: Python<'_>, lc: LoadedCase, progress: Option<&Bound<'_, PyAny>>) -> PyResult<NativeRun> {
+        let ((lc, run, tree), _) = background::watched(py, progress, OnInterrupt::Drop, move |_| {
             let run = run_case(&lc)?;
             let sink = TreeSink::new();
             beamflow::io::results::write_into(&sink, &lc, &run)?;
@@ -90,7 +114,7 @@ impl NativeRun {
     /// The command line's figures of this run, as PNG and SVG files in `dir`.
     fn write_figures(&self, py: Python<'_>, dir: PathBuf, stem: String) -> PyResult<Vec<PathBuf>> {
         let run = self.run.clone();
-        background::run(py, None, move || {
+        background::run(py, move || {
             std::fs::create_dir_all(&dir).map_err(|e| beamflow::Error::io(&dir, e))?;
             beamflow::report::figures::plot_run(&dir, &stem, &run)
         })

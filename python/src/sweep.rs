@@ -2,13 +2,15 @@
 //! sweep, its table handed back as named numpy columns.
 
 use crate::background;
+use crate::background::OnInterrupt;
 use crate::convert::array;
 use crate::errors::IntoPy;
-use beamflow::sweep::{self, RunOptions, Sweep, SweepTable};
+use beamflow::progress;
+use beamflow::sweep::{self, OnEvaluated, RunOptions, Sweep, SweepTable};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
-use std::sync::atomic::AtomicBool;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 /// The table as `{"columns": [(name, array, unit, description), …], "meta": {…}}`.
@@ -59,26 +61,39 @@ fn table<'py>(py: Python<'py>, t: &SweepTable) -> PyResult<Bound<'py, PyDict>> {
 }
 
 /// Runs a sweep given as TOML text; `name` labels it in messages, `dir` resolves its `base`.
-/// Ctrl-C stops it: cases not yet started are skipped and `KeyboardInterrupt` is raised.
+/// `progress` is called with the cases done. Ctrl-C stops it: the cases running stop at
+/// their next step, and the rows finished come back with the `KeyboardInterrupt`, as
+/// `(table, exception)` (`exception` None when the sweep ran to the end).
 #[pyfunction]
-#[pyo3(signature = (text, name, dir, threads=None))]
+#[pyo3(signature = (text, name, dir, threads=None, progress=None))]
 pub fn run_sweep<'py>(
     py: Python<'py>,
     text: String,
     name: String,
     dir: PathBuf,
     threads: Option<usize>,
-) -> PyResult<Bound<'py, PyDict>> {
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<(Bound<'py, PyDict>, Option<Py<PyAny>>)> {
     let s = Sweep::from_str(&text, &name, &dir).py_err()?;
-    let cancel = Arc::new(AtomicBool::new(false));
-    let opts = RunOptions { threads, cancel: Some(cancel.clone()), ..Default::default() };
-    let t = background::run(py, Some(cancel), move || sweep::run(&s, &opts))?;
-    table(py, &t)
+    let (t, interrupt) = background::watched(py, progress.as_ref(), OnInterrupt::Keep, move |report| {
+        let total = s.len() as u64;
+        report.start("sweep", Some(total), "cases");
+        let (done, r) = (Arc::new(AtomicU64::new(0)), report.clone());
+        let on_evaluated: OnEvaluated = Arc::new(move |_| r.set(done.fetch_add(1, Ordering::Relaxed) + 1, ""));
+        let opts = RunOptions {
+            threads,
+            cancel: progress::current_cancel(),
+            on_evaluated: Some(on_evaluated),
+            ..Default::default()
+        };
+        sweep::run(&s, &opts)
+    })?;
+    Ok((table(py, &t)?, interrupt.map(|e| e.into_value(py).into_any())))
 }
 
 /// Reads a sweep table written by `beamflow sweep` (or `merge`).
 #[pyfunction]
 pub fn read_sweep_table(py: Python<'_>, path: PathBuf) -> PyResult<Bound<'_, PyDict>> {
-    let t = background::run(py, None, move || SweepTable::read(&path))?;
+    let t = background::run(py, move || SweepTable::read(&path))?;
     table(py, &t)
 }

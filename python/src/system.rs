@@ -40,7 +40,7 @@ fn dof_table<'py>(py: Python<'py>, model: &beamflow::assembly::Model, sys: &Syst
 
 /// The case's assembled system (the full model, before any modal reduction).
 pub fn system<'py>(py: Python<'py>, lc: LoadedCase) -> PyResult<Bound<'py, PyDict>> {
-    let (built, sys) = background::run(py, None, move || model_and_system(&lc))?;
+    let (built, sys) = background::run(py, move || model_and_system(&lc))?;
     let d = PyDict::new(py);
     d.set_item("K", csr(py, &sys.k)?)?;
     d.set_item("M", csr(py, &sys.m)?)?;
@@ -54,7 +54,7 @@ pub fn system<'py>(py: Python<'py>, lc: LoadedCase) -> PyResult<Bound<'py, PyDic
 /// The bare beam's modes (`beamflow modes`): frequencies, closed-form references and the
 /// mode shapes' w at every node.
 pub fn bare_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResult<Bound<'py, PyDict>> {
-    let r = background::run(py, None, move || {
+    let r = background::run(py, move || {
         let beam = beamflow::case::build::build_beam(&lc)?;
         beamflow::analysis::modes::run(&beam, count)
     })?;
@@ -74,7 +74,7 @@ pub fn bare_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResul
 /// dense generalised eigenproblem K·φ = ω²·M·φ over every DOF; shapes mass-normalised,
 /// one row per mode over the global DOFs.
 pub fn coupled_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResult<Bound<'py, PyDict>> {
-    let (built, sys, modes) = background::run(py, None, move || {
+    let (built, sys, modes) = background::run(py, move || {
         let (built, sys) = model_and_system(&lc)?;
         let all: Vec<usize> = (0..sys.n()).collect();
         let modes = beamflow::solve::eigen::modes(&sys.k, &sys.m, &all, count)?;
