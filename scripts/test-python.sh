@@ -47,8 +47,8 @@ PATH="$work/build/bin:$PATH" maturin build --release --features static-hdf5 \
 echo "test-python: maturin build --features static-hdf5 ($((SECONDS - start)) s)"
 
 built=("$work"/dist/*.whl)
-"$work/build/bin/auditwheel" show "${built[0]}" | tee "$work/show.txt"
-"$work/build/bin/auditwheel" repair --wheel-dir "$work/wheelhouse" "${built[0]}" >/dev/null
+PATH="$work/build/bin:$PATH" auditwheel show "${built[0]}" | tee "$work/show.txt"
+PATH="$work/build/bin:$PATH" auditwheel repair --wheel-dir "$work/wheelhouse" "${built[0]}" >/dev/null
 wheels=("$work"/wheelhouse/*.whl)
 wheel=${wheels[0]}
 case $(basename "$wheel") in
