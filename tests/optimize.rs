@@ -9,6 +9,7 @@ use beamflow::analysis::steady_state;
 use beamflow::assembly::System;
 use beamflow::case::LoadedCase;
 use beamflow::optimize::{self, RunOptions, Spec};
+use beamflow::progress::Cancel;
 use beamflow::sweep::{self, Sweep};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -452,4 +453,27 @@ fn the_written_best_case_reproduces_the_optimum() {
     let ss = steady_state::run(&built, &sys, 9, 1024).unwrap();
     let p: f64 = ss.net_power.iter().sum();
     assert!((p - r.best.values[0]).abs() <= 1e-9 * p, "{p} vs {}", r.best.values[0]);
+}
+
+#[test]
+fn a_cancelled_optimisation_stops_evaluating_and_says_so() {
+    let s = spec(&TWO.replace("evaluations = 1500", "evaluations = 300"));
+    let cancel = Cancel::new();
+    let (n, flag) = (Arc::new(AtomicUsize::new(0)), cancel.clone());
+    let c = n.clone();
+    let opts = RunOptions {
+        threads: Some(2),
+        cancel: Some(cancel),
+        on_evaluated: Some(Arc::new(move || {
+            if c.fetch_add(1, Ordering::SeqCst) + 1 == 5 {
+                flag.cancel();
+            }
+        })),
+        ..Default::default()
+    };
+    let e = optimize::run(&s, &opts).unwrap_err();
+    assert!(matches!(e, beamflow::Error::Cancelled), "{e}");
+    // The candidates already being solved (one per thread) may finish; no more start.
+    let done = n.load(Ordering::SeqCst);
+    assert!((5..=7).contains(&done), "{done} evaluations after a cancel at the fifth");
 }
