@@ -13,7 +13,8 @@ paper: deps
 # HDF5 reader (h5dump) checks that a result file is standard HDF5, then the
 # Slurm job array of docs/sweeps.md runs on a one-node cluster on localhost (slurm-wlm and
 # munge are installed with apt-get if missing; needs root or passwordless sudo), the
-# Python package is built in a fresh virtualenv and tested (scripts/test-python.sh), and
+# Python package is built as a manylinux wheel with HDF5 inside, installed into a fresh
+# virtualenv without Rust and tested (scripts/test-python.sh), and
 # every command of the README runs as written in a fresh clone (scripts/test-readme.sh), and
 # each fuzz target runs for a minute (scripts/test-fuzz.sh, docs/testing.md).
 test: deps
