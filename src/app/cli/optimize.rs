@@ -46,7 +46,7 @@ pub fn optimize(args: &OptimizeArgs) -> Result<()> {
     for p in &files {
         crate::say!("wrote {}", p.display());
     }
-    let what = if r.pareto.is_empty() { "Distinct optima" } else { "Distinct optima of the first objective" };
+    let what = if r.pareto.is_empty() { "Local optima" } else { "Local optima of the first objective" };
     crate::say!("\n{what}:\n{}", crate::app::optimize::optima_table(&spec, &r.optima));
     if !r.pareto.is_empty() {
         // The front can hold hundreds of points: its ends and the chosen compromise here,
