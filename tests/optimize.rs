@@ -59,7 +59,7 @@ quantity = "net_power"
 "#;
 
 #[test]
-fn one_variable_finds_the_fine_grid_optimum_with_a_tenth_of_the_evaluations() {
+fn one_variable_finds_the_fine_grid_optimum_with_an_eighth_of_the_evaluations() {
     // The frame at 440 Hz, near mode 4 (445.6 Hz), along the beam: six local maxima, the
     // two highest at either end within 0.03 % of each other. 1,000 positions 0.63 mm apart.
     let dir = tempfile::tempdir().unwrap();
@@ -73,16 +73,36 @@ fn one_variable_finds_the_fine_grid_optimum_with_a_tenth_of_the_evaluations() {
     let t = sweep::run(&sw, &sweep::RunOptions { threads: Some(2), ..Default::default() }).unwrap();
     let best = t.rows.iter().max_by(|a, b| a.net_power[0].total_cmp(&b.net_power[0])).unwrap();
     let spacing = 0.63 / (n - 1) as f64;
-    let s = Spec::from_str(ONE, "test.opt.toml", dir.path()).unwrap();
+    // The best alone (top = 1): the search and one climb.
+    let s = Spec::from_str(&ONE.replace("[search]\n", "[search]\ntop = 1\n"), "test.opt.toml", dir.path()).unwrap();
     let (r, evals) = run_counted(&s, 2);
     let x = s.variables[0].number(r.best.u[0]);
     eprintln!(
         "grid: {:.6e} W at {:.5} m; optimiser: {:.6e} W at {x:.5} m with {evals} evaluations",
         best.net_power[0], best.inputs[0], r.best.values[0]
     );
-    assert!(evals <= n / 10, "{evals} evaluations");
+    assert!(evals <= n / 8, "{evals} evaluations");
     assert!((x - best.inputs[0]).abs() <= spacing, "x = {x}, grid optimum at {}", best.inputs[0]);
     assert!(r.best.values[0] >= best.net_power[0] * (1.0 - 1e-9));
+    // Every reported optimum is a local maximum of the fine grid: within a spacing of a
+    // grid point that beats both its neighbours, and at least as good as it.
+    let s = Spec::from_str(&ONE.replace("[search]\n", "[search]\ntop = 3\n"), "test.opt.toml", dir.path()).unwrap();
+    let (r, _) = run_counted(&s, 2);
+    assert!(r.optima.len() >= 2, "{} optima", r.optima.len());
+    let p: Vec<f64> = t.rows.iter().map(|r| r.net_power[0]).collect();
+    let peaks: Vec<usize> =
+        (0..n).filter(|&i| (i == 0 || p[i] >= p[i - 1]) && (i + 1 == n || p[i] >= p[i + 1])).collect();
+    eprintln!("grid maxima: {:?}", peaks.iter().map(|&i| (t.rows[i].inputs[0], p[i])).collect::<Vec<_>>());
+    for o in &r.optima {
+        let xo = s.variables[0].number(o.u[0]);
+        eprintln!("optimum {xo:.5} m: {:.6e} W", o.values[0]);
+        let k = peaks
+            .iter()
+            .min_by(|&&a, &&b| (t.rows[a].inputs[0] - xo).abs().total_cmp(&(t.rows[b].inputs[0] - xo).abs()))
+            .unwrap();
+        assert!((t.rows[*k].inputs[0] - xo).abs() <= 1.5 * spacing, "optimum at {xo} is no grid maximum");
+        assert!(o.values[0] >= p[*k] * (1.0 - 1e-9), "optimum {xo}: {} below the grid's {}", o.values[0], p[*k]);
+    }
 }
 
 const TWO: &str = r#"
@@ -452,7 +472,8 @@ fn the_written_best_case_reproduces_the_optimum() {
     let sys = System::assemble(&built).unwrap();
     let ss = steady_state::run(&built, &sys, 9, 1024).unwrap();
     let p: f64 = ss.net_power.iter().sum();
-    assert!((p - r.best.values[0]).abs() <= 1e-9 * p, "{p} vs {}", r.best.values[0]);
+    // Same damping coefficients, same mesh, same solve: the same number to round-off.
+    assert!((p - r.best.values[0]).abs() <= 1e-13 * p, "{p} vs {}", r.best.values[0]);
 }
 
 #[test]

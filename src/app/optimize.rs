@@ -14,8 +14,8 @@ use crate::sweep::field::set_path;
 use std::path::{Path, PathBuf};
 
 /// Every file an optimisation may write into its output folder.
-const OUTPUTS: [&str; 7] =
-    ["best.toml", "history.csv", "optima.csv", "pareto.csv", "summary.json", "profiles.png", "modes.png"];
+const OUTPUTS: [&str; 8] =
+    ["best.toml", "history.csv", "optima.csv", "pareto.csv", "summary.json", "profiles.png", "modes.png", "pareto.png"];
 
 /// Points per real variable in the profile figure.
 const PROFILE_POINTS: usize = 41;
@@ -71,6 +71,11 @@ pub fn optimize(
         let p = output_file(&dir, "profiles.png")?;
         crate::report::optimize::plot_profiles(&p, "Objective through the optimum", &o.label, &o.unit(), &profiles)?;
         written.push(p);
+        if !r.pareto.is_empty() {
+            let p = output_file(&dir, "pareto.png")?;
+            plot_pareto(&spec, &r, &p)?;
+            written.push(p);
+        }
         if let Some(m) = modal {
             let p = output_file(&dir, "modes.png")?;
             crate::report::optimize::plot_modal(&p, &m)?;
@@ -82,6 +87,25 @@ pub fn optimize(
     Ok((spec, r, finals))
 }
 
+/// The front of a two-objective run among every feasible candidate it evaluated.
+fn plot_pareto(spec: &Spec, r: &RunResult, path: &Path) -> Result<()> {
+    let column = |rows: &[&Evaluation], k: usize| rows.iter().map(|e| e.values[k]).collect::<Vec<f64>>();
+    let feasible: Vec<&Evaluation> = r.history.iter().filter(|e| e.feasible()).collect();
+    let front: Vec<&Evaluation> = r.pareto.iter().collect();
+    let units: Vec<String> = spec.objectives.iter().map(|o| o.unit()).collect();
+    let axes = [
+        (spec.objectives[0].label.as_str(), units[0].as_str()),
+        (spec.objectives[1].label.as_str(), units[1].as_str()),
+    ];
+    crate::report::optimize::plot_pareto(
+        path,
+        axes,
+        [column(&feasible, 0), column(&feasible, 1)],
+        [column(&front, 0), column(&front, 1)],
+        [r.best.values[0], r.best.values[1]],
+    )
+}
+
 /// The base case as written (analyses and comments of values aside) with the best values
 /// set, and a steady-state analysis if it has none: a case `beamflow run` takes as it is.
 fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
@@ -91,6 +115,23 @@ fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
         set_path(&mut doc, &f.segments, v).map_err(|r| Error::input(&spec.file, "variable", r))?;
     }
     let t = doc.as_table_mut().expect("a case is a table");
+    let mut notes = Vec::new();
+    if let Some(r) = &spec.base.cached_damping {
+        // Every candidate was solved with the base case's calibration (the ratio is a
+        // property of the beam, not of where the actuators stand); recalibrated on this
+        // case's mesh it would differ in the last digits, and so would the optimum.
+        let d = &spec.base.case.damping;
+        let mut table = toml::map::Map::new();
+        table.insert("kind".into(), "rayleigh".into());
+        table.insert("a0".into(), r.a0.into());
+        table.insert("a1".into(), r.a1.into());
+        t.insert("damping".into(), toml::Value::Table(table));
+        notes.push(format!(
+            "# damping: the Rayleigh coefficients of ζ = {} at modes {:?} calibrated on the base case, as every \
+             candidate was solved",
+            d.zeta, d.modes
+        ));
+    }
     if !t.contains_key("analysis") {
         let a: toml::Value =
             toml::from_str(&format!("type = \"steady_state\"\nharmonics = {}\n", spec.harmonics)).expect("valid TOML");
@@ -103,12 +144,13 @@ fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
         .zip(&best.values)
         .map(|(o, v)| format!("# {} = {} {}", o.label, num(*v), o.unit()))
         .collect();
+    notes.splice(0..0, values);
     Ok(format!(
         "# Best case of {} (base {}); relative file paths resolve against the base case's folder.\n# {}\n{}\n\n{body}",
         spec.file,
         spec.base.file,
         spec.describe(&best.u),
-        values.join("\n")
+        notes.join("\n")
     ))
 }
 

@@ -10,12 +10,19 @@ use rayon::prelude::*;
 pub struct Profile {
     pub variable: String,
     pub unit: &'static str,
-    /// Variable values and the objective there (feasible candidates only).
+    /// Variable values and the objective there (feasible candidates only), by x.
     pub x: Vec<f64>,
     pub f: Vec<f64>,
-    /// The optimum's value of the variable.
+    /// Indices i where infeasible candidates lie between point i − 1 and point i.
+    pub gaps: Vec<usize>,
+    /// The optimum: its value of the variable and its objective.
     pub x_best: f64,
+    pub f_best: f64,
 }
+
+/// Extra points on each side of the optimum, within one grid cell: a resonant optimum is
+/// narrower than the grid, and a profile that misses its top misstates it.
+const NEAR_OPTIMUM: usize = 6;
 
 /// Power into each bare-beam mode (W) of the best and of a poor candidate.
 #[derive(Clone, Debug)]
@@ -28,8 +35,9 @@ pub struct ModalComparison {
     pub poor_label: String,
 }
 
-/// Profiles of objective 0 through `best`, `points` per real variable (one per value for
-/// integers and choices), evaluated in parallel on the caller's pool.
+/// Profiles of objective 0 through `best`, `points` per real variable evenly spaced plus
+/// the optimum itself and [`NEAR_OPTIMUM`] points on each side of it within one spacing
+/// (one per value for integers and choices), evaluated in parallel on the caller's pool.
 pub fn profiles(spec: &Spec, best: &Evaluation, points: usize) -> Vec<Profile> {
     let ev = Evaluator::new(spec);
     spec.variables
@@ -37,7 +45,7 @@ pub fn profiles(spec: &Spec, best: &Evaluation, points: usize) -> Vec<Profile> {
         .enumerate()
         .map(|(i, var)| {
             let us: Vec<f64> = match &var.domain {
-                Domain::Real { .. } => (0..points).map(|j| j as f64 / (points - 1) as f64).collect(),
+                Domain::Real { .. } => real_points(best.u[i], points),
                 Domain::Integer { min, max } => (*min..=*max).map(|x| var.unit_of(x as f64)).collect(),
                 Domain::Choice(v) => (0..v.len()).map(|x| var.unit_of(x as f64)).collect(),
             };
@@ -49,11 +57,36 @@ pub fn profiles(spec: &Spec, best: &Evaluation, points: usize) -> Vec<Profile> {
                     ev.evaluate(&u)
                 })
                 .collect();
-            let (x, f): (Vec<f64>, Vec<f64>) =
-                evals.iter().filter(|e| e.feasible()).map(|e| (var.number(e.u[i]), e.values[0])).unzip();
-            Profile { variable: var.name.clone(), unit: var.unit(), x, f, x_best: var.number(best.u[i]) }
+            let (mut x, mut f, mut gaps) = (Vec::new(), Vec::new(), Vec::new());
+            for e in &evals {
+                if !e.feasible() {
+                    if !x.is_empty() && gaps.last() != Some(&x.len()) {
+                        gaps.push(x.len());
+                    }
+                    continue;
+                }
+                x.push(var.number(e.u[i]));
+                f.push(e.values[0]);
+            }
+            gaps.retain(|&g| g < x.len());
+            let (x_best, f_best) = (var.number(best.u[i]), best.values[0]);
+            Profile { variable: var.name.clone(), unit: var.unit(), x, f, gaps, x_best, f_best }
         })
         .collect()
+}
+
+/// `points` evenly spaced in [0, 1], the optimum `at` and points near it, sorted.
+fn real_points(at: f64, points: usize) -> Vec<f64> {
+    let h = 1.0 / (points - 1) as f64;
+    let mut us: Vec<f64> = (0..points).map(|j| j as f64 * h).collect();
+    us.push(at);
+    for k in 1..=NEAR_OPTIMUM {
+        let d = h * k as f64 / (NEAR_OPTIMUM + 1) as f64;
+        us.extend([at - d, at + d].into_iter().filter(|u| (0.0..=1.0).contains(u)));
+    }
+    us.sort_by(f64::total_cmp);
+    us.dedup();
+    us
 }
 
 /// The mode-resolved power of `best` and of the worst feasible candidate of `history`, in

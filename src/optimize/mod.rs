@@ -21,6 +21,7 @@
 pub mod constraint;
 pub mod evaluate;
 pub mod explain;
+pub mod local;
 pub mod objective;
 pub mod quantity;
 pub mod run;

@@ -4,13 +4,18 @@
 //! the Pareto front.
 
 use super::evaluate::{penalised, Evaluation, Evaluator, Status};
-use super::search::{self, Cost, Options};
+use super::local;
+use super::search::{self, Cost, Options, Point};
 use super::spec::Spec;
 use crate::error::{Error, Result};
 use crate::progress::{self, Cancel};
 use std::io::IsTerminal;
 use std::sync::atomic::{AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
+
+/// The least step of the best's climb in the unit box: it is a local optimum to 1e-5 of
+/// each range (6 µm along the paper beam), the others to 1e-3.
+const MIN_STEP: f64 = 1e-5;
 
 /// How to run an optimisation.
 #[derive(Clone, Default)]
@@ -33,7 +38,8 @@ pub struct RunOptions {
 pub struct RunResult {
     /// The best feasible candidate (two objectives: the front's point nearest the ideal).
     pub best: Evaluation,
-    /// Up to `search.top` feasible optima at least `search.distinct` apart, best first.
+    /// Up to `search.top` local optima of the first objective at least `search.distinct`
+    /// apart, best first ([`local`]).
     pub optima: Vec<Evaluation>,
     /// Every evaluation, in order (generation by generation).
     pub history: Vec<Evaluation>,
@@ -141,38 +147,33 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
     let polish = spec.polish_evaluations();
     let bar = progress_bar(opts.progress, spec.max_evaluations().unwrap_or(u64::MAX));
 
-    let mut history: Vec<Evaluation> = Vec::new();
-    let mut evaluations = 0;
-    let mut search_with = |scalar: Scalar, seed: u64, evals: usize| -> Vec<Evaluation> {
-        let rec = Recorder {
-            ev: &ev,
-            scalar,
-            stamp: AtomicU64::new(0),
-            records: Mutex::new(Vec::new()),
-            best: Mutex::new(f64::NAN),
-            bar: &bar,
-            on_evaluated: opts.on_evaluated.clone(),
-            count: AtomicUsize::new(0),
-            cancel: opts.cancel.clone(),
-        };
+    let mut session = Session {
+        ev: &ev,
+        pool: &pool,
+        bar: &bar,
+        on_evaluated: &opts.on_evaluated,
+        cancel: &opts.cancel,
+        evaluations: 0,
+    };
+    let search_with = |session: &mut Session, scalar: Scalar, seed: u64, evals: usize| -> Vec<Evaluation> {
         let o = Options { seed, starts: s.starts, evaluations: evals, polish };
-        pool.install(|| search::minimize(d, &rec, &o));
-        evaluations += rec.count.load(Ordering::Relaxed);
-        rec.take()
+        session.record(scalar, |f| search::minimize(d, f, &o)).0
     };
     let stopped = || opts.cancel.as_ref().map_or(Ok(()), Cancel::check);
 
-    let (best, pareto) = if spec.objectives.len() == 1 {
-        history = search_with(Scalar::One(0), s.seed, s.evaluations);
+    let mut history: Vec<Evaluation> = Vec::new();
+    let (best, pareto, optima) = if spec.objectives.len() == 1 {
+        history = search_with(&mut session, Scalar::One(0), s.seed, s.evaluations);
         stopped()?;
         let best = best_of(spec, &history, Scalar::One(0)).ok_or_else(|| infeasible(spec, &history))?;
-        (best, Vec::new())
+        let optima = climb_optima(spec, &mut session, &mut history);
+        (optima.first().cloned().unwrap_or(best), Vec::new(), optima)
     } else {
         // The two single-objective optima fix the ideal point and the ranges; the
         // scalarisations in between fill the front.
         let per = s.evaluations;
         for k in 0..2 {
-            history.extend(search_with(Scalar::One(k), s.seed.wrapping_add(k as u64), per));
+            history.extend(search_with(&mut session, Scalar::One(k), s.seed.wrapping_add(k as u64), per));
             stopped()?;
         }
         let anchors: Vec<Evaluation> = (0..2)
@@ -188,17 +189,71 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
         for j in 1..n - 1 {
             let w0 = j as f64 / (n - 1) as f64;
             let scalar = Scalar::Chebyshev { w: [w0, 1.0 - w0], ideal, range };
-            history.extend(search_with(scalar, s.seed.wrapping_add(2 + j as u64), per));
+            history.extend(search_with(&mut session, scalar, s.seed.wrapping_add(2 + j as u64), per));
             stopped()?;
         }
+        // The climbs' candidates can join the front: they come first.
+        let optima = climb_optima(spec, &mut session, &mut history);
         let front = pareto_front(spec, &history);
         let knee = Scalar::Chebyshev { w: [0.5, 0.5], ideal, range };
         let best = best_of(spec, &front, knee).expect("the front has the anchors");
-        (best, front)
+        (best, front, optima)
     };
+    stopped()?;
+    let evaluations = session.evaluations;
     bar.finish_and_clear();
-    let optima = distinct_optima(spec, &history, &best);
     Ok(RunResult { best, optima, history, pareto, evaluations, seconds: t0.elapsed().as_secs_f64() })
+}
+
+/// What a run's searches share: the evaluator, the pool, the progress bar and the count.
+struct Session<'a> {
+    ev: &'a Evaluator<'a>,
+    pool: &'a rayon::ThreadPool,
+    bar: &'a indicatif::ProgressBar,
+    on_evaluated: &'a Option<Arc<dyn Fn() + Send + Sync>>,
+    cancel: &'a Option<Cancel>,
+    evaluations: usize,
+}
+
+impl Session<'_> {
+    /// Runs `job` on the pool against the cost `scalar`, and returns every evaluation it
+    /// made (in the deterministic order of [`Recorder::take`]) and what it returned.
+    fn record<T: Send>(&mut self, scalar: Scalar, job: impl FnOnce(&dyn Cost) -> T + Send) -> (Vec<Evaluation>, T) {
+        let rec = Recorder {
+            ev: self.ev,
+            scalar,
+            stamp: AtomicU64::new(0),
+            records: Mutex::new(Vec::new()),
+            best: Mutex::new(f64::NAN),
+            bar: self.bar,
+            on_evaluated: self.on_evaluated.clone(),
+            count: AtomicUsize::new(0),
+            cancel: self.cancel.clone(),
+        };
+        let out = self.pool.install(|| job(&rec));
+        self.evaluations += rec.count.load(Ordering::Relaxed);
+        (rec.take(), out)
+    }
+}
+
+/// The first objective's local optima ([`local::local_optima`]), best first, from the
+/// history's feasible evaluations: the climbs' evaluations join the history. Never empty
+/// when the history has a feasible candidate (the best seen stands in if no climb ends).
+fn climb_optima(spec: &Spec, session: &mut Session, history: &mut Vec<Evaluation>) -> Vec<Evaluation> {
+    let points: Vec<Point> =
+        history.iter().filter(|e| e.feasible()).map(|e| Point { u: e.u.clone(), cost: e.cost(spec, 0) }).collect();
+    let Some(first) = points.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)).cloned() else {
+        return Vec::new();
+    };
+    let climb = local::Climb { top: spec.search.top, distinct: spec.search.distinct, min_step: MIN_STEP };
+    let (climbed, found) = session.record(Scalar::One(0), |f| local::local_optima(f, &first, &points, &climb));
+    history.extend(climbed);
+    let evaluation_at = |u: &[f64]| history.iter().find(|e| e.u == u).cloned();
+    let optima: Vec<Evaluation> = found.iter().filter_map(|p| evaluation_at(&p.u)).filter(|e| e.feasible()).collect();
+    if optima.is_empty() {
+        return evaluation_at(&first.u).into_iter().collect();
+    }
+    optima
 }
 
 fn progress_bar(show: bool, len: u64) -> indicatif::ProgressBar {
@@ -277,22 +332,4 @@ fn pareto_front(spec: &Spec, all: &[Evaluation]) -> Vec<Evaluation> {
         }
     }
     front
-}
-
-/// Up to `top` feasible candidates, best first, each at least `distinct` (in the unit box,
-/// Euclidean) from those before it: the best, then the next best that is elsewhere.
-fn distinct_optima(spec: &Spec, all: &[Evaluation], best: &Evaluation) -> Vec<Evaluation> {
-    let mut f: Vec<&Evaluation> = all.iter().filter(|e| e.feasible()).collect();
-    f.sort_by(|a, b| a.cost(spec, 0).total_cmp(&b.cost(spec, 0)));
-    let mut out = vec![best.clone()];
-    let dist = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
-    for e in f {
-        if out.len() >= spec.search.top {
-            break;
-        }
-        if out.iter().all(|o| dist(&o.u, &e.u) >= spec.search.distinct) {
-            out.push(e.clone());
-        }
-    }
-    out
 }

@@ -213,7 +213,7 @@ impl Spec {
     /// The most evaluations a run takes (None: beyond 64 bits): the global search, the
     /// polish and, since CMA-ES ends a start after the generation that spends its share,
     /// up to one population (4 + ⌊3 ln d⌋) more per start — once per scalarisation (the
-    /// Pareto points of two objectives).
+    /// Pareto points of two objectives) — and the climbs to the local optima.
     pub fn max_evaluations(&self) -> Option<u64> {
         let s = &self.search;
         let population = 4 + (3.0 * (self.variables.len() as f64).ln()).floor() as usize;
@@ -222,7 +222,8 @@ impl Spec {
             .evaluations
             .checked_add(self.polish_evaluations())?
             .checked_add(s.starts.checked_mul(population)?)?
-            .checked_mul(scalarisations)?;
+            .checked_mul(scalarisations)?
+            .checked_add(super::local::budget(self.variables.len(), s.top))?;
         u64::try_from(total).ok()
     }
 

@@ -6,8 +6,9 @@ use crate::optimize::explain::{ModalComparison, Profile};
 use crate::report::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
 use std::path::Path;
 
-/// One panel per variable: the objective (`label`, `unit`) against the variable, with the
-/// optimum marked.
+/// One panel per variable: the objective (`label`, `unit`) against the variable with the
+/// others held at the optimum, the optimum marked, the line broken where candidates are
+/// infeasible.
 pub fn plot_profiles(path: &Path, title: &str, label: &str, unit: &str, profiles: &[Profile]) -> Result<()> {
     let panels = profiles
         .iter()
@@ -18,12 +19,10 @@ pub fn plot_profiles(path: &Path, title: &str, label: &str, unit: &str, profiles
                 format!("{} ({})", p.variable, p.unit)
             };
             let mut lp = LinePlot::new("", xl, format!("{label} ({unit})"));
-            lp.series.push(
-                Series::line("through the optimum", p.x.clone(), p.f.clone()).with_style(SeriesStyle::LineMarkers),
-            );
-            if let Some(k) = p.x.iter().position(|&x| x == p.x_best) {
-                lp.series.push(Series::line("optimum", vec![p.x[k]], vec![p.f[k]]).with_style(SeriesStyle::Markers));
-            }
+            let line =
+                Series::line("other variables at the optimum", p.x.clone(), p.f.clone()).broken_at(p.gaps.clone());
+            lp.series.push(line);
+            lp.series.push(Series::line("optimum", vec![p.x_best], vec![p.f_best]).with_style(SeriesStyle::Markers));
             lp
         })
         .collect();
@@ -31,12 +30,15 @@ pub fn plot_profiles(path: &Path, title: &str, label: &str, unit: &str, profiles
 }
 
 /// Grouped bars: each mode's share of the power the best and the poor candidate put into
-/// the beam (their totals differ by orders of magnitude; the shares show where it goes).
+/// the first modes (their totals differ by orders of magnitude; the shares show where it
+/// goes). The shares are of the sum over the modes drawn, not of the net power, which
+/// higher modes and the static residual also carry.
 pub fn plot_modal(path: &Path, m: &ModalComparison) -> Result<()> {
+    let n = m.mode_frequency_hz.len();
     let mut b = BarChart::new(
-        "Where the power goes: share of each bare-beam mode",
+        format!("Where the power goes: each bare-beam mode's share of the power into modes 1–{n}"),
         "mode (natural frequency)",
-        "share of the net power (%)",
+        format!("share of the power into modes 1–{n} (%)"),
     );
     let share = |p: &[f64]| {
         let total: f64 = p.iter().sum();
@@ -47,4 +49,26 @@ pub fn plot_modal(path: &Path, m: &ModalComparison) -> Result<()> {
         vec![(format!("best: {}", m.best_label), share(&m.best)), (format!("poor: {}", m.poor_label), share(&m.poor))];
     b.size = (1200, 650);
     b.render(path)
+}
+
+/// The two objectives of every feasible candidate evaluated, the Pareto front among them
+/// and the chosen compromise (the front's point nearest the ideal).
+pub fn plot_pareto(
+    path: &Path,
+    axes: [(&str, &str); 2],
+    feasible: [Vec<f64>; 2],
+    front: [Vec<f64>; 2],
+    chosen: [f64; 2],
+) -> Result<()> {
+    let label = |(name, unit): (&str, &str)| if unit == "1" { name.to_string() } else { format!("{name} ({unit})") };
+    let mut lp = LinePlot::new("Pareto front of the two objectives", label(axes[0]), label(axes[1]));
+    let [fx, fy] = feasible;
+    lp.series.push(Series::line("feasible candidates evaluated", fx, fy).with_style(SeriesStyle::Markers));
+    let [px, py] = front;
+    lp.series.push(Series::line("Pareto front", px, py).with_style(SeriesStyle::LineMarkers));
+    lp.series.push(
+        Series::line("chosen: nearest the ideal point", vec![chosen[0]], vec![chosen[1]])
+            .with_style(SeriesStyle::Markers),
+    );
+    lp.render(path)
 }

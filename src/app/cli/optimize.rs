@@ -46,13 +46,16 @@ pub fn optimize(args: &OptimizeArgs) -> Result<()> {
     for p in &files {
         crate::say!("wrote {}", p.display());
     }
-    let what = if r.pareto.is_empty() { "Distinct optima" } else { "Distinct optima of the first objective" };
+    let what = if r.pareto.is_empty() { "Local optima" } else { "Local optima of the first objective" };
     crate::say!("\n{what}:\n{}", crate::app::optimize::optima_table(&spec, &r.optima));
     if !r.pareto.is_empty() {
+        // The front can hold hundreds of points: its ends and the chosen compromise here,
+        // the whole front in pareto.csv and pareto.png.
+        let (first, last) = (&r.pareto[0], &r.pareto[r.pareto.len() - 1]);
         crate::say!(
-            "\nPareto front ({} points):\n{}",
+            "\nPareto front: {} points (all in pareto.csv); its two ends and the chosen point nearest the ideal:\n{}",
             r.pareto.len(),
-            crate::app::optimize::optima_table(&spec, &r.pareto)
+            crate::app::optimize::optima_table(&spec, &[first.clone(), last.clone(), r.best.clone()])
         );
     }
     Ok(())

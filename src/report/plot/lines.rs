@@ -301,11 +301,11 @@ fn clip_segment(a: (f64, f64), b: (f64, f64), lo: (f64, f64), hi: (f64, f64)) ->
 /// A series' samples as runs to be joined: all of them, or for an angle the runs between
 /// its wraps (jumps of more than half its period).
 fn wrap_runs(s: &Series) -> Vec<(&[f64], &[f64])> {
-    let Some(period) = s.wrap else { return vec![(&s.x, &s.y)] };
     let mut runs = Vec::new();
     let mut start = 0;
     for i in 1..s.y.len() {
-        if (s.y[i] - s.y[i - 1]).abs() > 0.5 * period {
+        let wraps = s.wrap.is_some_and(|period| (s.y[i] - s.y[i - 1]).abs() > 0.5 * period);
+        if wraps || s.breaks.contains(&i) {
             runs.push((&s.x[start..i], &s.y[start..i]));
             start = i;
         }

@@ -160,17 +160,26 @@ pub struct Series {
     /// An angle's period in y (e.g. 360 for a phase in degrees): a line is not joined
     /// across a jump of more than half of it, where the angle wraps.
     pub wrap: Option<f64>,
+    /// Indices i where the line starts anew: no line joins point i − 1 to point i (a gap
+    /// in the data, e.g. candidates that could not be solved).
+    pub breaks: Vec<usize>,
 }
 
 impl Series {
     /// A series drawn as a connected line.
     pub fn line(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
-        Series { label: label.into(), x, y, style: SeriesStyle::Line, wrap: None }
+        Series { label: label.into(), x, y, style: SeriesStyle::Line, wrap: None, breaks: Vec::new() }
     }
 
     /// The same series as an angle of `period` (y units): lines break where it wraps.
     pub fn wrapped(mut self, period: f64) -> Self {
         self.wrap = Some(period);
+        self
+    }
+
+    /// The same series with its line broken before each index of `breaks`.
+    pub fn broken_at(mut self, breaks: Vec<usize>) -> Self {
+        self.breaks = breaks;
         self
     }
 
