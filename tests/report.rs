@@ -234,6 +234,19 @@ fn png_size(path: &Path) -> (u32, u32) {
     (be(16), be(20))
 }
 
+/// `beamflow --quiet <flags> run <case> --out <out>` in `dir`: whether it succeeded, and
+/// its standard error.
+fn run_with(dir: &Path, flags: &[&str], case: &Path, out: &str) -> (bool, String) {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
+        .arg("--quiet")
+        .args(flags)
+        .args(["run", case.to_str().unwrap(), "--out", out])
+        .current_dir(dir)
+        .output()
+        .unwrap();
+    (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned())
+}
+
 /// `--dpi` scales every PNG (200 dpi: twice the pixels of the default 100 in each
 /// direction) and leaves the SVG files as they are; a resolution out of range is refused.
 #[test]
@@ -241,14 +254,7 @@ fn dpi_scales_png_figures_and_leaves_svg_alone() {
     let dir = tempfile::tempdir().unwrap();
     let case = dir.path().join("c.toml");
     std::fs::write(&case, linear_case(12.0, "[[analysis]]\ntype = \"steady_state\"\nharmonics = 3\n")).unwrap();
-    let run = |dpi: &str, out: &str| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
-            .args(["--quiet", "--dpi", dpi, "run", case.to_str().unwrap(), "--out", out])
-            .current_dir(dir.path())
-            .output()
-            .unwrap();
-        (o.status.success(), String::from_utf8_lossy(&o.stderr).into_owned())
-    };
+    let run = |dpi: &str, out: &str| run_with(dir.path(), &["--dpi", dpi], &case, out);
     assert!(run("100", "a").0 && run("200", "b").0);
     let fig = "c_steady_state_shaker_spectrum";
     let (w, h) = png_size(&dir.path().join(format!("a/{fig}.png")));
@@ -257,4 +263,28 @@ fn dpi_scales_png_figures_and_leaves_svg_alone() {
     assert_eq!(svg("a"), svg("b"));
     let (ok, err) = run("20", "c");
     assert!(!ok && err.contains("--dpi") && err.contains("50..=600"), "{err}");
+}
+
+/// `--formats` chooses the figure files: `svg,pdf` writes vector PDF beside each SVG and
+/// no PNG; a list without SVG (the report holds it) or with an unknown format is refused.
+#[test]
+fn formats_choose_the_figure_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("c.toml");
+    std::fs::write(&case, linear_case(12.0, "[[analysis]]\ntype = \"steady_state\"\nharmonics = 3\n")).unwrap();
+    let run = |formats: &str, out: &str| run_with(dir.path(), &["--formats", formats], &case, out);
+    assert!(run("svg,pdf", "a").0);
+    let names: Vec<String> = std::fs::read_dir(dir.path().join("a"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    let count = |ext: &str| names.iter().filter(|n| n.ends_with(ext)).count();
+    assert!(count(".svg") > 0 && count(".pdf") == count(".svg") && count(".png") == 0, "{names:?}");
+    let pdf = std::fs::read(dir.path().join("a/c_steady_state_shaker_spectrum.pdf")).unwrap();
+    assert!(pdf.starts_with(b"%PDF-"));
+    for (bad, words) in [("png", "must include svg"), ("svg,eps", "`eps` is not a figure format")] {
+        let (ok, err) = run(bad, "b");
+        assert!(!ok && err.contains("--formats") && err.contains(words), "{bad}: {err}");
+    }
+    assert!(!dir.path().join("b").exists(), "a refused --formats writes nothing");
 }

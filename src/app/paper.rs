@@ -385,6 +385,9 @@ fn on_beam(bi_lc: &LoadedCase, bf_lc: &LoadedCase, out: &Path, w: &mut Written) 
     fig16.groups.push(("net power (all harmonics)".into(), vec![p_in.mean, p_fr.mean]));
     fig16.groups.push(("at the drive frequency".into(), vec![p_in.at_drive, p_fr.at_drive]));
     fig16.show_values = true;
+    // The inertial actuator's power is decades below the frame's: on a linear axis its bar
+    // would not show (a log axis needs them all into the beam).
+    fig16.log_y = fig16.groups.iter().all(|(_, v)| v.iter().all(|&p| p > 0.0));
     fig16.notes = vec![
         "frame / inertial:".into(),
         format!("net power {:.0}×", p_fr.mean / p_in.mean),

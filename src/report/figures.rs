@@ -1,5 +1,5 @@
 //! Standard figures of a case run, and the building blocks the paper figures reuse.
-//! Every figure is written as PNG and SVG.
+//! Every figure is written as SVG, and as PNG and PDF as `--formats` asks.
 
 use super::plot::text::si;
 use super::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
@@ -34,11 +34,12 @@ impl Figure for BarChart {
     }
 }
 
-/// Writes `dir/name.png` and `dir/name.svg`; returns both paths.
+/// Writes `dir/name.<ext>` in each figure format (PNG and SVG unless `--formats` says
+/// otherwise); returns the paths.
 pub fn save(fig: &dyn Figure, dir: &Path, name: &str) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
-    for ext in ["png", "svg"] {
-        let p = crate::io::paths::output_file(dir, &format!("{name}.{ext}"))?;
+    for format in super::plot::figure_formats() {
+        let p = crate::io::paths::output_file(dir, &format!("{name}.{}", format.ext()))?;
         fig.render_to(&p)?;
         out.push(p);
     }
@@ -76,7 +77,8 @@ pub fn components_panel(title: &str, t: &[f64], l: &LinkSeries) -> LinePlot {
     let x = ms_axis(t);
     let mut p = LinePlot::new(title, "time (ms)", "force (N)");
     p.series.push(Series::line("stiffness k·u", x.clone(), l.f_stiffness.clone()));
-    p.series.push(Series::line("damping c·du/dt", x.clone(), l.f_damping.clone()));
+    // Dashed: where the damping part matches the stiffness part it would hide it.
+    p.series.push(Series::line("damping c·du/dt", x.clone(), l.f_damping.clone()).with_style(SeriesStyle::Dashed));
     p.series.push(Series::line("PZT −F_{p}", x, l.f_pzt.clone()));
     p
 }
@@ -158,12 +160,12 @@ pub type PowerLines<'a> = (&'a str, &'a [f64], &'a [f64]);
 /// fall in the linear band around zero of the symmetric-log axis.
 const POWER_DECADES: i32 = 6;
 
-/// Power per harmonic with its sign, on a symmetric-log axis: into the beam up, out of it
-/// down, each decade the same height. `stems` are drawn side by side at each harmonic
-/// (one colour each: one legend entry per point, not per sign); `markers` sit on the
-/// stems of the same colour order (a second estimate of the same lines). Lines below 10⁻⁹
-/// of the largest are left out: round-off, or unsettled transient (even harmonics of a
-/// symmetric drive).
+/// Power per harmonic. All into the beam: stems on a logarithmic axis. With lines of both
+/// signs: a symmetric-log axis, into the beam up, out of it down, each decade the same
+/// height. `stems` stand at their harmonics (one colour and marker each: one legend entry
+/// per point, not per sign; the longest drawn first); `markers` are a second estimate of
+/// the same lines, in their own colours and shapes. Lines below 10⁻⁹ of the largest are
+/// left out: round-off, or unsettled transient (even harmonics of a symmetric drive).
 pub fn power_spectrum_panel(title: &str, stems: &[PowerLines], markers: &[PowerLines]) -> LinePlot {
     let mut p = LinePlot::new(title, "frequency (Hz)", "power into the beam (W)");
     let top = stems.iter().chain(markers).flat_map(|(_, _, pw)| pw.iter().skip(1)).fold(0.0f64, |m, x| m.max(x.abs()));
@@ -176,7 +178,9 @@ pub fn power_spectrum_panel(title: &str, stems: &[PowerLines], markers: &[PowerL
             p.series.push(Series::line(lines.0, f, pw).with_style(style));
         }
     }
-    if top > 0.0 {
+    if p.series.iter().all(|s| s.y.iter().all(|&v| v > 0.0)) {
+        p.log_y = true;
+    } else if top > 0.0 {
         p.symlog_y = Some(10f64.powi(top.log10().floor() as i32 - POWER_DECADES));
     }
     if let Some((_, f, _)) = stems.first() {
@@ -392,6 +396,16 @@ fn load_figures(
     Ok(out)
 }
 
+/// An actuator's name with its kind, `top (inertial)`, or the name alone when it is the
+/// kind (`frame`, not `frame (frame)`).
+fn named_with_kind(name: &str, kind: &str) -> String {
+    if name.eq_ignore_ascii_case(kind) {
+        name.to_string()
+    } else {
+        format!("{name} ({kind})")
+    }
+}
+
 /// Periods of a transient's time histories drawn in its figures (the last ones).
 const PLOTTED_PERIODS: usize = 3;
 
@@ -430,7 +444,7 @@ fn periodic_figures(
             .filter(|&&t0| t0 > 0.0)
             .map_or(String::new(), |&t0| format!(", time from t₀ = {}", si(t0, "s", 4)));
         out.extend(save(
-            &MultiPanel::new(format!("{name} ({}){from}", act.kind()), panels),
+            &MultiPanel::new(format!("{}{from}", named_with_kind(name, act.kind())), panels),
             dir,
             &format!("{tag}_{name}_time"),
         )?);

@@ -36,12 +36,52 @@ pub fn num(v: f64) -> String {
 }
 
 fn label(t: &SweepTable, k: usize) -> String {
-    let u = &t.units[k];
-    if u == "1" || u == "?" {
-        t.parameters[k].clone()
+    with_unit(&t.parameters[k], &t.units[k])
+}
+
+/// `text (unit)`, or the text alone for a number without a unit.
+fn with_unit(text: &str, unit: &str) -> String {
+    if unit == "1" || unit == "?" {
+        text.to_string()
     } else {
-        format!("{} ({u})", t.parameters[k])
+        format!("{text} ({unit})")
     }
+}
+
+/// A parameter as an axis of a figure: the quantity in words, whose it is and its unit
+/// (`actuator[0].voltage.frequency` → `drive frequency, frame (Hz)`); the field path where
+/// no name is known.
+fn axis_label(t: &SweepTable, k: usize) -> String {
+    axis_text(&t.parameters[k], &t.units[k], &t.actuators)
+}
+
+fn axis_text(path: &str, unit: &str, actuators: &[String]) -> String {
+    let field = path.rsplit('.').next().unwrap_or(path);
+    let what = match field {
+        "x_e" => "position x_{E}",
+        "frequency" => "drive frequency",
+        "amplitude" => "drive amplitude",
+        "offset" => "drive offset",
+        "m_t" => "top mass m_{t}",
+        "k_p" => "stack stiffness k_{p}",
+        "c_p" => "stack damping c_{p}",
+        "d_p" => "piezo constant d_{p}",
+        "elements" => "mesh elements",
+        _ => return with_unit(path, unit),
+    };
+    // Whose: an actuator by its name, else the path above the field.
+    let owner = path.strip_suffix(field).unwrap_or("").trim_end_matches('.');
+    let actuator = owner
+        .strip_prefix("actuator[")
+        .and_then(|r| r.split(']').next())
+        .and_then(|i| i.parse::<usize>().ok())
+        .and_then(|i| actuators.get(i));
+    let whose = match actuator {
+        Some(name) => format!(", {name}"),
+        None if owner.is_empty() || owner.starts_with("beam") => String::new(),
+        None => format!(", {owner}"),
+    };
+    with_unit(&format!("{what}{whose}"), unit)
 }
 
 /// Index of the position parameter (a path ending in `x_e`), if any.
@@ -179,8 +219,8 @@ fn figure(t: &SweepTable) -> Option<Figure> {
         let floor = if max > 0.0 { max * 1e-12 } else { 1e-30 };
         let mut h = HeatMap::new(
             format!("{title}: net power into the beam"),
-            label(t, px),
-            label(t, py),
+            axis_label(t, px),
+            axis_label(t, py),
             if signed { "|net power| (W)" } else { "net power (W)" },
         );
         h.x = xs;
@@ -191,7 +231,7 @@ fn figure(t: &SweepTable) -> Option<Figure> {
     }
     if t.parameters.len() == 1 && !t.rows.is_empty() {
         let x: Vec<f64> = t.rows.iter().map(|r| r.inputs[0]).collect();
-        let mut p = LinePlot::new(format!("{title}: net power into the beam"), label(t, 0), "net power (W)");
+        let mut p = LinePlot::new(format!("{title}: net power into the beam"), axis_label(t, 0), "net power (W)");
         let style = if t.rows.len() <= 40 { SeriesStyle::LineMarkers } else { SeriesStyle::Line };
         let mut order: Vec<usize> = (0..x.len()).collect();
         order.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
@@ -311,7 +351,17 @@ pub fn write_markdown(t: &SweepTable, out: &Path) -> Result<PathBuf> {
 
 #[cfg(test)]
 mod tests {
-    use super::num;
+    use super::{axis_text, num};
+
+    #[test]
+    fn axes_name_the_quantity_whose_it_is_and_its_unit() {
+        let acts = vec!["frame".to_string()];
+        assert_eq!(axis_text("actuator[0].voltage.frequency", "Hz", &acts), "drive frequency, frame (Hz)");
+        assert_eq!(axis_text("actuator[0].x_e", "m", &acts), "position x_{E}, frame (m)");
+        assert_eq!(axis_text("beam.mesh.elements", "1", &acts), "mesh elements");
+        assert_eq!(axis_text("beam.damping.zeta", "1", &acts), "beam.damping.zeta");
+        assert_eq!(axis_text("actuator[3].m_t", "kg", &acts), "top mass m_{t}, actuator[3] (kg)");
+    }
 
     #[test]
     fn numbers_read_well() {

@@ -22,6 +22,10 @@ pub struct Cli {
     /// plot; 50 to 600). SVG figures do not depend on it.
     #[arg(long, global = true, value_name = "DPI")]
     pub dpi: Option<u32>,
+    /// Formats of every figure, comma-separated: png, svg, pdf (default png,svg). SVG is
+    /// always among them: the HTML reports hold it. PDF is vector, for publishers.
+    #[arg(long, global = true, value_name = "LIST", value_delimiter = ',')]
+    pub formats: Option<Vec<String>>,
     #[command(subcommand)]
     pub command: Command,
 }
@@ -212,6 +216,10 @@ pub fn main_with<I: IntoIterator<Item = T>, T: Into<std::ffi::OsString> + Clone>
         Status::Stdout
     });
     if let Some(Err(e)) = cli.dpi.map(crate::report::plot::set_png_dpi) {
+        eprintln!("error: {e}");
+        return 1;
+    }
+    if let Some(Err(e)) = cli.formats.as_deref().map(crate::report::plot::set_figure_formats) {
         eprintln!("error: {e}");
         return 1;
     }

@@ -195,9 +195,11 @@ impl Axis {
     pub fn log(lo: f64, hi: f64, label: &str, prefix: bool) -> Self {
         let t = LogTicks::new(lo, hi);
         let (label, fmt): (String, Box<dyn Fn(f64) -> String>) = match tick_unit(label).filter(|_| prefix) {
-            Some((text, unit)) => {
+            // The ticks carry the prefixed unit (`10 µW`); the label keeps it too, so the
+            // axis names its unit where a reader looks for it.
+            Some((_, unit)) => {
                 let unit = unit.to_string();
-                (text.to_string(), Box::new(move |v| si(v, &unit, 3)))
+                (label.to_string(), Box::new(move |v| si(v, &unit, 3)))
             }
             None => {
                 let sci = t.bold.iter().any(|v| needs_sci(v.abs()));
@@ -232,10 +234,10 @@ impl Axis {
         bold.sort_by(f64::total_cmp);
         light.sort_by(f64::total_cmp);
         let (label, fmt): (String, Box<dyn Fn(f64) -> String>) = match tick_unit(label) {
-            Some((text, unit)) => {
+            Some((_, unit)) => {
                 let unit = unit.to_string();
                 (
-                    text.to_string(),
+                    label.to_string(),
                     Box::new(move |u| if u == 0.0 { "0".into() } else { si(symlog_inv(u, c), &unit, 2) }),
                 )
             }
@@ -325,7 +327,7 @@ mod tests {
         assert_eq!(ay.samples(), vec!["10e-6", "100e-6", "1e-3", "10e-3"]);
         assert!(ay.light.contains(&3e-6) && ay.light.len() > 30);
         let ap = Axis::log(2e-6, 3e-2, "power (W)", true);
-        assert_eq!((ap.samples()[0].as_str(), ap.label.as_str()), ("10 µW", "power"));
+        assert_eq!((ap.samples()[0].as_str(), ap.label.as_str()), ("10 µW", "power (W)"));
         assert_eq!(Axis::log(2.0, 7.0, "x", true).samples(), vec!["2", "3", "4", "5", "6", "7"]);
         assert_eq!(Axis::log(1.01, 1.05, "x", true).samples().len(), 5);
         assert!((5..=9).contains(&LogTicks::new(1.0, 1e40).bold.len()));
@@ -357,7 +359,7 @@ mod tests {
         assert_eq!(symlog(0.0, c), 0.0);
         assert!(symlog(-1e-6, c) < 0.0 && (symlog(1e-5, c) - symlog(1e-6, c) - 1.0).abs() < 1e-3);
         let a = Axis::symlog(symlog(-1e-5, c), symlog(3e-5, c), c, "power (W)");
-        assert_eq!(a.label, "power");
+        assert_eq!(a.label, "power (W)");
         let s = a.samples();
         assert!(
             s.contains(&"0".to_string()) && s.contains(&"10 µW".to_string()) && s.contains(&"-1 µW".to_string()),

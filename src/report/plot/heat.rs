@@ -8,7 +8,7 @@ use plotters::prelude::*;
 use super::axis::{fit_range, linear_ticks, Axis};
 use super::text::plain;
 use super::{
-    check_values, de, font, px, titled, x_label_height, y_label_width, DrawResult, Drawable, HeatMap, DESC_PX, TICK_PX,
+    check_values, de, font, titled, x_label_height, y_label_width, DrawResult, Drawable, HeatMap, DESC_PX, TICK_PX,
 };
 use crate::error::{Error, Result};
 
@@ -94,7 +94,7 @@ impl Drawable for HeatMap {
         };
         // Colour bar strip: 40 px of gradient plus its labels on the right.
         let bar_labels = y_label_width(root, &az.samples());
-        let bar_w = bar_labels + px(56);
+        let bar_w = bar_labels + 56;
         let (w, _) = body.dim_in_pixel();
         let (main, bar) = body.split_horizontally(w.saturating_sub(bar_w));
         let (xe, ye) = (edges(&self.x), edges(&self.y));
@@ -102,7 +102,7 @@ impl Drawable for HeatMap {
         let ay = Axis::linear(ylo, yhi, &self.y_label, false);
 
         let mut c = ChartBuilder::on(&main)
-            .margin(px(12))
+            .margin(12)
             .x_label_area_size(x_label_height())
             .y_label_area_size(y_label_width(root, &ay.samples()))
             .build_cartesian_2d(xlo..xhi, ylo..yhi)
@@ -115,8 +115,8 @@ impl Drawable for HeatMap {
             .y_desc(&yd)
             .x_label_formatter(&fx)
             .y_label_formatter(&fy)
-            .label_style(font(px(TICK_PX)))
-            .axis_desc_style(font(px(DESC_PX)))
+            .label_style(font(TICK_PX))
+            .axis_desc_style(font(DESC_PX))
             .draw()
             .map_err(de)?;
         let nx = self.x.len();
@@ -127,8 +127,8 @@ impl Drawable for HeatMap {
         c.draw_series(cells).map_err(de)?;
 
         let mut cb = ChartBuilder::on(&bar);
-        cb.margin(px(12))
-            .margin_left(px(4))
+        cb.margin(12)
+            .margin_left(4)
             .x_label_area_size(x_label_height())
             .y_label_area_size(0)
             .right_y_label_area_size(bar_labels);
@@ -167,11 +167,11 @@ where
         .x_labels(0)
         .y_labels(8)
         // A longer tick keeps its label clear of the tick (else "1e-4" reads as "-1e-4").
-        .set_all_tick_mark_size(px(6))
+        .set_all_tick_mark_size(6)
         .y_desc(label)
         .y_label_formatter(&fy)
-        .label_style(font(px(TICK_PX)))
-        .axis_desc_style(font(px(DESC_PX)))
+        .label_style(font(TICK_PX))
+        .axis_desc_style(font(DESC_PX))
         .draw()
         .map_err(de)
 }

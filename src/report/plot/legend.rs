@@ -5,12 +5,13 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use plotters::style::text_anchor::HPos;
 
-use super::{de, px, text, DrawResult, LINE_W, MARKER_R, TICK_PX};
+use super::{dashed, de, text, DrawResult, Marker, LINE_W, TICK_PX};
 
 /// How an entry's sample is drawn: as its series is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Swatch {
     Line,
+    Dashed,
     LineMarkers,
     Markers,
     Stems,
@@ -23,6 +24,8 @@ pub struct Entry {
     pub label: String,
     pub color: RGBColor,
     pub swatch: Swatch,
+    /// The series' marker shape, where the swatch has a marker.
+    pub marker: Marker,
 }
 
 /// A legend: entries, then free lines of text (notes such as a ratio beside the paper's).
@@ -49,7 +52,7 @@ const GAP: u32 = 8;
 const PAD: u32 = 10;
 
 fn row_h() -> u32 {
-    px(TICK_PX) * 3 / 2
+    TICK_PX * 3 / 2
 }
 
 impl Legend {
@@ -59,16 +62,16 @@ impl Legend {
 
     /// Width the legend needs beside a plot (pixels).
     pub fn width<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>) -> u32 {
-        let f = px(TICK_PX);
-        let entries = self.entries.iter().map(|e| px(SAMPLE + GAP) + text::width(area, &e.label, f)).max().unwrap_or(0);
+        let f = TICK_PX;
+        let entries = self.entries.iter().map(|e| (SAMPLE + GAP) + text::width(area, &e.label, f)).max().unwrap_or(0);
         let notes = self.notes.iter().map(|n| text::width(area, n, f)).max().unwrap_or(0);
-        entries.max(notes) + 2 * px(PAD)
+        entries.max(notes) + 2 * PAD
     }
 
     /// Height of the legend's rows (pixels).
     pub fn height(&self) -> u32 {
         let gap = if self.notes.is_empty() || self.entries.is_empty() { 0 } else { row_h() / 2 };
-        (self.entries.len() + self.notes.len()) as u32 * row_h() + gap + px(PAD)
+        (self.entries.len() + self.notes.len()) as u32 * row_h() + gap + PAD
     }
 
     /// Right of the plot when it takes at most 30 % of `total_w`, else below.
@@ -105,18 +108,18 @@ impl Legend {
     /// (pixels in `area`).
     pub fn draw<DB: DrawingBackend>(&self, area: &DrawingArea<DB, Shift>, left: i32, top: i32) -> DrawResult {
         let r = row_h() as i32;
-        let x0 = left + px(PAD) as i32;
+        let x0 = left + PAD as i32;
         let mut y = top + r / 2;
         for e in &self.entries {
             swatch(area, e, (x0, y))?;
-            text::draw(area, &e.label, (x0 + px(SAMPLE + GAP) as i32, y), px(TICK_PX), HPos::Left, false)?;
+            text::draw(area, &e.label, (x0 + (SAMPLE + GAP) as i32, y), TICK_PX, HPos::Left, false)?;
             y += r;
         }
         if !self.entries.is_empty() {
             y += r / 2;
         }
         for n in &self.notes {
-            text::draw(area, n, (x0, y), px(TICK_PX), HPos::Left, false)?;
+            text::draw(area, n, (x0, y), TICK_PX, HPos::Left, false)?;
             y += r;
         }
         Ok(())
@@ -124,20 +127,21 @@ impl Legend {
 }
 
 fn swatch<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, e: &Entry, (x, y): (i32, i32)) -> DrawResult {
-    let w = px(SAMPLE) as i32;
-    let stroke = e.color.stroke_width(px(LINE_W));
-    let dot = |at: (i32, i32)| Circle::new(at, px(MARKER_R as u32) as i32, e.color.filled());
-    let h = px(TICK_PX) as i32 / 2;
+    let w = SAMPLE as i32;
+    let stroke = e.color.stroke_width(LINE_W);
+    let dot = |at: (i32, i32)| e.marker.draw(area, at, e.color);
+    let h = TICK_PX as i32 / 2;
     match e.swatch {
         Swatch::Line => area.draw(&PathElement::new(vec![(x, y), (x + w, y)], stroke)).map_err(de),
+        Swatch::Dashed => area.draw(&dashed(vec![(x, y), (x + w, y)], e.color)).map_err(de),
         Swatch::LineMarkers => {
             area.draw(&PathElement::new(vec![(x, y), (x + w, y)], stroke)).map_err(de)?;
-            area.draw(&dot((x + w / 2, y))).map_err(de)
+            dot((x + w / 2, y))
         }
-        Swatch::Markers => area.draw(&dot((x + w / 2, y))).map_err(de),
+        Swatch::Markers => dot((x + w / 2, y)),
         Swatch::Stems => {
             area.draw(&PathElement::new(vec![(x + w / 2, y + h), (x + w / 2, y - h + 2)], stroke)).map_err(de)?;
-            area.draw(&dot((x + w / 2, y - h + 2))).map_err(de)
+            dot((x + w / 2, y - h + 2))
         }
         Swatch::Bar => area
             .draw(&Rectangle::new([(x + w / 4, y - h + 1), (x + 3 * w / 4, y + h - 1)], e.color.filled()))

@@ -10,9 +10,8 @@ use plotters::prelude::*;
 use super::axis::{fit_range, symlog, Axis, Scale};
 use super::legend::{Entry, Legend, Place, Swatch};
 use super::{
-    axis_texts, check_range, check_values, de, font, palette_color, plot_pixels, px, titled, x_label_height,
-    y_label_width, DrawResult, Drawable, LinePlot, MultiPanel, Series, SeriesStyle, LINE_W, MARKER_R, TICK_PX,
-    TITLE_PX,
+    axis_texts, check_range, check_values, de, font, palette_color, plot_pixels, titled, x_label_height, y_label_width,
+    DrawResult, Drawable, LinePlot, Marker, MultiPanel, Series, SeriesStyle, LINE_W, TICK_PX, TITLE_PX,
 };
 use crate::error::{Error, Result};
 
@@ -22,9 +21,6 @@ pub(super) struct Share {
     pub y_area: u32,
     pub place: Place,
 }
-
-/// Stems of several series at one x stand this far apart (pixels at 100 dpi).
-const DODGE_PX: u32 = 6;
 
 impl LinePlot {
     pub(super) fn check(&self, file: &str, prefix: &str) -> Result<()> {
@@ -128,8 +124,10 @@ impl LinePlot {
             .map(|(i, s)| Entry {
                 label: s.label.clone(),
                 color: palette_color(i),
+                marker: Marker::nth(i),
                 swatch: match s.style {
                     SeriesStyle::Line => Swatch::Line,
+                    SeriesStyle::Dashed => Swatch::Dashed,
                     SeriesStyle::LineMarkers => Swatch::LineMarkers,
                     SeriesStyle::Markers => Swatch::Markers,
                     SeriesStyle::Stems => Swatch::Stems,
@@ -160,7 +158,7 @@ impl LinePlot {
         let (chart_area, legend_area) = legend.split(share.place, &body);
         let (ax, ay) = self.axes();
         let mut b = ChartBuilder::on(&chart_area);
-        b.margin(px(12)).margin_right(px(20)).x_label_area_size(x_label_height()).y_label_area_size(share.y_area);
+        b.margin(12).margin_right(20).x_label_area_size(x_label_height()).y_label_area_size(share.y_area);
         let bx = Box2 { x: (ax.lo, ax.hi), y: (ay.lo, ay.hi), log_x: self.log_x, log_y: ay.scale == Scale::Log };
         let series = self.drawn();
         let plot = match (ax.scale, ay.scale) {
@@ -225,9 +223,10 @@ where
         .y_label_formatter(&fy)
         .x_labels(8)
         .y_labels(8)
-        .label_style(font(px(TICK_PX)))
+        .max_light_lines(4)
+        .label_style(font(TICK_PX))
         .bold_line_style(BLACK.mix(0.15))
-        .light_line_style(BLACK.mix(0.05))
+        .light_line_style(super::LIGHT_GRID)
         .draw()
         .map_err(de)?;
     draw_series(c, p, series, bx)
@@ -254,14 +253,6 @@ impl Box2 {
     }
     fn contains(&self, p: (f64, f64)) -> bool {
         p.0 >= self.x.0 && p.0 <= self.x.1 && p.1 >= self.y.0 && p.1 <= self.y.1
-    }
-    /// `x` moved by `frac` of the axis's width (along the axis's scale).
-    fn shift_x(&self, x: f64, frac: f64) -> f64 {
-        if self.log_x {
-            x * (self.x.1 / self.x.0).powf(frac)
-        } else {
-            x + frac * (self.x.1 - self.x.0)
-        }
     }
 }
 
@@ -430,41 +421,50 @@ where
         let axis = PathElement::new(vec![(bx.x.0, 0.0), (bx.x.1, 0.0)], BLACK.stroke_width(1));
         c.draw_series(std::iter::once(axis)).map_err(de)?;
     }
-    let (lw, r) = (px(LINE_W), px(MARKER_R as u32) as i32);
+    let lw = LINE_W;
+    // Every stem at its true x; the longest first, so that a shorter one at the same x is
+    // drawn over it and both show.
+    let mut lines: Vec<(f64, f64, usize)> = stems
+        .iter()
+        .flat_map(|&i| series[i].x.iter().zip(&series[i].y).map(move |(&x, &y)| (x, y, i)))
+        .filter(|(x, _, _)| *x >= bx.x.0 && *x <= bx.x.1)
+        .map(|(x, y, i)| (x, y.clamp(bx.y.0, bx.y.1), i))
+        .collect();
+    let length = |y: f64| (bx.fwd((1.0, y)).1 - bx.fwd((1.0, base)).1).abs();
+    lines.sort_by(|a, b| length(b.1).total_cmp(&length(a.1)));
+    c.draw_series(
+        lines.iter().map(|&(x, y, i)| PathElement::new(vec![(x, base), (x, y)], palette_color(i).stroke_width(lw))),
+    )
+    .map_err(de)?;
     for (i, s) in series.iter().enumerate() {
         let color = palette_color(i);
-        let mut x = Cow::Borrowed(&s.x);
-        match s.style {
-            SeriesStyle::Line | SeriesStyle::LineMarkers => {
-                // A decimated piece is a per-column envelope whose strokes reverse within a
-                // pixel column; the bitmap backend's joins of a thick polyline at such turns
-                // spike far outside the plot area, so it is drawn as runs that are monotone
-                // in y, joined only where they do not turn back.
-                let mut paths = Vec::new();
-                for pc in wrap_runs(s).into_iter().flat_map(|(x, y)| clip_polyline(x, y, bx)) {
-                    if pc.len() > 4 * columns {
-                        paths.extend(monotone_runs(&decimate(pc, columns, bx)));
-                    } else {
-                        paths.push(pc);
-                    }
+        if matches!(s.style, SeriesStyle::Line | SeriesStyle::LineMarkers | SeriesStyle::Dashed) {
+            // A decimated piece is a per-column envelope whose strokes reverse within a
+            // pixel column; joins of a thick polyline at such turns spike far outside the
+            // plot area, so it is drawn as runs that are monotone in y, joined only where
+            // they do not turn back.
+            let mut paths = Vec::new();
+            for pc in wrap_runs(s).into_iter().flat_map(|(x, y)| clip_polyline(x, y, bx)) {
+                if pc.len() > 4 * columns {
+                    paths.extend(monotone_runs(&decimate(pc, columns, bx)));
+                } else {
+                    paths.push(pc);
                 }
+            }
+            if s.style == SeriesStyle::Dashed {
+                c.draw_series(paths.into_iter().map(|pc| super::dashed(pc, color))).map_err(de)?;
+            } else {
                 c.draw_series(paths.into_iter().map(|pc| PathElement::new(pc, color.stroke_width(lw)))).map_err(de)?;
             }
-            SeriesStyle::Markers => {}
-            SeriesStyle::Stems => {
-                // Side by side with the other stem series, centred on the true x.
-                let j = stems.iter().position(|&k| k == i).unwrap_or(0) as f64;
-                let shift = (j - 0.5 * (stems.len() - 1) as f64) * px(DODGE_PX) as f64 / columns as f64;
-                x = Cow::Owned(s.x.iter().map(|&v| bx.shift_x(v, shift)).collect());
-                let lines = x.iter().zip(&s.y).filter(|(x, _)| **x >= bx.x.0 && **x <= bx.x.1).map(|(&x, &y)| {
-                    PathElement::new(vec![(x, base), (x, y.clamp(bx.y.0, bx.y.1))], color.stroke_width(lw))
-                });
-                c.draw_series(lines).map_err(de)?;
-            }
         }
-        if s.style != SeriesStyle::Line {
-            let dots = x.iter().zip(&s.y).map(|(&x, &y)| (x, y)).filter(|&q| bx.contains(q));
-            c.draw_series(dots.map(|q| Circle::new(q, r, color.filled()))).map_err(de)?;
+        if matches!(s.style, SeriesStyle::LineMarkers | SeriesStyle::Markers | SeriesStyle::Stems) {
+            let area = c.plotting_area();
+            let (bx0, by0) = area.get_base_pixel();
+            let shift = area.strip_coord_spec();
+            for q in s.x.iter().zip(&s.y).map(|(&x, &y)| (x, y)).filter(|&q| bx.contains(q)) {
+                let (u, v) = area.map_coordinate(&q);
+                Marker::nth(i).draw(&shift, (u - bx0, v - by0), color)?;
+            }
         }
     }
     Ok(())

@@ -1,24 +1,24 @@
 //! Report figures: line plots, stacked panels, grouped bars and heat maps, rendered to
-//! PNG or SVG (chosen by the file extension) from one description.
+//! SVG, PNG or PDF (chosen by the file extension) from one description.
 //!
 //! Design choices, and why:
-//! * The figure is a plain data description (`LinePlot`, `BarChart`, ...), so the same
-//!   figure can be written as PNG for quick looks and as SVG for a report.
+//! * The figure is a plain data description (`LinePlot`, `BarChart`, ...), drawn once as
+//!   SVG; PNG is that SVG rasterised with anti-aliasing (resvg) and PDF that SVG as vector
+//!   paths (svg2pdf), so the three formats cannot disagree.
 //! * All data are validated before any drawing: a NaN or infinity, mismatched lengths, or
 //!   non-positive values on a log axis are returned as [`Error::Input`] naming the file and
 //!   the series, instead of silently drawing a misleading figure.
-//! * Text uses the DejaVu Sans font embedded in the binary, so rendering needs no system
-//!   font library and looks the same on every machine. (SVG files name the `sans-serif`
-//!   family and let the viewer's font render the text; the embedded font is used for
-//!   layout.)
+//! * Text uses the DejaVu Sans font embedded in the binary, for layout and as outlines in
+//!   the SVG ([`outline`]), so rendering needs no system font library and every viewer
+//!   shows the same glyphs where the layout put them.
 //! * Files are written atomically (see [`crate::io::atomic`]).
 //! * Data outside explicit axis ranges is clipped to the plot area, and very long line
 //!   series are reduced to a per-pixel min/max envelope (which draws identically) to keep
 //!   SVG files small.
 //! * Legends sit outside the data ([`legend`]); y axes with a unit take an SI prefix
 //!   (`power (µW)`), other ticks use engineering notation ([`axis`]).
-//! * Sizes are in pixels at 100 dpi; PNG files are drawn at the process's resolution
-//!   ([`set_png_dpi`], the command line's `--dpi`), SVG files are resolution-free.
+//! * Sizes are in pixels at 100 dpi; PNG files are rasterised at the process's resolution
+//!   ([`set_png_dpi`], the command line's `--dpi`), SVG and PDF files are resolution-free.
 //!
 //! Axis labels, titles and legend entries are free text; by convention axis labels carry
 //! the unit, e.g. `"time (s)"`, and `F_{T}` draws T as a subscript ([`text`]).
@@ -28,19 +28,20 @@ mod bars;
 mod heat;
 pub mod legend;
 mod lines;
+mod outline;
 pub mod text;
 
-use std::cell::Cell;
 use std::path::Path;
-use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 use std::sync::OnceLock;
 
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::HPos;
 
 use crate::error::{Error, Result};
-use crate::io::atomic::write_atomic;
+use crate::io::atomic::write_atomic_bytes;
 
 /// DejaVu Sans (see `assets/fonts/DejaVu-LICENSE.txt`).
 static FONT_BYTES: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
@@ -55,6 +56,14 @@ fn ensure_font() -> Result<()> {
         })
         .clone()
         .map_err(|m| Error::io("<font>", std::io::Error::other(m)))
+}
+
+/// The embedded font, parsed once, for drawing text as outlines.
+fn font_ref() -> Result<&'static ab_glyph::FontRef<'static>> {
+    static FONT: OnceLock<Option<ab_glyph::FontRef<'static>>> = OnceLock::new();
+    FONT.get_or_init(|| ab_glyph::FontRef::try_from_slice(FONT_BYTES).ok())
+        .as_ref()
+        .ok_or_else(|| Error::io("<font>", std::io::Error::other("embedded font DejaVuSans.ttf could not be loaded")))
 }
 
 /// Colour cycle for series and bar groups: the Tableau 10 palette, chosen because its
@@ -78,15 +87,51 @@ pub fn palette_color(i: usize) -> RGBColor {
     RGBColor(r, g, b)
 }
 
+/// Minor grid lines: faint, so that a log axis's eight per decade do not crowd the data.
+const LIGHT_GRID: RGBAColor = RGBAColor(0, 0, 0, 0.035);
+
 /// Text sizes, marker radius and line width at 100 dpi (pixels).
 const TITLE_PX: u32 = 24;
 const DESC_PX: u32 = 18;
 const TICK_PX: u32 = 15;
-const MARKER_R: i32 = 3;
+const MARKER_R: i32 = 4;
 const LINE_W: u32 = 2;
+
+/// A dashed stroke through `points`, as wide as a series line.
+fn dashed<C: Clone>(points: Vec<C>, color: RGBColor) -> DashedPathElement<std::vec::IntoIter<C>, u32> {
+    DashedPathElement::new(points, 8, 5, color.stroke_width(LINE_W))
+}
 
 fn font(px: u32) -> TextStyle<'static> {
     (FontFamily::SansSerif, px).into_text_style(&(0u32, 0u32))
+}
+
+/// The formats every figure is written in, one bit per [`Format::ALL`] entry: PNG and SVG
+/// unless the command line's `--formats` says otherwise.
+static FORMATS: AtomicU8 = AtomicU8::new(0b011);
+
+/// Sets the formats of every figure this process writes (`png`, `svg`, `pdf`): the command
+/// line's `--formats`. SVG is among them always: the HTML reports hold the SVG files.
+pub fn set_figure_formats(names: &[String]) -> Result<()> {
+    let mut mask = 0u8;
+    for n in names {
+        let name = n.trim().to_ascii_lowercase();
+        let i = Format::ALL.iter().position(|f| f.ext() == name).ok_or_else(|| {
+            Error::input("<cli>", "--formats", format!("`{n}` is not a figure format: use png, svg or pdf"))
+        })?;
+        mask |= 1 << i;
+    }
+    if mask & (1 << Format::Svg as u8) == 0 {
+        return Err(Error::input("<cli>", "--formats", "must include svg: the reports hold every figure as SVG"));
+    }
+    FORMATS.store(mask, Ordering::Relaxed);
+    Ok(())
+}
+
+/// The formats figures are written in ([`set_figure_formats`]).
+pub fn figure_formats() -> Vec<Format> {
+    let mask = FORMATS.load(Ordering::Relaxed);
+    Format::ALL.into_iter().filter(|f| mask & (1 << *f as u8) != 0).collect()
 }
 
 /// The resolution PNG files are drawn at (dots per inch; sizes are given at 100).
@@ -102,30 +147,62 @@ pub fn set_png_dpi(dpi: u32) -> Result<()> {
     Ok(())
 }
 
-thread_local! {
-    /// Pixels per 100-dpi pixel for the figure being drawn on this thread. A thread-local
-    /// rather than a parameter because plotters calls back into code (legend samples, tick
-    /// formatters) that sizes in pixels too.
-    static SCALE: Cell<f64> = const { Cell::new(1.0) };
+/// A series' marker: a shape of its own, one per series of a plot in order, so that
+/// series whose markers share a place (stems at one frequency, two estimates of one line)
+/// stay apart in greyscale too; every series after the first is drawn hollow, so that one
+/// marker on top of another leaves both visible.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Marker {
+    pub shape: Shape,
+    pub hollow: bool,
 }
 
-/// `n` pixels at 100 dpi, in the pixels of the figure being drawn.
-fn px(n: u32) -> u32 {
-    ((n as f64 * SCALE.with(Cell::get)).round() as u32).max(1)
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    Circle,
+    Square,
+    TriangleUp,
+    Diamond,
+    TriangleDown,
 }
 
-/// Sets [`SCALE`] while a figure is drawn.
-struct Scaled(f64);
+impl Marker {
+    const SHAPES: [Shape; 5] = [Shape::Circle, Shape::Square, Shape::TriangleUp, Shape::Diamond, Shape::TriangleDown];
 
-impl Scaled {
-    fn set(s: f64) -> Self {
-        Scaled(SCALE.with(|c| c.replace(s)))
+    /// The marker of the `i`-th series, shapes cycling.
+    pub fn nth(i: usize) -> Marker {
+        Marker { shape: Marker::SHAPES[i % Marker::SHAPES.len()], hollow: i > 0 }
     }
-}
 
-impl Drop for Scaled {
-    fn drop(&mut self) {
-        SCALE.with(|c| c.set(self.0));
+    /// The shape as a polygon around its centre (`None`: a circle), `r` its half-size.
+    fn polygon(self, r: i32) -> Option<Vec<(i32, i32)>> {
+        // Triangles and diamonds a little larger than r, for the same visual weight.
+        let t = r + r / 3;
+        match self.shape {
+            Shape::Circle => None,
+            Shape::Square => Some(vec![(-r, -r), (r, -r), (r, r), (-r, r)]),
+            Shape::TriangleUp => Some(vec![(0, -t), (t, t * 2 / 3), (-t, t * 2 / 3)]),
+            Shape::Diamond => Some(vec![(0, -t), (t, 0), (0, t), (-t, 0)]),
+            Shape::TriangleDown => Some(vec![(0, t), (t, -t * 2 / 3), (-t, -t * 2 / 3)]),
+        }
+    }
+
+    /// Draws the marker centred on `at` (pixels of `area`).
+    fn draw<DB: DrawingBackend>(self, area: &DrawingArea<DB, Shift>, at: (i32, i32), color: RGBColor) -> DrawResult {
+        let r = MARKER_R + self.hollow as i32;
+        let style = if self.hollow { color.stroke_width(LINE_W) } else { color.filled() };
+        match self.polygon(r) {
+            None => area.draw(&Circle::new(at, r, style)).map_err(de),
+            Some(p) => {
+                let mut p: Vec<(i32, i32)> = p.into_iter().map(|(u, v)| (at.0 + u, at.1 + v)).collect();
+                if self.hollow {
+                    p.push(p[0]);
+                    area.draw(&PathElement::new(p, style)).map_err(de)
+                } else {
+                    area.draw(&Polygon::new(p, style)).map_err(de)
+                }
+            }
+        }
     }
 }
 
@@ -144,9 +221,13 @@ pub enum SeriesStyle {
     /// Markers only (measured or scattered points).
     Markers,
     /// Vertical stems from [`LinePlot::stem_base`] with a marker on top: line spectra,
-    /// where each value belongs to one discrete frequency. Stems of several series at the
-    /// same x are drawn side by side, a few pixels apart.
+    /// where each value belongs to one discrete frequency. Every stem stands at its true x:
+    /// where several series share an x the longest is drawn first, so each shows, and
+    /// each series has its own marker ([`Marker::nth`]).
     Stems,
+    /// Dashed line: a series that may lie on top of another (a dashed line over a solid
+    /// one leaves both visible).
+    Dashed,
 }
 
 /// One data series of a [`LinePlot`]. `x` and `y` must have equal length.
@@ -298,6 +379,8 @@ pub struct BarChart {
     pub groups: Vec<(String, Vec<f64>)>,
     /// Writes each bar's value on it (with the y axis's unit, SI-prefixed).
     pub show_values: bool,
+    /// A logarithmic y axis (all values positive), for bars that differ by decades.
+    pub log_y: bool,
     /// Lines of text under the legend.
     pub notes: Vec<String>,
     pub size: (u32, u32),
@@ -312,6 +395,7 @@ impl BarChart {
             categories: Vec::new(),
             groups: Vec::new(),
             show_values: false,
+            log_y: false,
             notes: Vec::new(),
             size: (1000, 600),
         }
@@ -396,71 +480,81 @@ trait Drawable {
 fn render_figure<F: Drawable>(fig: &F, path: &Path) -> Result<()> {
     let file = path.display().to_string();
     let ext = path.extension().map(|e| e.to_string_lossy().to_ascii_lowercase()).unwrap_or_default();
-    if ext != "png" && ext != "svg" {
-        return Err(Error::input(file, "extension", "figures are written as .png or .svg"));
-    }
+    let Some(format) = Format::ALL.into_iter().find(|f| f.ext() == ext) else {
+        return Err(Error::input(file, "extension", "figures are written as .png, .svg or .pdf"));
+    };
     let size = fig.size();
     if !(16..=20_000).contains(&size.0) || !(16..=20_000).contains(&size.1) {
         return Err(Error::input(file, "size", format!("{size:?} px is outside 16..=20000 px")));
     }
-    if ext == "svg" {
-        return crate::io::atomic::write_atomic_string(path, &svg_string(fig, &file)?);
+    let svg = svg_string(fig, &file)?;
+    match format {
+        Format::Svg => crate::io::atomic::write_atomic_string(path, &svg),
+        Format::Png => write_atomic_bytes(path, &png_bytes(&svg, PNG_DPI.load(Ordering::Relaxed), &file)?),
+        Format::Pdf => write_atomic_bytes(path, &pdf_bytes(&svg, &file)?),
     }
-    fig.validate(&file)?;
-    ensure_font()?;
-    let scale = PNG_DPI.load(Ordering::Relaxed) as f64 / 100.0;
-    let _scaled = Scaled::set(scale);
-    let size = ((size.0 as f64 * scale).round() as u32, (size.1 as f64 * scale).round() as u32);
-    write_atomic(path, |tmp| {
-        draw_on(BitMapBackend::new(tmp, size).into_drawing_area(), fig)
-            .map_err(|m| Error::io(path, std::io::Error::other(format!("drawing figure: {m}"))))
-    })
 }
 
-/// The figure as SVG text (`name` names it in messages).
+/// The file formats of a figure, all drawn from one SVG.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    Png = 0,
+    Svg = 1,
+    Pdf = 2,
+}
+
+impl Format {
+    pub const ALL: [Format; 3] = [Format::Png, Format::Svg, Format::Pdf];
+
+    /// The file extension, without the dot.
+    pub fn ext(self) -> &'static str {
+        match self {
+            Format::Png => "png",
+            Format::Svg => "svg",
+            Format::Pdf => "pdf",
+        }
+    }
+}
+
+/// The figure as SVG text (`name` names it in messages), its text as outlines.
 fn svg_string<F: Drawable>(fig: &F, name: &str) -> Result<String> {
     fig.validate(name)?;
     ensure_font()?;
-    let _scaled = Scaled::set(1.0);
     let mut out = String::new();
     draw_on(SVGBackend::with_string(&mut out, fig.size()).into_drawing_area(), fig)
-        .map_err(|m| Error::io(name, std::io::Error::other(format!("drawing figure: {m}"))))?;
-    Ok(tight_text(&out))
+        .map_err(|m| drawing_error(name, m))?;
+    Ok(outline::outline_text(&out, font_ref()?))
 }
 
-/// Plotters sizes SVG text at px/1.24 em but lays it out (and draws bitmaps) with the font
-/// scaled so that ascent + descent = px, which for DejaVu Sans (1901 + 483 of 2048 units)
-/// is px/1.164 em: SVG text would come out 6 % narrower than measured, opening gaps
-/// between the runs of a label with subscripts.
-const SVG_FONT_FIX: f64 = 1.24 * 2048.0 / (1901.0 + 483.0);
-
-/// Text elements as laid out: without the line breaks plotters puts around their content
-/// (browsers draw them as a leading space, which shifts every piece of text), at the font
-/// size the layout measured ([`SVG_FONT_FIX`]).
-fn tight_text(svg: &str) -> String {
-    let mut out = String::with_capacity(svg.len());
-    let mut rest = svg;
-    while let Some(i) = rest.find("<text ") {
-        let Some(open_end) = rest[i..].find('>').map(|j| i + j + 1) else { break };
-        let Some(close) = rest[open_end..].find("</text>").map(|j| open_end + j) else { break };
-        out.push_str(&rest[..i]);
-        out.push_str(&fix_font_size(&rest[i..open_end]));
-        out.push_str(rest[open_end..close].trim_matches('\n'));
-        rest = &rest[close..];
-    }
-    out.push_str(rest);
-    out
+fn drawing_error(name: &str, what: impl std::fmt::Display) -> Error {
+    Error::io(name, std::io::Error::other(format!("drawing figure: {what}")))
 }
 
-/// A `<text …>` tag with its `font-size` scaled by [`SVG_FONT_FIX`].
-fn fix_font_size(tag: &str) -> String {
-    const KEY: &str = "font-size=\"";
-    let Some(i) = tag.find(KEY).map(|i| i + KEY.len()) else { return tag.to_string() };
-    let Some(j) = tag[i..].find('"').map(|j| i + j) else { return tag.to_string() };
-    match tag[i..j].parse::<f64>() {
-        Ok(size) => format!("{}{:.3}{}", &tag[..i], size * SVG_FONT_FIX, &tag[j..]),
-        Err(_) => tag.to_string(),
-    }
+/// An SVG figure as PNG: [`raster`].
+fn png_bytes(svg: &str, dpi: u32, name: &str) -> Result<Vec<u8>> {
+    raster(svg, dpi, name)?.encode_png().map_err(|e| drawing_error(name, e))
+}
+
+/// An SVG figure rasterised, anti-aliased, at `dpi` (its sizes are pixels at 100 dpi).
+fn raster(svg: &str, dpi: u32, name: &str) -> Result<resvg::tiny_skia::Pixmap> {
+    use resvg::{tiny_skia, usvg};
+    let tree = usvg::Tree::from_str(svg, &usvg::Options::default()).map_err(|e| drawing_error(name, e))?;
+    let scale = dpi as f32 / 100.0;
+    let size = tree.size().to_int_size().scale_by(scale).ok_or_else(|| drawing_error(name, "empty figure"))?;
+    let mut pixmap =
+        tiny_skia::Pixmap::new(size.width(), size.height()).ok_or_else(|| drawing_error(name, "empty figure"))?;
+    pixmap.fill(tiny_skia::Color::WHITE);
+    resvg::render(&tree, tiny_skia::Transform::from_scale(scale, scale), &mut pixmap.as_mut());
+    Ok(pixmap)
+}
+
+/// An SVG figure as a one-page vector PDF, 100 of its pixels to the inch.
+fn pdf_bytes(svg: &str, name: &str) -> Result<Vec<u8>> {
+    use svg2pdf::usvg;
+    let tree = usvg::Tree::from_str(svg, &usvg::Options::default()).map_err(|e| drawing_error(name, e))?;
+    let page = svg2pdf::PageOptions { dpi: 100.0 };
+    svg2pdf::to_pdf(&tree, svg2pdf::ConversionOptions::default(), page).map_err(|e| drawing_error(name, e))
 }
 
 fn draw_on<DB: DrawingBackend, F: Drawable>(root: DrawingArea<DB, Shift>, fig: &F) -> DrawResult {
@@ -483,9 +577,9 @@ fn titled<DB: DrawingBackend>(
     if title.is_empty() {
         return Ok(area.clone());
     }
-    let (top, rest) = area.split_vertically(px(TITLE_PX + 20));
+    let (top, rest) = area.split_vertically(TITLE_PX + 20);
     let (w, h) = top.dim_in_pixel();
-    text::draw(&top, title, (w as i32 / 2, h as i32 / 2 + 2), px(TITLE_PX), HPos::Center, false)?;
+    text::draw(&top, title, (w as i32 / 2, h as i32 / 2 + 2), TITLE_PX, HPos::Center, false)?;
     Ok(rest)
 }
 
@@ -518,14 +612,14 @@ fn check_range(file: &str, field: &str, r: Option<(f64, f64)>, log: bool) -> Res
 
 /// Width in pixels reserved left of a plot for tick labels and the rotated axis text.
 fn y_label_width<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, samples: &[String]) -> u32 {
-    let tick = font(px(TICK_PX));
+    let tick = font(TICK_PX);
     let w = samples.iter().filter_map(|s| area.estimate_text_size(s, &tick).ok()).map(|(w, _)| w).max().unwrap_or(30);
-    w + px(DESC_PX + 24)
+    w + (DESC_PX + 24)
 }
 
 /// Height of the label area under a plot: tick labels and the axis text.
 fn x_label_height() -> u32 {
-    px(TICK_PX + DESC_PX + 30)
+    TICK_PX + DESC_PX + 30
 }
 
 /// Draws the axis texts of a chart whose plotting area spans `plot` (pixels of `area`):
@@ -539,9 +633,9 @@ fn axis_texts<DB: DrawingBackend>(
     let (xr, yr) = plot;
     let x_mid = (xr.start + xr.end) / 2;
     let y_mid = (yr.start + yr.end) / 2;
-    let d = px(DESC_PX) as i32;
-    text::draw(area, x_label, (x_mid, yr.end + px(TICK_PX + 16) as i32 + d / 2), px(DESC_PX), HPos::Center, false)?;
-    text::draw(area, y_label, (px(12) as i32 + d / 2 + 2, y_mid), px(DESC_PX), HPos::Center, true)
+    let d = DESC_PX as i32;
+    text::draw(area, x_label, (x_mid, yr.end + (TICK_PX + 16) as i32 + d / 2), DESC_PX, HPos::Center, false)?;
+    text::draw(area, y_label, (12 as i32 + d / 2 + 2, y_mid), DESC_PX, HPos::Center, true)
 }
 
 /// A chart's plotting area in pixels of `area` (plotters gives it in the backend's).
@@ -675,17 +769,11 @@ mod tests {
         let mut p = LinePlot::new("", "time (s)", "power (W)");
         p.series.push(Series::line("", t, y));
         let (w, h) = (1000u32, 600u32);
-        let mut buf = vec![255u8; (w * h * 3) as usize];
-        ensure_font().unwrap();
-        {
-            let area = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-            p.draw_in(&area, None).unwrap();
-            area.present().unwrap();
-        }
-        let blue = palette_color(0);
+        let pixmap = raster(&p.svg("dense.svg").unwrap(), 100, "dense.png").unwrap();
+        // The series' colour, or a blend of it with white at an anti-aliased edge.
         let is_blue = |x: u32, y: u32| {
-            let i = ((y * w + x) * 3) as usize;
-            (buf[i], buf[i + 1], buf[i + 2]) == (blue.0, blue.1, blue.2)
+            let c = pixmap.pixel(x, y).unwrap();
+            c.blue() as i32 - c.red() as i32 > 40
         };
         // Rows that hold the series' colour: they must form one band, the plot area.
         let rows: Vec<u32> = (0..h).filter(|&y| (0..w).any(|x| is_blue(x, y))).collect();
@@ -732,7 +820,7 @@ mod tests {
         p.y_range = Some((1.0, 1.0));
         assert!(p.render(&path).is_err());
         p.y_range = None;
-        assert!(p.render(d.path().join("bad.pdf")).unwrap_err().to_string().contains(".png or .svg"));
+        assert!(p.render(d.path().join("bad.eps")).unwrap_err().to_string().contains(".png, .svg or .pdf"));
         let mut h = HeatMap::new("h", "x", "y", "z");
         h.x = vec![0.0, 1.0];
         h.y = vec![0.0];
@@ -757,17 +845,60 @@ mod tests {
         assert_eq!(std::fs::read_dir(d.path()).unwrap().count(), 0);
     }
 
+    /// Text is drawn as outlines of the embedded font, whatever fonts a viewer has, and a
+    /// subscript is its own run: `F_{T}` is `F`, then a smaller `T` lower down.
     #[test]
-    fn svg_text_has_no_line_breaks_around_it() {
-        let svg = "<svg>\n<text x=\"1\" font-size=\"12.4\">\nF\n</text>\n<text x=\"3\">\n T\n</text>\n</svg>";
-        assert_eq!(
-            tight_text(svg),
-            "<svg>\n<text x=\"1\" font-size=\"13.209\">F</text>\n<text x=\"3\"> T</text>\n</svg>"
-        );
+    fn svg_text_is_outlined_and_subscripts_sit_below() {
         let mut p = LinePlot::new("F_{T} over time", "t (s)", "F (N)");
         p.series.push(Series::line("F_{T}", vec![0.0, 1.0], vec![0.0, 1.0]));
         let s = p.svg("t.svg").unwrap();
-        assert!(s.contains(">F</text>") && s.contains(">T</text>") && !s.contains(">\nF"), "{s}");
+        assert!(!s.contains("<text") && !s.contains("font-family"), "{s}");
+        let start = |label: &str| -> (f64, f64) {
+            let tag = s.split("<path aria-label=\"").find(|t| t.starts_with(&format!("{label}\""))).unwrap();
+            let d = tag.split(" d=\"M").nth(1).unwrap();
+            let mut xy = d.split([' ', 'L', 'Q', 'C', 'Z']).map(|v| v.parse::<f64>().unwrap());
+            (xy.next().unwrap(), xy.next().unwrap())
+        };
+        let (f, t) = (start("F"), start("T"));
+        assert!(t.0 > f.0 && t.1 > f.1 + 2.0, "subscript T at {t:?} must sit right of and below F at {f:?}");
+    }
+
+    /// Every PNG is the SVG rasterised with anti-aliasing: a sloping line's edges blend
+    /// into the background through many intermediate shades.
+    #[test]
+    fn png_line_edges_are_anti_aliased() {
+        let mut p = LinePlot::new("", "x (m)", "y (m)");
+        p.series.push(Series::line("", vec![0.0, 1.0], vec![0.0, 1.0]));
+        let d = dir();
+        let path = d.path().join("slope.png");
+        p.render(&path).unwrap();
+        let png = std::fs::read(&path).unwrap();
+        let pixmap = resvg::tiny_skia::Pixmap::decode_png(&png).unwrap();
+        let blue = palette_color(0);
+        let shades: std::collections::BTreeSet<u8> = pixmap
+            .pixels()
+            .iter()
+            .filter(|c| c.blue() > c.red() + 10 && (c.red(), c.green(), c.blue()) != (blue.0, blue.1, blue.2))
+            .map(|c| c.red())
+            .collect();
+        assert!(shades.len() > 20, "only {} shades between the line's colour and white", shades.len());
+    }
+
+    #[test]
+    fn pdf_is_vector_and_png_follows_dpi() {
+        let d = dir();
+        let p = transient();
+        let pdf = d.path().join("line.pdf");
+        p.render(&pdf).unwrap();
+        let bytes = std::fs::read(&pdf).unwrap();
+        assert!(bytes.starts_with(b"%PDF-") && bytes.len() > 2_000, "{} bytes", bytes.len());
+        let text = String::from_utf8_lossy(&bytes);
+        assert!(!text.contains("/Subtype /Image") && !text.contains("/Subtype/Image"), "a PDF figure holds no image");
+        // 1000 × 600 px at 100 per inch: a 720 × 432 pt page.
+        let media = text.split("/MediaBox [").nth(1).and_then(|m| m.split(']').next()).unwrap();
+        let size: Vec<f64> = media.split_whitespace().map(|v| v.parse().unwrap()).collect();
+        assert!((size[2] - 720.0).abs() < 0.01 && (size[3] - 432.0).abs() < 0.01, "page {media}");
+        keep(&pdf);
     }
 
     #[test]
