@@ -43,7 +43,13 @@ fn in_dir(dir: &std::path::Path, text: &str) -> CaseRun {
 
 /// The frequencies (Hz) average acceleration at `DT` responds at for drives at `f` (Hz).
 fn shifted(f: &[f64]) -> Vec<f64> {
-    f.iter().map(|&f| (2.0 / DT) * (PI * f * DT).tan() / (2.0 * PI)).collect()
+    shifted_at(f, DT)
+}
+
+/// The frequencies (Hz) average acceleration at step `dt` responds at for drives at `f`
+/// (Hz): the trapezoidal rule maps iω to (2/Δt)·i·tan(ωΔt/2).
+fn shifted_at(f: &[f64], dt: f64) -> Vec<f64> {
+    f.iter().map(|&f| (2.0 / dt) * (PI * f * dt).tan() / (2.0 * PI)).collect()
 }
 
 #[test]
@@ -94,8 +100,13 @@ fn frfs_of_a_burst_chirp_force_are_the_harmonic_analysis() {
 }
 
 fn r_harmonic(freqs: &[f64]) -> beamflow::analysis::harmonic::HarmonicResult {
+    harmonic_with(DAMPING, freqs)
+}
+
+/// The harmonic analysis of the beam with `damping` under a unit force at 0.2 m.
+fn harmonic_with(damping: &str, freqs: &[f64]) -> beamflow::analysis::harmonic::HarmonicResult {
     let r = run(&format!(
-        "{DAMPING}[[analysis]]\ntype = \"harmonic\"\n[analysis.frequencies]\nvalues = {freqs:?}\n\
+        "{damping}[[analysis]]\ntype = \"harmonic\"\n[analysis.frequencies]\nvalues = {freqs:?}\n\
          [[analysis.force]]\nx = 0.2\n[output]\nhdf5 = false\nplots = false\n"
     ));
     r.results.into_iter().find_map(|a| if let AnalysisResult::Harmonic(h) = a { Some(h) } else { None }).unwrap()
@@ -160,7 +171,8 @@ fn a_record_cut_while_the_drive_goes_on_says_so() {
          [[analysis]]\ntype = \"transient\"\ndt = {DT}\nduration = 1.0\nsegment = 0.25\n[output]\nhdf5 = false\nplots = false\n"
     ));
     let rec = transient(&r).record.as_ref().unwrap();
-    assert_eq!((rec.segments, rec.frequency[1]), (7, 4.0));
+    // Hann segments of 0.25 s overlapping by three quarters, reaching back before t = 0.
+    assert_eq!((rec.segments, rec.frequency[1]), (16, 4.0));
     let coh = &rec.points[0].acceleration_coherence;
     assert!(!coh.is_empty() && coh.iter().all(|c| (0.0..=1.0).contains(c)));
     let e = run_case(
@@ -177,4 +189,126 @@ fn a_record_cut_while_the_drive_goes_on_says_so() {
     .unwrap_err()
     .to_string();
     assert!(e.contains("analysis[0].segment") && e.contains("[8, 1000]"), "{e}");
+}
+
+/// A unit force at 0.2 m on the beam with the default damping, driven by `force` (a
+/// `[load.force]` table's body), its transient run with `analysis` (extra fields).
+fn default_load(force: &str, analysis: &str) -> (LoadedCase, CaseRun) {
+    let text = format!(
+        "[[load]]\nx = 0.2\n[load.force]\n{force}[[sensor]]\nname = \"mid\"\nx = 0.3\n\
+         [[analysis]]\ntype = \"transient\"\n{analysis}[output]\nhdf5 = false\nplots = false\n"
+    );
+    let lc = LoadedCase::from_str(&text, "default.toml", PathBuf::from(".")).unwrap();
+    let r = run_case(&lc).unwrap();
+    (lc, r)
+}
+
+/// Compares a record's accelerance at the load against the harmonic analysis of the same
+/// beam at the frequencies the stepped system responds at, over `lo..=hi` Hz where the
+/// coherence exceeds 0.99 (everywhere for one segment): the worst relative error, where
+/// (Hz), and the bins compared out of those in the range.
+fn against_harmonic(rec: &beamflow::power::record::RecordAnalysis, lo: f64, hi: f64) -> (f64, f64, usize, usize) {
+    let p = &rec.points[0];
+    let in_range: Vec<usize> = (1..rec.frequency.len()).filter(|&k| (lo..=hi).contains(&rec.frequency[k])).collect();
+    let coherent = |k: usize| p.acceleration_coherence.get(k).map_or(true, |&c| c > 0.99);
+    let bins: Vec<usize> = in_range.iter().copied().filter(|&k| coherent(k)).collect();
+    let freqs: Vec<f64> = bins.iter().map(|&k| rec.frequency[k]).collect();
+    let warped = shifted_at(&freqs, rec.dt);
+    let h = harmonic_with("", &warped);
+    let (mut worst, mut at) = (0.0f64, 0.0);
+    for (i, &k) in bins.iter().enumerate() {
+        let acc = h.mobility[i][0][0] * Complex64::new(0.0, 2.0 * PI * warped[i]);
+        let e = (p.acceleration_frf[k] - acc).norm() / acc.norm();
+        if e > worst {
+            (worst, at) = (e, freqs[i]);
+        }
+    }
+    (worst, at, bins.len(), in_range.len())
+}
+
+#[test]
+fn a_chirp_at_default_settings_gives_the_harmonic_frfs_where_coherent() {
+    // A chirp keeps running at f_end after its sweep: its response never dies out, so the
+    // default record runs past the sweep and is averaged in Welch segments long enough
+    // for the slowest decay in the band.
+    let (_, r) = default_load("kind = \"chirp\"\namplitude = 1.0\nf_start = 10.0\nf_end = 400.0\nduration = 1.0\n", "");
+    let rec = transient(&r).record.as_ref().unwrap();
+    assert_eq!(rec.estimate.reason, "welch");
+    assert!(rec.estimate.warnings.is_empty(), "{:?}", rec.estimate.warnings);
+    assert!(rec.segment_s >= 0.99 * 32.0 / beamflow::analysis::drive::slowest_decay(&r.model));
+    let (worst, at, compared, all) = against_harmonic(rec, 20.0, 380.0);
+    assert!(worst < 0.03, "accelerance off by {worst:e} at {at} Hz");
+    assert!(compared * 10 >= all * 9, "coherence above 0.99 over {compared} of {all} bins");
+    // Every sensor gets its FRF, on the same bins.
+    assert_eq!(rec.sensors.len(), 1);
+    assert_eq!(rec.sensors[0].acceleration_frf.len(), rec.frequency.len());
+}
+
+#[test]
+fn a_step_at_default_settings_gives_the_harmonic_frfs() {
+    // A step holds still after its jump: the default record runs until the response has
+    // died out, and one segment is exact. (The jump comes after the start: a drive that
+    // jumps at t = 0 starts the run at the continuous system's consistent acceleration,
+    // not at the stepped system's own rest state, which marks the accelerance.)
+    let (lc, r) = default_load("kind = \"step\"\ntime = 0.01\nfrom = 0.0\nto = 1.0\n", "dt = 1e-4\n");
+    let rec = transient(&r).record.as_ref().unwrap();
+    assert_eq!(rec.estimate.reason, "decayed");
+    assert!(rec.estimate.end_activity < beamflow::power::record::DECAYED, "{:e}", rec.estimate.end_activity);
+    let (worst, at, compared, all) = against_harmonic(rec, 5.0, 450.0);
+    assert!(worst < 0.03 && compared == all, "accelerance off by {worst:e} at {at} Hz ({compared} of {all} bins)");
+    // Its summary says so, with a record's quantities and none of a periodic run's.
+    let v = beamflow::io::summary::summary(&lc, &r);
+    let a = &v["analyses"][0];
+    for key in [
+        "periods_run",
+        "converged",
+        "final_change",
+        "settling_estimate",
+        "harmonics",
+        "steps_per_period",
+        "mean_power_w",
+        "net_power_w",
+        "beam_dissipation_w",
+    ] {
+        assert!(a.get(key).is_none(), "{key} in a record's summary: {a}");
+    }
+    assert!(a["energy_balance_rel_error"].get("beam_last_period").is_none());
+    let rj = &a["record"];
+    assert_eq!(rj["estimator"], "decayed");
+    assert!(rj["mean_power_w"]["load1"].as_f64().unwrap().is_finite());
+    let text = beamflow::io::summary::headline_text(&v);
+    assert!(text.contains("one segment, response decayed to"), "{text}");
+    for word in ["settled", "max_periods", "NaN", "with coherence", "WARNING"] {
+        assert!(!text.contains(word), "{word} in: {text}");
+    }
+    // The HDF5 file holds no periodic fields and no NaN.
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("step.h5");
+    beamflow::io::results::write(&path, &lc, &r).unwrap();
+    let h = beamflow::io::hdf5::ResultsReader::open(&path).unwrap();
+    let g = "analysis_0_transient";
+    for key in ["periods_run", "converged", "harmonics", "steps_per_period"] {
+        assert!(h.attr_i64(g, key).is_err(), "{key} in a record's HDF5 group");
+    }
+    assert!(h.attr_f64(g, "final_change").is_err() && !h.exists(&format!("{g}/energy_last_period")));
+    for p in ["load1"] {
+        assert!(h.attr_f64(&format!("{g}/record/points/{p}"), "end_activity").unwrap().is_finite());
+    }
+    assert!(h.exists(&format!("{g}/record/sensors/mid/acceleration_frf")));
+}
+
+#[test]
+fn a_record_too_short_for_its_band_is_flagged() {
+    // The chirp's record ends with its sweep: segments cannot be as long as the band's
+    // damping asks, and the response is still going. Console, summary and report say so.
+    let (lc, r) = default_load(
+        "kind = \"chirp\"\namplitude = 1.0\nf_start = 10.0\nf_end = 400.0\nduration = 1.0\n",
+        "duration = 1.0\n",
+    );
+    let rec = transient(&r).record.as_ref().unwrap();
+    assert!(!rec.estimate.warnings.is_empty());
+    let v = beamflow::io::summary::summary(&lc, &r);
+    assert_eq!(v["analyses"][0]["record"]["trustworthy"], false);
+    let text = beamflow::io::summary::headline_text(&v);
+    assert!(text.contains("WARNING: FRFs biased near resonances") && text.contains("`duration`"), "{text}");
 }

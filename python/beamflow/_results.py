@@ -307,11 +307,14 @@ class Analysis(Group):
         if self.kind == "steady_state":
             out["balance_error"] = float(self.attrs["balance_error"])
         elif self.kind == "transient":
-            for span in ("energy_run", "energy_last_period"):
+            # A record (non-periodic drive) has no last period and no settling.
+            periodic = self.record is None
+            for span in ("energy_run", "energy_last_period") if periodic else ("energy_run",):
                 for part in ("beam", "system"):
                     g = self[f"{span}/{part}"]
                     out[f"{span}.{part}"] = float(g.attrs["relative_error"])  # type: ignore[union-attr]
-            out["final_change"] = float(self.attrs["final_change"])
+            if periodic:
+                out["final_change"] = float(self.attrs["final_change"])
         elif self.kind == "harmonic":
             out["balance_error"] = float(np.max(self.datasets["balance_error"]))  # type: ignore[arg-type]
         red = self.reduction

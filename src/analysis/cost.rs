@@ -211,10 +211,18 @@ pub fn transient(model: &Model, sys: &System, s: &TransientSettings, timing: &Dr
         Some(r) => format!(", and up to {r} steps of the stacks' periodic hysteresis cycle"),
         None => ", and more steps of the stacks' periodic hysteresis cycle than 64 bits count".into(),
     };
-    let detail = format!(
-        "{} period(s) × {} steps per period (Δt = {:.3e} s){cycle}, {} period(s) of {ch} series kept",
-        periods, spp, timing.dt, keep
-    );
+    let detail = if timing.periodic {
+        format!(
+            "{} period(s) × {} steps per period (Δt = {:.3e} s){cycle}, {} period(s) of {ch} series kept",
+            periods, spp, timing.dt, keep
+        )
+    } else {
+        // A record (its default length included) has no periods: its steps and series.
+        format!(
+            "a record of {:.4e} s in {} steps (Δt = {:.3e} s), {ch} series kept whole",
+            timing.period, spp, timing.dt
+        )
+    };
     cost(bytes, steps, "time steps", "this transient".into(), detail).of_setting(field, advice)
 }
 

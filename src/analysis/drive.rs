@@ -14,6 +14,7 @@ use crate::actuator::Stack;
 use crate::assembly::Model;
 use crate::error::{Error, Result};
 use crate::power::spectra::harmonics;
+use crate::signal::VoltageInput;
 use num_complex::Complex64;
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -135,7 +136,10 @@ impl DriveTiming {
                 }
             };
         }
-        let d = duration.ok_or_else(|| Error::analysis_setting("duration", "a non-periodic drive needs `duration`"))?;
+        let d = match duration {
+            Some(d) => d,
+            None => default_record(model)?,
+        };
         let hf = model.drive_signals().filter_map(|s| s.highest_frequency()).fold(0.0, f64::max);
         match (dt, hf > 0.0) {
             (Some(dt), _) => {
@@ -172,6 +176,68 @@ impl DriveTiming {
         })?;
         Ok(DriveTiming { period, dt: period / samples as f64, steps_per_period: samples, periodic: true })
     }
+}
+
+/// Time constants of the slowest decay in the band a record runs past a drive that holds
+/// still at its end (a step, a series): the response then decays to e^−15 ≈ 3e-7 of its
+/// peak, far below [`crate::power::record::DECAYED`], so one segment holds it and the
+/// FRFs stay exact even well below the first mode, where the accelerance is small beside
+/// what remains.
+pub const HELD_TIME_CONSTANTS: f64 = 15.0;
+
+/// When a drive stops changing (s), and whether it then holds still: a step after its
+/// ramp, a series after its last sample; a chirp keeps running at `f_end` after its sweep
+/// and a sine never stops.
+fn drive_span(s: &VoltageInput) -> (f64, bool) {
+    match s {
+        VoltageInput::Chirp { duration, .. } => (*duration, false),
+        VoltageInput::Step { time, rise_time, .. } => (time + rise_time, true),
+        VoltageInput::Series { samples } => (samples.times().last().copied().unwrap_or(0.0), true),
+        VoltageInput::Sine { .. } | VoltageInput::Sines { .. } => (0.0, false),
+    }
+}
+
+/// The band a record's drives excite (Hz): from the lowest frequency any of them names (a
+/// chirp's sweep start, a sine's frequency; 0 for a step or a series) up to the highest,
+/// or to `resolved` (what the time step resolves) for a jump.
+pub fn drive_band(model: &Model, resolved: f64) -> (f64, f64) {
+    let low = |s: &VoltageInput| match s {
+        VoltageInput::Chirp { f_start, f_end, .. } => f_start.min(*f_end),
+        VoltageInput::Sine { frequency, .. } => *frequency,
+        VoltageInput::Sines { components, .. } => components.iter().map(|c| c.frequency).fold(f64::INFINITY, f64::min),
+        VoltageInput::Step { .. } | VoltageInput::Series { .. } => 0.0,
+    };
+    let lo = model.drive_signals().map(low).fold(f64::INFINITY, f64::min);
+    let hi = model.drive_signals().map(|s| s.highest_frequency().unwrap_or(resolved)).fold(0.0, f64::max);
+    (lo.min(hi), hi.min(resolved))
+}
+
+/// The slowest decay rate σ (1/s) of the structure's modes in a record's band: Rayleigh
+/// damping decays a mode at ω by (a₀ + a₁ω²)/2, slowest at the band's low edge (the
+/// actuators' own dampers only add to it).
+pub fn slowest_decay(model: &Model) -> f64 {
+    let (lo, _) = drive_band(model, f64::INFINITY);
+    model.damping.slowest_decay(2.0 * std::f64::consts::PI * lo)
+}
+
+/// A non-periodic run's length without `duration`: the drives' span, then
+/// [`HELD_TIME_CONSTANTS`] of the slowest decay in the band when every drive holds still
+/// afterwards (one exact segment), else a Welch segment of
+/// [`crate::power::record::SEGMENT_TIME_CONSTANTS`] of them after the sweep.
+pub fn default_record(model: &Model) -> Result<f64> {
+    let sigma = slowest_decay(model);
+    if !(sigma > 0.0 && sigma.is_finite()) {
+        return Err(Error::analysis_setting(
+            "duration",
+            "a non-periodic drive needs `duration` here: the structure has no damping at the low edge of the \
+             drive's band, so no record length lets its response decay",
+        ));
+    }
+    let spans: Vec<(f64, bool)> = model.drive_signals().map(drive_span).collect();
+    let span = spans.iter().map(|s| s.0).fold(0.0, f64::max);
+    let held = spans.iter().all(|s| s.1);
+    let taus = if held { HELD_TIME_CONSTANTS } else { crate::power::record::SEGMENT_TIME_CONSTANTS };
+    Ok(span + taus / sigma)
 }
 
 /// The most steps one period (or one non-periodic run) may be divided into: the largest
@@ -420,7 +486,8 @@ mod tests {
         );
         let e = DriveTiming::sampled(&chirp, 64).unwrap_err().to_string();
         assert!(e.contains("needs a periodic drive"), "{e}");
+        // On a rigid base nothing decays to size a record by: it needs `duration`.
         let e = DriveTiming::stepped(&chirp, Step::Default, None, None).unwrap_err().to_string();
-        assert!(e.contains("`duration`"), "{e}");
+        assert!(e.contains("`duration`") && e.contains("no damping"), "{e}");
     }
 }

@@ -1,7 +1,7 @@
 //! What the CLI commands do, as library functions (the CLI only parses arguments).
 
 use crate::analysis::budget::Budget;
-use crate::analysis::case_run::AnalysisResult;
+use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::modes;
 use crate::app::runner::run_case_within;
 use crate::case::build::build_beam;
@@ -71,6 +71,18 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
 fn warn_implausible(lc: &LoadedCase) {
     for w in crate::case::plausible::warnings(&lc.case) {
         crate::app::cli::note_line(format_args!("warning: {}: {w}", lc.file));
+    }
+}
+
+/// Says on standard error, besides the summary, which records' spectra cannot be trusted
+/// and what to do ([`crate::power::record::warnings`]).
+fn warn_untrustworthy(file: &str, run: &CaseRun) {
+    for (i, r) in run.results.iter().enumerate() {
+        if let AnalysisResult::Transient(t) = r {
+            for w in t.record.iter().flat_map(|rec| &rec.estimate.warnings) {
+                crate::app::cli::note_line(format_args!("warning: {file}: analysis[{i}]: {w}"));
+            }
+        }
     }
 }
 
@@ -193,6 +205,7 @@ pub fn run(
         }
     }
     crate::say!("{}", crate::io::summary::headline_text(&summary));
+    warn_untrustworthy(&lc.file, &run);
     if let Some(j) = json {
         crate::app::cli::write_text_or_stdout(j, &text)?;
     }

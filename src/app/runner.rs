@@ -149,7 +149,7 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                     if let Some(search) = cost::drive_search(model, steps as f64 * timing.dt, steps) {
                         budget.admit(&search)?;
                     }
-                    transient::record_segments(&timing, s.segment)?;
+                    transient::record_plan(model, &timing, s.segment)?;
                     match reduction {
                         // Modal damping is a matrix only in modal coordinates.
                         None => {

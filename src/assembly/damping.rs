@@ -66,6 +66,18 @@ impl Damping {
         }
     }
 
+    /// The slowest free decay rate σ = ζ_r·ω_r (1/s) of modes at or above ω (rad/s): for
+    /// Rayleigh damping (a₀ + a₁ω²)/2, which grows with ω; for modal ratios the least ratio
+    /// times ω; zero without damping.
+    pub fn slowest_decay(&self, w: f64) -> f64 {
+        match self {
+            Damping::Rayleigh(r) => 0.5 * (r.a0 + r.a1 * w * w),
+            Damping::Modal(ratios) => ratios.iter().copied().fold(f64::INFINITY, f64::min) * w,
+            Damping::Hysteretic { eta } => 0.5 * eta * w,
+            Damping::None | Damping::RayleighRatio { .. } => 0.0,
+        }
+    }
+
     /// The modal damping ratios, if the damping is modal.
     pub fn modal_ratios(&self) -> Option<&[f64]> {
         match self {

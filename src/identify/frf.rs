@@ -367,7 +367,7 @@ pub fn welch_psd(file: &str, field: &str, x: &[f64], dt: f64, length: usize, ove
     if !(0.0..1.0).contains(&overlap) {
         return Err(Error::input(file, "segmentation.overlap", "must lie in [0, 1)"));
     }
-    let t = Transforms::new(&[x], dt, &Welch { length, overlap, hann, rates: false });
+    let t = Transforms::new(&[x], dt, &Welch { length, overlap, hann, rates: false, from_rest: false });
     Ok(Psd { psd: t.psd(0), freq: t.frequency, segments: t.segments })
 }
 

@@ -312,6 +312,18 @@ fn write_record<S: GroupSink>(g: &S, r: &RecordAnalysis) -> Result<()> {
     rg.attr_i64("segments", r.segments as i64)?;
     rg.attr_f64("overlap", r.welch.overlap)?;
     rg.attr_str("window", if r.welch.hann { "hann" } else { "rectangular" })?;
+    rg.attr_str("estimator", r.estimate.reason)?;
+    rg.attr_str("description", &r.estimate.describe(r.dt, r.segments))?;
+    rg.attr_f64("end_activity", r.estimate.end_activity)?;
+    rg.attr_f64("band_low_hz", r.band.0)?;
+    rg.attr_f64("band_high_hz", r.band.1)?;
+    if let Some(c) = r.estimate.min_coherence {
+        rg.attr_f64("min_coherence_in_band", c)?;
+    }
+    rg.attr_i64("trustworthy", r.estimate.warnings.is_empty() as i64)?;
+    if !r.estimate.warnings.is_empty() {
+        rg.write_str_list("warnings", &r.estimate.warnings)?;
+    }
     let n = r.frequency.len();
     rg.write_f64("frequency", &r.frequency, &[n], "Hz", "k / segment length")?;
     rg.write_f64("net_energy", &r.net_energy, &[r.net_energy.len()], "J", "energy into the structure per actuator")?;
@@ -347,6 +359,7 @@ fn write_record<S: GroupSink>(g: &S, r: &RecordAnalysis) -> Result<()> {
             &format!("(m/s^2)/{unit}"),
             "H1 from the drive to the acceleration",
         )?;
+        pg.attr_f64("mean_power_W", p.energy / r.duration)?;
         pg.write_f64(
             "power_frf",
             &p.power_frf,
@@ -354,6 +367,28 @@ fn write_record<S: GroupSink>(g: &S, r: &RecordAnalysis) -> Result<()> {
             &format!("W/{unit}^2"),
             "Re G_Fv / G_uu: a sine drive of amplitude A puts A^2/2 times this in",
         )?;
+    }
+    for sr in &r.sensors {
+        let sg = rg.group(&format!("sensors/{}", sr.name))?;
+        let unit = r.drives.iter().find(|d| d.name == sr.drive).map_or("1", |d| d.unit.as_str());
+        sg.attr_str("drive", &sr.drive)?;
+        sg.write_f64("acceleration_psd", &sr.acceleration_psd, &[n], "(m/s^2)^2/Hz", "PSD of the acceleration")?;
+        sg.write_c64(
+            "acceleration_frf",
+            &sr.acceleration_frf,
+            &[n],
+            &format!("(m/s^2)/{unit}"),
+            "H1 from the drive to the acceleration",
+        )?;
+        if !sr.acceleration_coherence.is_empty() {
+            sg.write_f64(
+                "acceleration_coherence",
+                &sr.acceleration_coherence,
+                &[n],
+                "1",
+                "coherence of acceleration_frf",
+            )?;
+        }
     }
     Ok(())
 }
@@ -405,17 +440,22 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
     g.attr_f64("dt_s", r.dt)?;
     g.attr_f64("period_s", r.period)?;
     g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
-    g.attr_i64("steps_per_period", r.steps_per_period as i64)?;
-    g.attr_i64("periods_run", r.periods_run as i64)?;
-    g.attr_i64("converged", r.converged as i64)?;
-    g.attr_f64("final_change", r.final_change)?;
-    if r.settling_estimate.is_finite() {
-        g.attr_f64("settling_estimate", r.settling_estimate)?;
+    // A record has no period: none of a periodic run's fields.
+    if r.record.is_none() {
+        g.attr_i64("steps_per_period", r.steps_per_period as i64)?;
+        g.attr_i64("periods_run", r.periods_run as i64)?;
+        g.attr_i64("converged", r.converged as i64)?;
+        g.attr_f64("final_change", r.final_change)?;
+        if r.settling_estimate.is_finite() {
+            g.attr_f64("settling_estimate", r.settling_estimate)?;
+        }
+        g.attr_i64("harmonics", r.harmonics as i64)?;
+    } else {
+        g.attr_i64("steps_run", r.steps_run as i64)?;
     }
-    g.attr_i64("harmonics", r.harmonics as i64)?;
     // On a rigid base nothing moves the base: no power into it, no beam to dissipate.
     let beam = run.model.beam.is_some();
-    if beam {
+    if beam && r.record.is_none() {
         g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
     }
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
@@ -427,12 +467,17 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
     if beam && r.record.is_none() {
         write_powers(g, &r.mean_power, &r.net_power, run)?;
     }
+    let periodic = r.record.is_none();
     if beam {
         write_energy(g, "energy_run/beam", &r.energy_run.beam)?;
-        write_energy(g, "energy_last_period/beam", &r.energy_last_period.beam)?;
+        if periodic {
+            write_energy(g, "energy_last_period/beam", &r.energy_last_period.beam)?;
+        }
     }
     write_energy(g, "energy_run/system", &r.energy_run.system)?;
-    write_energy(g, "energy_last_period/system", &r.energy_last_period.system)?;
+    if periodic {
+        write_energy(g, "energy_last_period/system", &r.energy_last_period.system)?;
+    }
     write_reduction(g, r.reduction.as_ref())
 }
 

@@ -45,7 +45,8 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                        "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}});
                 add_reduction(&mut v, t.reduction.as_ref());
                 if let Some(rec) = &t.record {
-                    as_record(&mut v, rec);
+                    v = record_summary(t, rec);
+                    add_reduction(&mut v, t.reduction.as_ref());
                 }
                 v
             }
@@ -107,17 +108,29 @@ fn without_beam(a: &mut Value) {
     }
 }
 
-/// A non-periodic run has no harmonics and no mean power: those keys are null (one shape
-/// for every transient), and `record` holds the energies delivered and the segmentation of
-/// the spectra in the HDF5 file.
-fn as_record(v: &mut Value, rec: &RecordAnalysis) {
-    for key in ["harmonics", "mean_power_w", "net_power_w", "load_power_w", "transmitted_force_amplitude_at_drive_n"] {
-        v[key] = Value::Null;
-    }
+/// A non-periodic run: no period, so none of a periodic run's fields (harmonics, periods,
+/// settling, mean power per period); instead the record's quantities — energy delivered and
+/// mean power over the record per point and per actuator, the estimator of its spectra and
+/// FRFs (in the HDF5 file), and what makes them untrustworthy.
+fn record_summary(t: &crate::analysis::transient::TransientResult, rec: &RecordAnalysis) -> Value {
     let energy: Map<String, Value> = rec.points.iter().map(|p| (p.name.clone(), json!(p.energy))).collect();
-    v["record"] = json!({"duration_s": rec.duration, "segment_s": rec.segment_s, "segments": rec.segments,
-        "overlap": rec.welch.overlap, "window": if rec.welch.hann { "hann" } else { "rectangular" },
-        "frequency_resolution_hz": 1.0 / rec.segment_s, "energy_j": energy, "net_energy_j": rec.net_energy});
+    let power: Map<String, Value> =
+        rec.points.iter().map(|p| (p.name.clone(), json!(p.energy / rec.duration))).collect();
+    let end: Map<String, Value> = rec.points.iter().map(|p| (p.name.clone(), json!(p.end_activity))).collect();
+    let e = &rec.estimate;
+    json!({"type": "transient", "dt_s": t.dt, "steps_run": t.steps_run, "mesh_roundoff": t.mesh_roundoff,
+        "beam_dissipated_energy_j": t.energy_run.beam.dissipated,
+        "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error()},
+        "record": {"duration_s": rec.duration, "band_hz": [rec.band.0, rec.band.1],
+            "estimator": e.reason, "description": e.describe(rec.dt, rec.segments),
+            "segment_s": rec.segment_s, "segments": rec.segments,
+            "overlap": rec.welch.overlap, "window": if rec.welch.hann { "hann" } else { "rectangular" },
+            "frequency_resolution_hz": 1.0 / rec.segment_s, "end_activity": end, "end_activity_max": e.end_activity,
+            "min_coherence_in_band": e.min_coherence, "low_coherence_share": e.low_coherence_share,
+            "trustworthy": e.warnings.is_empty(), "warnings": e.warnings,
+            "energy_j": energy, "mean_power_w": power, "net_energy_j": rec.net_energy,
+            "net_mean_power_w": rec.net_energy.iter().map(|x| x / rec.duration).collect::<Vec<_>>(),
+            "sensors": rec.sensors.iter().map(|s| s.name.clone()).collect::<Vec<_>>()}})
 }
 
 /// Each point load's mean power into the beam (W), by name.
@@ -237,15 +250,15 @@ fn measured_line(m: &Value) -> String {
 /// How a transient ran: its step, the harmonics it analysed, and whether (and how well) it
 /// settled.
 fn transient_status(a: &Value, names: &[Value]) -> String {
+    if let Some(r) = a.get("record") {
+        return record_status(a, r, names);
+    }
     let n = a["steps_per_period"].as_u64().unwrap_or(0);
     let mut s = format!(
         "  Δt = {:.4e} s ({n} steps per period), spectra to harmonic {} (20 steps per harmonic period)\n",
         a["dt_s"].as_f64().unwrap_or(f64::NAN),
         a["harmonics"]
     );
-    if let Some(r) = a.get("record") {
-        return record_status(a, r, names);
-    }
     let periods = a["periods_run"].as_u64().unwrap_or(0);
     match (a["converged"].as_bool(), a["settling_estimate"].as_f64()) {
         (Some(true), Some(e)) => {
@@ -266,21 +279,33 @@ fn transient_status(a: &Value, names: &[Value]) -> String {
 fn record_status(a: &Value, r: &Value, actuators: &[Value]) -> String {
     let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
     let mut s = format!(
-        "  non-periodic drive: one record of {:.4} s at Δt = {:.4e} s; no harmonics. PSDs and H1 FRFs (with\n  \
-         coherence) from {} {} segments of {:.4} s, {:.0} % overlap (Δf = {:.4} Hz), in the HDF5 file\n",
+        "  non-periodic drive: one record of {:.4} s at Δt = {:.4e} s, band {:.1}–{:.1} Hz; no period, so no \
+         harmonics\n  PSDs and H1 FRFs in the HDF5 file: {}\n",
         f(&r["duration_s"]),
         f(&a["dt_s"]),
-        r["segments"],
-        r["window"].as_str().unwrap_or("?"),
-        f(&r["segment_s"]),
-        100.0 * f(&r["overlap"]),
-        f(&r["frequency_resolution_hz"])
+        f(&r["band_hz"][0]),
+        f(&r["band_hz"][1]),
+        r["description"].as_str().unwrap_or("?"),
     );
-    for (k, e) in r["energy_j"].as_object().into_iter().flatten() {
-        s += &format!("  energy delivered into the structure at {k:<22} {:>12.4e} J\n", f(e));
+    if let Some(c) = r["min_coherence_in_band"].as_f64() {
+        s += &format!(
+            "  coherence in the band: least {c:.3}, below {} over {:.0} % of it\n",
+            crate::power::record::COHERENCE_TRUSTED,
+            100.0 * f(&r["low_coherence_share"])
+        );
     }
-    for (name, e) in actuators.iter().zip(r["net_energy_j"].as_array().into_iter().flatten()) {
-        s += &format!("  net energy of {:<46} {:>12.4e} J\n", name.as_str().unwrap_or("?"), f(e));
+    for w in r["warnings"].as_array().into_iter().flatten() {
+        s += &format!("  WARNING: {}\n", w.as_str().unwrap_or("?"));
+    }
+    let powers = r["mean_power_w"].as_object();
+    for (k, e) in r["energy_j"].as_object().into_iter().flatten() {
+        let p = powers.and_then(|m| m.get(k)).map_or(f64::NAN, f);
+        s += &format!("  energy delivered into the structure at {k:<22} {:>12.4e} J, mean {p:>11.4e} W\n", f(e));
+    }
+    let net_p = r["net_mean_power_w"].as_array();
+    for (i, (name, e)) in actuators.iter().zip(r["net_energy_j"].as_array().into_iter().flatten()).enumerate() {
+        let p = net_p.and_then(|m| m.get(i)).map_or(f64::NAN, f);
+        s += &format!("  net energy of {:<46} {:>12.4e} J, mean {p:>11.4e} W\n", name.as_str().unwrap_or("?"), f(e));
     }
     s
 }

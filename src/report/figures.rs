@@ -297,8 +297,7 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                     }
                     Some(rec) => {
                         // The drives' band, with a margin: beyond it the FRFs divide noise by noise.
-                        let band = run.model.drive_signals().filter_map(|s| s.highest_frequency()).fold(0.0, f64::max);
-                        out.extend(record_figures(dir, &tag, time, &links, rec, 1.25 * band)?)
+                        out.extend(record_figures(dir, &tag, time, &links, rec, 1.2 * rec.band.1)?)
                     }
                 }
                 out.extend(load_figures(dir, &tag, time, &t.loads, &t.load_spectra)?);
@@ -337,30 +336,64 @@ fn record_figures(
         )?);
     }
     let f = &rec.frequency;
-    let shown = |&(a, _): &(f64, f64)| f_max <= 0.0 || a <= f_max;
-    let band =
-        |y: &[f64]| -> (Vec<f64>, Vec<f64>) { f.iter().zip(y).skip(1).map(|(&a, &b)| (a, b)).filter(shown).unzip() };
-    let mut frf = LinePlot::new("accelerance from the drive", "frequency (Hz)", "|H_{1}| ((m/s²) per V or N)");
-    frf.log_y = true;
-    let mut pd = LinePlot::new("power into the structure per hertz", "frequency (Hz)", "Re G_{Fv} (W/Hz)");
-    let mut coh = LinePlot::new("coherence of the accelerance", "frequency (Hz)", "γ²");
-    for p in &rec.points {
-        let mag: Vec<f64> = p.acceleration_frf.iter().map(|h| h.norm().max(1e-300)).collect();
-        let (x, y) = band(&mag);
-        frf.series.push(Series::line(p.name.clone(), x, y));
-        let (x, y) = band(&p.power_density);
-        pd.series.push(Series::line(p.name.clone(), x, y));
-        if !p.acceleration_coherence.is_empty() {
-            let (x, y) = band(&p.acceleration_coherence);
-            coh.series.push(Series::line(p.name.clone(), x, y));
+    // The band on a log axis: from the first bin (or a little below the band) to a little
+    // above it; beyond it the FRFs divide noise by noise.
+    let lo = (0.8 * rec.band.0).max(f.get(1).copied().unwrap_or(1.0));
+    let hi = if f_max > lo { f_max } else { f.last().copied().unwrap_or(1.0) };
+    let bins: Vec<usize> = (1..f.len()).filter(|&k| (lo..=hi).contains(&f[k])).collect();
+    let pick = |y: &[f64], keep: &dyn Fn(usize) -> bool| -> (Vec<f64>, Vec<f64>) {
+        bins.iter().filter(|&&k| keep(k)).map(|&k| (f[k], y[k])).unzip()
+    };
+    let log_plot = |title: &str, y_label: &str, log_y: bool| {
+        let mut p = LinePlot::new(title, "frequency (Hz)", y_label);
+        p.log_x = true;
+        p.log_y = log_y;
+        p.x_range = Some((lo, hi));
+        p
+    };
+    let mut frf = log_plot("accelerance from the drive: magnitude", "|H_{1}| ((m/s²) per V or N)", true);
+    let mut phase = log_plot("accelerance from the drive: phase", "phase (°)", false);
+    let mut pd = log_plot("power into the structure per hertz", "Re G_{Fv} (W/Hz)", false);
+    let mut force = log_plot("force PSD at each point", "G_{FF} (N²/Hz)", true);
+    let mut coh = log_plot("coherence of the accelerance", "γ²", false);
+    let trusted = crate::power::record::COHERENCE_TRUSTED;
+    let mut frf_of = |name: &str, h: &[num_complex::Complex64], c: &[f64]| {
+        let mag: Vec<f64> = h.iter().map(|h| h.norm().max(1e-300)).collect();
+        let deg: Vec<f64> = h.iter().map(|h| h.arg().to_degrees()).collect();
+        let (x, y) = pick(&mag, &|_| true);
+        frf.series.push(Series::line(name, x, y));
+        let (x, y) = pick(&deg, &|_| true);
+        phase.series.push(Series::line(name, x, y).wrapped(360.0));
+        if !c.is_empty() {
+            // Bins whose coherence says the estimate is not to be trusted, marked.
+            let (x, y) = pick(&mag, &|k| c[k] < trusted);
+            if !x.is_empty() {
+                frf.series.push(Series::line(format!("{name}: γ² < {trusted}"), x, y).with_style(SeriesStyle::Markers));
+            }
+            let (x, y) = pick(c, &|_| true);
+            coh.series.push(Series::line(name, x, y));
         }
+    };
+    for p in &rec.points {
+        frf_of(&p.name, &p.acceleration_frf, &p.acceleration_coherence);
     }
-    let mut panels = vec![frf, pd];
+    for sr in &rec.sensors {
+        frf_of(&format!("sensor {}", sr.name), &sr.acceleration_frf, &sr.acceleration_coherence);
+    }
+    for p in &rec.points {
+        let (x, y) = pick(&p.power_density, &|_| true);
+        pd.series.push(Series::line(p.name.clone(), x, y));
+        let psd: Vec<f64> = p.force_psd.iter().map(|v| v.max(1e-300)).collect();
+        let (x, y) = pick(&psd, &|_| true);
+        force.series.push(Series::line(p.name.clone(), x, y));
+    }
+    let mut panels = vec![frf, phase, pd, force];
     if !coh.series.is_empty() {
         panels.push(coh);
     }
+    let kind = if rec.estimate.reason == "decayed" { "one segment, response decayed" } else { "Welch, Hann" };
     let title =
-        format!("non-periodic record of {:.3} s: {} segment(s) of {:.3} s", rec.duration, rec.segments, rec.segment_s);
+        format!("record of {:.3} s: {kind}, {} segment(s) of {:.3} s", rec.duration, rec.segments, rec.segment_s);
     out.extend(save(&MultiPanel::new(title, panels), dir, &format!("{tag}_record_spectra"))?);
     Ok(out)
 }

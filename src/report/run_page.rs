@@ -138,6 +138,9 @@ impl RunReport<'_> {
                 for (k, v) in r["energy_j"].as_object().into_iter().flatten() {
                     row(format!("energy delivered at {k}"), v, "J");
                 }
+                for (k, v) in r["mean_power_w"].as_object().into_iter().flatten() {
+                    row(format!("mean power over the record at {k}"), v, "W");
+                }
                 for (i, v) in r["net_energy_j"].as_array().into_iter().flatten().enumerate() {
                     row(format!("net energy of {}", names.get(i).map_or("?", String::as_str)), v, "J");
                 }
@@ -171,7 +174,17 @@ impl RunReport<'_> {
             };
             if a["type"] == "transient" {
                 row("time step Δt", &a["dt_s"], "s", "");
-                row("periods run", &a["periods_run"], "", "");
+                if let Some(r) = a.get("record") {
+                    row("record length", &r["duration_s"], "s", r["description"].as_str().unwrap_or(""));
+                    if r["end_activity_max"].is_number() {
+                        row("end activity (rates at the end / peak)", &r["end_activity_max"], "", "");
+                    }
+                    if r["min_coherence_in_band"].is_number() {
+                        row("least coherence in the band", &r["min_coherence_in_band"], "", "");
+                    }
+                } else {
+                    row("periods run", &a["periods_run"], "", "");
+                }
                 if a["settling_estimate"].is_number() {
                     let state = if a["converged"] == true { "settled" } else { "NOT settled" };
                     row("settling: start-up transient left", &a["settling_estimate"], "", state);
@@ -268,6 +281,9 @@ impl RunReport<'_> {
                 ));
             } else if f(&a["settling_estimate"]) > SETTLING_WARN {
                 w.push(format!("{tag}: the start-up transient left {:.1e} (relative).", f(&a["settling_estimate"])));
+            }
+            for rw in a["record"]["warnings"].as_array().into_iter().flatten() {
+                w.push(format!("{tag}: {}", rw.as_str().unwrap_or("?")));
             }
             if f(&a["truncation_estimate"]) > TRUNCATION_WARN {
                 w.push(format!(
@@ -383,8 +399,12 @@ impl RunReport<'_> {
                     ]],
                 );
             }
-            AnalysisResult::Transient(_) => {
-                s += "<p>A non-periodic record: no harmonics and no mean power; energies above, spectra in the HDF5 file.</p>\n";
+            AnalysisResult::Transient(t) => {
+                s += "<p>A non-periodic record: no period, so no harmonics; energies and mean powers over the record \
+                      above, PSDs and FRFs (figures, HDF5 file) ";
+                if let Some(r) = &t.record {
+                    s += &format!("by {}.</p>\n", escape(&r.estimate.describe(r.dt, r.segments)));
+                }
             }
             AnalysisResult::SteadyState(ss) => {
                 s += &point_powers(&ss.mean_power, &ss.spectra, &link);

@@ -26,7 +26,7 @@ use super::series::{
 use crate::assembly::{Model, System};
 use crate::error::Result;
 use crate::power::point::{mean_product, net_power};
-use crate::power::record::{RecordAnalysis, Welch};
+use crate::power::record::{RecordAnalysis, RecordPlan, Welch};
 use crate::power::spectra::harmonics;
 use crate::progress::Task;
 use crate::solve::band_newmark::{BandNewmark, StepOptions};
@@ -48,7 +48,8 @@ pub struct TransientSettings {
     /// Highest harmonic of the drive analysed (sets the Δt limit and the spectra length);
     /// None: as many as the time step resolves ([`DriveTiming::analysed_harmonics`]).
     pub harmonics: Option<usize>,
-    /// A non-periodic record's Welch segment (s); None: the whole record as one segment.
+    /// A non-periodic record's Welch segment (s); None: the estimator the record supports
+    /// ([`crate::power::record::choose`]).
     pub segment: Option<f64>,
     /// Periods kept at the end of the run for output (and run at least before the
     /// steady-state criterion may stop it).
@@ -233,7 +234,7 @@ fn check_bounded(nm: &BandNewmark, sys: &System, ledger: &EnergyLedger, period: 
 
 /// The time stepping of [`run`] on `timing`, whose step [`run`] checked.
 fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTiming) -> Result<TransientResult> {
-    let welch = record_segments(&timing, s.segment)?;
+    let record_plan = record_plan(model, &timing, s.segment)?;
     let layout = Readout::new(model, sys)?;
     let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
     let mut stacks = StackHistories::new(model, &timing);
@@ -298,7 +299,7 @@ fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTi
         ..Default::default()
     };
     let all = window.joined(&layout);
-    match welch {
+    match record_plan {
         None => {
             let harmonics = timing.analysed_harmonics(s.harmonics);
             result.harmonics = harmonics;
@@ -306,9 +307,9 @@ fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTi
             add_loads(&mut result, model, &all, harmonics);
             result.net_power = net_power(&sys.links, &result.mean_power, model.actuators.len());
         }
-        Some(welch) => {
+        Some(plan) => {
             result.links = sys.links.iter().enumerate().map(|(l, lk)| all.link_series(l, lk)).collect();
-            result.record = Some(records::analyse(model, sys, &result.links, &all, timing.dt, welch));
+            result.record = Some(records::analyse(model, sys, &result.links, &all, &plan));
         }
     }
     result.t = all.t.clone();
@@ -328,20 +329,28 @@ fn settling_message(settle: &SettleCheck, tolerance: f64) -> String {
     }
 }
 
-/// How a non-periodic run's record is segmented for its spectra (None for a periodic
-/// drive): Welch segments of the case's `segment` (s), or the whole record as one; refused
-/// before the run when the record cannot hold the segment.
-pub fn record_segments(timing: &DriveTiming, segment: Option<f64>) -> Result<Option<Welch>> {
+/// How a non-periodic run's record is to be analysed (None for a periodic drive): the
+/// case's `segment` (s), refused before the run when the record cannot hold it, or the
+/// segment the slowest decay in the drive's band asks for
+/// ([`crate::power::record::choose`] settles the estimator once the record is in).
+pub fn record_plan(model: &Model, timing: &DriveTiming, segment: Option<f64>) -> Result<Option<RecordPlan>> {
     if timing.periodic {
         return Ok(None);
     }
     let samples = timing.steps_per_period;
-    let welch = match segment {
-        Some(seg) => Welch::hann((seg / timing.dt).round() as usize),
-        None => Welch::whole(samples),
-    };
-    welch.check(samples).map_err(|r| crate::error::Error::analysis_setting("segment", r))?;
-    Ok(Some(welch))
+    let given = segment.map(|seg| Welch::hann((seg / timing.dt).round() as usize));
+    if let Some(w) = &given {
+        w.check(samples).map_err(|r| crate::error::Error::analysis_setting("segment", r))?;
+    }
+    let decay_rate = super::drive::slowest_decay(model);
+    Ok(Some(RecordPlan {
+        samples,
+        dt: timing.dt,
+        given,
+        decay_rate,
+        needed_segment_s: crate::power::record::SEGMENT_TIME_CONSTANTS / decay_rate,
+        band: super::drive::drive_band(model, 1.0 / (20.0 * timing.dt)),
+    }))
 }
 
 /// Adds each point load's mean power and spectrum over the last period.
