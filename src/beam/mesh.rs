@@ -315,12 +315,12 @@ fn positive(file: &str, field: &str, v: f64) -> Result<()> {
 
 /// How many elements each segment of the given lengths gets so that they sum to `total`
 /// (or to the number of segments, if that is more): each its share of `total` by length,
-/// at least one, rounded down, then one more at a time to the segment whose elements are
+/// at least one, rounded, then one more at a time to the segment whose elements are
 /// longest (ties to the first), or one less from the one whose are shortest.
 fn segment_counts(segments: &[f64], total: usize) -> Vec<usize> {
     let length: f64 = segments.iter().sum();
     let mut counts: Vec<usize> =
-        segments.iter().map(|s| ((s / length * total as f64).floor() as usize).max(1)).collect();
+        segments.iter().map(|s| ((s / length * total as f64).round() as usize).max(1)).collect();
     let size = |i: usize, c: &[usize]| segments[i] / c[i] as f64;
     while counts.iter().sum::<usize>() < total {
         let i = (0..counts.len()).fold(0, |b, i| if size(i, &counts) > size(b, &counts) { i } else { b });
