@@ -1,8 +1,8 @@
 //! Point mobility of the bare paper beam against the exact continuous beam as the mesh is
-//! refined: discretisation error falls as elements⁻⁴, round-off in the assembled K grows
-//! as elements⁴ (the measurement behind `analysis::roundoff::MESH_ELEMENTS_LIMIT`, so it calls
-//! the harmonic analysis directly, past that limit). Usage:
-//! cargo run --release --example mesh_accuracy
+//! refined: discretisation error falls as elements⁻⁴, and the refined solves keep round-off
+//! below 1e-6 where the assembled factor alone lost ε·elements⁴ (`analysis::roundoff`);
+//! then the time of the frame case's steady state on fine meshes (docs/performance.md).
+//! Usage: cargo run --release --example mesh_accuracy
 use beamflow::analysis::harmonic::{self, PointForce};
 use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
@@ -38,6 +38,22 @@ fn main() {
                 format!("{:>13.2e}", (h.mobility[i][0][0] - exact).norm() / exact.norm())
             })
             .collect();
-        println!("{n:>8}  {}", errs.join(""));
+        println!("{n:>8}  {}   (stated round-off {:.1e})", errs.join(""), h.mesh_roundoff);
+    }
+    let frame =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/beam-frame-12V-60Hz.toml")).unwrap();
+    for n in [200, 2000, 20000] {
+        let text = frame
+            .replace("[beam]", &format!("[beam]\n[beam.mesh]\nelements = {n}"))
+            .replace("[[analysis]]\ntype = \"transient\"\n", "");
+        let lc = LoadedCase::from_str(&text, "frame.toml", PathBuf::from(".")).unwrap();
+        let start = std::time::Instant::now();
+        let run = beamflow::app::runner::run_case(&lc).unwrap();
+        let secs = start.elapsed().as_secs_f64();
+        let beamflow::analysis::case_run::AnalysisResult::SteadyState(s) = &run.results[0] else { unreachable!() };
+        println!(
+            "frame steady state, {n:>6} elements: {secs:.2} s ({} harmonics), stated round-off {:.1e}",
+            s.harmonics, s.mesh_roundoff
+        );
     }
 }

@@ -44,10 +44,10 @@ fn harmonic_mobility_matches_the_complex_stiffness_beam() {
         eprintln!("{f} Hz: error {e:.1e}");
         assert!(e < 1e-6, "{f} Hz: {e:e}");
     }
-    // At the finest mesh the solves accept, round-off stays below 1e-6 too.
-    for (f, e) in [60.0, 445.0].iter().zip(mobility_errors(beamflow::app::runner::MESH_ELEMENTS_LIMIT, &[60.0, 445.0]))
-    {
-        assert!(e < 1e-6, "{f} Hz at the mesh limit: {e:e}");
+    // On a fine mesh (2,000 elements, where the assembled factor alone loses ~1e-4) the
+    // refined solves hold 1e-6 too, the loss factor applied through the element rows.
+    for (f, e) in [60.0, 445.0].iter().zip(mobility_errors(2000, &[60.0, 445.0])) {
+        assert!(e < 1e-6, "{f} Hz on 2,000 elements: {e:e}");
     }
     // Higher up the discretisation error shows, and falls at the Hermite element's fourth
     // order: 16× for twice the elements.

@@ -164,6 +164,7 @@ fn actuator_replaced_by_its_force_pair_reproduces_the_harmonic_analysis() {
         actuators: vec![],
         sensors: vec![],
         loads: vec![],
+        roundoff_tolerance: model.roundoff_tolerance,
     };
     let bsys = System::assemble(&bare).unwrap();
     let r = harmonic::run(&bare, &bsys, &[60.0], &forces, None).unwrap();

@@ -52,6 +52,17 @@ impl AnalysisResult {
         }
     }
 
+    /// The result's bound on the relative round-off of its point powers and mobilities
+    /// ([`crate::analysis::roundoff`]); None for modes.
+    pub fn mesh_roundoff(&self) -> Option<f64> {
+        match self {
+            AnalysisResult::Modes(_) => None,
+            AnalysisResult::Harmonic(h) => Some(h.mesh_roundoff),
+            AnalysisResult::Transient(t) => Some(t.mesh_roundoff),
+            AnalysisResult::SteadyState(s) => Some(s.mesh_roundoff),
+        }
+    }
+
     /// The first reported quantity that is not a finite number (NaN or ±∞), named: such a
     /// result is never reported as a success. Series are checked whole, headline numbers
     /// one by one.

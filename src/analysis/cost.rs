@@ -80,25 +80,30 @@ pub fn mesh(lc: &LoadedCase) -> Option<Cost> {
     if case.base == crate::case::BaseKind::Rigid || case.beam.mesh.file.is_some() {
         return None;
     }
-    let elements = count(case.beam.mesh.elements);
+    Some(mesh_of(lc, case.beam.mesh.elements))
+}
+
+/// The memory of a mesh of `elements` elements for `lc`'s attachments: what [`mesh`]
+/// estimates, for a mesh file's elements counted from its text before it is parsed.
+pub fn mesh_of(lc: &LoadedCase, elements: usize) -> Cost {
+    let case = &lc.case;
+    let elements = count(elements);
     let points = count(case.actuator.len() * 3 + case.sensor.len() + case.load.len() + case.beam.support.len() + 2);
     let n = elements.checked_add(1).and_then(|e| e.checked_add(points)).and_then(|nodes| dofs(nodes, 0));
     let bytes = n.and_then(system_bytes);
-    Some(
-        cost(
-            bytes,
-            Some(0),
-            "steps",
-            "the mesh".into(),
-            format!(
-                "{} elements, ≈ {} DOFs at {} kB each",
-                elements,
-                n.map_or("> 2⁶⁴".into(), |n| n.to_string()),
-                BYTES_PER_DOF / 1024
-            ),
-        )
-        .of_case_field("beam.mesh.elements", "use fewer elements (the shipped cases use 200)"),
+    cost(
+        bytes,
+        Some(0),
+        "steps",
+        "the mesh".into(),
+        format!(
+            "{} elements, ≈ {} DOFs at {} kB each",
+            elements,
+            n.map_or("> 2⁶⁴".into(), |n| n.to_string()),
+            BYTES_PER_DOF / 1024
+        ),
     )
+    .of_case_field("beam.mesh.elements", "use fewer elements (the shipped cases use 200)")
 }
 
 /// The built model before its damping is calibrated: its DOFs, and the modes

@@ -1,13 +1,15 @@
 //! Harmonic response of the beam, bare or coupled with its actuators, to point forces:
 //! mobilities, input power and the coupled system's transfer functions.
 
+use super::roundoff::{self, MeshRefinement};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
 use crate::power::modal::{modal_dissipated_power, ModalDamping};
-use crate::power::point::{beam_dissipation, mean_power};
+use crate::power::point::{beam_dissipation, mean_power, mean_power_error};
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::{ratio_of, Modes};
+use crate::solve::refine::Refined;
 use num_complex::Complex64;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -24,8 +26,8 @@ pub struct PointForce {
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct HarmonicResult {
     pub frequency_hz: Vec<f64>,
-    /// Estimated relative round-off of the mobilities and powers from the mesh
-    /// ([`crate::analysis::roundoff::mesh_roundoff`]).
+    /// Bound on the relative round-off of every input power and mobility, the largest
+    /// over points and frequencies ([`crate::analysis::roundoff`]).
     pub mesh_roundoff: f64,
     /// Positions (m) of the response points: the force points, then the sensors.
     pub point_x: Vec<f64>,
@@ -120,7 +122,7 @@ pub fn run(
         frequency_hz: frequencies.to_vec(),
         point_x: points.iter().map(|p| p.0).collect(),
         point_names: points.iter().map(|p| p.1.clone()).collect(),
-        mesh_roundoff: super::roundoff::mesh_roundoff(model),
+        mesh_roundoff: 0.0,
         transfer_inputs: inputs.iter().map(|t| t.name.clone()).collect(),
         link_names: if inputs.is_empty() {
             Vec::new()
@@ -131,9 +133,12 @@ pub fn run(
     };
     let mut tcols: Vec<Vec<Complex64>> = vec![vec![Complex64::default(); n]; inputs.len()];
     let mut dynk = match modal {
-        None => Some(DynamicStiffness::of(sys)),
+        None => Some((DynamicStiffness::of(sys), MeshRefinement::new(model, sys)?)),
         Some(_) => None,
     };
+    // Per force column, the bound on each DOF's error (zero for the modal sum, whose modes
+    // come from the stiffness's square root and need no refinement).
+    let mut col_errors: Vec<Refined> = vec![Refined::default(); forces.len()];
     let mut cols: Vec<Vec<Complex64>> = vec![vec![Complex64::default(); n]; forces.len()];
     let task = crate::progress::Task::start("harmonic analysis", Some(frequencies.len() as u64), "frequencies");
     for (done, &fhz) in frequencies.iter().enumerate() {
@@ -155,10 +160,15 @@ pub fn run(
             }
         }
         match (&mut dynk, modal) {
-            (Some(dk), _) => {
+            (Some((dk, refinement)), _) => {
                 dk.factorize(w)?;
-                for col in cols.iter_mut().chain(tcols.iter_mut()) {
+                for (j, col) in cols.iter_mut().chain(tcols.iter_mut()).enumerate() {
+                    let b = col.clone();
                     dk.solve_in_place(col);
+                    let e = refinement.refine(dk, 0, &b, col);
+                    if j < forces.len() {
+                        col_errors[j] = e;
+                    }
                 }
             }
             (None, Some((modes, ratios))) => {
@@ -180,10 +190,17 @@ pub fn run(
         let mob: Vec<Vec<Complex64>> = points.iter().map(|p| cols.iter().map(|c| vel(p.2, c)).collect()).collect();
         let v_all: Vec<Complex64> = points.iter().map(|p| vel(p.2, &q)).collect();
         let pin: Vec<f64> = (0..forces.len()).map(|j| mean_power(amps[j], v_all[j])).collect();
+        res.mesh_roundoff = res.mesh_roundoff.max(roundoff_bound(&points, &cols, &col_errors, &amps, &pin, w));
         let total: f64 = pin.iter().sum();
         let diss = match modal {
             // The structure's, and on a coupled system the links' dampers' ½ω²·c·|u|².
-            None => beam_dissipation(sys, &q, w) + links_dissipation(sys, &q, w),
+            None => {
+                let structure = match &dynk {
+                    Some((_, refinement)) => refinement.dissipation(sys, &q, w),
+                    None => beam_dissipation(sys, &q, w),
+                };
+                structure + links_dissipation(sys, &q, w)
+            }
             Some((modes, ratios)) => modal_dissipation(modes, ratios, &sys.m_beam, &q, w),
         };
         if !inputs.is_empty() {
@@ -215,6 +232,33 @@ pub fn run(
         res.dissipated_power.push(diss);
     }
     Ok(res)
+}
+
+/// The largest relative round-off bound at frequency ω of the input powers `pin` (forces
+/// `amps` on the first points) and of the mobilities of the force columns `cols`, from each
+/// column's DOF error bounds (see [`crate::analysis::roundoff`]).
+fn roundoff_bound(
+    points: &[(f64, String, Option<usize>)],
+    cols: &[Vec<Complex64>],
+    errors: &[Refined],
+    amps: &[Complex64],
+    pin: &[f64],
+    w: f64,
+) -> f64 {
+    let mut worst = 0.0f64;
+    for (p, (_, _, dof)) in points.iter().enumerate() {
+        let Some(d) = *dof else { continue };
+        for (col, e) in cols.iter().zip(errors) {
+            worst = worst.max(roundoff::relative(e.bound(&[(d, 1.0)]), col[d].norm()));
+        }
+        if let (Some(&f), Some(&power)) = (amps.get(p), pin.get(p)) {
+            let q: Complex64 = cols.iter().zip(amps).map(|(c, a)| c[d] * a).sum();
+            let dq: f64 = errors.iter().zip(amps).map(|(e, a)| e.bound(&[(d, 1.0)]) * a.norm()).sum();
+            let bound = mean_power_error(f, 0.0, Complex64::new(0.0, w) * q, w * dq);
+            worst = worst.max(roundoff::relative(bound, power));
+        }
+    }
+    worst
 }
 
 /// Power the links' dampers dissipate in harmonic motion Q at ω: Σ_l ½ω²·c_l·|u_l|², u_l

@@ -8,10 +8,9 @@
 use super::budget::Budget;
 use super::cost;
 use super::modes::bare_modes;
-use super::roundoff;
 use crate::assembly::{Damping, DofMap, Model, Rayleigh, System};
 use crate::beam::Beam;
-use crate::case::{build_model, AnalysisSpec, LoadedCase};
+use crate::case::{build_model, LoadedCase};
 use crate::error::{Error, Result};
 
 /// The model a case describes, with its damping calibrated: the model every analysis runs.
@@ -29,29 +28,22 @@ pub fn model_and_system(lc: &LoadedCase) -> Result<(Model, System)> {
 
 /// [`model_and_system`] within `budget`: the mesh is sized before it is built, and the
 /// model (its DOFs and the modes its damping is calibrated at) before it is calibrated
-/// and assembled. A case with an analysis that solves on the mesh (any but `modes`) has
-/// its elements held to [`roundoff::MESH_ELEMENTS_LIMIT`] as written, and a mesh file's
-/// once read, before the damping is calibrated on it.
+/// and assembled. (Fine meshes are not refused: the solves refine against their round-off,
+/// see [`crate::analysis::roundoff`].)
 pub fn model_and_system_within(lc: &LoadedCase, budget: &Budget) -> Result<(Model, System)> {
-    let solves = lc.case.analysis.iter().any(|a| !matches!(a, AnalysisSpec::Modes { .. }));
     if let Some(c) = cost::mesh(lc) {
         budget.admit(&c).map_err(|e| e.in_file(&lc.file))?;
-        if solves {
-            roundoff::admit_elements(lc.case.beam.mesh.elements).map_err(|e| e.in_file(&lc.file))?;
-        }
     }
-    if let (true, Some(file)) = (solves, &lc.case.beam.mesh.file) {
-        // Unreadable files are left to the build, which names the field.
+    if let (crate::case::BaseKind::Beam, Some(file)) = (lc.case.base, &lc.case.beam.mesh.file) {
+        // Counted from the text before it is parsed; unreadable files are left to the
+        // build, which names the field.
         if let Ok(text) = crate::input_file::read_text(&lc.dir.join(file)) {
             let elements = crate::beam::Mesh::elements_at_least(&text);
-            roundoff::admit_elements(elements).map_err(|e| e.in_file(&lc.file))?;
+            budget.admit(&cost::mesh_of(lc, elements)).map_err(|e| e.in_file(&lc.file))?;
         }
     }
     let mut model = build_model(lc)?;
     budget.admit(&cost::model(&model)).map_err(|e| e.in_file(&lc.file))?;
-    if let (true, Some(beam)) = (solves, &model.beam) {
-        roundoff::admit_elements(beam.mesh.elements.len()).map_err(|e| e.in_file(&lc.file))?;
-    }
     calibrate(&mut model).map_err(|e| e.in_file(&lc.file))?;
     let system = System::assemble(&model).map_err(|e| e.in_file(&lc.file))?;
     Ok((model, system))

@@ -13,19 +13,21 @@
 //! between cases that share a system.
 
 use super::drive::{force_harmonics, load_cycles, stack_cycle, DriveTiming, StackCycle, StackForceCache};
+use super::roundoff::{self, MeshRefinement};
 use super::series::{
     body_dofs, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
 };
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
-use crate::power::link::link_harmonic;
+use crate::power::link::{link_harmonic, link_power_error};
 use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
-use crate::power::point::{beam_dissipation, net_power};
+use crate::power::point::{beam_dissipation, mean_power_error, net_power};
 use crate::power::spectra::harmonics;
 use crate::signal::sampling::resolved_harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::Modes;
+use crate::solve::refine::Refined;
 use num_complex::Complex64;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -44,8 +46,8 @@ pub struct SteadyStateResult {
     pub truncation_estimate: f64,
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
-    /// Estimated relative round-off of the point powers from the mesh
-    /// ([`crate::analysis::roundoff::mesh_roundoff`]).
+    /// Bound on the relative round-off of every link's and load's mean power, the largest
+    /// over them ([`crate::analysis::roundoff`]).
     pub mesh_roundoff: f64,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
     pub frequency: Vec<f64>,
@@ -184,6 +186,7 @@ pub fn run_with(
     let load_h: Vec<Vec<Complex64>> = load_samples.iter().map(|f| harmonics(f)[..=n_harm].to_vec()).collect();
     let period = timing.period;
     let forcing: Vec<&[Complex64]> = f_p.iter().chain(&load_h).map(Vec::as_slice).collect();
+    solver.prepare(model)?;
     solver.solve(|j, k| forcing[j][k], n_harm, 2.0 * PI / period)?;
     let sys = solver.system();
     let mut res = SteadyStateResult {
@@ -191,7 +194,7 @@ pub fn run_with(
         harmonics: n_harm,
         truncation_estimate: f64::NAN,
         hysteresis_periods,
-        mesh_roundoff: super::roundoff::mesh_roundoff(model),
+        mesh_roundoff: 0.0,
         frequency: (0..=n_harm).map(|k| k as f64 / period).collect(),
         spectra: link_spectra(sys, &solver.q, &f_p, &timing),
         beam_dissipation: solver.diss.iter().sum(),
@@ -201,6 +204,7 @@ pub fn run_with(
     res.mean_power = res.spectra.iter().map(|s| s.power_total).collect();
     res.net_power = net_power(&sys.links, &res.mean_power, model.actuators.len());
     res.load_spectra = load_spectra(model, sys, &solver.q, load_h, &timing);
+    res.mesh_roundoff = roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period);
     let load_power: f64 = res.load_spectra.iter().map(|s| s.power_total).sum();
     res.balance_error = balance_error(res.mean_power.iter().sum::<f64>() + load_power, res.beam_dissipation);
     if let Detail::Full = detail {
@@ -269,6 +273,31 @@ fn load_spectra(
             LoadSpectrum::new(&l.name, l.x, (timing.period, timing.steps_per_period, n_harm), force, v)
         })
         .collect()
+}
+
+/// The largest relative round-off bound of the links' and loads' mean powers (sums over
+/// harmonics, each harmonic's error bounded from its DOF error bounds `error[k]`).
+fn roundoff_bound(sys: &System, res: &SteadyStateResult, error: &[Refined], w0: f64) -> f64 {
+    let at = |k: usize| (k as f64 * w0, &error[k]);
+    let links = sys.links.iter().zip(&res.spectra).map(|(lk, s)| {
+        let bound: f64 = (0..error.len())
+            .map(|k| {
+                let (w, e) = at(k);
+                link_power_error(lk, e.bound(&lk.stretch), e.bound(&lk.foot), w, s.interface[k], s.velocity[k])
+            })
+            .sum();
+        roundoff::relative(bound, s.power_total)
+    });
+    let loads = sys.loads.iter().zip(&res.load_spectra).map(|(pattern, s)| {
+        let bound: f64 = (0..error.len())
+            .map(|k| {
+                let (w, e) = at(k);
+                mean_power_error(s.force[k], 0.0, s.velocity[k], w * e.bound(pattern))
+            })
+            .sum();
+        roundoff::relative(bound, s.power_total)
+    });
+    links.chain(loads).fold(0.0, f64::max)
 }
 
 /// Each link's spectrum from the solved amplitudes `q[k]` and the stack forces `f_p[a][k]`.
@@ -461,15 +490,39 @@ pub const NEGLIGIBLE_HARMONIC: f64 = 1e-12;
 pub struct HarmonicSolver<'s> {
     sys: &'s System,
     dk: DynamicStiffness,
+    /// The refinement of the solves against the model's element rows (set by
+    /// [`HarmonicSolver::prepare`]; without it the factor's solutions stand, unbounded).
+    refinement: Option<MeshRefinement>,
     /// Q_k, k = 0..=n_harm, of the last [`HarmonicSolver::solve`] (DOF units: m, rad).
     pub q: Vec<Vec<Complex64>>,
+    /// Per harmonic, the estimate of Q_k's error (empty where not estimated).
+    pub error: Vec<Refined>,
+    /// The right-hand side of each harmonic, kept for its refinement.
+    rhs: Vec<Vec<Complex64>>,
     /// Beam dissipation per harmonic (W) of the last solve.
     pub diss: Vec<f64>,
 }
 
 impl<'s> HarmonicSolver<'s> {
     pub fn new(sys: &'s System) -> Self {
-        HarmonicSolver { sys, dk: DynamicStiffness::of(sys), q: Vec::new(), diss: Vec::new() }
+        HarmonicSolver {
+            sys,
+            dk: DynamicStiffness::of(sys),
+            refinement: None,
+            q: Vec::new(),
+            error: Vec::new(),
+            rhs: Vec::new(),
+            diss: Vec::new(),
+        }
+    }
+
+    /// Refines the solves against `model`'s element rows from now on (once; `model` is the
+    /// one the system was assembled from).
+    pub fn prepare(&mut self, model: &Model) -> Result<()> {
+        if self.refinement.is_none() {
+            self.refinement = Some(MeshRefinement::new(model, self.sys)?);
+        }
+        Ok(())
     }
 
     /// The system solved against.
@@ -511,6 +564,11 @@ impl<'s> HarmonicSolver<'s> {
         }
         // Harmonics in pairs (see DynamicStiffness::factorize_pair): the same bits as one
         // at a time, in less time.
+        self.error.clear();
+        self.error.resize_with(n_harm + 1, Refined::default);
+        if self.refinement.is_some() {
+            self.rhs.clone_from(&self.q);
+        }
         let task = crate::progress::Task::start("steady state", Some(active.len() as u64), "harmonics solved");
         for (done, pair) in active.chunks(2).enumerate() {
             task.set(2 * done as u64)?;
@@ -526,9 +584,19 @@ impl<'s> HarmonicSolver<'s> {
                 }
                 _ => unreachable!("chunks of 1 or 2"),
             }
+            if let Some(r) = &self.refinement {
+                for (lane, &k) in pair.iter().enumerate() {
+                    self.error[k] = r.refine(&self.dk, lane, &self.rhs[k], &mut self.q[k]);
+                }
+            }
         }
         for (k, q) in self.q.iter().enumerate() {
-            self.diss.push(if active.contains(&k) { beam_dissipation(sys, q, k as f64 * w0) } else { 0.0 });
+            let w = k as f64 * w0;
+            self.diss.push(match (&self.refinement, active.contains(&k)) {
+                (_, false) => 0.0,
+                (Some(r), true) => r.dissipation(sys, q, w),
+                (None, true) => beam_dissipation(sys, q, w),
+            });
         }
         Ok(())
     }

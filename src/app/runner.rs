@@ -102,9 +102,6 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                 .ok_or_else(|| Error::input(&lc.file, &field, "this analysis needs a beam, but base = \"rigid\""))
         };
         let check = || -> Result<()> {
-            if !matches!(spec, AnalysisSpec::Modes { .. }) {
-                mesh_roundoff(model)?;
-            }
             match spec {
                 AnalysisSpec::Modes { count } => {
                     need_beam()?;
@@ -205,14 +202,6 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
     Ok(measured)
 }
 
-pub use crate::analysis::roundoff::MESH_ELEMENTS_LIMIT;
-
-/// Refuses a mesh whose round-off would exceed 1e-6 of the point powers (see
-/// [`crate::analysis::roundoff`]).
-fn mesh_roundoff(model: &crate::assembly::Model) -> Result<()> {
-    model.beam.as_ref().map_or(Ok(()), |beam| crate::analysis::roundoff::admit_elements(beam.mesh.elements.len()))
-}
-
 /// The model, system and measurements of a case whose every analysis passed [`preflight`]
 /// within `budget`: what `beamflow check` and [`run_case_within`] do before any analysis
 /// runs.
@@ -289,6 +278,7 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
         };
         let r = r.map_err(|e| located(e).in_analysis(&lc.file, &field))?;
         refuse_unsound(&lc.file, i, spec, &r)?;
+        hold_roundoff(lc, &model, &field, &r)?;
         results.push(r);
     }
     let link_name =
@@ -337,6 +327,18 @@ fn refuse_unsound(file: &str, i: usize, spec: &AnalysisSpec, r: &AnalysisResult)
     ))
 }
 
+/// Says on standard error where a result's round-off bound exceeds the case's tolerance,
+/// or refuses it if the case is strict (`beam.mesh.strict_roundoff`).
+fn hold_roundoff(lc: &LoadedCase, model: &Model, field: &str, r: &AnalysisResult) -> Result<()> {
+    let Some(bound) = r.mesh_roundoff() else { return Ok(()) };
+    let strict = lc.case.beam.mesh.strict_roundoff;
+    match crate::analysis::roundoff::check(model, strict, field, bound).map_err(|e| e.in_file(&lc.file))? {
+        Some(text) => crate::app::cli::note_line(format_args!("warning: {}: {text}", lc.file)),
+        None => {}
+    }
+    Ok(())
+}
+
 /// A case's analyses against one model and its assembled system, sharing what they build.
 struct Runner<'a> {
     model: &'a Model,
@@ -377,6 +379,7 @@ impl Runner<'_> {
             actuators: Vec::new(),
             sensors: model.sensors.clone(),
             loads: Vec::new(),
+            roundoff_tolerance: model.roundoff_tolerance,
         };
         let sys = System::assemble(&bare)?;
         let forces = harmonic_forces(force, &model.loads);

@@ -8,6 +8,7 @@
 
 pub mod damping;
 pub mod dofs;
+pub mod rows;
 pub mod system;
 
 pub use damping::{Damping, Rayleigh};

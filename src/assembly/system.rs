@@ -38,6 +38,9 @@ pub struct Model {
     pub actuators: Vec<Actuator>,
     pub sensors: Vec<Sensor>,
     pub loads: Vec<PointLoad>,
+    /// The relative accuracy point powers and mobilities are solved to
+    /// ([`crate::analysis::roundoff`]).
+    pub roundoff_tolerance: f64,
 }
 
 impl Model {
@@ -49,6 +52,7 @@ impl Model {
             actuators: Vec::new(),
             sensors: Vec::new(),
             loads: Vec::new(),
+            roundoff_tolerance: crate::analysis::roundoff::DEFAULT_TOLERANCE,
         }
     }
 
@@ -268,7 +272,7 @@ impl System {
 }
 
 /// The beam node each actuator link's foot stands on (None on the ground), per actuator.
-fn feet_nodes(comps: &[Component], beam: Option<&Beam>) -> Result<Vec<Vec<Option<usize>>>> {
+pub(super) fn feet_nodes(comps: &[Component], beam: Option<&Beam>) -> Result<Vec<Vec<Option<usize>>>> {
     let mut feet_nodes = Vec::with_capacity(comps.len());
     for (ai, comp) in comps.iter().enumerate() {
         let mut nodes = Vec::new();
@@ -297,7 +301,7 @@ fn feet_nodes(comps: &[Component], beam: Option<&Beam>) -> Result<Vec<Vec<Option
 /// The structure's own M, C and K: beam elements, point masses, support springs, Rayleigh
 /// damping of the elements and point masses (a₀·M + a₁·K, without the grounded springs),
 /// and the grounded spring–dampers.
-fn structure_matrices(beam: Option<&Beam>, dofs: &DofMap, rayleigh: super::damping::Rayleigh) -> [Csr; 3] {
+pub(super) fn structure_matrices(beam: Option<&Beam>, dofs: &DofMap, rayleigh: super::damping::Rayleigh) -> [Csr; 3] {
     let n = dofs.n;
     let mut mb = Vec::new();
     let mut kb = Vec::new();
@@ -354,16 +358,16 @@ fn structure_matrices(beam: Option<&Beam>, dofs: &DofMap, rayleigh: super::dampi
 
 /// The actuators' contributions: body masses and foot masses (m), link springs (k) and
 /// dampers (c) as triplets, and each link with its DOFs resolved.
-struct ActuatorMatrices {
-    m: Vec<(usize, usize, f64)>,
-    k: Vec<(usize, usize, f64)>,
-    c: Vec<(usize, usize, f64)>,
+pub(super) struct ActuatorMatrices {
+    pub(super) m: Vec<(usize, usize, f64)>,
+    pub(super) k: Vec<(usize, usize, f64)>,
+    pub(super) c: Vec<(usize, usize, f64)>,
     links: Vec<LinkDofs>,
     /// Per actuator, the pattern b_a its stack force F_p acts along.
     drives: Vec<Vec<(usize, f64)>>,
 }
 
-fn actuator_matrices(
+pub(super) fn actuator_matrices(
     comps: &[Component],
     feet_nodes: &[Vec<Option<usize>>],
     beam: Option<&Beam>,

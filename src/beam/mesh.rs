@@ -78,10 +78,11 @@ impl Mesh {
         (i < self.x.len() && (self.x[i] - x).abs() <= tol).then_some(i)
     }
 
-    /// A near-uniform mesh of about `n_elements` elements with a node at every required
-    /// point. The points split the beam into segments; each segment gets a share of the
-    /// elements proportional to its length (at least one) and is divided uniformly, so
-    /// element sizes stay within a factor of about two of L/n.
+    /// A near-uniform mesh of exactly `n_elements` elements with a node at every required
+    /// point (more only when there are more segments than elements: each segment needs
+    /// one). The points split the beam into segments; each segment gets a share of the
+    /// elements proportional to its length ([`segment_counts`]) and is divided uniformly,
+    /// so element sizes stay within a factor of about two of L/n.
     pub fn uniform(
         length: f64,
         n_elements: usize,
@@ -94,13 +95,13 @@ impl Mesh {
         cuts.sort_by(|a, b| a.partial_cmp(b).unwrap());
         let tol = 1e-9 * length;
         cuts.dedup_by(|a, b| (*a - *b).abs() <= tol);
-        let h = length / n_elements.max(1) as f64;
+        let segments: Vec<f64> = cuts.windows(2).map(|w| w[1] - w[0]).collect();
+        let counts = segment_counts(&segments, n_elements);
         let (ei, rho_a) = section.properties(&material);
         let mut x = vec![0.0];
         let mut elements = Vec::new();
-        for w in cuts.windows(2) {
+        for (w, &n) in cuts.windows(2).zip(&counts) {
             let seg = w[1] - w[0];
-            let n = ((seg / h).round() as usize).max(1);
             // Every element of a segment gets the segment's nominal length seg/n, not the
             // difference of two rounded node coordinates (which is off by up to an ulp of x,
             // ≈ 1e-14 of h): more accurate, and it makes the segment's element matrices, and so
@@ -312,6 +313,32 @@ fn positive(file: &str, field: &str, v: f64) -> Result<()> {
     }
 }
 
+/// How many elements each segment of the given lengths gets so that they sum to `total`
+/// (or to the number of segments, if that is more): each its share of `total` by length,
+/// at least one, rounded, then one more at a time to the segment whose elements are
+/// longest (ties to the first), or one less from the one whose are shortest.
+fn segment_counts(segments: &[f64], total: usize) -> Vec<usize> {
+    let length: f64 = segments.iter().sum();
+    let mut counts: Vec<usize> =
+        segments.iter().map(|s| ((s / length * total as f64).round() as usize).max(1)).collect();
+    let size = |i: usize, c: &[usize]| segments[i] / c[i] as f64;
+    while counts.iter().sum::<usize>() < total {
+        let i = (0..counts.len()).fold(0, |b, i| if size(i, &counts) > size(b, &counts) { i } else { b });
+        counts[i] += 1;
+    }
+    while counts.iter().sum::<usize>() > total.max(segments.len()) {
+        let i = (0..counts.len())
+            .filter(|&i| counts[i] > 1)
+            .fold(None, |b: Option<usize>, i| match b {
+                Some(b) if size(b, &counts) <= size(i, &counts) => Some(b),
+                _ => Some(i),
+            })
+            .expect("more elements than segments");
+        counts[i] -= 1;
+    }
+    counts
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -326,7 +353,7 @@ mod tests {
         let pts = vec![RequiredPoint { x: 0.15, name: "a".into() }, RequiredPoint { x: 0.109, name: "b".into() }];
         let mesh = Mesh::uniform(0.73, 200, &pts, s, m);
         assert!(mesh.node_at(0.15).is_some() && mesh.node_at(0.109).is_some());
-        assert!((mesh.elements.len() as i64 - 200).abs() <= 3);
+        assert_eq!(mesh.elements.len(), 200);
         // Each element's length is its segment's nominal length: its node span up to the
         // rounding of the coordinates, and equal to the bit within a segment (three segments
         // here, cut at 0.109 and 0.15).
@@ -341,6 +368,21 @@ mod tests {
         assert!((total - 0.73).abs() < 1e-13);
         let h = 0.73 / 200.0;
         assert!(mesh.elements.iter().all(|e| e.length > 0.5 * h && e.length < 2.0 * h));
+    }
+
+    #[test]
+    fn a_mesh_has_the_elements_asked_for_unless_the_points_need_more() {
+        let (s, m) = steel();
+        // The frame's feet and stack: five segments.
+        let pts: Vec<RequiredPoint> =
+            [0.109, 0.149, 0.15, 0.189].iter().map(|&x| RequiredPoint { x, name: "p".into() }).collect();
+        for n in [5, 7, 200, 500, 501, 1000, 20_000] {
+            let mesh = Mesh::uniform(0.73, n, &pts, s, m);
+            assert_eq!(mesh.elements.len(), n);
+            assert!(pts.iter().all(|p| mesh.node_at(p.x).is_some()));
+        }
+        // Fewer elements than segments: one per segment.
+        assert_eq!(Mesh::uniform(0.73, 3, &pts, s, m).elements.len(), 5);
     }
 
     #[test]

@@ -183,5 +183,6 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
         let force = l.force.build(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
         loads.push(PointLoad { name: l.effective_name(i), x: l.x, force });
     }
-    Ok(Model { beam, damping, actuators, sensors, loads })
+    let roundoff_tolerance = case.beam.mesh.roundoff_tolerance;
+    Ok(Model { beam, damping, actuators, sensors, loads, roundoff_tolerance })
 }

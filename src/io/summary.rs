@@ -64,6 +64,14 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
             }
         });
     }
+    // Each solve's round-off bound beside the tolerance it is held to.
+    let tolerance = run.model.roundoff_tolerance;
+    for (a, r) in analyses.iter_mut().zip(&run.results) {
+        if let Some(bound) = r.mesh_roundoff() {
+            a["roundoff_tolerance"] = json!(tolerance);
+            a["roundoff_holds"] = json!(bound <= tolerance);
+        }
+    }
     if run.model.beam.is_none() {
         analyses.iter_mut().for_each(without_beam);
     }

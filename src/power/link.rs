@@ -61,6 +61,15 @@ pub struct LinkHarmonic {
     pub power: f64,
 }
 
+/// A bound (W) on the error of a link's harmonic power ½Re(F̂_i·conj V̂) at ω (rad/s), its
+/// interface force `fi` (N) and foot velocity `v` (m/s), from bounds on the errors of its
+/// stretch `du` and foot displacement `dfoot` (m): the stretch's through k + iωc, the
+/// foot's through the foot mass and the velocity.
+pub fn link_power_error(lk: &LinkDofs, du: f64, dfoot: f64, omega: f64, fi: Complex64, v: Complex64) -> f64 {
+    let dfi = du * Complex64::new(lk.k, omega * lk.c).norm() + lk.foot_mass * omega * omega * dfoot;
+    super::point::mean_power_error(fi, dfi, v, omega * dfoot)
+}
+
 /// What a link transmits when the system moves harmonically with DOF amplitudes `q` at ω
 /// (rad/s) and the stacks' active forces have amplitudes `f_p` (one per actuator, N).
 pub fn link_harmonic(lk: &LinkDofs, q: &[Complex64], omega: f64, f_p: &[Complex64]) -> LinkHarmonic {

@@ -26,6 +26,14 @@ pub fn mean_power(f: Complex64, v: Complex64) -> f64 {
     0.5 * (f * v.conj()).re
 }
 
+/// A bound (W) on the error of [`mean_power`] when |δF| ≤ `df` (N) and |δV| ≤ `dv` (m/s):
+/// ½(|F|·dv + df·|V| + df·dv). Against the power itself it is as large as the apparent
+/// power ½|F||V| is beside the active power ½Re(F·conj(V)): cancellation included.
+#[inline]
+pub fn mean_power_error(f: Complex64, df: f64, v: Complex64, dv: f64) -> f64 {
+    0.5 * (f.norm() * dv + df * v.norm() + df * dv)
+}
+
 /// Time-averaged power (W) from force (N) and *acceleration* (m/s²) amplitudes at ω > 0
 /// (rad/s), as measured with an impedance head and an accelerometer: V = A/(iω), hence
 /// P = −½·Im(F·conj(A))/ω.

@@ -25,8 +25,6 @@ pub const FILE: &str = "report.html";
 const SETTLING_WARN: f64 = 1e-3;
 /// Harmonics left out carrying more than this share of the largest point power.
 const TRUNCATION_WARN: f64 = 1e-4;
-/// Round-off of the beam's modes this large (relative) is visible in the results.
-const ROUNDOFF_WARN: f64 = 1e-3;
 /// An energy balance worse than this points to a problem with the model or the run.
 const BALANCE_WARN: f64 = 1e-6;
 /// A modal reduction whose point powers are off by more than this.
@@ -291,10 +289,11 @@ impl RunReport<'_> {
                     f(&a["truncation_estimate"])
                 ));
             }
-            if f(&a["mesh_roundoff"]) > ROUNDOFF_WARN {
+            if a["roundoff_holds"] == false {
                 w.push(format!(
-                    "{tag}: the mesh is fine enough for round-off to matter (mode 1 off by up to {:.0e}); fewer elements give more accurate low modes.",
-                    f(&a["mesh_roundoff"])
+                    "{tag}: the point powers' round-off bound is {:.1e}, above the tolerance {:.0e} (`beam.mesh.roundoff_tolerance`).",
+                    f(&a["mesh_roundoff"]),
+                    f(&a["roundoff_tolerance"])
                 ));
             }
             let balances: Vec<f64> = match &a["energy_balance_rel_error"] {

@@ -46,6 +46,9 @@ struct Factor {
     inv_d: Vec<Complex64>,
     factorized: bool,
     omega: f64,
+    /// The coefficients of K + c_m·M + c_c·C factorised.
+    c_m: Complex64,
+    c_c: Complex64,
 }
 
 impl Factor {
@@ -55,6 +58,8 @@ impl Factor {
             inv_d: vec![Complex64::default(); n],
             factorized: false,
             omega: f64::NAN,
+            c_m: Complex64::default(),
+            c_c: Complex64::default(),
         }
     }
 
@@ -63,6 +68,7 @@ impl Factor {
         self.factorized = false;
         self.omega = omega;
         let w2 = -omega * omega;
+        (self.c_m, self.c_c) = (Complex64::new(w2, 0.0), Complex64::new(0.0, omega));
         for ((((v, &k), &m), &c), &kl) in self.values.iter_mut().zip(k).zip(m).zip(c).zip(kl) {
             *v = Complex64::new(k + w2 * m, omega * c + kl);
         }
@@ -72,6 +78,7 @@ impl Factor {
     fn fill_general(&mut self, k: &[f64], m: &[f64], c: &[f64], kl: &[f64], c_m: Complex64, c_c: Complex64) {
         self.factorized = false;
         self.omega = f64::NAN;
+        (self.c_m, self.c_c) = (c_m, c_c);
         for ((((v, &k), &m), &c), &kl) in self.values.iter_mut().zip(k).zip(m).zip(c).zip(kl) {
             *v = Complex64::new(k, kl) + c_m * m + c_c * c;
         }
@@ -225,7 +232,14 @@ impl DynamicStiffness {
 
     /// Solves for the complex amplitudes Q at the last factorised frequency (in place).
     pub fn solve_in_place(&self, x: &mut [Complex64]) {
-        let a = &self.lanes[0];
+        self.solve_lane(0, x);
+    }
+
+    /// Solves with factorisation `lane` (0: the one [`DynamicStiffness::factorize`] and
+    /// the first of [`DynamicStiffness::factorize_pair`] fill, 1: the pair's second), in
+    /// place: what a refinement of either of a pair's solutions needs.
+    pub fn solve_lane(&self, lane: usize, x: &mut [Complex64]) {
+        let a = &self.lanes[lane];
         assert!(a.factorized, "factorize before solve");
         let n = self.dim();
         assert_eq!(x.len(), n);
@@ -255,6 +269,11 @@ impl DynamicStiffness {
             a.backward(&self.first, &self.start, i, xa);
             b.backward(&self.first, &self.start, i, xb);
         }
+    }
+
+    /// The coefficients (c_m, c_c) of K + c_m·M + c_c·C factorised in `lane`.
+    pub fn coefficients(&self, lane: usize) -> (Complex64, Complex64) {
+        (self.lanes[lane].c_m, self.lanes[lane].c_c)
     }
 
     /// The (first) frequency factorised last (rad/s).

@@ -7,3 +7,4 @@ pub mod eigen;
 pub mod lanczos;
 pub mod modal_basis;
 pub mod newmark;
+pub mod refine;

@@ -7,7 +7,7 @@ use super::spec::SweepAnalysis;
 use crate::actuator::{link_id, Frame, Inertial};
 use crate::analysis::budget::Budget;
 use crate::analysis::drive::{DriveTiming, Step};
-use crate::analysis::{cost, plan, roundoff, transient::TransientSettings};
+use crate::analysis::{cost, plan, transient::TransientSettings};
 use crate::assembly::Rayleigh;
 use crate::case::signal::SignalSpec;
 use crate::case::{AnalysisSpec, BaseKind, BodySpec, Case, DampingKind, LoadedCase, DEFAULT_HARMONICS};
@@ -75,9 +75,6 @@ impl BaseCase {
                 _ => None,
             })
             .unwrap_or((DEFAULT_HARMONICS, None));
-        if let Some(elements) = elements_as_written(&lc) {
-            roundoff::admit_elements(elements).map_err(|e| e.in_file(&file))?;
-        }
         let (actuators, links) = names(&lc.case);
         if actuators.is_empty() {
             return Err(Error::input(&file, "actuator", "a study's base case needs at least one actuator"));
@@ -164,7 +161,6 @@ impl BaseCase {
         })?;
         let lc = LoadedCase { case: stripped, file: self.file.clone(), dir: self.dir.clone(), text: String::new() };
         let beam = crate::case::build::build_beam(&lc)?;
-        roundoff::admit_elements(beam.mesh.elements.len()).map_err(|e| e.in_file(&self.file))?;
         let d = &lc.case.damping;
         let r =
             crate::analysis::plan::rayleigh_from_ratio(&beam, d.zeta, d.modes).map_err(|e| e.in_file(&self.file))?;
@@ -202,18 +198,12 @@ impl BaseCase {
                     largest = (bytes, Some(lc.clone()));
                 }
             }
-            if let Some(elements) = elements_as_written(&lc) {
-                roundoff::admit_elements(elements).map_err(|e| at(e.to_string()))?;
-            }
         }
         let lc = match largest.1 {
             Some(lc) => lc,
             None => self.case_with([], &self.file).map_err(|r| Error::input(study, "base", r))?,
         };
         let (model, sys) = plan::model_and_system_within(&lc, budget).map_err(|e| e.in_file(study))?;
-        if let Some(beam) = &model.beam {
-            roundoff::admit_elements(beam.mesh.elements.len()).map_err(|e| e.in_file(&self.file))?;
-        }
         let (solve, search) = match analysis {
             SweepAnalysis::SteadyState => {
                 let timing = DriveTiming::sampled(&model, samples).map_err(|e| e.in_file(study))?;
@@ -277,11 +267,6 @@ impl BaseCase {
         spec.validate(label, &field).map_err(|e| e.to_string())?;
         spec.build(&self.dir, label, &field).map_err(|e| e.to_string())
     }
-}
-
-/// The elements of a case's uniform mesh as written (None: a mesh file, or no beam).
-fn elements_as_written(lc: &LoadedCase) -> Option<usize> {
-    (lc.case.base == BaseKind::Beam && lc.case.beam.mesh.file.is_none()).then_some(lc.case.beam.mesh.elements)
 }
 
 /// Actuator names (given, or `inertial`/`frame`, numbered when there are several) and

@@ -291,7 +291,7 @@ fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTi
         converged,
         final_change: settle.change(),
         settling_estimate: settle.remaining(),
-        mesh_roundoff: crate::analysis::roundoff::mesh_roundoff(model),
+        mesh_roundoff: crate::analysis::roundoff::envelope(model),
         energy_run: ledger.run,
         energy_last_period: ledger.last_period,
         beam_dissipation: ledger.last_period.beam.dissipated / timing.period,

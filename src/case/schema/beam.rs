@@ -71,15 +71,32 @@ pub struct MeshSpec {
     /// Mesh file (relative to the case file); overrides `elements`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
+    /// Relative accuracy the harmonic and steady-state solves hold point powers and
+    /// mobilities to against round-off (see `analysis::roundoff`); a result whose bound
+    /// exceeds it is warned of.
+    #[serde(default = "d_roundoff_tolerance")]
+    pub roundoff_tolerance: f64,
+    /// Refuse (instead of warn of) a result whose round-off bound exceeds the tolerance.
+    #[serde(default)]
+    pub strict_roundoff: bool,
 }
 
 fn d_elements() -> usize {
     200
 }
 
+fn d_roundoff_tolerance() -> f64 {
+    crate::analysis::roundoff::DEFAULT_TOLERANCE
+}
+
 impl Default for MeshSpec {
     fn default() -> Self {
-        MeshSpec { elements: d_elements(), file: None }
+        MeshSpec {
+            elements: d_elements(),
+            file: None,
+            roundoff_tolerance: d_roundoff_tolerance(),
+            strict_roundoff: false,
+        }
     }
 }
 
@@ -220,6 +237,14 @@ impl BeamSpec {
         positive(file, "beam.density", b.density)?;
         if b.mesh.file.is_none() && b.mesh.elements == 0 {
             return Err(Error::input(file, "beam.mesh.elements", "must be at least 1"));
+        }
+        let tol = b.mesh.roundoff_tolerance;
+        if !(tol >= 1e-12 && tol < 1.0) {
+            return Err(Error::input(
+                file,
+                "beam.mesh.roundoff_tolerance",
+                format!("{tol}: a relative tolerance in [1e-12, 1) (default 1e-6)"),
+            ));
         }
         for (i, s) in b.support.iter().enumerate() {
             on_beam(file, &format!("beam.support[{i}].x"), s.x, b.length)?;
