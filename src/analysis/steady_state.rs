@@ -295,20 +295,20 @@ fn link_spectra(sys: &System, q: &[Vec<Complex64>], f_p: &[Vec<Complex64>], timi
 /// One period in time from harmonic amplitudes c_k: t_j = j·T/N, so e^{ikω₀t_j} =
 /// e^{2πi·kj/N} and the period is one inverse FFT (rustfft's inverse transform is
 /// unnormalised, as the sum needs): N·log N work instead of N·(k + 1) sines and cosines.
-struct PeriodSynthesis {
+pub(crate) struct PeriodSynthesis {
     ifft: Arc<dyn rustfft::Fft<f64>>,
     buf: Vec<Complex64>,
     w0: f64,
 }
 
 impl PeriodSynthesis {
-    fn new(samples: usize, w0: f64) -> Self {
+    pub(crate) fn new(samples: usize, w0: f64) -> Self {
         let ifft = rustfft::FftPlanner::new().plan_fft_inverse(samples);
         PeriodSynthesis { ifft, buf: vec![Complex64::default(); samples], w0 }
     }
 
     /// x_j = Re Σ_k c_k·e^{2πi·kj/N}, j < N (k < N).
-    fn series(&mut self, c: &[Complex64]) -> Vec<f64> {
+    pub(crate) fn series(&mut self, c: &[Complex64]) -> Vec<f64> {
         self.buf.fill(Complex64::default());
         self.buf[..c.len()].copy_from_slice(c);
         self.ifft.process(&mut self.buf);
