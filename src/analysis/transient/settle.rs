@@ -21,7 +21,8 @@
 //! distance of a point from the reference r and δ = 2ε, the error against the run's limit
 //! is at most (d + δ|r|)/(|r| − δ|r|) = (d/|r| + δ)/(1 − δ), the estimate stated: its
 //! margin over the measured distance is δ, and it is an upper bound as long as ε bounds the
-//! solves' round-off.
+//! solves' round-off. A tolerance below 2δ cannot be told from round-off; the run then
+//! stops at 2δ and states its estimate.
 //!
 //! The change between neighbouring periods is kept too, for non-periodic drives (which
 //! have no periodic state) and as a diagnostic.
@@ -62,7 +63,9 @@ impl SettleCheck {
         let settled = match &self.reference {
             Some(r) => {
                 self.remaining = (relative_change(&metrics, r) + self.margin) / (1.0 - self.margin);
-                self.remaining < self.tolerance
+                // No comparison resolves less than its round-off: a tolerance below twice
+                // the margin is held at that.
+                self.remaining < self.tolerance.max(2.0 * self.margin)
             }
             None => self.previous.is_some() && self.change < self.tolerance,
         };
