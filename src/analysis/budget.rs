@@ -166,6 +166,9 @@ fn available_kib(meminfo: &str) -> Option<u64> {
 /// (optionally followed by `iB` or `B`, any case), e.g. `8G`, `512MiB`, `1.5T`.
 pub fn parse_bytes(text: &str) -> std::result::Result<u64, String> {
     let t = text.trim();
+    if t.starts_with('-') {
+        return Err(format!("{text:?} is negative: give between 1 byte and 16 EiB, e.g. 8G or 512M"));
+    }
     let split = t.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(t.len());
     let (number, unit) = t.split_at(split);
     let scale: u64 = match unit.trim().to_ascii_lowercase().as_str() {

@@ -22,7 +22,7 @@ use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
 use crate::power::link::{link_harmonic, link_power_error};
 use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
-use crate::power::point::{beam_dissipation, mean_power_error, net_power};
+use crate::power::point::{beam_dissipation, mean_power_error, net_power, own_scales};
 use crate::power::spectra::harmonics;
 use crate::signal::sampling::resolved_harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
@@ -39,10 +39,11 @@ pub struct SteadyStateResult {
     /// Drive period (s) and the number of harmonics solved (besides the mean).
     pub period: f64,
     pub harmonics: usize,
-    /// What the harmonics above `harmonics` would add: the largest over the interface
-    /// points of Σ_{k>harmonics} |P_k|, relative to the largest point power, up to the
-    /// samples' Nyquist harmonic, plus the last quarter of that range again for what lies
-    /// beyond it (NaN where not estimated: a sweep's headline run).
+    /// A bound of what the harmonics above `harmonics` and the sampling of the forces
+    /// leave out of every point's power, relative to that point's own power: the largest
+    /// over the points of the measured rest up to the samples' Nyquist harmonic, an
+    /// envelope of the rest beyond it and the aliasing of the harmonics (see
+    /// `run_counted`; NaN where not estimated: a sweep's headline run).
     pub truncation_estimate: f64,
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
@@ -105,60 +106,110 @@ pub fn run(model: &Model, sys: &System, n_harm: usize, samples: usize) -> Result
 pub enum HarmonicCount {
     /// Exactly this many (the truncation is still estimated and reported).
     Fixed(usize),
-    /// The fewest whose neglected rest changes no point power by more than this fraction
-    /// of the largest point power.
+    /// The fewest whose neglected rest, with the aliasing of the sampling, changes no
+    /// point power by more than this fraction of its own ([`own_scales`]).
     Tolerance(f64),
 }
 
 /// The steady state with its harmonic count chosen (or checked) against every harmonic
 /// `samples` resolve: they are all solved once, the point powers per harmonic decide the
-/// count, and the run keeps that many and reports what the rest carry.
+/// count, and the run keeps that many and states a bound of what it leaves out
+/// ([`Truncation`]): every point is held to the tolerance on its own power.
 pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: usize) -> Result<SteadyStateResult> {
     let all = resolved_harmonics(samples.max(4));
     let full = run(model, sys, all, samples)?;
-    let tails = tail_powers(&full);
-    let estimate = |k: usize| tails[k] + tails[all - all / 4];
+    let truncation = Truncation::of(&full, aliasing(model, sys, &full, samples)?);
     let n_harm = match count {
         HarmonicCount::Fixed(n) => n.min(all),
-        HarmonicCount::Tolerance(tol) => {
-            let k = (1..=all).find(|&k| estimate(k) <= tol).ok_or_else(|| {
-                Error::analysis_setting(
-                    "samples_per_period",
-                    format!(
-                        "{samples} samples per period resolve {all} harmonics, and what lies beyond them \
-                         ({:.1e} of the largest point power) exceeds the tolerance {tol:e}: raise \
-                         `samples_per_period`",
-                        estimate(all)
-                    ),
-                )
-            })?;
-            k
-        }
+        HarmonicCount::Tolerance(tol) => (1..=all).find(|&k| truncation.estimate(k) <= tol).ok_or_else(|| {
+            Error::analysis_setting(
+                "samples_per_period",
+                format!(
+                    "{samples} samples per period resolve {all} harmonics, and what lies beyond them or is \
+                     folded back onto them by the sampling ({:.1e} of a point's power) exceeds the tolerance \
+                     {tol:e}: raise `samples_per_period`",
+                    truncation.estimate(all)
+                ),
+            )
+        })?,
     };
     let mut r = if n_harm == all { full } else { run(model, sys, n_harm, samples)? };
-    r.truncation_estimate = estimate(n_harm);
+    r.truncation_estimate = truncation.estimate(n_harm);
     Ok(r)
 }
 
-/// tails[k] = max over points of Σ_{j>k} |P_j| relative to the largest point power, for
-/// k = 0..=harmonics of `r` (0 past the last).
-fn tail_powers(r: &SteadyStateResult) -> Vec<f64> {
-    let n = r.harmonics;
-    let loads = r.load_spectra.iter().map(|s| (s.power_total, &s.power));
-    let points: Vec<(f64, &Vec<f64>)> = r.spectra.iter().map(|s| (s.power_total, &s.power)).chain(loads).collect();
-    let scale = points.iter().fold(0.0f64, |m, p| m.max(p.0.abs()));
-    let mut tails = vec![0.0f64; n + 1];
-    for (_, power) in &points {
-        let mut sum = 0.0;
-        for k in (0..n).rev() {
-            sum += power[k + 1].abs();
-            tails[k] = tails[k].max(sum);
-        }
+/// The point powers of a steady state: each link's, then each point load's (W).
+fn point_powers(r: &SteadyStateResult) -> Vec<f64> {
+    r.spectra.iter().map(|s| s.power_total).chain(r.load_spectra.iter().map(|s| s.power_total)).collect()
+}
+
+/// What the kept harmonics leave out of each point's power, from a steady state solved
+/// with every harmonic its samples resolve (K of them):
+///
+/// - the harmonics above the kept n up to K, measured: Σ_{n<k≤K} |P_k|;
+/// - those beyond K, bounded by an envelope. A drive of bounded variation has force
+///   harmonics |F_k| ≤ C/k, and above the structure's modes the point mobility falls at
+///   least as k^{-1/2} (an infinite beam's; a mass's falls as 1/k), so |P_k| ≤ ½|F_k|²|Y_k|
+///   falls at least as k^{-5/2}. Taking only k^{-2}, the rest beyond K is at most
+///   1/((4/3) − 1) = 3 times the last quarter Σ_{3K/4<k≤K} |P_k|;
+/// - the aliasing of every harmonic up to K, kept or measured as left out (the harmonics
+///   beyond the Nyquist one folded back onto them by the sampling; see [`aliasing`]).
+///
+/// Each point's sum is taken relative to its own power ([`own_scales`]), and the estimate
+/// is the largest over the points.
+struct Truncation {
+    /// rest[i][k] = Σ_{k<j≤K} |P_i,j| (W), k = 0..=K.
+    rest: Vec<Vec<f64>>,
+    /// Each point's bound of the power beyond K and of the aliasing (W).
+    beyond: Vec<f64>,
+    /// Each point's scale (W).
+    scales: Vec<f64>,
+}
+
+impl Truncation {
+    /// From `full`, solved with every resolved harmonic, and each point's `aliasing` (W).
+    fn of(full: &SteadyStateResult, aliasing: Vec<f64>) -> Self {
+        let all = full.harmonics;
+        let rest: Vec<Vec<f64>> = point_spectra(full)
+            .map(|power| {
+                let mut rest = vec![0.0f64; all + 1];
+                for k in (0..all).rev() {
+                    rest[k] = rest[k + 1] + power[k + 1].abs();
+                }
+                rest
+            })
+            .collect();
+        let beyond = rest.iter().zip(aliasing).map(|(r, a)| 3.0 * r[all - all / 4] + a).collect();
+        Truncation { rest, beyond, scales: own_scales(&point_powers(full)) }
     }
-    if scale > 0.0 {
-        tails.iter_mut().for_each(|t| *t /= scale);
+
+    /// The largest over the points of what n kept harmonics leave out, relative to the
+    /// point's power.
+    fn estimate(&self, n: usize) -> f64 {
+        (0..self.rest.len()).fold(0.0f64, |m, i| {
+            let left = self.rest[i][n.min(self.rest[i].len() - 1)] + self.beyond[i];
+            m.max(if left == 0.0 { 0.0 } else { left / self.scales[i] })
+        })
     }
-    tails
+}
+
+/// Each point's power per harmonic (W): each link's, then each point load's.
+fn point_spectra(r: &SteadyStateResult) -> impl Iterator<Item = &Vec<f64>> {
+    r.spectra.iter().map(|s| &s.power).chain(r.load_spectra.iter().map(|s| &s.power))
+}
+
+/// A bound of each point's power error (W) that sampling the forces with `samples` per
+/// period brings into the harmonics of `full`: their Fourier coefficients carry the
+/// harmonics beyond the Nyquist one folded back onto them. The same steady state from
+/// twice the samples folds back only the harmonics beyond twice the Nyquist one; with
+/// force harmonics falling at least as 1/k its folding is at most half that of `samples`,
+/// e_2N ≤ e_N/2, so e_N ≤ |P_N − P_2N| + e_N/2, and e_N ≤ 2·|P_N − P_2N|, harmonic by
+/// harmonic: the bound is 2·Σ_k |P_k(N) − P_k(2N)|.
+fn aliasing(model: &Model, sys: &System, full: &SteadyStateResult, samples: usize) -> Result<Vec<f64>> {
+    let cache = StackForceCache::default();
+    let fine = run_with(model, &mut HarmonicSolver::new(sys), full.harmonics, 2 * samples, Detail::Headline(&cache))?;
+    let folded = |(a, b): (&Vec<f64>, &Vec<f64>)| 2.0 * a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f64>();
+    Ok(point_spectra(full).zip(point_spectra(&fine)).map(folded).collect())
 }
 
 /// [`run`] against a solver kept between cases (the cases of a sweep that differ only in
@@ -324,20 +375,20 @@ fn link_spectra(sys: &System, q: &[Vec<Complex64>], f_p: &[Vec<Complex64>], timi
 /// One period in time from harmonic amplitudes c_k: t_j = j·T/N, so e^{ikω₀t_j} =
 /// e^{2πi·kj/N} and the period is one inverse FFT (rustfft's inverse transform is
 /// unnormalised, as the sum needs): N·log N work instead of N·(k + 1) sines and cosines.
-struct PeriodSynthesis {
+pub(crate) struct PeriodSynthesis {
     ifft: Arc<dyn rustfft::Fft<f64>>,
     buf: Vec<Complex64>,
     w0: f64,
 }
 
 impl PeriodSynthesis {
-    fn new(samples: usize, w0: f64) -> Self {
+    pub(crate) fn new(samples: usize, w0: f64) -> Self {
         let ifft = rustfft::FftPlanner::new().plan_fft_inverse(samples);
         PeriodSynthesis { ifft, buf: vec![Complex64::default(); samples], w0 }
     }
 
     /// x_j = Re Σ_k c_k·e^{2πi·kj/N}, j < N (k < N).
-    fn series(&mut self, c: &[Complex64]) -> Vec<f64> {
+    pub(crate) fn series(&mut self, c: &[Complex64]) -> Vec<f64> {
         self.buf.fill(Complex64::default());
         self.buf[..c.len()].copy_from_slice(c);
         self.ifft.process(&mut self.buf);

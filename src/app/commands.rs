@@ -177,6 +177,7 @@ pub fn run(
         written.extend(crate::io::results_csv::write(set.dir(), stem, &lc, &run)?);
     }
     if plots && lc.case.output.plots {
+        let _drawing = crate::progress::Task::start("figures", None, "");
         written.extend(crate::report::figures::plot_run(set.dir(), stem, &run)?);
     }
     let summary = crate::io::summary::summary(&lc, &run);

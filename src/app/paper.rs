@@ -157,11 +157,17 @@ struct BeamFindings {
 pub fn run(out: &Path, csv: bool, budget: &Budget) -> Result<()> {
     let _lock = crate::io::lock::OutputLock::folder(out)?;
     let mut w = Written { files: Vec::new(), max_balance: 0.0, store: Store { csv, budget: *budget } };
+    // The runs: rigid base, one per top mass, each actuator on the beam; each run's own
+    // analyses show their progress beneath.
+    let task = crate::progress::Task::start("paper", Some((1 + TOP_MASSES.len() + 2) as u64), "runs");
     let rigid_lc = load("rigid-base-48V-30Hz.toml")?;
     let rigid = rigid_base(&rigid_lc, out, &mut w)?;
+    task.set(1)?;
     let mass_amp = top_mass(&rigid_lc, out, &mut w)?;
+    task.set(1 + TOP_MASSES.len() as u64)?;
     let (bi_lc, bf_lc) = (load("beam-inertial-12V-60Hz.toml")?, load("beam-frame-12V-60Hz.toml")?);
     let beam = on_beam(&bi_lc, &bf_lc, out, &mut w)?;
+    drop(task);
     let (p_in, p_fr, p_pts) = (beam.p_in, beam.p_fr, &beam.p_pts);
     let point =
         |f: fn(&Power) -> f64| json!({"stack": f(&p_pts[0]), "left_leg": f(&p_pts[1]), "right_leg": f(&p_pts[2])});
@@ -293,6 +299,9 @@ fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Rigi
     })
 }
 
+/// The inertial actuator's top masses of Fig. 11 (kg).
+const TOP_MASSES: [f64; 4] = [0.1, 0.3, 0.5, 1.0];
+
 /// Fig. 11: the inertial actuator alone on the rigid base with four top masses; the
 /// fundamental of F_T per mass (kg, N).
 fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f64, f64)>> {
@@ -302,7 +311,7 @@ fn top_mass(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Vec<(f
         "transmitted force F_{T} (N)",
     );
     let mut mass_amp = Vec::new();
-    for m_t in [0.1, 0.3, 0.5, 1.0] {
+    for m_t in TOP_MASSES {
         let mut case = rigid_lc.case.clone();
         case.actuator.retain(|a| matches!(a.body, BodySpec::Inertial { .. }));
         case.actuator[0].body = BodySpec::Inertial { m_t };

@@ -20,6 +20,29 @@ pub fn mean_product(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>() / a.len() as f64
 }
 
+/// A point whose mean power is below this fraction of the largest point power is judged
+/// against this fraction of the largest rather than against its own: such a power is the
+/// small difference of far larger flows in and out (or zero, as at a foot on a rigid
+/// base), and its own relative accuracy would ask more digits of them than the round-off
+/// of a solve holds.
+pub const SMALL_POWER: f64 = 1e-6;
+
+/// The scale each of `values` (point powers, W, or RMS forces, N) is judged against: its
+/// own magnitude, at least [`SMALL_POWER`] of the largest magnitude (0 where all vanish).
+pub fn own_scales(values: &[f64]) -> Vec<f64> {
+    let floor = SMALL_POWER * values.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    values.iter().map(|x| x.abs().max(floor)).collect()
+}
+
+/// The largest of |a_i − b_i| / scale_i, each difference relative to its own scale (a zero
+/// scale counts a zero difference only: 0/0 is taken as 0).
+pub fn largest_relative(a: &[f64], b: &[f64], scales: &[f64]) -> f64 {
+    a.iter().zip(b).zip(scales).fold(0.0f64, |m, ((x, y), s)| {
+        let d = (x - y).abs();
+        m.max(if d == 0.0 { 0.0 } else { d / s })
+    })
+}
+
 /// Time-averaged power ½·Re(F·conj(V)) (W) of force (N) and velocity (m/s) amplitudes.
 #[inline]
 pub fn mean_power(f: Complex64, v: Complex64) -> f64 {

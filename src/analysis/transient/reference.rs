@@ -17,7 +17,7 @@
 use super::record::PeriodRecord;
 use super::settle::{period_metrics, Metrics};
 use crate::analysis::drive::{load_cycles, stack_cycle, DriveTiming};
-use crate::analysis::steady_state::NEGLIGIBLE_HARMONIC;
+use crate::analysis::steady_state::{PeriodSynthesis, NEGLIGIBLE_HARMONIC};
 use crate::assembly::{Model, System};
 use crate::error::Result;
 use crate::power::spectra::harmonics;
@@ -42,18 +42,6 @@ fn coefficients(scheme: &Scheme, dt: f64, k: usize, n: usize) -> Option<(Complex
     let c_m = alpha * ((1.0 - scheme.alpha_m) * z + scheme.alpha_m) / ((1.0 - scheme.alpha_f) * z + scheme.alpha_f);
     let finite = |c: Complex64| c.re.is_finite() && c.im.is_finite();
     (finite(c_m) && finite(sigma) && finite(alpha)).then_some((c_m, sigma, alpha))
-}
-
-/// Samples x_n = Re Σ_k X̂_k·e^{i2πkn/N}, n = 0..N−1, of single-sided amplitudes X̂_k.
-fn samples(x: &[Complex64], n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|j| {
-            x.iter()
-                .enumerate()
-                .map(|(k, c)| (c * Complex64::from_polar(1.0, 2.0 * PI * (k * j % n) as f64 / n as f64)).re)
-                .sum()
-        })
-        .collect()
 }
 
 /// The per-period metrics (as [`period_metrics`] takes them from a run) of the periodic
@@ -103,13 +91,16 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
             lv[j][k] = sigma * pattern.iter().map(|&(d, c)| q[d] * c).sum::<Complex64>();
         }
     }
+    // x_j = Re Σ_k X̂_k·e^{i2πkj/N}: one inverse FFT per signal (the time derivative is
+    // not asked of it, so its frequency is irrelevant).
+    let mut synth = PeriodSynthesis::new(n, 0.0);
     for l in 0..nl {
-        rec.u.push(samples(&u[l], n));
-        rec.ud.push(samples(&ud[l], n));
-        rec.fv.push(samples(&fv[l], n));
-        rec.fa.push(samples(&fa[l], n));
+        rec.u.push(synth.series(&u[l]));
+        rec.ud.push(synth.series(&ud[l]));
+        rec.fv.push(synth.series(&fv[l]));
+        rec.fa.push(synth.series(&fa[l]));
     }
-    rec.lv = lv.iter().map(|v| samples(v, n)).collect();
+    rec.lv = lv.iter().map(|v| synth.series(v)).collect();
     Ok(period_metrics(&sys.links, &rec))
 }
 

@@ -82,19 +82,19 @@ pub enum IdentifyCommand {
         #[arg(long)]
         k_p: Option<f64>,
         /// Seeds of the swarm, comma separated; the best fit is kept and the spread reported.
-        #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+        #[arg(long, value_delimiter = ',', default_value = "1,2,3", value_parser = seed)]
         seeds: Vec<u64>,
         /// Voltage period (s); default: estimated from the voltage.
         #[arg(long)]
         period: Option<f64>,
         /// Whole periods fitted, from the end of the record.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = super::count::<1>)]
         cycles: usize,
         /// Particles of the swarm.
-        #[arg(long, default_value_t = 30)]
+        #[arg(long, default_value_t = 30, value_parser = super::count::<2>)]
         particles: usize,
         /// Iteration limit of the swarm.
-        #[arg(long, default_value_t = 400)]
+        #[arg(long, default_value_t = 400, value_parser = super::count::<1>)]
         max_iterations: usize,
         #[command(flatten)]
         common: CommonArgs,
@@ -109,7 +109,7 @@ pub enum IdentifyCommand {
         #[arg(long)]
         mass: f64,
         /// Modes of the multi-mode (rational-fraction) fit.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = super::count::<1>)]
         modes: usize,
         /// Band F1,F2 (Hz) of the fits; default: the hammer's band for the peak search, and
         /// 0.5–1.5 × the peak frequency for a one-mode rational-fraction fit.
@@ -119,10 +119,10 @@ pub enum IdentifyCommand {
         #[arg(long, value_enum, default_value_t = ElementArg::Stack)]
         element: ElementArg,
         /// With --modes > 1: the mode (1 = lowest) that gives k and c.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, default_value_t = 1, value_parser = super::count::<1>)]
         use_mode: usize,
         /// Samples per hit; default: the shortest spacing between hits.
-        #[arg(long)]
+        #[arg(long, value_parser = super::count::<8>)]
         segment: Option<usize>,
         /// Exponential window on both channels, falling to this value at the segment end.
         #[arg(long)]
@@ -198,16 +198,16 @@ pub struct SynthArgs {
     #[arg(long, default_value_t = 0.0)]
     pub voltage_noise: f64,
     /// Seed of the noise.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, value_parser = seed)]
     pub seed: u64,
     /// Actuator name; default: the case's first actuator.
     #[arg(long)]
     pub actuator: Option<String>,
     /// Stroke records: periods.
-    #[arg(long, default_value_t = 3)]
+    #[arg(long, default_value_t = 3, value_parser = super::count::<1>)]
     pub periods: usize,
     /// Stroke records: samples per period.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, value_parser = super::count::<8>)]
     pub samples_per_period: usize,
     /// d_p pair: voltage offset ΔV of the second record (V); default a quarter of the
     /// voltage's half range.
@@ -220,13 +220,18 @@ pub struct SynthArgs {
     #[arg(long)]
     pub mass: Option<f64>,
     /// Impact test: hammer hits.
-    #[arg(long, default_value_t = 8)]
+    #[arg(long, default_value_t = 8, value_parser = super::count::<1>)]
     pub hits: usize,
     /// Significant digits of the data columns (0: shortest exact form).
-    #[arg(long, default_value_t = 7)]
+    #[arg(long, default_value_t = 7, value_parser = super::count::<0>)]
     pub digits: usize,
     #[command(flatten)]
     pub budget: super::BudgetArgs,
+}
+
+/// A noise seed: any whole number from 0 (a negative one is refused with the range).
+fn seed(text: &str) -> std::result::Result<u64, String> {
+    super::count::<0>(text).map(|s| s as u64)
 }
 
 /// `F1,F2` in Hz.

@@ -20,8 +20,8 @@ pub struct Cli {
     pub quiet: bool,
     /// Resolution of PNG figures in dots per inch (default 100, e.g. 1000 × 600 pixels for a
     /// plot; 50 to 600). SVG figures do not depend on it.
-    #[arg(long, global = true, value_name = "DPI")]
-    pub dpi: Option<u32>,
+    #[arg(long, global = true, value_name = "DPI", allow_negative_numbers = true)]
+    pub dpi: Option<i64>,
     /// Formats of every figure, comma-separated: png, svg, pdf (default png,svg). SVG is
     /// always among them: the HTML reports hold it. PDF is vector, for publishers.
     #[arg(long, global = true, value_name = "LIST", value_delimiter = ',')]
@@ -37,7 +37,7 @@ pub enum Command {
         /// The case file (TOML; see docs/case-format.md).
         case: PathBuf,
         /// Number of modes (default: the case's modes analysis, else 10).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true, value_parser = count::<1>)]
         count: Option<usize>,
         /// Also write the frequencies and errors as JSON (`-`: standard output, status
         /// lines then go to standard error).
@@ -105,11 +105,11 @@ pub enum Command {
 pub struct BudgetArgs {
     /// Most memory one analysis may take, e.g. 8G or 512M (default: half of the memory the
     /// machine has available).
-    #[arg(long, value_name = "SIZE", value_parser = crate::analysis::budget::parse_bytes)]
+    #[arg(long, value_name = "SIZE", allow_hyphen_values = true, value_parser = crate::analysis::budget::parse_bytes)]
     pub max_memory: Option<u64>,
     /// Most time steps (or samples) one analysis may step through, and most cases of a
     /// sweep or an optimisation, e.g. 1e10 (default: 1e9).
-    #[arg(long, value_name = "N", value_parser = crate::analysis::budget::parse_steps)]
+    #[arg(long, value_name = "N", allow_negative_numbers = true, value_parser = crate::analysis::budget::parse_steps)]
     pub max_steps: Option<u64>,
 }
 
@@ -117,6 +117,19 @@ impl BudgetArgs {
     /// The machine's default budget with these overrides.
     pub fn budget(&self) -> crate::analysis::budget::Budget {
         crate::analysis::budget::Budget::with(self.max_memory, self.max_steps)
+    }
+}
+
+/// Parses a whole-number flag whose admissible values start at `MIN`. A negative number
+/// reaches this parser as the flag's value (`allow_negative_numbers` on the flag), not as
+/// an unknown flag, and is refused here with the range; values from 0 to `MIN` pass on to
+/// the command's own check, which explains why they are too few.
+pub fn count<const MIN: usize>(text: &str) -> std::result::Result<usize, String> {
+    let refuse = || format!("{text}: give a whole number, at least {MIN}");
+    match text.trim().parse::<i128>() {
+        Ok(v) if v < 0 => Err(refuse()),
+        Ok(v) => usize::try_from(v).map_err(|_| format!("{text}: give a whole number from {MIN} to {}", usize::MAX)),
+        Err(_) => Err(refuse()),
     }
 }
 

@@ -13,7 +13,7 @@ pub struct OptimizeArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Worker threads (default: one per core). The result does not depend on it.
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = super::count::<1>)]
     pub threads: Option<usize>,
     /// Skip the figures.
     #[arg(long)]

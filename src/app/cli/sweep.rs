@@ -21,7 +21,7 @@ pub struct SweepArgs {
     #[arg(long)]
     pub shard: Option<String>,
     /// Worker threads (default: one per core).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true, value_parser = super::count::<1>)]
     pub threads: Option<usize>,
     /// Skip the figure and the best-case table.
     #[arg(long)]

@@ -139,11 +139,11 @@ static PNG_DPI: AtomicU32 = AtomicU32::new(100);
 
 /// Sets the resolution of every PNG figure this process writes, like a printer setting:
 /// the command line's `--dpi`. SVG files do not depend on it.
-pub fn set_png_dpi(dpi: u32) -> Result<()> {
+pub fn set_png_dpi(dpi: i64) -> Result<()> {
     if !(50..=600).contains(&dpi) {
         return Err(Error::input("<cli>", "--dpi", format!("{dpi} is outside 50..=600")));
     }
-    PNG_DPI.store(dpi, Ordering::Relaxed);
+    PNG_DPI.store(dpi as u32, Ordering::Relaxed);
     Ok(())
 }
 
