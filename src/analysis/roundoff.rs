@@ -95,15 +95,39 @@ impl MeshRefinement {
     /// refines it if its error estimate exceeds [`REFINE_FRACTION`] of the tolerance, and
     /// returns the estimate of the error left.
     pub fn refine(&self, dk: &DynamicStiffness, lane: usize, b: &[Complex64], x: &mut [Complex64]) -> Refined {
+        self.refine_if(dk, lane, b, x, false)
+    }
+
+    /// [`MeshRefinement::refine`], refining whatever the first estimate when `always` (a
+    /// point quantity's own bound can exceed the tolerance where the whole solution's
+    /// error is small: a point that moves little, a power that cancels).
+    pub fn refine_if(
+        &self,
+        dk: &DynamicStiffness,
+        lane: usize,
+        b: &[Complex64],
+        x: &mut [Complex64],
+        always: bool,
+    ) -> Refined {
         let Some(rows) = &self.rows else { return Refined::default() };
         let (c_m, c_c) = dk.coefficients(lane);
         let op = Lane { rows, dk, lane, c_m, c_c };
         let first = refine(&op, b, x, false, 0.0);
         let size = norm(x.iter().map(|z| z.norm()));
-        if norm(first.correction.iter().map(|z| z.norm())) <= REFINE_FRACTION * self.tolerance * size {
+        if !always && norm(first.correction.iter().map(|z| z.norm())) <= REFINE_FRACTION * self.tolerance * size {
             return first;
         }
         refine(&op, b, x, true, STEP_FRACTION * self.tolerance)
+    }
+
+    /// Whether a solve can be refined (a beam's element rows are there).
+    pub fn can_refine(&self) -> bool {
+        self.rows.is_some()
+    }
+
+    /// The tolerance the solves are held to.
+    pub fn tolerance(&self) -> f64 {
+        self.tolerance
     }
 
     /// The power the structure dissipates in harmonic motion `q` at ω (rad/s), from the
