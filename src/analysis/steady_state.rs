@@ -255,7 +255,8 @@ pub fn run_with(
     res.mean_power = res.spectra.iter().map(|s| s.power_total).collect();
     res.net_power = net_power(&sys.links, &res.mean_power, model.actuators.len());
     res.load_spectra = load_spectra(model, sys, &solver.q, load_h, &timing);
-    res.mesh_roundoff = roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period);
+    let coarse = roundoff::coarse_bound(model).unwrap_or(0.0);
+    res.mesh_roundoff = roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period).max(coarse);
     let load_power: f64 = res.load_spectra.iter().map(|s| s.power_total).sum();
     res.balance_error = balance_error(res.mean_power.iter().sum::<f64>() + load_power, res.beam_dissipation);
     if let Detail::Full = detail {
@@ -568,9 +569,10 @@ impl<'s> HarmonicSolver<'s> {
     }
 
     /// Refines the solves against `model`'s element rows from now on (once; `model` is the
-    /// one the system was assembled from).
+    /// one the system was assembled from), unless its mesh is coarse enough for the
+    /// envelope ([`roundoff::coarse_bound`]).
     pub fn prepare(&mut self, model: &Model) -> Result<()> {
-        if self.refinement.is_none() {
+        if self.refinement.is_none() && roundoff::coarse_bound(model).is_none() {
             self.refinement = Some(MeshRefinement::new(model, self.sys)?);
         }
         Ok(())

@@ -185,15 +185,19 @@ impl StiffnessRows {
                 -1.0
             }
         };
+        // Moduli taken once per entry or row (|c·v| = |c|·|v| for real v): this runs beside
+        // every solve of a sweep, and a modulus is a hypot.
         let ax: Vec<f64> = x.iter().map(|z| z.norm()).collect();
+        let k_abs = k_el.norm();
         let mut out = vec![0.0; self.n];
         let mut rows = vec![Complex64::default(); self.n];
         for r in &self.rows {
             let (d, g) = (&r.dofs[..r.len], &r.values[..r.len]);
             let y: Complex64 = d.iter().zip(g).map(|(&i, &v)| x[i] * v).sum::<Complex64>() * k_el;
-            let dy = sign() * gamma * k_el.norm() * d.iter().zip(g).map(|(&i, &v)| ax[i] * v.abs()).sum::<f64>();
+            let y_abs = y.norm();
+            let dy = sign() * gamma * k_abs * d.iter().zip(g).map(|(&i, &v)| ax[i] * v.abs()).sum::<f64>();
             for (&i, &v) in d.iter().zip(g) {
-                out[i] += y.norm() * v.abs();
+                out[i] += y_abs * v.abs();
                 rows[i] += dy * v;
             }
         }
@@ -203,8 +207,9 @@ impl StiffnessRows {
         for (a, coef) in
             [(&self.m_el, m_el), (&self.m_act, c_m), (&self.k_act, Complex64::new(1.0, 0.0)), (&self.c_act, c_c)]
         {
+            let c_abs = coef.norm();
             for (i, j, v) in a.triplets() {
-                out[i] += (coef * v).norm() * ax[j];
+                out[i] += c_abs * v.abs() * ax[j];
             }
         }
         [out.iter().map(|&v| Complex64::new(sign() * gamma * v, 0.0)).collect(), rows]
