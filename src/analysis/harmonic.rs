@@ -163,7 +163,10 @@ pub fn run(
             }
             match (&mut dynk, modal) {
                 (Some((dk, refinement)), _) => {
-                    dk.factorize(w)?;
+                    // A retry refines against the factorisation it already has.
+                    if !always {
+                        dk.factorize(w)?;
+                    }
                     for (j, col) in cols.iter_mut().chain(tcols.iter_mut()).enumerate() {
                         let b = col.clone();
                         dk.solve_in_place(col);

@@ -93,10 +93,9 @@ pub fn minimize(d: usize, f: &dyn Cost, opts: &Options) -> Found {
     let costs: Vec<f64> = sample.par_iter().map(|u| f.cost(u)).collect();
     let mut order: Vec<usize> = (0..n0).collect();
     order.sort_by(|&a, &b| costs[a].total_cmp(&costs[b]));
-    let dist = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| (x - y).powi(2)).sum::<f64>().sqrt();
     let mut means: Vec<usize> = Vec::new();
     for &i in &order {
-        if means.len() < opts.starts && means.iter().all(|&j| dist(&sample[i], &sample[j]) >= 0.1) {
+        if means.len() < opts.starts && means.iter().all(|&j| super::local::distance(&sample[i], &sample[j]) >= 0.1) {
             means.push(i);
         }
     }
