@@ -6,7 +6,7 @@ use beamflow::analysis::harmonic::{self, PointForce};
 use beamflow::analysis::modes;
 use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
-use beamflow::case::build::build_beam;
+use beamflow::case::build::build_structure;
 use beamflow::case::LoadedCase;
 use beamflow::solve::band_newmark::{BandNewmark, StepOptions};
 use beamflow::solve::newmark::{Newmark, Scheme};
@@ -25,11 +25,11 @@ fn foundation(c: &mut Criterion) {
     let lc = case("[damping]\nkind = \"rayleigh\"\na0 = 3.0\na1 = 2e-6\n[[sensor]]\nname = \"drive\"\nx = 0.15\n");
     let model = calibrated_model(&lc).unwrap();
     c.bench_function("assembly: paper beam, 200 elements", |b| b.iter(|| System::assemble(&model).unwrap()));
-    let beam = build_beam(&lc).unwrap();
+    let beam = build_structure(&lc).unwrap();
     c.bench_function("modes: paper beam, 200 elements, 20 modes", |b| b.iter(|| modes::run(&beam, 20).unwrap()));
     let sys = System::assemble(&model).unwrap();
     let freqs: Vec<f64> = (0..1000).map(|i| 10.0 + i as f64 * 0.99).collect();
-    let f = [PointForce { x: 0.15, amplitude: 1.0, phase: 0.0 }];
+    let f = [PointForce { at: beamflow::structure::Location::Beam { x: 0.15 }, amplitude: 1.0, phase: 0.0 }];
     c.bench_function("harmonic: 1000 frequencies, 200 elements", |b| {
         b.iter(|| harmonic::run(&model, &sys, &freqs, &f, None).unwrap())
     });

@@ -35,7 +35,7 @@ pub fn bare_beam(elements: usize) -> (System, usize) {
     let lc = LoadedCase::from_str(&text, "scaling.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR"))).unwrap();
     let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
-    let d = sys.w_at(&model, 0.15, "sensor").unwrap()[0].0;
+    let d = sys.w_at(&model, &beamflow::structure::Location::Beam { x: 0.15 }, "sensor").unwrap()[0].0;
     (sys, d)
 }
 
@@ -96,7 +96,7 @@ fn anchor(c: &mut Criterion) {
 fn modes_large(c: &mut Criterion) {
     let text = "[beam.mesh]\nelements = 50000\n";
     let lc = LoadedCase::from_str(text, "modes.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR"))).unwrap();
-    let beam = beamflow::case::build::build_beam(&lc).unwrap();
+    let beam = beamflow::case::build::build_structure(&lc).unwrap();
     let mut g = c.benchmark_group("modes");
     g.sample_size(10);
     g.bench_function("20_modes_99998_dofs", |b| b.iter(|| beamflow::analysis::modes::run(&beam, 20).unwrap()));

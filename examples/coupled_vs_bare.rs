@@ -52,7 +52,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let cases = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases");
     let bare_model = calibrated_model(&LoadedCase::from_str(&(mesh.clone() + BARE), "bare.toml", cases.clone())?)?;
     let bare = System::assemble(&bare_model)?;
-    let load = bare.w_at(&bare_model, 0.15, "sensor")?[0].0;
+    let load = bare.w_at(&bare_model, &beamflow::structure::Location::Beam { x: 0.15 }, "sensor")?[0].0;
     let model = calibrated_model(&LoadedCase::from_str(&(mesh + FRAME), "frame.toml", cases)?)?;
     let coupled = System::assemble(&model)?;
     let settings = TransientSettings {

@@ -23,7 +23,7 @@ fn main() {
         let lc = LoadedCase::from_str(&text, "m.toml", PathBuf::from(".")).unwrap();
         let model = calibrated_model(&lc).unwrap();
         let sys = System::assemble(&model).unwrap();
-        let force = [PointForce { x, amplitude: 1.0, phase: 0.0 }];
+        let force = [PointForce { at: beamflow::structure::Location::Beam { x }, amplitude: 1.0, phase: 0.0 }];
         let h = harmonic::run(&model, &sys, &freqs, &force, None).unwrap();
         let errs: Vec<String> = freqs
             .iter()

@@ -38,7 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let lc = LoadedCase::from_str(&case, "opensees_check.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")))?;
     let model = calibrated_model(&lc)?;
     let sys = System::assemble(&model)?;
-    let d = sys.w_at(&model, x_load, "sensor")?[0].0;
+    let d = sys.w_at(&model, &beamflow::structure::Location::Beam { x: x_load }, "sensor")?[0].0;
     let (dt, f_hz) = (1e-4, 60.0);
     let options = StepOptions { rayleigh: Some((model.rayleigh().a0, model.rayleigh().a1)), ..StepOptions::default() };
     let mut nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, Scheme::average_acceleration(), dt, options)?;

@@ -33,12 +33,14 @@ pub mod input_file;
 pub mod io;
 pub mod linalg;
 pub mod optimize;
+pub mod plate;
 pub mod power;
 pub mod progress;
 pub mod report;
 pub mod signal;
 pub mod simd;
 pub mod solve;
+pub mod structure;
 pub mod sweep;
 pub mod toml_input;
 

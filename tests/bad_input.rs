@@ -73,7 +73,7 @@ fn shipped_meshes_load_and_converge() {
             let lc =
                 LoadedCase::from_str(&text, "m.toml", PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("cases")).unwrap();
             let beam = beamflow::case::build::build_beam(&lc).unwrap();
-            beamflow::analysis::modes::run(&beam, 1).unwrap().frequencies_hz[0]
+            beamflow::analysis::modes::run(&beamflow::structure::Structure::from(&beam), 1).unwrap().frequencies_hz[0]
         })
         .collect();
     assert!((f[2] - 49.8837).abs() < 1e-3 && (f[0] - f[2]).abs() > (f[1] - f[2]).abs());

@@ -37,7 +37,7 @@ fn table() -> Vec<(String, &'static str, &'static str)> {
             "already the name",
         ),
         (format!("{beam}[[actuator]]\ntype = \"inertial\"\nname = \"x/../../up\"\n{SINE}"), "actuator[0].name", "not a valid name"),
-        (format!("base = \"rigid\"\n{}[[analysis]]\ntype = \"modes\"\n", inertial(SINE)), "analysis[0]", "needs a beam"),
+        (format!("base = \"rigid\"\n{}[[analysis]]\ntype = \"modes\"\n", inertial(SINE)), "analysis[0]", "needs a structure"),
         (format!("{beam}[[sensor]]\nname = \"s\"\nx = 0.1\n[[sensor]]\nname = \"s\"\nx = 0.2\n"), "sensor[1].name", "already the name"),
         (
             format!("[beam.mesh]\nroundoff_tolerance = 2.0\n{}[[analysis]]\ntype = \"steady_state\"\n", inertial(SINE)),

@@ -58,8 +58,14 @@ fn driving_point_power_matches_the_continuous_beam() {
     let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
     let freqs = [30.0, 60.0, 100.0, 180.0, 400.0];
-    let res =
-        harmonic::run(&model, &sys, &freqs, &[PointForce { x: 0.150, amplitude: 1.0, phase: 0.0 }], None).unwrap();
+    let res = harmonic::run(
+        &model,
+        &sys,
+        &freqs,
+        &[PointForce { at: beamflow::structure::Location::Beam { x: 0.150 }, amplitude: 1.0, phase: 0.0 }],
+        None,
+    )
+    .unwrap();
     for (k, &f) in freqs.iter().enumerate() {
         let y = continuous_mobility(0.150, f, a0, a1, 400);
         let p_exact = 0.5 * y.re;
@@ -78,10 +84,10 @@ fn modal_damping_path_balances_and_agrees_with_rayleigh_equivalent() {
     let lc_r = case("[damping]\nkind = \"rayleigh\"\na0 = 3.0\na1 = 2.0e-6\n[beam.mesh]\nelements = 40\n");
     let model = calibrated_model(&lc_r).unwrap();
     let sys = System::assemble(&model).unwrap();
-    let beam = model.beam.as_ref().unwrap();
-    let modes = beamflow::analysis::modes::bare_modes(beam, 1000).unwrap();
+    let beam = model.beam().unwrap();
+    let modes = beamflow::analysis::modes::bare_modes(&beamflow::structure::Structure::from(beam), 1000).unwrap();
     let ratios: Vec<f64> = modes.omega.iter().map(|w| model.rayleigh().ratio_at(*w)).collect();
-    let forces = [PointForce { x: 0.146, amplitude: 2.0, phase: 0.3 }];
+    let forces = [PointForce { at: beamflow::structure::Location::Beam { x: 0.146 }, amplitude: 2.0, phase: 0.3 }];
     let direct = harmonic::run(&model, &sys, &[55.0, 170.0], &forces, None);
     let direct = direct.unwrap();
     let modal = harmonic::run(&model, &sys, &[55.0, 170.0], &forces, Some((&modes, &ratios))).unwrap();

@@ -92,7 +92,7 @@ fn frame(elements: usize, mesh: &str) -> (Vec<f64>, f64) {
         .replace("[beam]", &format!("[beam]\n[beam.mesh]\nelements = {elements}\n{mesh}"))
         .replace("[[analysis]]\ntype = \"transient\"\n", "");
     let run = run_case(&case(&text)).unwrap();
-    assert_eq!(run.model.beam.as_ref().unwrap().mesh.elements.len(), elements, "elements = N gives N");
+    assert_eq!(run.model.beam().unwrap().mesh.elements.len(), elements, "elements = N gives N");
     let AnalysisResult::SteadyState(s) = &run.results[0] else { panic!("steady state") };
     (s.mean_power.clone(), s.mesh_roundoff)
 }

@@ -48,7 +48,11 @@ fn modal_ratios_equal_to_rayleigh_reproduce_the_rayleigh_steady_state() {
     let (a0, a1) = (rayleigh.model.rayleigh().a0, rayleigh.model.rayleigh().a1);
     assert!(a0 > 0.0 && a1 > 0.0, "the paper case is Rayleigh-damped");
     // Every bare-beam mode gets its Rayleigh-equivalent ratio.
-    let modes = beamflow::analysis::modes::bare_modes(rayleigh.model.beam.as_ref().unwrap(), usize::MAX).unwrap();
+    let modes = beamflow::analysis::modes::bare_modes(
+        &beamflow::structure::Structure::from(rayleigh.model.beam().unwrap()),
+        usize::MAX,
+    )
+    .unwrap();
     let ratios: Vec<f64> = modes.omega.iter().map(|w| a0 / (2.0 * w) + a1 * w / 2.0).collect();
     let modal = run_text(&frame_case(&format!("[damping]\nkind = \"modal\"\nratios = {}\n", list(&ratios)), STEADY));
     let [AnalysisResult::SteadyState(r)] = &rayleigh.results[..] else { panic!("one steady state") };
@@ -182,7 +186,11 @@ fn a_steady_state_sweep_applies_modal_damping() {
     let rayleigh_text = frame_case("", STEADY);
     let rayleigh = run_text(&rayleigh_text);
     let (a0, a1) = (rayleigh.model.rayleigh().a0, rayleigh.model.rayleigh().a1);
-    let modes = beamflow::analysis::modes::bare_modes(rayleigh.model.beam.as_ref().unwrap(), usize::MAX).unwrap();
+    let modes = beamflow::analysis::modes::bare_modes(
+        &beamflow::structure::Structure::from(rayleigh.model.beam().unwrap()),
+        usize::MAX,
+    )
+    .unwrap();
     let ratios: Vec<f64> = modes.omega.iter().map(|w| a0 / (2.0 * w) + a1 * w / 2.0).collect();
     let modal_text = frame_case(&format!("[damping]\nkind = \"modal\"\nratios = {}\n", list(&ratios)), STEADY);
     std::fs::write(dir.path().join("rayleigh.toml"), &rayleigh_text).unwrap();

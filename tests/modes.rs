@@ -17,7 +17,7 @@ const RHO_A: f64 = 7850.0 * 0.05 * 0.005;
 
 #[test]
 fn clamped_clamped_frequencies_match_beta_l_roots_at_200_elements() {
-    let r = modes::run(&beam_case(200, ""), 6).unwrap();
+    let r = modes::run(&beamflow::structure::Structure::from(beam_case(200, "")), 6).unwrap();
     let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 6).unwrap();
     for (k, (f, a)) in r.frequencies_hz.iter().zip(&exact).enumerate() {
         assert!(rel(*f, *a) < 1e-6, "mode {}: {f} Hz vs {a} Hz", k + 1);
@@ -33,7 +33,7 @@ fn frequency_error_converges_at_fourth_order_under_mesh_halving() {
     let errs: Vec<Vec<f64>> = meshes
         .iter()
         .map(|&n| {
-            let r = modes::run(&beam_case(n, ""), 3).unwrap();
+            let r = modes::run(&beamflow::structure::Structure::from(beam_case(n, "")), 3).unwrap();
             r.frequencies_hz.iter().zip(&exact).map(|(f, a)| rel(*f, *a)).collect()
         })
         .collect();
@@ -55,7 +55,7 @@ fn modes_are_mass_normalised_and_diagonalise_stiffness() {
     let beam = beam_case(60, "");
     let model = Model::bare(beam.clone());
     let sys = System::assemble(&model).unwrap();
-    let r = modes::run(&beam, 12).unwrap();
+    let r = modes::run(&beamflow::structure::Structure::from(&beam), 12).unwrap();
     let n = sys.n();
     let phis: Vec<Vec<f64>> = (0..12).map(|k| r.modes.shape_global(k, n)).collect();
     for i in 0..12 {
@@ -73,11 +73,18 @@ fn modes_are_mass_normalised_and_diagonalise_stiffness() {
 #[test]
 fn pinned_pinned_and_cantilever_frequencies() {
     let pp = modes::run(
-        &beam_case(100, "[[beam.support]]\nx = 0.0\nkind = \"pinned\"\n[[beam.support]]\nx = 0.73\nkind = \"pinned\""),
+        &beamflow::structure::Structure::from(beam_case(
+            100,
+            "[[beam.support]]\nx = 0.0\nkind = \"pinned\"\n[[beam.support]]\nx = 0.73\nkind = \"pinned\"",
+        )),
         4,
     )
     .unwrap();
-    let cf = modes::run(&beam_case(100, "[[beam.support]]\nx = 0.0\nkind = \"clamped\""), 4).unwrap();
+    let cf = modes::run(
+        &beamflow::structure::Structure::from(beam_case(100, "[[beam.support]]\nx = 0.0\nkind = \"clamped\"")),
+        4,
+    )
+    .unwrap();
     for (r, ends) in [(&pp, (End::Pinned, End::Pinned)), (&cf, (End::Clamped, End::Free))] {
         let exact = natural_frequencies_hz(ends.0, ends.1, 0.73, EI, RHO_A, 4).unwrap();
         for (f, a) in r.frequencies_hz.iter().zip(&exact) {
@@ -94,7 +101,7 @@ fn cantilever_static_tip_deflection_is_exact() {
     let beam = beam_case(7, "[[beam.support]]\nx = 0.0\nkind = \"clamped\"");
     let model = Model::bare(beam.clone());
     let sys = System::assemble(&model).unwrap();
-    let tip = sys.dofs.w[beam.mesh.n_nodes() - 1].unwrap();
+    let tip = sys.dofs.w(beam.mesh.n_nodes() - 1).unwrap();
     let mut f = vec![0.0; sys.n()];
     f[tip] = 10.0;
     let q = sys.static_solve(&f).unwrap();
@@ -117,7 +124,7 @@ fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
     let model = Model::bare(beam.clone());
     let sys = System::assemble(&model).unwrap();
     let lz = beamflow::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 20, 0.0).unwrap();
-    let dense = modes::run(&beam, 20).unwrap();
+    let dense = modes::run(&beamflow::structure::Structure::from(&beam), 20).unwrap();
     for r in 0..20 {
         assert!(
             rel(lz.omega[r], dense.modes.omega[r]) < 1e-9,
@@ -133,7 +140,7 @@ fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
     // (much finer meshes too: see `very_fine_meshes_keep_the_lowest_frequencies`).
     let big = beam_case(1000, "");
     const { assert!(2 * 1000 > beamflow::analysis::modes::DENSE_EIGEN_LIMIT) };
-    let r = modes::run(&big, 6).unwrap();
+    let r = modes::run(&beamflow::structure::Structure::from(&big), 6).unwrap();
     let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 6).unwrap();
     for (f, a) in r.frequencies_hz.iter().zip(&exact) {
         assert!(rel(*f, *a) < 1e-6, "{f} vs {a}");
@@ -145,7 +152,7 @@ fn shift_invert_lanczos_matches_the_dense_solver_and_scales_to_large_meshes() {
 #[test]
 fn very_fine_meshes_keep_the_lowest_frequencies() {
     for n in [20_000, 50_000] {
-        let r = modes::run(&beam_case(n, ""), 10).unwrap();
+        let r = modes::run(&beamflow::structure::Structure::from(beam_case(n, "")), 10).unwrap();
         assert_eq!(r.analytic_hz.len(), 10);
         for k in 0..10 {
             let err = rel(r.frequencies_hz[k], r.analytic_hz[k]);
@@ -165,7 +172,7 @@ fn very_fine_meshes_keep_the_lowest_frequencies() {
 fn dense_path_converges_at_fourth_order_up_to_its_largest_meshes() {
     let exact = natural_frequencies_hz(End::Clamped, End::Clamped, 0.73, EI, RHO_A, 3).unwrap();
     let err = |n: usize| {
-        let r = modes::run(&beam_case(n, ""), 3).unwrap();
+        let r = modes::run(&beamflow::structure::Structure::from(beam_case(n, "")), 3).unwrap();
         assert!(2 * n <= beamflow::analysis::modes::DENSE_EIGEN_LIMIT);
         r.frequencies_hz.iter().zip(&exact).map(|(f, a)| rel(*f, *a)).collect::<Vec<_>>()
     };
@@ -212,7 +219,12 @@ fn square_root_path_matches_the_assembled_stiffness_on_an_irregular_beam() {
 /// LDLᵀ, which reports the singular stiffness as before.
 #[test]
 fn unsupported_fine_beam_is_still_reported_by_the_profile_solver() {
-    let err = modes::run(&beam_case(1000, "[[beam.support]]\nx = 0.0\nkind = \"free\""), 6).unwrap_err().to_string();
+    let err = modes::run(
+        &beamflow::structure::Structure::from(beam_case(1000, "[[beam.support]]\nx = 0.0\nkind = \"free\"")),
+        6,
+    )
+    .unwrap_err()
+    .to_string();
     assert!(err.contains("LDLᵀ pivot") && err.contains("singular"), "{err}");
 }
 
@@ -242,7 +254,7 @@ fn results_files_state_the_roundoff_bound() {
         .status()
         .unwrap();
     assert!(status.success());
-    let expected = modes::run(&beam_case(20_000, ""), 4).unwrap().roundoff_bound;
+    let expected = modes::run(&beamflow::structure::Structure::from(beam_case(20_000, "")), 4).unwrap().roundoff_bound;
     let json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("fine.json")).unwrap()).unwrap();
     let written: Vec<f64> =

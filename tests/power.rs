@@ -77,7 +77,7 @@ fn continuous_reference(model: &Model, w: f64, fp: f64, nm: usize) -> Vec<f64> {
     let mut links = Vec::new();
     for lk in &comp.links {
         let x = match lk.foot {
-            beamflow::actuator::FootBase::Beam { x } => x,
+            beamflow::actuator::FootBase::On(at) => at.x(),
             _ => unreachable!(),
         };
         let phi: Vec<f64> = roots.iter().map(|&bl| cc_mode(bl, x)).collect();
@@ -156,10 +156,10 @@ fn actuator_replaced_by_its_force_pair_reproduces_the_harmonic_analysis() {
         .links
         .iter()
         .zip(&h)
-        .map(|(lk, h)| PointForce { x: lk.foot_x.unwrap(), amplitude: h.interface.norm(), phase: h.interface.arg() })
+        .map(|(lk, h)| PointForce { at: lk.foot_at.unwrap(), amplitude: h.interface.norm(), phase: h.interface.arg() })
         .collect();
     let bare = Model {
-        beam: model.beam.clone(),
+        structure: model.structure.clone(),
         damping: model.damping.clone(),
         actuators: vec![],
         sensors: vec![],

@@ -217,9 +217,9 @@ fn transient_agrees_with_a_double_double_reference() {
     let lc = common::bare_beam(ne, [a0, a1]);
     let model = calibrated_model(&lc).unwrap();
     let sys = System::assemble(&model).unwrap();
-    let beam = model.beam.as_ref().unwrap();
+    let beam = model.beam().unwrap();
     let x_load = beam.mesh.x[load_node];
-    let probe = sys.w_at(&model, x_load, "load").unwrap();
+    let probe = sys.w_at(&model, &beamflow::structure::Location::Beam { x: x_load }, "load").unwrap();
     assert_eq!(probe.len(), 1);
     let probe = probe[0].0;
     // The beam's data as beamflow read them (defaults: 730 × 50 × 5 mm steel).

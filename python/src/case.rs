@@ -181,7 +181,7 @@ impl NativeCase {
         let budget = beamflow::analysis::budget::Budget::default();
         let (built, sys, _) = background::run(py, move || beamflow::app::runner::planned(&lc, &budget))?;
         let d = PyDict::new(py);
-        d.set_item("elements", built.beam.as_ref().map_or(0, |b| b.mesh.elements.len()))?;
+        d.set_item("elements", built.beam().map_or(0, |b| b.mesh.elements.len()))?;
         d.set_item("dofs", sys.n())?;
         d.set_item("actuators", built.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>())?;
         d.set_item(

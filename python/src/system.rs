@@ -55,8 +55,8 @@ pub fn system<'py>(py: Python<'py>, lc: LoadedCase) -> PyResult<Bound<'py, PyDic
 /// mode shapes' w at every node.
 pub fn bare_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResult<Bound<'py, PyDict>> {
     let r = background::run(py, move || {
-        let beam = beamflow::case::build::build_beam(&lc)?;
-        beamflow::analysis::modes::run(&beam, count)
+        let structure = beamflow::case::build::build_structure(&lc)?;
+        beamflow::analysis::modes::run(&structure, count)
     })?;
     let (m, nx) = (r.frequencies_hz.len(), r.node_x.len());
     let d = PyDict::new(py);

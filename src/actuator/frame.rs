@@ -2,6 +2,7 @@
 //! at x_E = x_c + e between the top beam and the base.
 
 use super::{Component, FootBase, Link, Stack};
+use crate::structure::Location;
 use nalgebra::DMatrix;
 
 /// A leg: spring k_l (N/m) and damper c_l (N·s/m) from the top beam to its foot.
@@ -23,18 +24,20 @@ pub struct Frame {
     pub e: f64,
     pub left: Leg,
     pub right: Leg,
-    /// Base of the feet: `Some(x_E)` on the beam (stack foot at x_E, legs at x_E − e ∓ a);
-    /// `None` on the rigid ground.
-    pub x_e: Option<f64>,
+    /// Base of the feet: `Some(x_E)` on the structure (stack foot at x_E, legs at
+    /// x_c ∓ a·d with x_c = x_E − e·d, spec §15); `None` on the rigid ground.
+    pub at: Option<Location>,
+    /// The frame's in-plane direction ψ (rad from +x), d = (cos ψ, sin ψ); 0 on a beam.
+    pub direction: f64,
 }
 
 impl Frame {
     /// Its links, in the order of its component: the stack, then the legs.
     pub const LINKS: [&'static str; 3] = ["stack", "left_leg", "right_leg"];
 
-    /// Centre of the top beam x_c = x_E − e (m).
-    pub fn x_c(&self) -> Option<f64> {
-        self.x_e.map(|x| x - self.e)
+    /// Centre of the top beam x_c = x_E − e·d.
+    pub fn centre(&self) -> Option<Location> {
+        self.at.map(|x| x.offset(-self.e, self.direction))
     }
 
     /// DOFs (y, φ); the stack's half mass rides rigidly on the top beam at offset e, so it
@@ -44,8 +47,8 @@ impl Frame {
         let half = 0.5 * s.m_p;
         let e = self.e;
         let mass = DMatrix::from_row_slice(2, 2, &[self.m_b + half, half * e, half * e, self.j_b + half * e * e]);
-        let foot = |offset: f64| match self.x_e {
-            Some(x) => FootBase::Beam { x: x - e + offset },
+        let foot = |offset: f64| match self.centre() {
+            Some(c) => FootBase::On(c.offset(offset, self.direction)),
             None => FootBase::Ground,
         };
         Component {

@@ -74,8 +74,8 @@ impl Actuator {
 /// Where a link's foot stands.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum FootBase {
-    /// On the beam at x (m): joined to the transverse displacement w of the node there.
-    Beam { x: f64 },
+    /// On the structure at a point: joined to its normal displacement w there.
+    On(crate::structure::Location),
     /// On the rigid ground.
     Ground,
 }

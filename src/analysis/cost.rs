@@ -55,6 +55,25 @@ fn system_bytes(n: u64) -> Option<u64> {
     product(&[n, BYTES_PER_DOF])
 }
 
+/// Bytes of a two-dimensional structure's `n` DOFs whose skyline rows reach back `band`
+/// entries: [`system_bytes`] plus a real and a complex profile factor.
+fn profile_bytes(n: u64, band: u64) -> Option<u64> {
+    sum(&[system_bytes(n), product(&[n, band, 8 * 3])])
+}
+
+/// The structure DOFs of a model (every node's kinds, before supports remove some), and
+/// how far back a skyline row reaches on it (0 for a beam, whose band is a few entries).
+fn structure_dofs(model: &Model) -> (u64, u64) {
+    match &model.structure {
+        Some(crate::structure::Structure::Plate(p)) => {
+            let side = p.grid.x.len().min(p.grid.y.len());
+            (count(p.grid.n_nodes() * 4), count(4 * (side + 2)))
+        }
+        Some(s) => (count(s.n_nodes()).saturating_mul(2), 0),
+        None => (0, 0),
+    }
+}
+
 /// Bytes of the lowest `wanted` modes of an `n`-DOF structure, by the solver
 /// [`crate::analysis::modes::bare_modes_of`] picks: dense below [`DENSE_EIGEN_LIMIT`] DOFs
 /// or for a quarter of the modes or more, Lanczos (a basis of about 3·count vectors) else.
@@ -77,10 +96,40 @@ fn dofs(nodes: u64, bodies: u64) -> Option<u64> {
 /// is bounded by the reader), by [`model`].
 pub fn mesh(lc: &LoadedCase) -> Option<Cost> {
     let case = &lc.case;
+    if let Some(p) = &case.plate {
+        return Some(plate_mesh(lc, p));
+    }
     if case.base == crate::case::BaseKind::Rigid || case.beam.mesh.file.is_some() {
         return None;
     }
     Some(mesh_of(lc, case.beam.mesh.elements))
+}
+
+/// A plate's grid before it is built: its grid lines (about `elements` per side plus one
+/// through each point's coordinate) make its nodes, four DOFs each, numbered across the
+/// shorter side.
+fn plate_mesh(lc: &LoadedCase, p: &crate::case::PlateSpec) -> Cost {
+    let case = &lc.case;
+    let points = count(
+        case.actuator.len() * 3
+            + case.sensor.len()
+            + case.load.len()
+            + p.support.len()
+            + p.point_mass.len()
+            + p.spring.len()
+            + 2,
+    );
+    let [nx, ny] = p.mesh.elements.map(|n| count(n).saturating_add(1).saturating_add(points));
+    let n = product(&[nx, ny, 4]);
+    let band = count(4).saturating_mul(nx.min(ny).saturating_add(2));
+    cost(
+        n.and_then(|n| profile_bytes(n, band)),
+        Some(0),
+        "steps",
+        "the plate's mesh".into(),
+        format!("{nx} × {ny} grid lines, ≈ {} DOFs", n.map_or("> 2⁶⁴".into(), |n| n.to_string())),
+    )
+    .of_case_field("plate.mesh.elements", "use fewer elements")
 }
 
 /// The memory of a mesh of `elements` elements for `lc`'s attachments: what [`mesh`]
@@ -109,19 +158,19 @@ pub fn mesh_of(lc: &LoadedCase, elements: usize) -> Cost {
 /// The built model before its damping is calibrated: its DOFs, and the modes
 /// `rayleigh_ratio` damping names.
 pub fn model(model: &Model) -> Cost {
-    let nodes = model.beam.as_ref().map_or(0, |b| count(b.mesh.n_nodes()));
-    let n = dofs(nodes, count(model.actuators.len() * 3)).unwrap_or(u64::MAX);
+    let (structure, band) = structure_dofs(model);
+    let n = structure.saturating_add(count(model.actuators.len() * 3));
     let (wanted, field) = match model.damping {
-        Damping::RayleighRatio { modes, .. } if model.beam.is_some() => {
+        Damping::RayleighRatio { modes, .. } if model.structure.is_some() => {
             (count(modes[0].max(modes[1])), "damping.modes")
         }
         _ => (0, "beam.mesh"),
     };
     let eigen =
         if wanted > 0 { eigen_bytes(n.saturating_sub(count(model.actuators.len() * 3)), wanted) } else { Some(0) };
-    let bytes = sum(&[system_bytes(n), eigen]);
+    let bytes = sum(&[profile_bytes(n, band), eigen]);
     let detail = if wanted > 0 {
-        format!("{n} DOFs, and {wanted} modes of the bare beam to calibrate the damping")
+        format!("{n} DOFs, and {wanted} modes of the bare structure to calibrate the damping")
     } else {
         format!("{n} DOFs")
     };
@@ -131,10 +180,9 @@ pub fn model(model: &Model) -> Cost {
 
 /// A modes analysis of `count` modes (the case's `count`).
 pub fn modes(model: &Model, wanted: usize) -> Cost {
-    let nodes = model.beam.as_ref().map_or(0, |b| count(b.mesh.n_nodes()));
-    let n = nodes.saturating_mul(2);
+    let (n, band) = structure_dofs(model);
     let c = count(wanted).min(n);
-    let bytes = sum(&[system_bytes(n), eigen_bytes(n, c), product(&[c, n, 8, 3])]);
+    let bytes = sum(&[profile_bytes(n, band), eigen_bytes(n, c), product(&[c, n, 8, 3])]);
     cost(bytes, Some(0), "steps", "this modes analysis".into(), format!("{c} modes of {n} DOFs"))
         .of_setting("count", "ask for fewer modes, or use a coarser mesh")
 }

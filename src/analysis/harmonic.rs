@@ -10,6 +10,7 @@ use crate::power::point::{beam_dissipation, mean_power, mean_power_error};
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::{ratio_of, Modes};
 use crate::solve::refine::Refined;
+use crate::structure::Location;
 use num_complex::Complex64;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -17,7 +18,7 @@ use std::f64::consts::PI;
 /// A point force: amplitude (N) and phase (rad) at x (m).
 #[derive(Clone, Copy, Debug)]
 pub struct PointForce {
-    pub x: f64,
+    pub at: Location,
     pub amplitude: f64,
     pub phase: f64,
 }
@@ -31,6 +32,9 @@ pub struct HarmonicResult {
     pub mesh_roundoff: f64,
     /// Positions (m) of the response points: the force points, then the sensors.
     pub point_x: Vec<f64>,
+    /// The points' y (m) on a plate; empty on a beam.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub point_y: Vec<f64>,
     pub point_names: Vec<String>,
     /// Mobility Y[f][i][j] = V_i/F_j (m/(N·s)) for response point i and unit force j.
     #[serde(skip)]
@@ -103,24 +107,26 @@ pub fn run(
     modal: Option<(&Modes, &[f64])>,
 ) -> Result<HarmonicResult> {
     let n = sys.n();
-    let mut points: Vec<(f64, String, Option<usize>)> = Vec::new();
+    let mut points: Vec<(Location, String, Option<usize>)> = Vec::new();
     for (j, f) in forces.iter().enumerate() {
-        points.push((f.x, format!("force_{j}"), sys.w_dof_at(model, f.x, &format!("analysis.force[{j}].x"))?));
+        let field = format!("analysis.force[{j}].{}", f.at.field());
+        points.push((f.at, format!("force_{j}"), sys.w_dof_at(model, &f.at, &field)?));
     }
     for s in &model.sensors {
-        points.push((s.x, s.name.clone(), sys.w_dof_at(model, s.x, "sensor.x")?));
+        points.push((s.at, s.name.clone(), sys.w_dof_at(model, &s.at, &format!("sensor.{}", s.at.field()))?));
     }
-    // The coupled system's attachment points: each link's foot on the beam.
+    // The coupled system's attachment points: each link's foot on the structure.
     for l in sys.links.iter().filter(|l| l.foot_dof.is_some()) {
         let name = format!("{}_{}", model.actuators[l.actuator].name(), l.name);
-        points.push((l.foot_x.unwrap_or(f64::NAN), name, l.foot_dof));
+        points.push((l.foot_at.unwrap_or(Location::Beam { x: f64::NAN }), name, l.foot_dof));
     }
     let inputs = transfer_inputs(model, sys);
     let fdofs: Vec<Option<usize>> = points[..forces.len()].iter().map(|p| p.2).collect();
     let amps: Vec<Complex64> = forces.iter().map(|f| Complex64::from_polar(f.amplitude, f.phase)).collect();
     let mut res = HarmonicResult {
         frequency_hz: frequencies.to_vec(),
-        point_x: points.iter().map(|p| p.0).collect(),
+        point_x: points.iter().map(|p| p.0.x()).collect(),
+        point_y: points.iter().filter_map(|p| p.0.y()).collect(),
         point_names: points.iter().map(|p| p.1.clone()).collect(),
         mesh_roundoff: 0.0,
         transfer_inputs: inputs.iter().map(|t| t.name.clone()).collect(),
@@ -255,7 +261,7 @@ pub fn run(
 /// `amps` on the first points) and of the mobilities of the force columns `cols`, from each
 /// column's DOF error bounds (see [`crate::analysis::roundoff`]).
 fn roundoff_bound(
-    points: &[(f64, String, Option<usize>)],
+    points: &[(Location, String, Option<usize>)],
     cols: &[Vec<Complex64>],
     errors: &[Refined],
     amps: &[Complex64],

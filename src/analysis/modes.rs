@@ -8,28 +8,30 @@ use crate::assembly::{Model, System};
 use crate::beam::analytic::{natural_frequencies_hz, End};
 use crate::beam::{Beam, SupportKind};
 use crate::error::Result;
+use crate::plate::navier;
 use crate::solve::eigen::{self, Modes};
+use crate::structure::Structure;
 use serde::Serialize;
 
 /// The bare structure's modes (no actuators), used for Rayleigh damping and modal analysis.
-pub fn bare_modes(beam: &Beam, count: usize) -> Result<Modes> {
-    bare_modes_of(beam, &bare_system(beam)?, count)
+pub fn bare_modes(structure: &Structure, count: usize) -> Result<Modes> {
+    bare_modes_of(structure, &bare_system(structure)?, count)
 }
 
-/// The bare structure's assembled system (the beam with its supports and attachments, no
-/// actuators).
-pub fn bare_system(beam: &Beam) -> Result<System> {
-    System::assemble(&Model::bare(beam.clone()))
+/// The bare structure's assembled system (the structure with its supports and attachments,
+/// no actuators).
+pub fn bare_system(structure: &Structure) -> Result<System> {
+    System::assemble(&Model::bare(structure.clone()))
 }
 
 /// [`bare_modes`] with the bare system already assembled (`sys` from [`bare_system`]).
-pub fn bare_modes_of(beam: &Beam, sys: &System, count: usize) -> Result<Modes> {
+pub fn bare_modes_of(structure: &Structure, sys: &System, count: usize) -> Result<Modes> {
     // K enters through its square-root factor built from the element rows when it has one
     // (a supported structure): that keeps the lowest modes of fine meshes accurate
     // (round-off ~ε·elements² instead of ~ε·elements⁴ for K as assembled). An unsupported
     // structure has none and takes the assembled K (the dense path shifts it, the sparse
     // path reports it).
-    let root = structure_stiffness_root(beam, &sys.dofs).ok();
+    let root = structure.beam().and_then(|beam| structure_stiffness_root(beam, &sys.dofs).ok());
     // Dense reduction up to a few thousand DOFs (all modes at once, robust); beyond that,
     // or when only a few modes of a large model are wanted, shift-invert Lanczos (linear
     // cost in the number of DOFs).
@@ -41,7 +43,7 @@ pub fn bare_modes_of(beam: &Beam, sys: &System, count: usize) -> Result<Modes> {
     } else {
         match root {
             Some(root) => eigen::modes_from_root(&root, &sys.m, count),
-            None => eigen::modes(&sys.k, &sys.m, &sys.dofs.beam_dofs(), count),
+            None => eigen::modes(&sys.k, &sys.m, &sys.dofs.structure_dofs(), count),
         }
     }
 }
@@ -65,21 +67,23 @@ pub fn few_bare_modes_on(model: &Model, sys: &System, count: usize) -> Result<Op
 }
 
 fn bare_modes_mapped(model: &Model, sys: &System, count: usize, sparse: bool) -> Result<Option<Modes>> {
-    let Some(beam) = model.beam.as_ref() else { return Ok(None) };
-    let bare = bare_system(beam)?;
-    let root = if sparse && count < bare.n() / 4 { structure_stiffness_root(beam, &bare.dofs).ok() } else { None };
+    let Some(structure) = model.structure.as_ref() else { return Ok(None) };
+    let bare = bare_system(structure)?;
+    let root = match structure.beam() {
+        Some(beam) if sparse && count < bare.n() / 4 => structure_stiffness_root(beam, &bare.dofs).ok(),
+        _ => None,
+    };
     let mut modes = match root {
         Some(root) => crate::solve::lanczos::lowest_modes_from_root(&root, &bare.m, count)?,
-        None => bare_modes_of(beam, &bare, count)?,
+        None => bare_modes_of(structure, &bare, count)?,
     };
-    // Map node by node: the same node's w and θ in both numberings.
+    // Map node by node: the same node's DOFs of each kind in both numberings.
     let mut to_coupled = vec![usize::MAX; bare.n()];
-    for node in 0..beam.mesh.n_nodes() {
-        if let (Some(b), Some(c)) = (bare.dofs.w[node], sys.dofs.w[node]) {
-            to_coupled[b] = c;
-        }
-        if let (Some(b), Some(c)) = (bare.dofs.theta[node], sys.dofs.theta[node]) {
-            to_coupled[b] = c;
+    for node in 0..bare.dofs.n_nodes() {
+        for k in 0..bare.dofs.kinds.len() {
+            if let (Some(b), Some(c)) = (bare.dofs.node_dof(node, k), sys.dofs.node_dof(node, k)) {
+                to_coupled[b] = c;
+            }
         }
     }
     for d in &mut modes.dofs {
@@ -109,6 +113,9 @@ pub struct ModesResult {
     /// Node coordinates (m) and the w of each mode at each node (row per mode).
     #[serde(skip)]
     pub node_x: Vec<f64>,
+    /// Node y coordinates (m) on a plate; empty on a beam.
+    #[serde(skip)]
+    pub node_y: Vec<f64>,
     #[serde(skip)]
     pub shapes_w: Vec<Vec<f64>>,
     /// The modes of the beam with its actuators attached, beside the bare beam's (a model
@@ -135,7 +142,7 @@ pub struct CoupledModes {
 /// The lowest `count` modes of the coupled system `sys` of `model` (None without a beam or
 /// actuators): dense up to [`DENSE_EIGEN_LIMIT`] DOFs, shift-invert Lanczos beyond.
 pub fn coupled_modes(model: &Model, sys: &System, count: usize) -> Result<Option<CoupledModes>> {
-    if model.beam.is_none() || model.actuators.is_empty() {
+    if model.structure.is_none() || model.actuators.is_empty() {
         return Ok(None);
     }
     let n = sys.n();
@@ -148,7 +155,7 @@ pub fn coupled_modes(model: &Model, sys: &System, count: usize) -> Result<Option
     let shapes: Vec<Vec<f64>> = (0..modes.count()).map(|r| modes.shape_global(r, n)).collect();
     Ok(Some(CoupledModes {
         frequencies_hz: modes.frequencies_hz(),
-        shapes_w: shapes.iter().map(|g| sys.dofs.w.iter().map(|d| d.map_or(0.0, |d| g[d])).collect()).collect(),
+        shapes_w: shapes.iter().map(|g| sys.dofs.w_dofs().map(|d| d.map_or(0.0, |d| g[d])).collect()).collect(),
         body_names: bodies.iter().map(|b| format!("{}_{}", model.actuators[b.actuator].name(), b.name)).collect(),
         body_shapes: shapes.iter().map(|g| bodies.iter().map(|b| g[b.dof]).collect()).collect(),
     }))
@@ -184,25 +191,51 @@ pub fn plain_ends(beam: &Beam) -> Option<(End, End)> {
     Some((ends[0], ends[1]))
 }
 
-pub fn run(beam: &Beam, count: usize) -> Result<ModesResult> {
-    // One assembly for the solver, the round-off bound and the node-wise shapes.
-    let sys = bare_system(beam)?;
-    let modes = bare_modes_of(beam, &sys, count)?;
-    let f = modes.frequencies_hz();
-    let mut analytic = Vec::new();
-    let mut reference = String::from("none (no closed form for this beam)");
-    if let Some((l, r)) = plain_ends(beam) {
-        let e = &beam.mesh.elements[0];
-        // A free–free beam's first two modes are rigid; compare flexible modes only where
-        // the numbering agrees.
-        let rigid = [l, r].iter().filter(|&&x| x == End::Free).count();
-        if rigid == 0 {
-            if let Some(a) = natural_frequencies_hz(l, r, beam.mesh.length(), e.ei, e.rho_a, f.len()) {
-                analytic = a;
-                reference = format!("uniform Euler–Bernoulli beam, {l:?}–{r:?}");
+/// Closed-form frequencies (Hz) of the first `count` modes, where the structure has them,
+/// and what they are.
+fn closed_form(structure: &Structure, count: usize) -> (Vec<f64>, String) {
+    match structure {
+        Structure::Beam(beam) => {
+            if let Some((l, r)) = plain_ends(beam) {
+                let e = &beam.mesh.elements[0];
+                // A free–free beam's first two modes are rigid; compare flexible modes only
+                // where the numbering agrees.
+                let rigid = [l, r].iter().filter(|&&x| x == End::Free).count();
+                if rigid == 0 {
+                    if let Some(a) = natural_frequencies_hz(l, r, beam.mesh.length(), e.ei, e.rho_a, count) {
+                        return (a, format!("uniform Euler–Bernoulli beam, {l:?}–{r:?}"));
+                    }
+                }
             }
+            (Vec::new(), "none (no closed form for this beam)".into())
+        }
+        Structure::Plate(p) => {
+            let (lx, ly) = p.grid.lengths();
+            let (d, rho_h) = (p.bending_stiffness(), p.mass_per_area());
+            let hz = |w: f64| w / (2.0 * std::f64::consts::PI);
+            if p.is_navier() {
+                let a = navier::lowest(count, lx, ly, d, rho_h).into_iter().map(|(_, _, w)| hz(w)).collect();
+                return (a, "simply supported Kirchhoff plate (Navier)".into());
+            }
+            let e = p.edges;
+            let clamped = [e.x0, e.x1, e.y0, e.y1].iter().all(|&k| k == crate::plate::Edge::Clamped);
+            let bare = p.supports.is_empty() && p.point_masses.is_empty() && p.springs.is_empty();
+            if clamped && bare && (lx - ly).abs() <= 1e-12 * lx {
+                let scale = (d / rho_h).sqrt() / (lx * lx);
+                let a = navier::CLAMPED_SQUARE_LAMBDA.iter().take(count).map(|l| hz(l * scale)).collect();
+                return (a, "clamped square Kirchhoff plate (Leissa, 5 digits)".into());
+            }
+            (Vec::new(), "none (no closed form for this plate)".into())
         }
     }
+}
+
+pub fn run(structure: &Structure, count: usize) -> Result<ModesResult> {
+    // One assembly for the solver, the round-off bound and the node-wise shapes.
+    let sys = bare_system(structure)?;
+    let modes = bare_modes_of(structure, &sys, count)?;
+    let f = modes.frequencies_hz();
+    let (analytic, reference) = closed_form(structure, f.len());
     let relative_error = analytic.iter().zip(&f).map(|(a, x)| (x - a) / a).collect();
     let mut stiffest = 0.0f64;
     for i in 0..sys.n() {
@@ -228,7 +261,7 @@ pub fn run(beam: &Beam, count: usize) -> Result<ModesResult> {
     let shapes_w = (0..modes.count())
         .map(|r| {
             let g = modes.shape_global(r, sys.n());
-            sys.dofs.w.iter().map(|d| d.map_or(0.0, |d| g[d])).collect()
+            sys.dofs.w_dofs().map(|d| d.map_or(0.0, |d| g[d])).collect()
         })
         .collect();
     Ok(ModesResult {
@@ -237,7 +270,8 @@ pub fn run(beam: &Beam, count: usize) -> Result<ModesResult> {
         relative_error,
         reference,
         roundoff_bound,
-        node_x: beam.mesh.x.clone(),
+        node_x: (0..structure.n_nodes()).map(|n| structure.node_location(n).x()).collect(),
+        node_y: (0..structure.n_nodes()).filter_map(|n| structure.node_location(n).y()).collect(),
         shapes_w,
         modes,
         coupled: None,

@@ -9,9 +9,9 @@ use super::budget::Budget;
 use super::cost;
 use super::modes::bare_modes;
 use crate::assembly::{Damping, DofMap, Model, Rayleigh, System};
-use crate::beam::Beam;
 use crate::case::{build_model, LoadedCase};
 use crate::error::{Error, Result};
+use crate::structure::Structure;
 
 /// The model a case describes, with its damping calibrated: the model every analysis runs.
 pub fn calibrated_model(lc: &LoadedCase) -> Result<Model> {
@@ -53,18 +53,20 @@ pub fn model_and_system_within(lc: &LoadedCase, budget: &Budget) -> Result<(Mode
 /// it is). A model without a beam has no structural damping to calibrate.
 pub fn calibrate(model: &mut Model) -> Result<()> {
     if let Damping::RayleighRatio { zeta, modes } = model.damping {
-        model.damping = match &model.beam {
-            Some(beam) => Damping::Rayleigh(rayleigh_from_ratio(beam, zeta, modes)?),
+        model.damping = match &model.structure {
+            Some(structure) => Damping::Rayleigh(rayleigh_from_ratio(structure, zeta, modes)?),
             None => Damping::None,
         };
     }
     Ok(())
 }
 
-/// Rayleigh coefficients giving damping ratio ζ at the bare beam's modes `modes` (1-based).
-pub fn rayleigh_from_ratio(beam: &Beam, zeta: f64, modes: [usize; 2]) -> Result<Rayleigh> {
+/// Rayleigh coefficients giving damping ratio ζ at the bare structure's modes `modes`
+/// (1-based).
+pub fn rayleigh_from_ratio(structure: &Structure, zeta: f64, modes: [usize; 2]) -> Result<Rayleigh> {
     let need = modes[0].max(modes[1]);
-    let m = bare_modes(beam, need).map_err(|e| match DofMap::number(Some(beam), &[], &[]).locate(e, &beam.mesh.x) {
+    let numbering = DofMap::number(Some(structure), &[], &[]);
+    let m = bare_modes(structure, need).map_err(|e| match numbering.locate(e, Some(structure)) {
         e @ (Error::Numerical(_) | Error::Singular { .. }) => Error::case_field(
             "damping",
             format!("the damping ratio is calibrated at the bare beam's modes, which cannot be computed: {e}"),

@@ -113,8 +113,8 @@ pub fn reduce(
         Cutoff::Hz(_) => "reduction.modes_up_to_hz",
         Cutoff::HarmonicFactor(_) => "reduction.factor",
     };
-    if model.beam.is_none() {
-        return Err(Error::analysis_setting("reduction", "a modal reduction needs a beam (base = \"beam\")"));
+    if model.structure.is_none() {
+        return Err(Error::analysis_setting("reduction", "a modal reduction needs a structure (base = \"beam\")"));
     }
     let modes = red::beam_modes(full)?;
     let f1 = modes.omega.first().map_or(f64::INFINITY, |w| w / (2.0 * PI));
@@ -162,7 +162,7 @@ pub const COMPLETE_BASIS_LIMIT: usize = 1000;
 /// of the model rather than dense over all beam DOFs. The frequency-domain analyses run a
 /// modal-damped case on it, and a reduced model's error estimate compares against it.
 pub fn complete_modal_basis(full: &System, ratios: &[f64]) -> Result<System> {
-    let beam_dofs = full.dofs.beam_dofs().len();
+    let beam_dofs = full.dofs.structure_dofs().len();
     if beam_dofs > COMPLETE_BASIS_LIMIT {
         return Err(Error::analysis_setting(
             "reduction",

@@ -46,10 +46,21 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 const REFINE_FRACTION: f64 = 1e-2;
 const STEP_FRACTION: f64 = 1e-4;
 
-/// The measured envelope of the unrefined solves' round-off: 1.5e-5·(elements/1000)⁴ (0
-/// without a beam). What the transient states.
+/// The measured envelope of the unrefined solves' round-off: 1.5e-5·(N/1000)⁴ for N
+/// elements along the structure (a beam's elements, a plate's along its longer side, where
+/// the cancellation of a smooth response is the same in h⁴; 0 without a structure). What
+/// the transient states.
 pub fn envelope(model: &Model) -> f64 {
-    model.beam.as_ref().map_or(0.0, |b| 1.5e-5 * (b.mesh.elements.len() as f64 / 1000.0).powi(4))
+    1.5e-5 * (elements_along(model) as f64 / 1000.0).powi(4)
+}
+
+/// Elements along the structure's longest line of elements (0 without a structure).
+fn elements_along(model: &Model) -> usize {
+    match &model.structure {
+        Some(crate::structure::Structure::Beam(b)) => b.mesh.elements.len(),
+        Some(crate::structure::Structure::Plate(p)) => p.grid.nx().max(p.grid.ny()),
+        None => 0,
+    }
 }
 
 /// The envelope's margin for a point whose active power is small beside its apparent power:
@@ -173,7 +184,7 @@ pub fn check(model: &Model, strict: bool, analysis: &str, bound: f64) -> Result<
     if bound <= tolerance {
         return Ok(None);
     }
-    let elements = model.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
+    let elements = elements_along(model);
     let text = format!(
         "{analysis}: the round-off bound of the point powers and mobilities on {elements} elements is {bound:.1e}, \
          above the tolerance {tolerance:.0e} (`beam.mesh.roundoff_tolerance`); a point whose active power is small \

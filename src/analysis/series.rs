@@ -16,8 +16,11 @@ use std::f64::consts::PI;
 pub struct LinkSeries {
     pub actuator: usize,
     pub name: String,
-    /// Foot position on the beam (m), None on the rigid ground.
+    /// Foot position (m): x on a beam or plate, None on the rigid ground.
     pub foot_x: Option<f64>,
+    /// Foot y on a plate (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub foot_y: Option<f64>,
     /// Stretch u = z_top − z_foot (m) and its rate (m/s).
     pub stretch: Vec<f64>,
     pub stretch_rate: Vec<f64>,
@@ -39,7 +42,13 @@ pub struct LinkSeries {
 impl LinkSeries {
     /// An empty series of link `lk`.
     pub fn of(lk: &LinkDofs) -> Self {
-        LinkSeries { actuator: lk.actuator, name: lk.name.clone(), foot_x: lk.foot_x, ..Default::default() }
+        LinkSeries {
+            actuator: lk.actuator,
+            name: lk.name.clone(),
+            foot_x: lk.foot_at.map(|a| a.x()),
+            foot_y: lk.foot_at.and_then(|a| a.y()),
+            ..Default::default()
+        }
     }
 
     /// Adds what follows from the stretch, its rate and the interface force and velocity:
@@ -58,6 +67,7 @@ impl LinkSeries {
             actuator: self.actuator,
             name: self.name.clone(),
             foot_x: self.foot_x,
+            foot_y: self.foot_y,
             stretch: t(&self.stretch),
             stretch_rate: t(&self.stretch_rate),
             f_stiffness: t(&self.f_stiffness),
@@ -137,6 +147,9 @@ impl DriveSeries {
 pub struct SensorSeries {
     pub name: String,
     pub x: f64,
+    /// y on a plate (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub y: Option<f64>,
     pub w: Vec<f64>,
     pub v: Vec<f64>,
     pub a: Vec<f64>,
@@ -203,6 +216,9 @@ impl LinkSpectrum {
 pub struct LoadSeries {
     pub name: String,
     pub x: f64,
+    /// y on a plate (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub y: Option<f64>,
     pub force: Vec<f64>,
     pub w: Vec<f64>,
     pub v: Vec<f64>,

@@ -322,7 +322,7 @@ fn load_spectra(
         .map(|((l, pattern), force)| {
             let w = gather(q, pattern);
             let v = w.iter().enumerate().map(|(k, x)| x * Complex64::new(0.0, k as f64 * w0)).collect();
-            LoadSpectrum::new(&l.name, l.x, (timing.period, timing.steps_per_period, n_harm), force, v)
+            LoadSpectrum::new(&l.name, l.at.x(), (timing.period, timing.steps_per_period, n_harm), force, v)
         })
         .collect()
 }
@@ -453,8 +453,8 @@ fn reconstruct(
         res.drives.push(DriveSeries::new(a, &model.actuators[a].stack().hysteresis, c.voltage, c.h, c.f_p));
     }
     for se in &model.sensors {
-        let [w, v, a] = synth.with_rates(&gather(q, &sys.w_at(model, se.x, "sensor.x")?));
-        res.sensors.push(SensorSeries { name: se.name.clone(), x: se.x, w, v, a });
+        let [w, v, a] = synth.with_rates(&gather(q, &sys.w_at(model, &se.at, "sensor.x")?));
+        res.sensors.push(SensorSeries { name: se.name.clone(), x: se.at.x(), y: se.at.y(), w, v, a });
     }
     Ok(())
 }
@@ -471,7 +471,7 @@ fn reconstruct_loads(
     let mut synth = PeriodSynthesis::new(res.t.len(), 2.0 * PI / res.period);
     for ((l, pattern), force) in model.loads.iter().zip(&sys.loads).zip(samples) {
         let [w, v, a] = synth.with_rates(&gather(q, pattern));
-        res.loads.push(LoadSeries { name: l.name.clone(), x: l.x, force, w, v, a });
+        res.loads.push(LoadSeries { name: l.name.clone(), x: l.at.x(), y: l.at.y(), force, w, v, a });
     }
 }
 

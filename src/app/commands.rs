@@ -4,7 +4,7 @@ use crate::analysis::budget::Budget;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::modes;
 use crate::app::runner::run_case_within;
-use crate::case::build::build_beam;
+use crate::case::build::build_structure;
 use crate::case::{AnalysisSpec, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
@@ -26,8 +26,8 @@ pub fn modes(case: &Path, count: Option<usize>, json: Option<&Path>) -> Result<(
     if count == 0 {
         return Err(Error::input("<cli>", "--count", "must be at least 1"));
     }
-    let beam = build_beam(&lc)?;
-    let r = modes::run(&beam, count)?;
+    let structure = build_structure(&lc)?;
+    let r = modes::run(&structure, count)?;
     crate::say!("{}", modes_table(&r));
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&r).expect("plain data serialises");
@@ -92,7 +92,11 @@ pub fn check(case: &Path, budget: &Budget) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     warn_implausible(&lc);
     let (built, sys, _) = crate::app::runner::planned(&lc, budget)?;
-    let elements = built.beam.as_ref().map_or(0, |b| b.mesh.elements.len());
+    let elements = match &built.structure {
+        Some(crate::structure::Structure::Beam(b)) => b.mesh.elements.len(),
+        Some(crate::structure::Structure::Plate(p)) => p.grid.nx() * p.grid.ny(),
+        None => 0,
+    };
     crate::say!(
         "{}: ok — {} elements, {} DOFs, {} actuator(s), {} load(s), {} analysis(es)",
         lc.file,

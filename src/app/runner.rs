@@ -17,6 +17,7 @@ use crate::error::{Error, Result};
 use crate::power::modal::ModalDamping;
 use crate::signal::sampling::samples_for_harmonics;
 use crate::solve::newmark::Scheme;
+use crate::structure::Structure;
 use std::cell::OnceCell;
 
 /// Modes in the mode-resolved tables of a run (the residual of the truncated sum is reported).
@@ -27,13 +28,13 @@ pub const MODAL_TABLE_MODES: usize = 30;
 /// A·e^{i(φ − π/2)} of the analysis's convention F(t) = Re(F̂·e^{iωt}).
 fn harmonic_forces(force: &[crate::case::ForceSpec], loads: &[crate::assembly::PointLoad]) -> Vec<PointForce> {
     if !force.is_empty() {
-        return force.iter().map(|f| PointForce { x: f.x, amplitude: f.amplitude, phase: f.phase }).collect();
+        return force.iter().map(|f| PointForce { at: f.location(), amplitude: f.amplitude, phase: f.phase }).collect();
     }
     loads
         .iter()
         .filter_map(|l| match l.force {
             crate::signal::voltage::VoltageInput::Sine { amplitude, phase, .. } => {
-                Some(PointForce { x: l.x, amplitude, phase: phase - std::f64::consts::FRAC_PI_2 })
+                Some(PointForce { at: l.at, amplitude, phase: phase - std::f64::consts::FRAC_PI_2 })
             }
             _ => None,
         })
@@ -94,13 +95,12 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
 pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budget) -> Result<Vec<Measured>> {
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
-        let need_beam = || {
-            model
-                .beam
-                .as_ref()
-                .map(|_| ())
-                .ok_or_else(|| Error::input(&lc.file, &field, "this analysis needs a beam, but base = \"rigid\""))
-        };
+        let need_beam =
+            || {
+                model.structure.as_ref().map(|_| ()).ok_or_else(|| {
+                    Error::input(&lc.file, &field, "this analysis needs a structure, but base = \"rigid\"")
+                })
+            };
         let check = || -> Result<()> {
             match spec {
                 AnalysisSpec::Modes { count } => {
@@ -121,14 +121,18 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                     let forces = if force.is_empty() { model.loads.len() } else { force.len() };
                     let modal = model.modal_ratios().is_some();
                     budget.admit(&cost::harmonic(system, f, forces, model.sensors.len(), modal))?;
-                    let mesh = &model.beam.as_ref().expect("checked").mesh;
+                    let structure = model.structure.as_ref().expect("checked");
                     for (j, f) in force.iter().enumerate() {
-                        if mesh.node_at(f.x).is_none() {
-                            return Err(Error::input(
-                                &lc.file,
-                                format!("{field}.force[{j}].x"),
-                                format!("x = {} m is not on a mesh node", f.x),
-                            ));
+                        let at = f.location();
+                        match structure.attach(&at) {
+                            Ok(a) if a.len() == 1 => {}
+                            _ => {
+                                return Err(Error::input(
+                                    &lc.file,
+                                    format!("{field}.force[{j}].{}", at.field()),
+                                    format!("{at} is not on a mesh node"),
+                                ))
+                            }
                         }
                     }
                     Ok(())
@@ -171,7 +175,7 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                             "a modal reduction is not available with hysteretic damping: run the full model",
                         ));
                     }
-                    let beam_dofs = system.dofs.beam_dofs().len();
+                    let beam_dofs = system.dofs.structure_dofs().len();
                     if model.modal_ratios().is_some()
                         && reduction.is_none()
                         && beam_dofs > reduction::COMPLETE_BASIS_LIMIT
@@ -216,9 +220,9 @@ pub fn run_case(lc: &LoadedCase) -> Result<CaseRun> {
     run_case_within(lc, &Budget::default())
 }
 
-/// The DOF numbering of a beam without actuators (bare-beam modes and harmonic analyses).
-fn beam_only(beam: &crate::beam::Beam) -> DofMap {
-    DofMap::number(Some(beam), &[], &[])
+/// The DOF numbering of a structure without actuators (bare modes and harmonic analyses).
+fn structure_only(structure: &Structure) -> DofMap {
+    DofMap::number(Some(structure), &[], &[])
 }
 
 /// Builds the model and runs the case's analyses in order, after [`planned`] held them to
@@ -228,20 +232,18 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
     let mut run =
         Runner { model: &model, system: &system, reduced: ReducedCache::default(), complete: OnceCell::new() };
     let mut results = Vec::new();
-    let node_x = model.beam.as_ref().map(|b| b.mesh.x.clone()).unwrap_or_default();
+    let structure = model.structure.as_ref();
     for (i, spec) in lc.case.analysis.iter().enumerate() {
         let field = format!("analysis[{i}]");
         let need_beam = || {
-            model
-                .beam
-                .as_ref()
-                .ok_or_else(|| Error::input(&lc.file, &field, "this analysis needs a beam, but base = \"rigid\""))
+            structure
+                .ok_or_else(|| Error::input(&lc.file, &field, "this analysis needs a structure, but base = \"rigid\""))
         };
         // Which DOF numbering a failed factorisation's row refers to.
         let (r, numbering) = match spec {
             AnalysisSpec::Modes { count } => {
-                let beam = need_beam()?;
-                let r = modes::run(beam, *count).map_err(|e| beam_only(beam).locate(e, &node_x)).and_then(|mut r| {
+                let s = need_beam()?;
+                let r = modes::run(s, *count).map_err(|e| structure_only(s).locate(e, structure)).and_then(|mut r| {
                     r.coupled = modes::coupled_modes(&model, &system, *count)?;
                     Ok(AnalysisResult::Modes(r))
                 });
@@ -254,9 +256,9 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
                 (r.map(AnalysisResult::Harmonic), Some(&system.dofs))
             }
             AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Bare } => {
-                let beam = need_beam()?;
-                let r = run.harmonic(beam, &frequencies.list(), force);
-                (r.map(AnalysisResult::Harmonic).map_err(|e| beam_only(beam).locate(e, &node_x)), None)
+                let s = need_beam()?;
+                let r = run.harmonic(s, &frequencies.list(), force);
+                (r.map(AnalysisResult::Harmonic).map_err(|e| structure_only(s).locate(e, structure)), None)
             }
             AnalysisSpec::Transient { reduction, .. } => {
                 let s = transient_settings(spec, lc.case.output.full_history).expect("transient");
@@ -273,7 +275,7 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
             }
         };
         let located = |e: Error| match numbering {
-            Some(d) => d.locate(e, &node_x),
+            Some(d) => d.locate(e, structure),
             None => e,
         };
         let r = r.map_err(|e| located(e).in_analysis(&lc.file, &field))?;
@@ -368,13 +370,13 @@ impl Runner<'_> {
     /// forces, or the case's sine loads.
     fn harmonic(
         &self,
-        beam: &crate::beam::Beam,
+        structure: &Structure,
         hz: &[f64],
         force: &[crate::case::ForceSpec],
     ) -> Result<harmonic::HarmonicResult> {
         let model = self.model;
         let bare = Model {
-            beam: Some(beam.clone()),
+            structure: Some(structure.clone()),
             damping: model.damping.clone(),
             actuators: Vec::new(),
             sensors: model.sensors.clone(),
@@ -384,7 +386,7 @@ impl Runner<'_> {
         let sys = System::assemble(&bare)?;
         let forces = harmonic_forces(force, &model.loads);
         let modal = match model.modal_ratios() {
-            Some(r) => Some((modes::bare_modes(beam, usize::MAX)?, r)),
+            Some(r) => Some((modes::bare_modes(structure, usize::MAX)?, r)),
             None => None,
         };
         let modal = modal.as_ref().map(|(m, r)| (m, *r));

@@ -13,7 +13,7 @@
 //! ([`crate::analysis::roundoff`]), for A = K + c_m·M + c_c·C + i·η·K_beam (c_m = −ω²,
 //! c_c = iω for the continuous system), with C = a₀·M_el + a₁·K_el + C_grounded + C_links.
 
-use super::system::{actuator_matrices, feet_nodes, structure_matrices, System};
+use super::system::{actuator_matrices, feet_attachments, structure_matrices, System};
 use super::Model;
 use crate::actuator::Component;
 use crate::beam::{element_stiffness_rows, SupportKind};
@@ -52,14 +52,15 @@ impl StiffnessRows {
     /// The split of a full (unreduced) system of `model`; None without a beam or for a
     /// reduced system (whose coordinates are not the element DOFs).
     pub fn of(model: &Model, sys: &System) -> Result<Option<Self>> {
-        let Some(beam) = model.beam.as_ref() else { return Ok(None) };
+        let Some(beam) = model.beam() else { return Ok(None) };
+        let structure = model.structure.as_ref();
         if sys.projection.is_some() {
             return Ok(None);
         }
         let dofs = &sys.dofs;
         let mut rows = Vec::with_capacity(2 * beam.mesh.elements.len() + beam.supports.len());
         for e in &beam.mesh.elements {
-            let d = dofs.element_dofs(e.nodes);
+            let d = dofs.element_dofs(&e.nodes);
             for g in element_stiffness_rows(e.ei, e.length) {
                 let mut row = Row { dofs: [0; 4], values: [0.0; 4], len: 0 };
                 for (dof, v) in d.iter().zip(g) {
@@ -74,7 +75,7 @@ impl StiffnessRows {
         }
         for s in &beam.supports {
             if let SupportKind::Spring { k_w, k_theta } = s.kind {
-                for (dof, k) in [(dofs.w[s.node], k_w), (dofs.theta[s.node], k_theta)] {
+                for (dof, k) in [(dofs.w(s.node), k_w), (dofs.node_dof(s.node, 1), k_theta)] {
                     if let Some(i) = dof {
                         // K_el holds k itself; k·x = √k·(√k·x) keeps the row form (k ≥ 0
                         // is checked where the case is read).
@@ -84,11 +85,11 @@ impl StiffnessRows {
             }
         }
         let grounded =
-            beam.springs.iter().filter_map(|s| dofs.w[s.node].map(|i| (i, s.stiffness, s.damping))).collect();
-        let [m_el, _, _] = structure_matrices(Some(beam), dofs, Default::default());
+            beam.springs.iter().filter_map(|s| dofs.w(s.node).map(|i| (i, s.stiffness, s.damping))).collect();
+        let [m_el, _, _] = structure_matrices(structure, dofs, Default::default());
         let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
-        let feet = feet_nodes(&comps, Some(beam))?;
-        let act = actuator_matrices(&comps, &feet, Some(beam), dofs);
+        let feet = feet_attachments(&comps, structure)?;
+        let act = actuator_matrices(&comps, &feet, structure, dofs);
         let n = dofs.n;
         let rayleigh = model.rayleigh();
         Ok(Some(StiffnessRows {
@@ -238,7 +239,7 @@ mod tests {
             crate::assembly::Damping::Rayleigh(crate::assembly::Rayleigh { a0: 5.0, a1: 1e-5 }),
             crate::assembly::Damping::Hysteretic { eta: 0.02 },
         ] {
-            let mut model = Model::bare(beam.clone());
+            let mut model = Model::bare(crate::structure::Structure::Beam(beam.clone()));
             model.damping = damping;
             let sys = System::assemble(&model).unwrap();
             let split = StiffnessRows::of(&model, &sys).unwrap().unwrap();

@@ -3,36 +3,35 @@
 use super::damping::Damping;
 use super::dofs::DofMap;
 use crate::actuator::{Actuator, Component, FootBase};
-use crate::beam::{element_mass, element_stiffness, element_stiffness_rows, Beam, SupportKind};
+use crate::beam::{element_stiffness_rows, Beam, SupportKind};
 use crate::error::{Error, Result};
 use crate::linalg::{BandedR, Csr, Skyline};
 use crate::signal::voltage::VoltageInput;
+use crate::structure::{Location, Structure};
 use num_complex::Complex64;
 use std::sync::Arc;
 
-/// A point where the beam's motion is recorded.
+/// A point where the structure's motion (its w) is recorded.
 #[derive(Clone, Debug)]
 pub struct Sensor {
     pub name: String,
-    /// Position along the beam (m).
-    pub x: f64,
+    pub at: Location,
 }
 
-/// A prescribed point force on the beam: F(t) (N, along w) at x (m).
+/// A prescribed point force on the structure: F(t) (N, along w) at a point.
 #[derive(Clone, Debug)]
 pub struct PointLoad {
     pub name: String,
-    /// Position along the beam (m); a mesh node.
-    pub x: f64,
+    pub at: Location,
     /// The force's time history (N).
     pub force: VoltageInput,
 }
 
-/// What is simulated: the structure (a beam, or none for a rigid base), the actuators and
-/// the prescribed point loads.
+/// What is simulated: the structure (a beam or a plate, or none for a rigid base), the
+/// actuators and the prescribed point loads.
 #[derive(Clone, Debug)]
 pub struct Model {
-    pub beam: Option<Beam>,
+    pub structure: Option<Structure>,
     /// The structure's damping (spec §3).
     pub damping: Damping,
     pub actuators: Vec<Actuator>,
@@ -44,16 +43,21 @@ pub struct Model {
 }
 
 impl Model {
-    /// The bare structure: the beam alone, undamped, with nothing on it.
-    pub fn bare(beam: Beam) -> Self {
+    /// The bare structure: the structure alone, undamped, with nothing on it.
+    pub fn bare(structure: impl Into<Structure>) -> Self {
         Model {
-            beam: Some(beam),
+            structure: Some(structure.into()),
             damping: Damping::None,
             actuators: Vec::new(),
             sensors: Vec::new(),
             loads: Vec::new(),
             roundoff_tolerance: crate::analysis::roundoff::DEFAULT_TOLERANCE,
         }
+    }
+
+    /// The structure if it is a beam (for the beam's own fast paths and references).
+    pub fn beam(&self) -> Option<&Beam> {
+        self.structure.as_ref().and_then(Structure::beam)
     }
 
     /// The beam's Rayleigh coefficients (zero unless its damping is Rayleigh).
@@ -87,16 +91,17 @@ pub struct LinkDofs {
     pub c: f64,
     /// Stretch u = Σ coeff·q[dof] (top minus foot).
     pub stretch: Vec<(usize, f64)>,
-    /// Beam node and w DOF of the foot (dof None if a support fixes w or the base is rigid).
-    /// In a reduced system (see [`Projection`]) the foot is not one DOF: `foot_dof` is None
-    /// there and `foot` holds the combination.
+    /// Structure node and w DOF of a foot standing on a node (dof None if a support fixes w
+    /// or the base is rigid). A foot attached through shape functions, or in a reduced
+    /// system (see [`Projection`]), is not one DOF: `foot_dof` is None there and `foot`
+    /// holds the combination.
     pub foot_node: Option<usize>,
     pub foot_dof: Option<usize>,
-    /// The foot's beam displacement w = Σ coeff·q[dof] (empty on a fixed or rigid base).
-    /// In the full model this is `[(foot_dof, 1.0)]`; analyses read the foot through it.
+    /// The foot's structure displacement w = Σ coeff·q[dof] (empty on a fixed or rigid
+    /// base); analyses read the foot through it.
     pub foot: Vec<(usize, f64)>,
-    /// Foot position on the beam (m), if on the beam.
-    pub foot_x: Option<f64>,
+    /// Where the foot stands, if on the structure.
+    pub foot_at: Option<Location>,
     pub foot_mass: f64,
     pub active: bool,
 }
@@ -133,7 +138,7 @@ pub struct System {
 /// The basis of a reduced system: full-model DOFs q_full = T·q_reduced.
 #[derive(Clone, Debug)]
 pub struct Projection {
-    /// The full model's DOF map (beam w, θ per node; actuator bodies).
+    /// The full model's DOF map (structure DOFs per node; actuator bodies).
     pub full: DofMap,
     /// T, `full.n` rows × `n_reduced` columns, row-major.
     pub t: Vec<f64>,
@@ -164,16 +169,19 @@ impl System {
     pub fn assemble(model: &Model) -> Result<System> {
         model.damping.require_calibrated()?;
         let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
-        let beam = model.beam.as_ref();
-        let feet_nodes = feet_nodes(&comps, beam)?;
-        // Each actuator's bodies are numbered after the last node its feet stand on.
-        let anchors: Vec<Option<usize>> =
-            feet_nodes.iter().map(|nodes| nodes.iter().flatten().max().copied()).collect();
+        let structure = model.structure.as_ref();
+        let feet = feet_attachments(&comps, structure)?;
+        // Each actuator's bodies are numbered after the last node its feet reach.
+        let rank = node_ranks(structure);
+        let anchors: Vec<Option<usize>> = feet
+            .iter()
+            .map(|links| links.iter().flatten().flat_map(|a| a.iter().map(|t| t.0)).max_by_key(|&n| rank[n]))
+            .collect();
         let sizes: Vec<usize> = comps.iter().map(|c| c.dof_names.len()).collect();
-        let dofs = DofMap::number(beam, &anchors, &sizes);
+        let dofs = DofMap::number(structure, &anchors, &sizes);
         let n = dofs.n;
-        let [m_beam, c_beam, k_beam] = structure_matrices(beam, &dofs, model.rayleigh());
-        let actuators = actuator_matrices(&comps, &feet_nodes, beam, &dofs);
+        let [m_beam, c_beam, k_beam] = structure_matrices(structure, &dofs, model.rayleigh());
+        let actuators = actuator_matrices(&comps, &feet, structure, &dofs);
         let m = Csr::combine(&[(1.0, &m_beam), (1.0, &Csr::from_triplets(n, &actuators.m))]);
         let k = Csr::combine(&[(1.0, &k_beam), (1.0, &Csr::from_triplets(n, &actuators.k))]);
         let c = Csr::combine(&[(1.0, &c_beam), (1.0, &Csr::from_triplets(n, &actuators.c))]);
@@ -187,31 +195,41 @@ impl System {
         Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, k_loss, links, drives, loads, envelope, projection: None })
     }
 
-    /// The w DOF of the beam node at x, if free. Errors if x is not on a node, or if this
-    /// is a reduced system (use [`System::w_at`]).
-    pub fn w_dof_at(&self, model: &Model, x: f64, field: &str) -> Result<Option<usize>> {
-        let beam = model.beam.as_ref().ok_or_else(|| Error::case_field(field, "the model has no beam"))?;
-        let node =
-            beam.mesh.node_at(x).ok_or_else(|| Error::case_field(field, format!("x = {x} m is not on a mesh node")))?;
-        if self.projection.is_some() {
-            return Err(Error::Numerical(format!(
-                "{field}: a reduced system has no single w DOF at x = {x} m (use w_at)"
-            )));
+    /// The structure's w at a point as a combination Σ coeff·q[dof] of this system's DOFs:
+    /// one DOF at a node of the full system, the element's shape functions between nodes,
+    /// rows of the basis in a reduced system; empty where supports fix it. Errors (naming
+    /// `field`) if the point is not on the structure.
+    pub fn w_at(&self, model: &Model, at: &Location, field: &str) -> Result<Vec<(usize, f64)>> {
+        let s = model
+            .structure
+            .as_ref()
+            .ok_or_else(|| Error::case_field(field, "the model has no structure (base = \"rigid\")"))?;
+        let attachment = s.attach(at).map_err(|e| Error::case_field(field, e))?;
+        let dofs = self.projection.as_ref().map_or(&self.dofs, |p| &p.full);
+        let mut pattern = Vec::new();
+        for (node, kind, c) in attachment {
+            if let Some(d) = dofs.node_dof(node, kind) {
+                match &self.projection {
+                    None => pattern.push((d, c)),
+                    Some(p) => pattern.extend(p.row(d).into_iter().map(|(j, t)| (j, c * t))),
+                }
+            }
         }
-        Ok(self.dofs.w[node])
+        Ok(pattern)
     }
 
-    /// The beam's w at x as a combination Σ coeff·q[dof] of this system's DOFs: one DOF in
-    /// the full system, a row of the basis in a reduced one, empty where a support fixes w.
-    /// Errors if x is not on a node.
-    pub fn w_at(&self, model: &Model, x: f64, field: &str) -> Result<Vec<(usize, f64)>> {
-        let beam = model.beam.as_ref().ok_or_else(|| Error::case_field(field, "the model has no beam"))?;
-        let node =
-            beam.mesh.node_at(x).ok_or_else(|| Error::case_field(field, format!("x = {x} m is not on a mesh node")))?;
-        Ok(match &self.projection {
-            None => self.dofs.w[node].map(|d| vec![(d, 1.0)]).unwrap_or_default(),
-            Some(p) => p.full.w[node].map(|d| p.row(d)).unwrap_or_default(),
-        })
+    /// The single DOF of w at a point of the full system, if the point is a node with a
+    /// free w (harmonic analyses read mobilities there). Errors if the point is not a
+    /// node, or if this is a reduced system (use [`System::w_at`]).
+    pub fn w_dof_at(&self, model: &Model, at: &Location, field: &str) -> Result<Option<usize>> {
+        if self.projection.is_some() {
+            return Err(Error::Numerical(format!("{field}: a reduced system has no single w DOF at {at} (use w_at)")));
+        }
+        let s = model.structure.as_ref().ok_or_else(|| Error::case_field(field, "the model has no structure"))?;
+        match s.attach(at).map_err(|e| Error::case_field(field, e))?.as_slice() {
+            [(node, 0, c)] if *c == 1.0 => Ok(self.dofs.w(*node)),
+            _ => Err(Error::case_field(field, format!("{at} is not on a mesh node"))),
+        }
     }
 
     /// Skyline matrix α·K + β·C + γ·M (real), e.g. the Newmark effective stiffness.
@@ -236,17 +254,17 @@ pub fn structure_stiffness_root(beam: &Beam, dofs: &DofMap) -> Result<BandedR> {
     let mut entries: Vec<(usize, f64)> = Vec::with_capacity(8 * beam.mesh.elements.len());
     let mut starts = vec![0];
     for e in &beam.mesh.elements {
-        let d = dofs.element_dofs(e.nodes);
+        let d = dofs.element_dofs(&e.nodes);
         for g in element_stiffness_rows(e.ei, e.length) {
             entries.extend(d.iter().zip(g).filter_map(|(dof, v)| dof.map(|i| (i, v))));
             starts.push(entries.len());
         }
     }
     let springs = beam.supports.iter().flat_map(|s| match s.kind {
-        SupportKind::Spring { k_w, k_theta } => vec![(dofs.w[s.node], k_w), (dofs.theta[s.node], k_theta)],
+        SupportKind::Spring { k_w, k_theta } => vec![(dofs.w(s.node), k_w), (dofs.node_dof(s.node, 1), k_theta)],
         _ => vec![],
     });
-    for (dof, k) in springs.chain(beam.springs.iter().map(|s| (dofs.w[s.node], s.stiffness))) {
+    for (dof, k) in springs.chain(beam.springs.iter().map(|s| (dofs.w(s.node), s.stiffness))) {
         if k < 0.0 {
             return Err(Error::Numerical(format!("a negative spring ({k} N/m) has no square-root factor")));
         }
@@ -271,71 +289,74 @@ impl System {
     }
 }
 
-/// The beam node each actuator link's foot stands on (None on the ground), per actuator.
-pub(super) fn feet_nodes(comps: &[Component], beam: Option<&Beam>) -> Result<Vec<Vec<Option<usize>>>> {
-    let mut feet_nodes = Vec::with_capacity(comps.len());
+/// Each actuator link's foot as an attachment to the structure (None on the ground), per
+/// actuator.
+pub(super) fn feet_attachments(
+    comps: &[Component],
+    structure: Option<&Structure>,
+) -> Result<Vec<Vec<Option<crate::structure::Attachment>>>> {
+    let mut feet = Vec::with_capacity(comps.len());
     for (ai, comp) in comps.iter().enumerate() {
-        let mut nodes = Vec::new();
+        let mut links = Vec::new();
         for link in &comp.links {
-            nodes.push(match (link.foot, beam) {
-                (FootBase::Beam { x }, Some(b)) => Some(b.mesh.node_at(x).ok_or_else(|| {
-                    Error::case_field(
-                        format!("actuator[{ai}].{}", link.name),
-                        format!("foot at x = {x} m is not on a mesh node"),
-                    )
-                })?),
-                (FootBase::Beam { x }, None) => {
-                    return Err(Error::case_field(
-                        format!("actuator[{ai}].{}", link.name),
-                        format!("foot at x = {x} m but the model has no beam"),
-                    ));
+            let field = || format!("actuator[{ai}].{}", link.name);
+            links.push(match (link.foot, structure) {
+                (FootBase::On(at), Some(s)) => {
+                    Some(s.attach(&at).map_err(|e| Error::case_field(field(), format!("foot at {e}")))?)
+                }
+                (FootBase::On(at), None) => {
+                    return Err(Error::case_field(field(), format!("foot at {at} but the model has no structure")));
                 }
                 (FootBase::Ground, _) => None,
             });
         }
-        feet_nodes.push(nodes);
+        feet.push(links);
     }
-    Ok(feet_nodes)
+    Ok(feet)
 }
 
-/// The structure's own M, C and K: beam elements, point masses, support springs, Rayleigh
+/// Each node's position in the structure's numbering order.
+fn node_ranks(structure: Option<&Structure>) -> Vec<usize> {
+    let Some(s) = structure else { return Vec::new() };
+    let mut rank = vec![0; s.n_nodes()];
+    for (r, node) in s.node_order().into_iter().enumerate() {
+        rank[node] = r;
+    }
+    rank
+}
+
+/// The structure's own M, C and K: elements, point masses, support springs, Rayleigh
 /// damping of the elements and point masses (a₀·M + a₁·K, without the grounded springs),
 /// and the grounded spring–dampers.
-pub(super) fn structure_matrices(beam: Option<&Beam>, dofs: &DofMap, rayleigh: super::damping::Rayleigh) -> [Csr; 3] {
+pub(super) fn structure_matrices(
+    structure: Option<&Structure>,
+    dofs: &DofMap,
+    rayleigh: super::damping::Rayleigh,
+) -> [Csr; 3] {
     let n = dofs.n;
     let mut mb = Vec::new();
     let mut kb = Vec::new();
     let mut cb = Vec::new();
-    if let Some(beam) = beam {
-        for e in &beam.mesh.elements {
-            let ke = element_stiffness(e.ei, e.length);
-            let me = element_mass(e.rho_a, e.length, beam.mass_kind);
+    if let Some(s) = structure {
+        s.for_each_element(|e| {
             let d = dofs.element_dofs(e.nodes);
-            for a in 0..4 {
-                for b in 0..4 {
+            for a in 0..d.len() {
+                for b in 0..d.len() {
                     if let (Some(i), Some(j)) = (d[a], d[b]) {
-                        kb.push((i, j, ke[(a, b)]));
-                        mb.push((i, j, me[(a, b)]));
+                        kb.push((i, j, (e.stiffness)(a, b)));
+                        mb.push((i, j, (e.mass)(a, b)));
                     }
                 }
             }
-        }
-        for pm in &beam.point_masses {
-            if let Some(i) = dofs.w[pm.node] {
-                mb.push((i, i, pm.mass));
-            }
-            if let Some(i) = dofs.theta[pm.node] {
-                mb.push((i, i, pm.rotary_inertia));
+        });
+        for (node, kind, v) in s.point_inertia() {
+            if let Some(i) = dofs.node_dof(node, kind) {
+                mb.push((i, i, v));
             }
         }
-        for s in &beam.supports {
-            if let SupportKind::Spring { k_w, k_theta } = s.kind {
-                if let Some(i) = dofs.w[s.node] {
-                    kb.push((i, i, k_w));
-                }
-                if let Some(i) = dofs.theta[s.node] {
-                    kb.push((i, i, k_theta));
-                }
+        for (node, kind, k) in s.support_springs() {
+            if let Some(i) = dofs.node_dof(node, kind) {
+                kb.push((i, i, k));
             }
         }
     }
@@ -344,11 +365,11 @@ pub(super) fn structure_matrices(beam: Option<&Beam>, dofs: &DofMap, rayleigh: s
     let mut ctrip: Vec<(usize, usize, f64)> = Vec::new();
     ctrip.extend(m_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a0 * v)));
     ctrip.extend(k_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a1 * v)));
-    if let Some(beam) = beam {
-        for s in &beam.springs {
-            if let Some(i) = dofs.w[s.node] {
-                kb.push((i, i, s.stiffness));
-                cb.push((i, i, s.damping));
+    if let Some(s) = structure {
+        for (node, k, c) in s.grounded_springs() {
+            if let Some(i) = dofs.w(node) {
+                kb.push((i, i, k));
+                cb.push((i, i, c));
             }
         }
     }
@@ -369,8 +390,8 @@ pub(super) struct ActuatorMatrices {
 
 pub(super) fn actuator_matrices(
     comps: &[Component],
-    feet_nodes: &[Vec<Option<usize>>],
-    beam: Option<&Beam>,
+    feet: &[Vec<Option<crate::structure::Attachment>>],
+    structure: Option<&Structure>,
     dofs: &DofMap,
 ) -> ActuatorMatrices {
     let mut out = ActuatorMatrices {
@@ -388,13 +409,18 @@ pub(super) fn actuator_matrices(
             }
         }
         for (li, link) in comp.links.iter().enumerate() {
-            let node = feet_nodes[ai][li];
-            let foot_dof = node.and_then(|nd| dofs.w[nd]);
+            let attachment = feet[ai][li].as_deref().unwrap_or_default();
+            // The foot's w over the free DOFs (a support may fix some of them).
+            let foot: Vec<(usize, f64)> =
+                attachment.iter().filter_map(|&(node, kind, c)| dofs.node_dof(node, kind).map(|d| (d, c))).collect();
             // The stretch u = top − foot as a combination of DOFs.
             let mut g: Vec<(usize, f64)> = link.top.iter().map(|&(d, c)| (body[d], c)).collect();
-            if let Some(fd) = foot_dof {
-                g.push((fd, -1.0));
-                out.m.push((fd, fd, link.foot_mass));
+            g.extend(foot.iter().map(|&(d, c)| (d, -c)));
+            // The foot's lumped mass rides on the foot point's w: m·f·fᵀ.
+            for &(i, ci) in &foot {
+                for &(j, cj) in &foot {
+                    out.m.push((i, j, link.foot_mass * ci * cj));
+                }
             }
             for &(i, gi) in &g {
                 for &(j, gj) in &g {
@@ -405,6 +431,14 @@ pub(super) fn actuator_matrices(
             if link.active {
                 out.drives[ai] = g.clone();
             }
+            let node = match attachment {
+                [(node, 0, c)] if *c == 1.0 => Some(*node),
+                _ => None,
+            };
+            let foot_dof = match foot.as_slice() {
+                [(d, c)] if node.is_some() && *c == 1.0 => Some(*d),
+                _ => None,
+            };
             out.links.push(LinkDofs {
                 actuator: ai,
                 name: link.name.clone(),
@@ -413,8 +447,11 @@ pub(super) fn actuator_matrices(
                 stretch: g,
                 foot_node: node,
                 foot_dof,
-                foot: foot_dof.map(|d| vec![(d, 1.0)]).unwrap_or_default(),
-                foot_x: node.map(|nd| beam.expect("a foot on a node has a beam").mesh.x[nd]),
+                foot,
+                foot_at: match (link.foot, structure) {
+                    (FootBase::On(at), Some(_)) => Some(at),
+                    _ => None,
+                },
                 foot_mass: link.foot_mass,
                 active: link.active,
             });
@@ -423,17 +460,15 @@ pub(super) fn actuator_matrices(
     out
 }
 
-/// Each point load's pattern: the w DOF of its node (empty where a support fixes w).
+/// Each point load's pattern: the structure's w at its point (empty where supports fix it).
 fn load_patterns(model: &Model, dofs: &DofMap) -> Result<Vec<Vec<(usize, f64)>>> {
     let mut loads = Vec::with_capacity(model.loads.len());
     for (i, l) in model.loads.iter().enumerate() {
-        let field = format!("load[{i}].x");
-        let beam = model.beam.as_ref().ok_or_else(|| Error::case_field(&field, "a point load needs a beam"))?;
-        let node = beam
-            .mesh
-            .node_at(l.x)
-            .ok_or_else(|| Error::case_field(&field, format!("x = {} m is not on a mesh node", l.x)))?;
-        loads.push(dofs.w[node].map(|d| vec![(d, 1.0)]).unwrap_or_default());
+        let field = format!("load[{i}].{}", l.at.field());
+        let s = model.structure.as_ref().ok_or_else(|| Error::case_field(&field, "a point load needs a structure"))?;
+        let attachment = s.attach(&l.at).map_err(|e| Error::case_field(&field, e))?;
+        loads
+            .push(attachment.iter().filter_map(|&(node, kind, c)| dofs.node_dof(node, kind).map(|d| (d, c))).collect());
     }
     Ok(loads)
 }
@@ -476,7 +511,7 @@ mod tests {
     #[test]
     fn stiffness_root_squares_to_the_assembled_stiffness_and_is_banded() {
         for beam in odd_beams() {
-            let model = Model::bare(beam.clone());
+            let model = Model::bare(Structure::Beam(beam.clone()));
             let sys = System::assemble(&model).unwrap();
             let r = structure_stiffness_root(&beam, &sys.dofs).unwrap();
             let n = sys.n();
@@ -502,23 +537,24 @@ mod tests {
         let mut beam = odd_beams().remove(0);
         beam.supports.clear();
         beam.springs.clear();
-        let model = Model::bare(beam.clone());
+        let model = Model::bare(Structure::Beam(beam.clone()));
         let sys = System::assemble(&model).unwrap();
         let err = structure_stiffness_root(&beam, &sys.dofs).unwrap_err().to_string();
         assert!(err.contains("singular"), "{err}");
     }
 }
 
-/// What a row (and column) of the assembled matrices is: the beam node and its position, or
-/// the actuator body it belongs to, and the DOF's kind (`w`, `theta`, or the body's DOF
-/// name such as `z_t`, `y`, `phi`).
+/// What a row (and column) of the assembled matrices is: the structure node and its
+/// position, or the actuator body it belongs to, and the DOF's kind (`w`, `theta`, `w_x`,
+/// …, or the body's DOF name such as `z_t`, `y`, `phi`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DofRow {
     pub index: usize,
-    /// Beam node (None for an actuator body DOF).
+    /// Structure node (None for an actuator body DOF).
     pub node: Option<usize>,
-    /// Position of the node on the beam (m).
+    /// Position of the node (m).
     pub x: Option<f64>,
+    pub y: Option<f64>,
     pub kind: String,
     /// Actuator name (for a body DOF).
     pub actuator: Option<String>,
@@ -527,15 +563,19 @@ pub struct DofRow {
 /// One [`DofRow`] per DOF of the full model's system, in index order.
 pub fn dof_rows(model: &Model, sys: &System) -> Vec<DofRow> {
     let n = sys.dofs.n;
-    let mut rows: Vec<DofRow> =
-        (0..n).map(|index| DofRow { index, node: None, x: None, kind: String::new(), actuator: None }).collect();
-    let xs = model.beam.as_ref().map(|b| b.mesh.x.clone()).unwrap_or_default();
-    for (kind, dofs) in [("w", &sys.dofs.w), ("theta", &sys.dofs.theta)] {
-        for (node, d) in dofs.iter().enumerate() {
-            if let Some(d) = *d {
-                rows[d].node = Some(node);
-                rows[d].x = xs.get(node).copied();
-                rows[d].kind = kind.to_string();
+    let mut rows: Vec<DofRow> = (0..n)
+        .map(|index| DofRow { index, node: None, x: None, y: None, kind: String::new(), actuator: None })
+        .collect();
+    if let Some(s) = &model.structure {
+        for node in 0..sys.dofs.n_nodes() {
+            let at = s.node_location(node);
+            for (k, kind) in sys.dofs.kinds.iter().enumerate() {
+                if let Some(d) = sys.dofs.node_dof(node, k) {
+                    rows[d].node = Some(node);
+                    rows[d].x = Some(at.x());
+                    rows[d].y = at.y();
+                    rows[d].kind = kind.to_string();
+                }
             }
         }
     }

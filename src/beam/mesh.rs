@@ -90,29 +90,14 @@ impl Mesh {
         section: Section,
         material: Material,
     ) -> Mesh {
-        let mut cuts: Vec<f64> = vec![0.0, length];
-        cuts.extend(points.iter().map(|p| p.x));
-        cuts.sort_by(|a, b| a.partial_cmp(b).unwrap());
-        let tol = 1e-9 * length;
-        cuts.dedup_by(|a, b| (*a - *b).abs() <= tol);
-        let segments: Vec<f64> = cuts.windows(2).map(|w| w[1] - w[0]).collect();
-        let counts = segment_counts(&segments, n_elements);
+        let cuts: Vec<f64> = points.iter().map(|p| p.x).collect();
+        let (x, lengths) = grid_line(length, n_elements, &cuts);
         let (ei, rho_a) = section.properties(&material);
-        let mut x = vec![0.0];
-        let mut elements = Vec::new();
-        for (w, &n) in cuts.windows(2).zip(&counts) {
-            let seg = w[1] - w[0];
-            // Every element of a segment gets the segment's nominal length seg/n, not the
-            // difference of two rounded node coordinates (which is off by up to an ulp of x,
-            // ≈ 1e-14 of h): more accurate, and it makes the segment's element matrices, and so
-            // its rows of M, C, K, bitwise periodic, which the transient step exploits.
-            let le = seg / n as f64;
-            for k in 1..=n {
-                let i = x.len() - 1;
-                x.push(if k == n { w[1] } else { w[0] + seg * k as f64 / n as f64 });
-                elements.push(MeshElement { nodes: [i, i + 1], length: le, ei, rho_a });
-            }
-        }
+        let elements = lengths
+            .into_iter()
+            .enumerate()
+            .map(|(i, length)| MeshElement { nodes: [i, i + 1], length, ei, rho_a })
+            .collect();
         Mesh { x, elements }
     }
 
@@ -311,6 +296,34 @@ fn positive(file: &str, field: &str, v: f64) -> Result<()> {
     } else {
         Err(Error::input(file, field, format!("must be positive and finite, got {v}")))
     }
+}
+/// Nodes on [0, `length`] for about `n_elements` elements with a node at every cut (the
+/// beam's mesh, a plate's grid lines): the cuts split the line into segments, each gets a
+/// share of the elements proportional to its length ([`segment_counts`]) and is divided
+/// uniformly. Returns the node coordinates and each element's length.
+pub fn grid_line(length: f64, n_elements: usize, cuts: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let mut all: Vec<f64> = vec![0.0, length];
+    all.extend_from_slice(cuts);
+    all.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    let tol = 1e-9 * length;
+    all.dedup_by(|a, b| (*a - *b).abs() <= tol);
+    let segments: Vec<f64> = all.windows(2).map(|w| w[1] - w[0]).collect();
+    let counts = segment_counts(&segments, n_elements);
+    let mut x = vec![0.0];
+    let mut lengths = Vec::new();
+    for (w, &n) in all.windows(2).zip(&counts) {
+        let seg = w[1] - w[0];
+        // Every element of a segment gets the segment's nominal length seg/n, not the
+        // difference of two rounded node coordinates (which is off by up to an ulp of x,
+        // ≈ 1e-14 of h): more accurate, and it makes the segment's element matrices, and so
+        // its rows of M, C, K, bitwise periodic, which the transient step exploits.
+        let le = seg / n as f64;
+        for k in 1..=n {
+            x.push(if k == n { w[1] } else { w[0] + seg * k as f64 / n as f64 });
+            lengths.push(le);
+        }
+    }
+    (x, lengths)
 }
 
 /// How many elements each segment of the given lengths gets so that they sum to `total`

@@ -8,6 +8,8 @@ use crate::assembly::{Damping, Rayleigh};
 use crate::beam::mesh::RequiredPoint;
 use crate::beam::{Beam, GroundedSpring, MassKind, Material, Mesh, PointMass, Section, Support, SupportKind};
 use crate::error::{Error, Result};
+use crate::plate::{Edge, Edges, Grid, Plate, PointSupport, PointSupportKind};
+use crate::structure::{Location, Structure};
 
 /// Points that must be mesh nodes, named after the field that asks for them.
 pub fn required_points(case: &Case) -> Vec<RequiredPoint> {
@@ -34,19 +36,107 @@ pub fn required_points(case: &Case) -> Vec<RequiredPoint> {
         }
     }
     for (i, s) in case.sensor.iter().enumerate() {
-        add(s.x, format!("sensor[{i}].x"));
+        add(s.location().x(), format!("sensor[{i}].x"));
     }
     for (i, l) in case.load.iter().enumerate() {
-        add(l.x, format!("load[{i}].x"));
+        add(l.location().x(), format!("load[{i}].x"));
     }
     for (i, an) in case.analysis.iter().enumerate() {
         if let AnalysisSpec::Harmonic { force, .. } = an {
             for (j, f) in force.iter().enumerate() {
-                add(f.x, format!("analysis[{i}].force[{j}].x"));
+                add(f.location().x(), format!("analysis[{i}].force[{j}].x"));
             }
         }
     }
     pts
+}
+
+/// The points of a plate case that attach to the plate: every actuator foot, sensor, load,
+/// harmonic force, point support, mass and spring.
+pub fn plate_points(case: &Case, p: &PlateSpec) -> Vec<(f64, f64)> {
+    let mut pts: Vec<Location> = Vec::new();
+    for a in &case.actuator {
+        pts.extend(a.feet().into_iter().map(|f| f.1));
+    }
+    pts.extend(case.sensor.iter().map(|s| s.location()));
+    pts.extend(case.load.iter().map(|l| l.location()));
+    for an in &case.analysis {
+        if let AnalysisSpec::Harmonic { force, .. } = an {
+            pts.extend(force.iter().map(|f| f.location()));
+        }
+    }
+    let mut xy: Vec<(f64, f64)> = pts.iter().map(|l| (l.x(), l.y().unwrap_or(0.0))).collect();
+    xy.extend(p.support.iter().map(|s| (s.at[0], s.at[1])));
+    xy.extend(p.point_mass.iter().map(|s| (s.at[0], s.at[1])));
+    xy.extend(p.spring.iter().map(|s| (s.at[0], s.at[1])));
+    xy
+}
+
+/// Builds the plate alone: its grid (lines through every attachment point unless the mesh
+/// says otherwise), edges, point supports, masses and springs.
+pub fn build_plate(lc: &LoadedCase, p: &PlateSpec) -> Result<Plate> {
+    let pts = plate_points(&lc.case, p);
+    let through: &[(f64, f64)] = if p.mesh.through_points { &pts } else { &[] };
+    let [nx, ny] = p.mesh.elements;
+    let grid = Grid::through(p.length_x, p.length_y, nx, ny, through);
+    let edge = |e: EdgeSpec| match e {
+        EdgeSpec::Clamped => Edge::Clamped,
+        EdgeSpec::SimplySupported => Edge::SimplySupported,
+        EdgeSpec::Free => Edge::Free,
+    };
+    let e = p.edges;
+    let mut plate = Plate {
+        grid,
+        thickness: p.thickness,
+        youngs_modulus: p.youngs_modulus,
+        poisson_ratio: p.poisson_ratio,
+        density: p.density,
+        edges: Edges { x0: edge(e.x0), x1: edge(e.x1), y0: edge(e.y0), y1: edge(e.y1) },
+        supports: Vec::new(),
+        point_masses: Vec::new(),
+        springs: Vec::new(),
+    };
+    // Point supports, masses and springs act on one node each: with grid lines through
+    // the points they are nodes; on a uniform grid they must already be.
+    let node = |at: [f64; 2], field: String| {
+        plate.grid.node_at(at[0], at[1]).ok_or_else(|| {
+            Error::input(
+                &lc.file,
+                field,
+                format!(
+                    "(x, y) = ({}, {}) m is not a grid node (plate.mesh.through_points = false puts no grid line \
+                     through it)",
+                    at[0], at[1]
+                ),
+            )
+        })
+    };
+    for (i, s) in p.support.iter().enumerate() {
+        let kind = match s.kind {
+            PlateSupportKindSpec::Pinned => PointSupportKind::Pinned,
+            PlateSupportKindSpec::Clamped => PointSupportKind::Clamped,
+            PlateSupportKindSpec::Spring => PointSupportKind::Spring { k_w: s.k_w.unwrap_or(0.0) },
+        };
+        let n = node(s.at, format!("plate.support[{i}].at"))?;
+        plate.supports.push(PointSupport { node: n, kind });
+    }
+    for (i, m) in p.point_mass.iter().enumerate() {
+        let n = node(m.at, format!("plate.point_mass[{i}].at"))?;
+        plate.point_masses.push(PointMass { node: n, mass: m.mass, rotary_inertia: 0.0 });
+    }
+    for (i, s) in p.spring.iter().enumerate() {
+        let n = node(s.at, format!("plate.spring[{i}].at"))?;
+        plate.springs.push(GroundedSpring { node: n, stiffness: s.stiffness, damping: s.damping });
+    }
+    Ok(plate)
+}
+
+/// Builds the case's structure: its plate if it has one, else its beam.
+pub fn build_structure(lc: &LoadedCase) -> Result<Structure> {
+    match &lc.case.plate {
+        Some(p) => Ok(Structure::Plate(build_plate(lc, p)?)),
+        None => Ok(Structure::Beam(build_beam(lc)?)),
+    }
 }
 
 /// Builds the beam alone (its mesh, supports and attachments).
@@ -131,7 +221,7 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
 pub fn build_model(lc: &LoadedCase) -> Result<Model> {
     let case = &lc.case;
     let beam = match case.base {
-        BaseKind::Beam => Some(build_beam(lc)?),
+        BaseKind::Beam => Some(build_structure(lc)?),
         BaseKind::Rigid => None,
     };
     let d = &case.damping;
@@ -158,7 +248,7 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
             hysteresis_on: s.hysteresis,
         };
         let foot = match case.base {
-            BaseKind::Beam => FootBase::Beam { x: a.x_e },
+            BaseKind::Beam => FootBase::On(a.location()),
             BaseKind::Rigid => FootBase::Ground,
         };
         let name = a.effective_name(i, case.actuator.len());
@@ -173,16 +263,17 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
                 e: f.e,
                 left: Leg { k_l: f.left.k_l, c_l: f.left.c_l },
                 right: Leg { k_l: f.right.k_l, c_l: f.right.c_l },
-                x_e: matches!(foot, FootBase::Beam { .. }).then_some(a.x_e),
+                at: matches!(foot, FootBase::On(_)).then_some(a.location()),
+                direction: a.direction.to_radians(),
             }),
         });
     }
-    let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), x: s.x }).collect();
+    let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), at: s.location() }).collect();
     let mut loads = Vec::with_capacity(case.load.len());
     for (i, l) in case.load.iter().enumerate() {
         let force = l.force.build(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
-        loads.push(PointLoad { name: l.effective_name(i), x: l.x, force });
+        loads.push(PointLoad { name: l.effective_name(i), at: l.location(), force });
     }
     let roundoff_tolerance = case.beam.mesh.roundoff_tolerance;
-    Ok(Model { beam, damping, actuators, sensors, loads, roundoff_tolerance })
+    Ok(Model { structure: beam, damping, actuators, sensors, loads, roundoff_tolerance })
 }

@@ -41,8 +41,15 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
     m.attr_i64("n_dofs", run.system.n() as i64)?;
     m.attr_f64("rayleigh_a0", run.model.rayleigh().a0)?;
     m.attr_f64("rayleigh_a1", run.model.rayleigh().a1)?;
-    if let Some(b) = &run.model.beam {
-        m.write_f64("node_x", &b.mesh.x, &[b.mesh.x.len()], "m", "beam node coordinates")?;
+    if let Some(s) = &run.model.structure {
+        m.attr_str("structure", s.kind())?;
+        let at: Vec<_> = (0..s.n_nodes()).map(|n| s.node_location(n)).collect();
+        let x: Vec<f64> = at.iter().map(|a| a.x()).collect();
+        m.write_f64("node_x", &x, &[x.len()], "m", "structure node coordinates")?;
+        let y: Vec<f64> = at.iter().filter_map(|a| a.y()).collect();
+        if !y.is_empty() {
+            m.write_f64("node_y", &y, &[y.len()], "m", "plate node coordinates")?;
+        }
     }
     m.write_str_list(
         "actuators",
@@ -454,7 +461,7 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
         g.attr_i64("steps_run", r.steps_run as i64)?;
     }
     // On a rigid base nothing moves the base: no power into it, no beam to dissipate.
-    let beam = run.model.beam.is_some();
+    let beam = run.model.structure.is_some();
     if beam && r.record.is_none() {
         g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
     }

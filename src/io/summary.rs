@@ -72,7 +72,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
             a["roundoff_holds"] = json!(bound <= tolerance);
         }
     }
-    if run.model.beam.is_none() {
+    if run.model.structure.is_none() {
         analyses.iter_mut().for_each(without_beam);
     }
     for (i, a) in analyses.iter_mut().enumerate() {
@@ -81,7 +81,8 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
             a["measurements"] = Value::Array(mine);
         }
     }
-    json!({"case": lc.file, "title": lc.case.title, "base": if run.model.beam.is_some() { "beam" } else { "rigid" },
+    json!({"case": lc.file, "title": lc.case.title, "base": if run.model.structure.is_some() { "beam" } else { "rigid" },
+           "structure": run.model.structure.as_ref().map_or("none", |s| s.kind()),
            "actuators": run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>(), "analyses": analyses})
 }
 

@@ -156,7 +156,7 @@ impl<'s> Evaluator<'s> {
         let omega0 = 2.0 * PI / r.period;
         let mut sensors = Vec::new();
         for se in model.sensors.iter().filter(|_| sys.projection.is_none()) {
-            let pattern = sys.w_at(model, se.x, "sensor.x").map_err(s)?;
+            let pattern = sys.w_at(model, &se.at, "sensor.x").map_err(s)?;
             let w: Vec<Complex64> = solver.q.iter().map(|qk| pattern.iter().map(|&(d, c)| qk[d] * c).sum()).collect();
             sensors.push((se.name.clone(), w));
         }

@@ -579,7 +579,7 @@ fn modes_for(q: &Quantity, base: &BaseCase, file: &str, field: &str) -> Result<u
         dir: base.dir.clone(),
         text: String::new(),
     };
-    let beam = crate::case::build::build_beam(&lc)?;
+    let beam = crate::case::build::build_structure(&lc)?;
     let dofs = crate::analysis::modes::bare_system(&beam)?.n();
     match q {
         Quantity::ModalPower(ModeSet::Band(lo, hi)) => {

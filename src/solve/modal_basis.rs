@@ -112,7 +112,7 @@ impl Reduction {
 
 /// The bare beam's modes over the beam DOFs of an assembled system (all of them, ascending).
 pub fn beam_modes(full: &System) -> Result<Modes> {
-    crate::solve::eigen::modes(&full.k_beam, &full.m_beam, &full.dofs.beam_dofs(), usize::MAX)
+    crate::solve::eigen::modes(&full.k_beam, &full.m_beam, &full.dofs.structure_dofs(), usize::MAX)
 }
 
 /// Reduces an assembled system with the bare-beam `modes` (from [`beam_modes`]).
@@ -121,7 +121,7 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
         return Err(Error::Numerical("the system is already reduced".into()));
     }
     let n = full.n();
-    let beam_dofs = full.dofs.beam_dofs();
+    let beam_dofs = full.dofs.structure_dofs();
     if beam_dofs.is_empty() {
         return Err(Error::Numerical("modal reduction needs a beam with free DOFs".into()));
     }
@@ -389,8 +389,9 @@ fn reduced_dofs(full: &System, first_body: usize, nr: usize) -> DofMap {
     let mut next = first_body;
     DofMap {
         n: nr,
-        w: Vec::new(),
-        theta: Vec::new(),
+        kinds: &[],
+        nodes: Vec::new(),
+        structure: full.dofs.structure,
         bodies: full
             .dofs
             .bodies

@@ -160,7 +160,7 @@ impl BaseCase {
             message: e.message().trim_end().to_string(),
         })?;
         let lc = LoadedCase { case: stripped, file: self.file.clone(), dir: self.dir.clone(), text: String::new() };
-        let beam = crate::case::build::build_beam(&lc)?;
+        let beam = crate::case::build::build_structure(&lc)?;
         let d = &lc.case.damping;
         let r =
             crate::analysis::plan::rayleigh_from_ratio(&beam, d.zeta, d.modes).map_err(|e| e.in_file(&self.file))?;

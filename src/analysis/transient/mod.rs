@@ -367,7 +367,7 @@ fn add_loads(result: &mut TransientResult, model: &Model, all: &PeriodRecord, ha
         let (f, v) = (&all.lf[j][start..], &all.lv[j][start..]);
         let fh = harmonics(f);
         let hmax = harmonics_kept.min(fh.len() - 1);
-        let mut sp = LoadSpectrum::new(&l.name, l.x, (result.period, n, hmax), fh, harmonics(v));
+        let mut sp = LoadSpectrum::new(&l.name, l.at.x(), (result.period, n, hmax), fh, harmonics(v));
         // The sample mean, as the links' mean powers are taken.
         sp.power_total = mean_product(f, v);
         result.load_spectra.push(sp);

@@ -21,7 +21,7 @@ pub(super) struct Readout {
 impl Readout {
     pub fn new(model: &Model, sys: &System) -> Result<Self> {
         let sensor_rows: Vec<Vec<(usize, f64)>> =
-            model.sensors.iter().map(|se| sys.w_at(model, se.x, "sensor")).collect::<Result<_>>()?;
+            model.sensors.iter().map(|se| sys.w_at(model, &se.at, "sensor")).collect::<Result<_>>()?;
         let bodies = body_dofs(model, sys);
         let mut rows: Vec<Vec<(usize, f64)>> = Vec::new();
         for lk in &sys.links {
@@ -125,7 +125,7 @@ mod tests {
             assert_eq!(&rows[r.drive(a)], b, "drive {a}");
         }
         for (s, se) in model.sensors.iter().enumerate() {
-            assert_eq!(rows[r.sensor(s)], sys.w_at(&model, se.x, "sensor").unwrap(), "sensor {s}");
+            assert_eq!(rows[r.sensor(s)], sys.w_at(&model, &se.at, "sensor").unwrap(), "sensor {s}");
         }
         for (b, dof) in r.bodies.iter().enumerate() {
             assert_eq!(rows[r.body(b)], vec![(dof.dof, 1.0)], "body DOF {b}");

@@ -229,7 +229,8 @@ impl PeriodRecord {
             .enumerate()
             .map(|(s, se)| SensorSeries {
                 name: se.name.clone(),
-                x: se.x,
+                x: se.at.x(),
+                y: se.at.y(),
                 w: take(&mut self.sw[s]),
                 v: take(&mut self.sv[s]),
                 a: take(&mut self.sa[s]),
@@ -241,7 +242,8 @@ impl PeriodRecord {
             .enumerate()
             .map(|(j, l)| LoadSeries {
                 name: l.name.clone(),
-                x: l.x,
+                x: l.at.x(),
+                y: l.at.y(),
                 force: take(&mut self.lf[j]),
                 w: take(&mut self.lw[j]),
                 v: take(&mut self.lv[j]),

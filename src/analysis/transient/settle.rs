@@ -143,7 +143,7 @@ mod tests {
             foot_node: None,
             foot_dof: None,
             foot: Vec::new(),
-            foot_x: None,
+            foot_at: None,
             foot_mass: 0.0,
             active: false,
         }]

@@ -2,9 +2,10 @@
 
 use super::d_true;
 use super::signal::SignalSpec;
-use super::{non_negative, on_beam, positive, BaseKind};
+use super::{non_negative, on_beam, positive, Extent};
 use crate::actuator::bouc_wen::BoucWen;
 use crate::error::{Error, Result};
+use crate::structure::Location;
 use serde::{Deserialize, Serialize};
 
 /// An actuator as a case file writes it: the common fields, the stack, the drive and
@@ -13,8 +14,13 @@ use serde::{Deserialize, Serialize};
 #[serde(try_from = "ActuatorToml", into = "ActuatorToml")]
 pub struct ActuatorSpec {
     pub name: Option<String>,
-    /// Stack foot position on the beam x_E (m).
+    /// Stack foot position on a beam x_E (m).
     pub x_e: f64,
+    /// Stack foot position (x, y) on a plate (m), in place of `x_e`.
+    pub at: Option<[f64; 2]>,
+    /// A frame's in-plane direction on a plate ψ (degrees from +x): its legs stand on the
+    /// line through the stack foot along (cos ψ, sin ψ).
+    pub direction: f64,
     pub body: BodySpec,
     pub stack: StackSpec,
     pub voltage: SignalSpec,
@@ -97,8 +103,12 @@ struct ActuatorToml {
     kind: ActuatorType,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     name: Option<String>,
-    #[serde(default = "d_x_e")]
-    x_e: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    x_e: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    at: Option<[f64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    direction: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     m_t: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -128,10 +138,6 @@ struct ActuatorToml {
 enum ActuatorType {
     Inertial,
     Frame,
-}
-
-fn d_x_e() -> f64 {
-    DEFAULT_X_E
 }
 
 impl TryFrom<ActuatorToml> for ActuatorSpec {
@@ -175,7 +181,21 @@ impl TryFrom<ActuatorToml> for ActuatorSpec {
                 })
             }
         };
-        Ok(ActuatorSpec { name: t.name, x_e: t.x_e, body, stack: t.stack, voltage: t.voltage })
+        if t.at.is_some() && t.x_e.is_some() {
+            return Err("give the stack foot as `x_e` on a beam or as `at = [x, y]` on a plate, not both".into());
+        }
+        if t.direction.is_some() && t.at.is_none() {
+            return Err("`direction` turns a frame in a plate's plane; it needs `at = [x, y]`".into());
+        }
+        Ok(ActuatorSpec {
+            name: t.name,
+            x_e: t.x_e.unwrap_or(DEFAULT_X_E),
+            at: t.at,
+            direction: t.direction.unwrap_or(0.0),
+            body,
+            stack: t.stack,
+            voltage: t.voltage,
+        })
     }
 }
 
@@ -185,7 +205,9 @@ impl From<ActuatorSpec> for ActuatorToml {
         let mut t = ActuatorToml {
             kind: ActuatorType::Inertial,
             name: a.name,
-            x_e: a.x_e,
+            x_e: a.at.is_none().then_some(a.x_e),
+            at: a.at,
+            direction: (a.at.is_some() && matches!(a.body, BodySpec::Frame(_))).then_some(a.direction),
             m_t: None,
             m_b: None,
             j_b: None,
@@ -293,7 +315,28 @@ impl ActuatorSpec {
         })
     }
 
-    pub(super) fn validate(&self, file: &str, f: &str, base: BaseKind, length: f64) -> Result<()> {
+    /// Where the stack foot stands (on whichever structure the case has).
+    pub fn location(&self) -> Location {
+        match self.at {
+            Some([x, y]) => Location::Plate { x, y },
+            None => Location::Beam { x: self.x_e },
+        }
+    }
+
+    /// The feet of the actuator: the stack's, then a frame's left and right legs.
+    pub fn feet(&self) -> Vec<(&'static str, Location)> {
+        let stack = self.location();
+        match &self.body {
+            BodySpec::Inertial { .. } => vec![("stack", stack)],
+            BodySpec::Frame(fr) => {
+                let psi = self.direction.to_radians();
+                let c = stack.offset(-fr.e, psi);
+                vec![("stack", stack), ("left leg", c.offset(-fr.a, psi)), ("right leg", c.offset(fr.a, psi))]
+            }
+        }
+    }
+
+    pub(super) fn validate(&self, file: &str, f: &str, extent: Extent) -> Result<()> {
         match &self.body {
             BodySpec::Inertial { m_t } => positive(file, &format!("{f}.m_t"), *m_t)?,
             BodySpec::Frame(fr) => {
@@ -313,7 +356,10 @@ impl ActuatorSpec {
                 non_negative(file, &format!("{f}.c_l_right"), fr.right.c_l)?;
             }
         }
-        if base == BaseKind::Beam {
+        if let Extent::Beam { length } = extent {
+            if self.at.is_some() {
+                return Err(Error::input(file, format!("{f}.at"), "a beam takes the stack foot as `x_e` (m)"));
+            }
             on_beam(file, &format!("{f}.x_e"), self.x_e, length)?;
             if let BodySpec::Frame(fr) = &self.body {
                 let (left, right) = fr.leg_positions(self.x_e);
@@ -325,6 +371,20 @@ impl ActuatorSpec {
                             format!("the {leg} would stand at x = {x} m, outside the beam [0, {length}] m"),
                         ));
                     }
+                }
+            }
+        }
+        if let Extent::Plate { .. } = extent {
+            if self.at.is_none() {
+                return Err(Error::input(file, format!("{f}.at"), "a plate takes the stack foot as `at = [x, y]` (m)"));
+            }
+            if !self.direction.is_finite() {
+                return Err(Error::input(file, format!("{f}.direction"), "must be finite (degrees from +x)"));
+            }
+            for (foot, at) in self.feet() {
+                if let Err(why) = extent.holds(&at) {
+                    let field = if foot == "stack" { format!("{f}.at") } else { format!("{f}.direction") };
+                    return Err(Error::input(file, field, format!("the {foot} foot: {why}")));
                 }
             }
         }

@@ -2,9 +2,10 @@
 
 use super::d_true;
 use super::signal::SignalSpec;
-use super::{on_beam, positive, BaseKind, Case};
+use super::{positive, BaseKind, Case};
 use crate::error::{Error, Result};
 use crate::signal::sampling::require_samples;
+use crate::structure::Location;
 use serde::{Deserialize, Serialize};
 
 /// What a harmonic analysis solves: the bare beam, or the beam with its actuators attached
@@ -27,8 +28,18 @@ impl HarmonicSystem {
 #[serde(deny_unknown_fields)]
 pub struct SensorSpec {
     pub name: String,
-    /// Position on the beam (m).
-    pub x: f64,
+    /// Position on a beam (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<f64>,
+    /// Position (x, y) on a plate (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<[f64; 2]>,
+}
+
+impl SensorSpec {
+    pub fn location(&self) -> Location {
+        location(self.x, self.at)
+    }
 }
 
 /// A prescribed point force on the beam: F(t) (N, upward) at x (m), any signal the
@@ -39,13 +50,21 @@ pub struct LoadSpec {
     /// Name in results (default `load<i>`, 1-based).
     #[serde(default)]
     pub name: Option<String>,
-    /// Position on the beam (m).
-    pub x: f64,
+    /// Position on a beam (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<f64>,
+    /// Position (x, y) on a plate (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<[f64; 2]>,
     /// The force's time history (N).
     pub force: SignalSpec,
 }
 
 impl LoadSpec {
+    pub fn location(&self) -> Location {
+        location(self.x, self.at)
+    }
+
     /// The name results use: as given, or `load<i+1>`.
     pub fn effective_name(&self, i: usize) -> String {
         self.name.clone().unwrap_or_else(|| format!("load{}", i + 1))
@@ -56,11 +75,32 @@ impl LoadSpec {
 #[derive(Clone, Debug, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ForceSpec {
-    pub x: f64,
+    /// Position on a beam (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub x: Option<f64>,
+    /// Position (x, y) on a plate (m).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub at: Option<[f64; 2]>,
     #[serde(default = "d_one")]
     pub amplitude: f64,
     #[serde(default)]
     pub phase: f64,
+}
+
+impl ForceSpec {
+    pub fn location(&self) -> Location {
+        location(self.x, self.at)
+    }
+}
+
+/// A point as written: `x` on a beam or `at = [x, y]` on a plate (validation makes sure the
+/// case gives the one its structure takes; an unset coordinate reads as NaN, which the
+/// validation refuses first).
+pub fn location(x: Option<f64>, at: Option<[f64; 2]>) -> Location {
+    match (x, at) {
+        (_, Some([x, y])) => Location::Plate { x, y },
+        (x, None) => Location::Beam { x: x.unwrap_or(f64::NAN) },
+    }
 }
 
 fn d_one() -> f64 {
@@ -408,7 +448,6 @@ fn refuse_unused(file: &str, f: &str, param: &str, given: bool, scheme: SchemeKi
 impl AnalysisSpec {
     /// Checks the analysis `f` (its table path, e.g. `analysis[0]`) of `case`.
     pub(super) fn validate(&self, file: &str, f: &str, case: &Case) -> Result<()> {
-        let b = &case.beam;
         let an = self;
         let f = f.to_string();
         match an {
@@ -452,7 +491,7 @@ impl AnalysisSpec {
                     }
                 }
                 for (j, p) in force.iter().enumerate() {
-                    on_beam(file, &format!("{f}.force[{j}].x"), p.x, b.length)?;
+                    super::on_structure(file, &format!("{f}.force[{j}]"), p.x, p.at, case.extent())?;
                     if !p.amplitude.is_finite() || !p.phase.is_finite() {
                         return Err(Error::input(
                             file,

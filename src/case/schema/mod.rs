@@ -4,10 +4,12 @@
 mod actuator;
 mod analysis;
 mod beam;
+mod plate;
 
 pub use actuator::*;
 pub use analysis::*;
 pub use beam::*;
+pub use plate::*;
 
 use super::signal;
 use crate::error::{Error, Result};
@@ -26,6 +28,9 @@ pub struct Case {
     /// The beam (defaults: the paper's clamped–clamped steel beam).
     #[serde(default)]
     pub beam: BeamSpec,
+    /// A thin plate in place of the beam (spec §16).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plate: Option<PlateSpec>,
     #[serde(default)]
     pub damping: DampingSpec,
     #[serde(default)]
@@ -97,6 +102,57 @@ fn non_negative(file: &str, field: &str, v: f64) -> Result<()> {
     } else {
         Err(Error::input(file, field, format!("must be zero or positive and finite, got {v}")))
     }
+}
+
+/// What a case's points must lie on: the beam's [0, L], the plate's rectangle, or nothing
+/// (a rigid base).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Extent {
+    Rigid,
+    Beam { length: f64 },
+    Plate { lx: f64, ly: f64 },
+}
+
+impl Extent {
+    /// Whether a point lies on the structure, or why not.
+    pub fn holds(&self, at: &crate::structure::Location) -> std::result::Result<(), String> {
+        use crate::structure::Location;
+        match (*self, *at) {
+            (Extent::Beam { length }, Location::Beam { x }) if x.is_finite() && (0.0..=length).contains(&x) => Ok(()),
+            (Extent::Beam { length }, Location::Beam { x }) => {
+                Err(format!("x = {x} m is outside the beam [0, {length}] m"))
+            }
+            (Extent::Plate { lx, ly }, Location::Plate { x, y }) => {
+                let inside = |v: f64, l: f64| v.is_finite() && (0.0..=l).contains(&v);
+                if inside(x, lx) && inside(y, ly) {
+                    Ok(())
+                } else {
+                    Err(format!("{at} is outside the plate [0, {lx}] × [0, {ly}] m"))
+                }
+            }
+            (Extent::Rigid, _) => Err("the base is rigid: there is no structure to stand on".into()),
+            (Extent::Beam { .. }, _) => Err("a beam takes a position as `x` (m)".into()),
+            (Extent::Plate { .. }, _) => Err("a plate takes a position as `at = [x, y]` (m)".into()),
+        }
+    }
+}
+
+/// Checks a point written as `x` (beam) or `at` (plate) on the case's structure; `f` is the
+/// point's table, e.g. `sensor[0]`.
+fn on_structure(file: &str, f: &str, x: Option<f64>, at: Option<[f64; 2]>, extent: Extent) -> Result<()> {
+    let (field, given) = match (x, at, extent) {
+        (Some(_), Some(_), _) => {
+            return Err(Error::input(file, f, "give `x` on a beam or `at = [x, y]` on a plate, not both"))
+        }
+        (_, None, Extent::Plate { .. }) => (format!("{f}.at"), None),
+        (None, _, Extent::Beam { .. } | Extent::Rigid) => (format!("{f}.x"), None),
+        (Some(_), None, _) => (format!("{f}.x"), Some(())),
+        (None, Some(_), _) => (format!("{f}.at"), Some(())),
+    };
+    if given.is_none() {
+        return Err(Error::input(file, field, "required: the point's position on the structure"));
+    }
+    extent.holds(&analysis::location(x, at)).map_err(|why| Error::input(file, field, why))
 }
 
 fn on_beam(file: &str, field: &str, x: f64, length: f64) -> Result<()> {
@@ -200,16 +256,43 @@ impl Case {
         Ok(())
     }
 
+    /// What the case's points lie on.
+    pub fn extent(&self) -> Extent {
+        match (&self.plate, self.base) {
+            (_, BaseKind::Rigid) => Extent::Rigid,
+            (Some(p), _) => p.extent(),
+            (None, BaseKind::Beam) => Extent::Beam { length: self.beam.length },
+        }
+    }
+
     /// Checks every field; the first problem is returned, naming file and field.
     pub fn validate(&self, file: &str) -> Result<()> {
         let b = &self.beam;
         b.validate(file)?;
+        if let Some(p) = &self.plate {
+            if toml::to_string(b).ok() != toml::to_string(&BeamSpec::default()).ok() {
+                return Err(Error::input(
+                    file,
+                    "plate",
+                    "a case describes one structure: give `[beam]` or `[plate]`, not both",
+                ));
+            }
+            if self.base == BaseKind::Rigid {
+                return Err(Error::input(
+                    file,
+                    "base",
+                    "base = \"rigid\" has no structure: drop `[plate]` or the base",
+                ));
+            }
+            p.validate(file)?;
+        }
+        let extent = self.extent();
         self.damping.validate(file)?;
         for (i, a) in self.actuator.iter().enumerate() {
-            a.validate(file, &format!("actuator[{i}]"), self.base, b.length)?;
+            a.validate(file, &format!("actuator[{i}]"), extent)?;
         }
         for (i, s) in self.sensor.iter().enumerate() {
-            on_beam(file, &format!("sensor[{i}].x"), s.x, b.length)?;
+            on_structure(file, &format!("sensor[{i}]"), s.x, s.at, extent)?;
         }
         for (i, l) in self.load.iter().enumerate() {
             if self.base == BaseKind::Rigid {
@@ -219,7 +302,7 @@ impl Case {
                     "a point load acts on the beam, and base = \"rigid\" has none",
                 ));
             }
-            on_beam(file, &format!("load[{i}].x"), l.x, b.length)?;
+            on_structure(file, &format!("load[{i}]"), l.x, l.at, extent)?;
             l.force.validate(file, &format!("load[{i}].force"))?;
         }
         self.validate_names(file)?;

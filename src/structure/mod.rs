@@ -1,0 +1,244 @@
+//! The structure layer (spec §15): what every analysis sees of the structure, whatever its
+//! kind — nodes with coordinates, DOF kinds per node, elements (connectivity plus element
+//! matrices), supports, point masses and springs, and points where feet, loads and sensors
+//! attach. The beam ([`crate::beam`]) and the plate ([`crate::plate`]) are kinds of it;
+//! the beam keeps its own fast paths (its stiffness root, band kernels) behind it.
+
+pub mod location;
+pub mod ordering;
+
+pub use location::Location;
+
+use crate::beam::{element_mass, element_stiffness, Beam, SupportKind};
+use crate::plate::{element as bfs, Plate, PointSupportKind};
+
+/// A structure of any kind.
+#[derive(Clone, Debug)]
+pub enum Structure {
+    Beam(Beam),
+    Plate(Plate),
+}
+
+/// An attachment's action on the structure: its normal displacement w at a point as
+/// Σ coeff·(node DOF), each term (node, DOF kind, coeff). One term (w of a node, 1) at a
+/// node; the element's shape functions inside one.
+pub type Attachment = Vec<(usize, usize, f64)>;
+
+/// One element as the assembler sees it: its nodes (each carrying the structure's DOF kinds
+/// in order) and its stiffness and mass over those DOFs, node by node.
+pub struct ElementView<'a> {
+    pub nodes: &'a [usize],
+    pub stiffness: &'a dyn Fn(usize, usize) -> f64,
+    pub mass: &'a dyn Fn(usize, usize) -> f64,
+}
+
+impl Structure {
+    /// "beam" or "plate", for messages and the case file's table name.
+    pub fn kind(&self) -> &'static str {
+        match self {
+            Structure::Beam(_) => "beam",
+            Structure::Plate(_) => "plate",
+        }
+    }
+
+    pub fn beam(&self) -> Option<&Beam> {
+        match self {
+            Structure::Beam(b) => Some(b),
+            _ => None,
+        }
+    }
+
+    pub fn plate(&self) -> Option<&Plate> {
+        match self {
+            Structure::Plate(p) => Some(p),
+            _ => None,
+        }
+    }
+
+    pub fn n_nodes(&self) -> usize {
+        match self {
+            Structure::Beam(b) => b.mesh.n_nodes(),
+            Structure::Plate(p) => p.grid.n_nodes(),
+        }
+    }
+
+    /// The DOF kinds every node carries, in order (the first is w, the normal displacement).
+    pub fn dof_names(&self) -> &'static [&'static str] {
+        match self {
+            Structure::Beam(_) => &["w", "theta"],
+            Structure::Plate(_) => &bfs::DOF_NAMES,
+        }
+    }
+
+    /// Which of a node's DOFs its supports fix.
+    pub fn fixed(&self, node: usize) -> Vec<bool> {
+        match self {
+            Structure::Beam(b) => {
+                let (w, t) = b.fixed(node);
+                vec![w, t]
+            }
+            Structure::Plate(p) => p.fixed(node).to_vec(),
+        }
+    }
+
+    /// The order nodes are numbered in (the DOF numbering strategy): a beam along its axis;
+    /// a plate by reverse Cuthill–McKee.
+    pub fn node_order(&self) -> Vec<usize> {
+        match self {
+            Structure::Beam(b) => (0..b.mesh.n_nodes()).collect(),
+            Structure::Plate(p) => {
+                let g = &p.grid;
+                let elements: Vec<[usize; bfs::NODES]> =
+                    (0..g.ny()).flat_map(|j| (0..g.nx()).map(move |i| g.element_nodes(i, j))).collect();
+                ordering::reverse_cuthill_mckee(&ordering::adjacency(g.n_nodes(), elements.iter().map(|e| &e[..])))
+            }
+        }
+    }
+
+    /// Visits every element, in the structure's own order.
+    pub fn for_each_element(&self, mut visit: impl FnMut(ElementView)) {
+        match self {
+            Structure::Beam(b) => {
+                for e in &b.mesh.elements {
+                    let ke = element_stiffness(e.ei, e.length);
+                    let me = element_mass(e.rho_a, e.length, b.mass_kind);
+                    visit(ElementView { nodes: &e.nodes, stiffness: &|r, c| ke[(r, c)], mass: &|r, c| me[(r, c)] });
+                }
+            }
+            Structure::Plate(p) => {
+                let g = &p.grid;
+                let mut cache: Vec<((u64, u64), (bfs::ElementMatrix, bfs::ElementMatrix))> = Vec::new();
+                for j in 0..g.ny() {
+                    for i in 0..g.nx() {
+                        // Grid segments repeat element sizes: compute each size once.
+                        let key = (g.dx[i].to_bits(), g.dy[j].to_bits());
+                        let at = match cache.iter().position(|(k, _)| *k == key) {
+                            Some(at) => at,
+                            None => {
+                                cache.push((key, p.element_matrices(i, j)));
+                                cache.len() - 1
+                            }
+                        };
+                        let (ke, me) = &cache[at].1;
+                        let nodes = g.element_nodes(i, j);
+                        visit(ElementView { nodes: &nodes, stiffness: &|r, c| ke[r][c], mass: &|r, c| me[r][c] });
+                    }
+                }
+            }
+        }
+    }
+
+    /// Rigid point masses and inertias: (node, DOF kind, value) on M.
+    pub fn point_inertia(&self) -> Vec<(usize, usize, f64)> {
+        match self {
+            Structure::Beam(b) => {
+                b.point_masses.iter().flat_map(|p| [(p.node, 0, p.mass), (p.node, 1, p.rotary_inertia)]).collect()
+            }
+            Structure::Plate(p) => p.point_masses.iter().map(|m| (m.node, 0, m.mass)).collect(),
+        }
+    }
+
+    /// Elastic supports: (node, DOF kind, stiffness) on K, damped with the structure.
+    pub fn support_springs(&self) -> Vec<(usize, usize, f64)> {
+        match self {
+            Structure::Beam(b) => b
+                .supports
+                .iter()
+                .flat_map(|s| match s.kind {
+                    SupportKind::Spring { k_w, k_theta } => vec![(s.node, 0, k_w), (s.node, 1, k_theta)],
+                    _ => vec![],
+                })
+                .collect(),
+            Structure::Plate(p) => p
+                .supports
+                .iter()
+                .filter_map(|s| match s.kind {
+                    PointSupportKind::Spring { k_w } => Some((s.node, 0, k_w)),
+                    _ => None,
+                })
+                .collect(),
+        }
+    }
+
+    /// Grounded spring–dampers on w: (node, stiffness N/m, damping N·s/m), outside the
+    /// structure's own (Rayleigh) damping.
+    pub fn grounded_springs(&self) -> Vec<(usize, f64, f64)> {
+        let springs = match self {
+            Structure::Beam(b) => &b.springs,
+            Structure::Plate(p) => &p.springs,
+        };
+        springs.iter().map(|s| (s.node, s.stiffness, s.damping)).collect()
+    }
+
+    /// Where a node is.
+    pub fn node_location(&self, node: usize) -> Location {
+        match self {
+            Structure::Beam(b) => Location::Beam { x: b.mesh.x[node] },
+            Structure::Plate(p) => {
+                let (x, y) = p.grid.position(node);
+                Location::Plate { x, y }
+            }
+        }
+    }
+
+    /// How a point attaches (see [`Attachment`]): at the node there, or — on a plate, where
+    /// the point lies inside an element — through that element's shape functions, which is
+    /// exact for the finite-element model. A beam point must be a node. Errors (a reason,
+    /// for the caller to name the field) if the point is off the structure, of the other
+    /// kind, or between the beam's nodes.
+    pub fn attach(&self, at: &Location) -> std::result::Result<Attachment, String> {
+        match (self, *at) {
+            (Structure::Beam(b), Location::Beam { x }) => {
+                b.mesh.node_at(x).map(|n| vec![(n, 0, 1.0)]).ok_or_else(|| format!("x = {x} m is not on a mesh node"))
+            }
+            (Structure::Plate(p), Location::Plate { x, y }) => {
+                if let Some(n) = p.grid.node_at(x, y) {
+                    return Ok(vec![(n, 0, 1.0)]);
+                }
+                let s = p.grid.locate(x, y).ok_or_else(|| format!("{at} is outside the plate"))?;
+                let (i, j) = s.element;
+                let n = bfs::shape(p.grid.dx[i], p.grid.dy[j], s.xi, s.eta)[0];
+                let nodes = p.grid.element_nodes(i, j);
+                Ok((0..bfs::DOFS)
+                    .map(|c| (nodes[c / bfs::NODE_DOFS], c % bfs::NODE_DOFS, n[c]))
+                    .filter(|t| t.2 != 0.0)
+                    .collect())
+            }
+            (s, _) => Err(format!("{at} is not a point on a {}", s.kind())),
+        }
+    }
+
+    /// Which case fields hold the structure, for messages about an unheld motion.
+    pub fn support_fields(&self) -> &'static str {
+        match self {
+            Structure::Beam(_) => "beam.support and beam.spring",
+            Structure::Plate(_) => "plate.edges, plate.support and plate.spring",
+        }
+    }
+
+    /// Total mass of the structure itself (kg), without point masses.
+    pub fn mass(&self) -> f64 {
+        match self {
+            Structure::Beam(b) => b.mass(),
+            Structure::Plate(p) => p.mass(),
+        }
+    }
+}
+
+impl From<Beam> for Structure {
+    fn from(b: Beam) -> Self {
+        Structure::Beam(b)
+    }
+}
+
+impl From<&Beam> for Structure {
+    fn from(b: &Beam) -> Self {
+        Structure::Beam(b.clone())
+    }
+}
+
+impl From<Plate> for Structure {
+    fn from(p: Plate) -> Self {
+        Structure::Plate(p)
+    }
+}
