@@ -116,6 +116,10 @@ pub struct ModesResult {
     /// Node y coordinates (m) on a plate; empty on a beam.
     #[serde(skip)]
     pub node_y: Vec<f64>,
+    /// On a plate, every node DOF of each mode (row per mode, `node·kinds + kind`, zero
+    /// where fixed): what the plate's shape functions interpolate between nodes.
+    #[serde(skip)]
+    pub node_shapes: Vec<Vec<f64>>,
     #[serde(skip)]
     pub shapes_w: Vec<Vec<f64>>,
     /// The modes of the beam with its actuators attached, beside the bare beam's (a model
@@ -264,7 +268,17 @@ pub fn run(structure: &Structure, count: usize) -> Result<ModesResult> {
             sys.dofs.w_dofs().map(|d| d.map_or(0.0, |d| g[d])).collect()
         })
         .collect();
+    let node_shapes = match structure {
+        Structure::Plate(_) => (0..modes.count())
+            .map(|r| {
+                let g = modes.shape_global(r, sys.n());
+                sys.dofs.nodes.iter().map(|d| d.map_or(0.0, |d| g[d])).collect()
+            })
+            .collect(),
+        Structure::Beam(_) => Vec::new(),
+    };
     Ok(ModesResult {
+        node_shapes,
         frequencies_hz: f,
         analytic_hz: analytic,
         relative_error,

@@ -33,6 +33,16 @@ impl Figure for BarChart {
         self.render(path)
     }
 }
+impl Figure for super::plot::HeatMap {
+    fn render_to(&self, path: &Path) -> Result<()> {
+        self.render(path)
+    }
+}
+impl Figure for super::plot::MapGrid {
+    fn render_to(&self, path: &Path) -> Result<()> {
+        self.render(path)
+    }
+}
 
 /// Writes `dir/name.<ext>` in each figure format (PNG and SVG unless `--formats` says
 /// otherwise); returns the paths.
@@ -271,13 +281,20 @@ pub fn analysis_tags(run: &CaseRun) -> Vec<String> {
 /// The standard figures of `run`: one set per analysis, named `<stem>_<analysis type>…`.
 pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
+    let plate = run.model.structure.as_ref().and_then(|s| s.plate());
+    if let Some(p) = plate {
+        out.extend(super::plate::layout_figure(dir, stem, p, run)?);
+    }
     for (r, kind) in run.results.iter().zip(analysis_tags(run)) {
         let tag = format!("{stem}_{kind}");
         match r {
-            AnalysisResult::Modes(m) => {
-                out.extend(save(&modes_figure(m), dir, &tag)?);
-                out.extend(super::coupled::modes_figure(dir, &tag, m)?);
-            }
+            AnalysisResult::Modes(m) => match plate {
+                Some(p) => out.extend(super::plate::modes_figure(dir, &tag, p, m)?),
+                None => {
+                    out.extend(save(&modes_figure(m), dir, &tag)?);
+                    out.extend(super::coupled::modes_figure(dir, &tag, m)?);
+                }
+            },
             AnalysisResult::Harmonic(h) => {
                 if let Some(fig) = harmonic_figure(h) {
                     out.extend(save(&fig, dir, &tag)?);

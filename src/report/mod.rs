@@ -12,6 +12,7 @@ pub mod html;
 pub mod identify;
 pub mod measured;
 pub mod optimize;
+pub mod plate;
 pub mod plot;
 pub mod run_page;
 pub mod sweep;

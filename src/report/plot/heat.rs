@@ -8,7 +8,8 @@ use plotters::prelude::*;
 use super::axis::{fit_range, linear_ticks, Axis};
 use super::text::plain;
 use super::{
-    check_values, de, font, titled, x_label_height, y_label_width, DrawResult, Drawable, HeatMap, DESC_PX, TICK_PX,
+    check_values, de, font, titled, x_label_height, y_label_width, DrawResult, Drawable, HeatMap, MapGrid, DESC_PX,
+    TICK_PX,
 };
 use crate::error::{Error, Result};
 
@@ -36,6 +37,15 @@ fn viridis(t: f64) -> RGBColor {
     RGBColor(mix(a.0, b.0), mix(a.1, b.1), mix(a.2, b.2))
 }
 
+/// Blue–white–red for `t` in [0, 1] (clamped), white at ½: a signed field's two signs
+/// apart, zero (a nodal line) white. Endpoints from ColorBrewer's RdBu.
+fn diverging(t: f64) -> RGBColor {
+    let t = t.clamp(0.0, 1.0);
+    let (end, s) = if t < 0.5 { ((33.0, 102.0, 172.0), 1.0 - 2.0 * t) } else { ((178.0, 24.0, 43.0), 2.0 * t - 1.0) };
+    let mix = |e: f64| (255.0 + s * (e - 255.0)).round() as u8;
+    RGBColor(mix(end.0), mix(end.1), mix(end.2))
+}
+
 /// Cell edges from cell centres: midpoints inside, half a step beyond the ends.
 fn edges(c: &[f64]) -> Vec<f64> {
     if c.len() == 1 {
@@ -50,9 +60,24 @@ fn edges(c: &[f64]) -> Vec<f64> {
 }
 
 impl HeatMap {
+    /// The colour of a value already mapped to [0, 1].
+    fn colour(&self, t: f64) -> RGBColor {
+        if self.diverging {
+            diverging(t)
+        } else {
+            viridis(t)
+        }
+    }
+
     /// Colour-scale range (data units) and the map from `z` to [0, 1].
     fn z_scale(&self) -> ((f64, f64), impl Fn(f64) -> f64) {
-        let (lo, hi) = fit_range(self.z.iter().copied(), self.log_z, 0.0, false);
+        let (lo, hi) = if self.diverging {
+            let m = self.z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let m = if m > 0.0 { m } else { 1.0 };
+            (-m, m)
+        } else {
+            fit_range(self.z.iter().copied(), self.log_z, 0.0, false)
+        };
         let log = self.log_z;
         let tf = move |v: f64| if log { v.log10() } else { v };
         let (a, b) = (tf(lo), tf(hi));
@@ -92,9 +117,10 @@ impl Drawable for HeatMap {
         } else {
             Axis::linear(zlo, zhi, &self.z_label, true)
         };
-        // Colour bar strip: 40 px of gradient plus its labels on the right.
+        // Colour bar strip: 40 px of gradient plus its labels on the right (none for a
+        // map that is only a drawing: no `z_label`).
         let bar_labels = y_label_width(root, &az.samples());
-        let bar_w = bar_labels + 56;
+        let bar_w = if self.z_label.is_empty() { 0 } else { bar_labels + 56 };
         let (w, _) = body.dim_in_pixel();
         let (main, bar) = body.split_horizontally(w.saturating_sub(bar_w));
         let (xe, ye) = (edges(&self.x), edges(&self.y));
@@ -122,10 +148,29 @@ impl Drawable for HeatMap {
         let nx = self.x.len();
         let cells = self.z.iter().enumerate().map(|(k, &z)| {
             let (i, j) = (k % nx, k / nx);
-            Rectangle::new([(xe[i], ye[j]), (xe[i + 1], ye[j + 1])], viridis(unit(z)).filled())
+            Rectangle::new([(xe[i], ye[j]), (xe[i + 1], ye[j + 1])], self.colour(unit(z)).filled())
         });
         c.draw_series(cells).map_err(de)?;
+        for line in &self.lines {
+            c.draw_series(std::iter::once(PathElement::new(line.clone(), BLACK.stroke_width(2)))).map_err(de)?;
+        }
+        for m in &self.marks {
+            let area = c.plotting_area().strip_coord_spec();
+            let (bx, by) = area.get_base_pixel();
+            let (px, py) = c.backend_coord(&(m.x, m.y));
+            let at = (px - bx, py - by);
+            m.marker.draw(&area, at, BLACK)?;
+            if !m.label.is_empty() {
+                // Labels of points in the right third go to their left, inside the map.
+                let (w, _) = area.dim_in_pixel();
+                let (dx, pos) = if at.0 > 2 * w as i32 / 3 { (-9, super::HPos::Right) } else { (9, super::HPos::Left) };
+                super::text::draw(&area, &m.label, (at.0 + dx, at.1 - 12), TICK_PX, pos, false)?;
+            }
+        }
 
+        if self.z_label.is_empty() {
+            return Ok(());
+        }
         let mut cb = ChartBuilder::on(&bar);
         cb.margin(12)
             .margin_left(4)
@@ -136,11 +181,31 @@ impl Drawable for HeatMap {
         let label = plain(&az.label);
         if self.log_z {
             let c = cb.build_cartesian_2d(0f64..1f64, az.log_coord()).map_err(de)?;
-            colour_bar(c, &label, &unit, fz, |t| zlo * (zhi / zlo).powf(t))
+            colour_bar(c, &label, &unit, &|t| self.colour(t), fz, |t| zlo * (zhi / zlo).powf(t))
         } else {
             let c = cb.build_cartesian_2d(0f64..1f64, zlo..zhi).map_err(de)?;
-            colour_bar(c, &label, &unit, fz, |t| zlo + t * (zhi - zlo))
+            colour_bar(c, &label, &unit, &|t| self.colour(t), fz, |t| zlo + t * (zhi - zlo))
         }
+    }
+}
+
+impl Drawable for MapGrid {
+    fn size(&self) -> (u32, u32) {
+        let rows = self.panels.len().div_ceil(self.columns.max(1)) as u32;
+        let (w, h) = self.panels.first().map_or((600, 420), |p| p.size);
+        (w * self.columns.max(1) as u32, h * rows.max(1) + 60)
+    }
+    fn validate(&self, file: &str) -> Result<()> {
+        self.panels.iter().try_for_each(|p| p.validate(file))
+    }
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
+        let body = titled(root, &self.title)?;
+        let cols = self.columns.max(1);
+        let rows = self.panels.len().div_ceil(cols).max(1);
+        for (p, area) in self.panels.iter().zip(body.split_evenly((rows, cols))) {
+            p.draw(&area)?;
+        }
+        Ok(())
     }
 }
 
@@ -150,6 +215,7 @@ fn colour_bar<DB, Y>(
     mut c: ChartContext<'_, DB, Cartesian2d<RangedCoordf64, Y>>,
     label: &str,
     unit: &dyn Fn(f64) -> f64,
+    colour: &dyn Fn(f64) -> RGBColor,
     fy: impl Fn(&f64) -> String,
     at: impl Fn(f64) -> f64,
 ) -> DrawResult
@@ -159,7 +225,7 @@ where
 {
     let slices = (0..256).map(|k| {
         let (a, b) = (at(k as f64 / 256.0), at((k + 1) as f64 / 256.0));
-        Rectangle::new([(0.0, a), (1.0, b)], viridis(unit(0.5 * (a + b))).filled())
+        Rectangle::new([(0.0, a), (1.0, b)], colour(unit(0.5 * (a + b))).filled())
     });
     c.draw_series(slices).map_err(de)?;
     c.configure_mesh()

@@ -429,7 +429,41 @@ pub struct HeatMap {
     pub z_label: String,
     /// Logarithmic colour scale (all `z` must then be positive).
     pub log_z: bool,
+    /// A signed field (a mode shape): a diverging scale, blue below zero and red above,
+    /// symmetric about zero, white at zero.
+    pub diverging: bool,
+    /// Polylines drawn over the map (m): nodal lines, an outline.
+    pub lines: Vec<Vec<(f64, f64)>>,
+    /// Points marked and labelled on the map: actuator feet, sensors, an optimum.
+    pub marks: Vec<MapMark>,
     pub size: (u32, u32),
+}
+
+/// A labelled point on a [`HeatMap`].
+#[derive(Clone, Debug)]
+pub struct MapMark {
+    pub x: f64,
+    pub y: f64,
+    pub label: String,
+    pub marker: Marker,
+}
+
+/// Heat maps side by side (small multiples: a plate's mode shapes), `columns` per row.
+#[derive(Clone, Debug)]
+pub struct MapGrid {
+    pub title: String,
+    pub panels: Vec<HeatMap>,
+    pub columns: usize,
+}
+
+impl MapGrid {
+    pub fn render(&self, path: impl AsRef<Path>) -> Result<()> {
+        render_figure(self, path.as_ref())
+    }
+
+    pub fn svg(&self, name: &str) -> Result<String> {
+        svg_string(self, name)
+    }
 }
 
 impl HeatMap {
@@ -448,6 +482,9 @@ impl HeatMap {
             z: Vec::new(),
             z_label: z_label.into(),
             log_z: false,
+            diverging: false,
+            lines: Vec::new(),
+            marks: Vec::new(),
             size: (1000, 700),
         }
     }
