@@ -330,3 +330,37 @@ fn actuators_on_the_plate_match_the_coupled_navier_model() {
         }
     }
 }
+
+/// The transient on the plate (a linear inertial actuator, run until settled) against the
+/// frequency-domain steady state at the frequency the average-acceleration scheme responds
+/// at, ω' = (2/Δt)·tan(ωΔt/2).
+#[test]
+fn transient_matches_the_steady_state_at_the_newmark_frequency() {
+    use beamflow::analysis::case_run::AnalysisResult;
+    let (hz, steps) = (83.0, 128usize);
+    let dt = 1.0 / (hz * steps as f64);
+    let warped = (2.0 / dt) * (PI * hz * dt).tan() / (2.0 * PI);
+    let text = |f: f64, analysis: &str| {
+        plate_case(
+            "simply_supported",
+            16,
+            12,
+            &format!(
+                "[damping]\nkind = \"rayleigh\"\na0 = 40.0\na1 = 2.0e-5\n\
+                 [[actuator]]\ntype = \"inertial\"\nat = [0.17, 0.23]\n[actuator.stack]\nhysteresis = false\n\
+                 [actuator.voltage]\nkind = \"sine\"\namplitude = 20.0\nfrequency = {f}\n{analysis}"
+            ),
+        )
+    };
+    let transient = format!(
+        "[[analysis]]\ntype = \"transient\"\nsteps_per_period = {steps}\nmax_periods = 400\ntolerance = 1e-7\n"
+    );
+    let steady = "[[analysis]]\ntype = \"steady_state\"\nharmonics = 1\n";
+    let run = |t: String| beamflow::app::runner::run_case(&case(&t)).unwrap();
+    let (tr, ss) = (run(text(hz, &transient)), run(text(warped, steady)));
+    let (AnalysisResult::Transient(t), AnalysisResult::SteadyState(s)) = (&tr.results[0], &ss.results[0]) else {
+        panic!("a transient and a steady state")
+    };
+    let (pt, ps) = (t.mean_power[0], s.mean_power[0]);
+    assert!(rel(pt, ps) < 1e-4, "transient {pt:e} W vs steady state at {warped} Hz {ps:e} W");
+}

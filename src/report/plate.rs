@@ -30,7 +30,11 @@ pub fn sample(plate: &Plate, dofs: &[f64]) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
         for &(i, xi, _) in &cx {
             let n = bfs::shape(g.dx[i], g.dy[j], xi, eta)[0];
             let nodes = g.element_nodes(i, j);
-            z.push((0..bfs::DOFS).map(|c| n[c] * dofs[nodes[c / bfs::NODE_DOFS] * bfs::NODE_DOFS + c % bfs::NODE_DOFS]).sum());
+            z.push(
+                (0..bfs::DOFS)
+                    .map(|c| n[c] * dofs[nodes[c / bfs::NODE_DOFS] * bfs::NODE_DOFS + c % bfs::NODE_DOFS])
+                    .sum(),
+            );
         }
     }
     (cx.iter().map(|c| c.2).collect(), cy.iter().map(|c| c.2).collect(), z)
@@ -54,8 +58,10 @@ pub fn zero_lines(x: &[f64], y: &[f64], z: &[f64]) -> Vec<Vec<(f64, f64)>> {
                 (x[i + 1], y[j + 1], at(i + 1, j + 1)),
                 (x[i], y[j + 1], at(i, j + 1)),
             ];
-            let crossings: Vec<(f64, f64)> =
-                (0..4).filter(|&k| (c[k].2 < 0.0) != (c[(k + 1) % 4].2 < 0.0)).map(|k| cut(c[k], c[(k + 1) % 4])).collect();
+            let crossings: Vec<(f64, f64)> = (0..4)
+                .filter(|&k| (c[k].2 < 0.0) != (c[(k + 1) % 4].2 < 0.0))
+                .map(|k| cut(c[k], c[(k + 1) % 4]))
+                .collect();
             // Two crossings: one segment; four (a saddle): pair them around the corners.
             for pair in crossings.chunks_exact(2) {
                 out.push(vec![pair[0], pair[1]]);
@@ -130,7 +136,12 @@ pub fn layout_figure(dir: &Path, stem: &str, plate: &Plate, run: &CaseRun) -> Re
     ]);
     for (node, _) in plate.supports.iter().map(|s| (s.node, ())) {
         let (x, y) = plate.grid.position(node);
-        h.marks.push(MapMark { x, y, label: "support".into(), marker: Marker { shape: super::plot::Shape::Square, hollow: false } });
+        h.marks.push(MapMark {
+            x,
+            y,
+            label: "support".into(),
+            marker: Marker { shape: super::plot::Shape::Square, hollow: false },
+        });
     }
     for lk in &run.system.links {
         let Some(at) = lk.foot_at else { continue };
