@@ -4,6 +4,7 @@
 
 mod background;
 mod case;
+mod commands;
 mod convert;
 mod errors;
 mod results;
@@ -30,5 +31,13 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::read_sweep_table, m)?)?;
     m.add_function(wrap_pyfunction!(cli_main, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::run_optimize, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::sweep_into, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::merge, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::paper, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::identify_dp, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::identify_bouc_wen, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::identify_modal, m)?)?;
+    m.add_function(wrap_pyfunction!(commands::synth, m)?)?;
     Ok(())
 }
