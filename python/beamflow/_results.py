@@ -177,6 +177,23 @@ class Analysis(Group):
             raise KeyError(f"{self.path}: no table {name!r} (there are {', '.join(tables) or 'none'})")
         return tables[name]
 
+    def to_xarray(self) -> Any:
+        """This analysis as an xarray Dataset (xarray is an optional dependency): the same
+        numbers on named dimensions, each variable with ``units`` and ``long_name``.
+
+        Steady state and transient: dimensions ``t``, ``link``, ``actuator``, ``harmonic``
+        (coordinate ``frequency``, Hz), ``drive``, ``sensor``, ``load`` and, for the modal
+        tables, ``mode`` (coordinate ``mode_frequency``); variables ``net_power``
+        (actuator), ``mean_power`` (link), the links' time histories by their dataset name
+        (``power``, ``transmitted``, … over link × t), their spectra as ``spectrum_<name>``
+        (link × harmonic), ``drive_<name>``, ``sensor_<name>``, ``load_<name>``,
+        ``<body>_q`` and ``modal_<name>``. Harmonic: ``mobility`` (frequency × point ×
+        force_point), ``velocity``, ``input_power`` and the balance. Modes: ``frequency``
+        and ``shape_w`` (mode × node, coordinate ``x``)."""
+        from ._xarray import to_dataset
+
+        return to_dataset(self)
+
     @property
     def settled(self) -> Optional[bool]:
         """Whether a transient that was to run until its start-up transient died away did
@@ -364,6 +381,11 @@ class Results(Group):
                 for name, columns in self._tree.tables().items()
             }
         return dict(self._tables)
+
+    def to_xarray(self) -> Dict[str, Any]:
+        """Every analysis as an xarray Dataset (:meth:`Analysis.to_xarray`), by group name
+        (``analysis_0_steady_state``, …)."""
+        return {a.path.strip("/"): a.to_xarray() for a in self.analyses}
 
     @property
     def warnings(self) -> List[str]:
