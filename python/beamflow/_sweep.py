@@ -100,6 +100,7 @@ def sweep(
     plots: bool = True,
     max_memory: Optional[Size] = None,
     max_steps: Optional[Size] = None,
+    client: Any = None,
 ) -> Any:
     """Runs a parameter sweep (``docs/sweeps.md``) on the library's parallel runner.
 
@@ -127,6 +128,12 @@ def sweep(
     report.html beside the table. ``max_memory`` (e.g. ``"8G"``) and ``max_steps`` bound
     what one case may take and how many cases there may be.
 
+    With a Dask ``client`` (``distributed.Client``) the cases are spread over its workers:
+    the sweep is cut into shards, each run by the library on a worker, and the shard tables
+    joined by the library's merge, so the table is the one a single process gives, bit for
+    bit (with ``out``, written there; ``threads`` is then per worker). The case files the
+    sweep names must be readable by the workers at the same paths.
+
     ``progress=True`` shows a bar of the cases done (tqdm's if installed); a callable is
     called with each change. Ctrl-C stops the cases being solved at their next step and
     raises :class:`beamflow.SweepInterrupted` (a ``KeyboardInterrupt``) whose ``table``
@@ -138,6 +145,14 @@ def sweep(
     cb, close = callback(progress)
     try:
         with as_arguments():
+            if client is not None:
+                if shard is not None:
+                    raise InputError("<arguments>", "shard", "a sweep on a Dask `client` makes its own shards")
+                from ._dask import sweep_on
+
+                table = SweepTable(sweep_on(client, text, name, directory, threads, budget, cb,
+                                            None if out is None else Path(out), csv, plots))
+                return _result(table, as_frame)
             if out is None:
                 if shard is not None or csv:
                     field = "shard" if shard is not None else "csv"
