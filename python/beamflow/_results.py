@@ -463,6 +463,19 @@ class Results(Group):
         self._tree.write_hdf5(p)
         return p
 
+    @property
+    def plot(self) -> Any:
+        """The figures :meth:`write_figures` draws, as matplotlib figures (a
+        :class:`beamflow._plot.Plots`: ``res.plot.time()``, ``res.plot.spectrum(actuator=…)``,
+        ``res.plot["steady_state_frame_loop"]``, ``res.plot.names``)."""
+        if self._run is None:
+            raise AttributeError("figures are drawn from a run (Case.run()), not from a results file")
+        from ._plot import Plots
+
+        if getattr(self, "_plots", None) is None:
+            self._plots = Plots(self._run)
+        return self._plots
+
     def write_figures(self, directory: Union[str, "os.PathLike[str]"], stem: Optional[str] = None) -> List[Path]:
         """Draws the command line's figures of this run (PNG and SVG) into ``directory``;
         ``stem`` prefixes the file names (default: the case file's stem)."""

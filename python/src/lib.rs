@@ -6,6 +6,7 @@ mod background;
 mod case;
 mod commands;
 mod convert;
+mod drawings;
 mod errors;
 mod results;
 mod sweep;

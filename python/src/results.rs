@@ -120,6 +120,13 @@ impl NativeRun {
         })
     }
 
+    /// The figures `write_figures` draws, as `[(name, description)]` (see `drawings`).
+    fn drawings<'py>(&self, py: Python<'py>) -> PyResult<Vec<(String, Bound<'py, PyDict>)>> {
+        let run = self.run.clone();
+        let kept = background::run(py, move || beamflow::report::figures::run_drawings(&run))?;
+        kept.iter().map(|(name, d)| Ok((name.clone(), crate::drawings::drawing(py, d)?))).collect()
+    }
+
     /// The case file the run came from, as messages name it.
     #[getter]
     fn case_file(&self) -> String {
