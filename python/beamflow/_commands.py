@@ -180,6 +180,7 @@ def optimize(
     (or an exception from the callable) stops the candidates being solved at their next
     step and raises ``KeyboardInterrupt``.
     """
+    check_numbers(whole={"threads": threads})
     text, name, directory, cleanup = spec_text(spec, base_dir)
     cb, close = callback(progress)
     try:
@@ -259,9 +260,10 @@ def synth(
     ``samples`` (per file), ``truth`` (the parameters the records were made with) and
     ``report`` (what the command line prints).
     """
-    for name, value in (("seed", seed), ("periods", periods), ("samples_per_period", samples_per_period),
-                        ("hits", hits), ("digits", digits)):
-        _whole(name, value)
+    check_numbers(
+        whole={"seed": seed, "periods": periods, "samples_per_period": samples_per_period, "hits": hits, "digits": digits},
+        real={"noise": noise, "voltage_noise": voltage_noise, "offset": offset, "mass": mass},
+    )
     with contextlib.ExitStack() as stack:
         if isinstance(case, Case):
             tmp = stack.enter_context(tempfile.TemporaryDirectory(prefix="beamflow-synth-"))
@@ -277,12 +279,16 @@ def synth(
     return raw
 
 
-def _whole(name: str, value: Any) -> None:
-    """A whole-number argument: the library takes it unsigned, so a negative one is refused
-    here, naming the argument."""
-    if value is None:
-        return
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise InputError("<arguments>", name, f"give a whole number, not {value!r}")
-    if value < 0:
-        raise InputError("<arguments>", name, f"{value} is negative: give a whole number from 0")
+def check_numbers(whole: Optional[Mapping[str, Any]] = None, real: Optional[Mapping[str, Any]] = None) -> None:
+    """Arguments of the wrong type, and whole numbers below zero (the library takes them
+    unsigned), refused here naming the argument; the library checks their ranges."""
+    for name, value in (whole or {}).items():
+        if value is None:
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+            raise InputError("<arguments>", name, f"give a whole number, not {value!r}")
+        if value < 0:
+            raise InputError("<arguments>", name, f"{value} is negative: give a whole number from 0")
+    for name, value in (real or {}).items():
+        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating))):
+            raise InputError("<arguments>", name, f"give a number, not {value!r}")

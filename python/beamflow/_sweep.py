@@ -12,7 +12,7 @@ from . import _native
 from ._case import Case
 from ._progress import ProgressArg, callback
 from ._results import Quantity
-from ._commands import Size, as_arguments, budget_text, spec_text
+from ._commands import Size, as_arguments, budget_text, check_numbers, spec_text
 from .errors import InputError, SweepInterrupted
 
 __all__ = ["SweepTable", "sweep", "read_sweep_table"]
@@ -140,6 +140,7 @@ def sweep(
     holds the cases finished (with ``out``: a ``KeyboardInterrupt``, the finished cases
     being in the checkpoints).
     """
+    check_numbers(whole={"threads": threads})
     text, name, directory, cleanup = spec_text(spec, base_dir)
     budget = (budget_text(max_memory, "max_memory"), budget_text(max_steps, "max_steps"))
     cb, close = callback(progress)

@@ -20,7 +20,7 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _native
-from ._commands import PathLike, Size, _whole, as_arguments, budget_text
+from ._commands import PathLike, Size, as_arguments, budget_text, check_numbers
 from .errors import InputError
 
 __all__ = ["Identification", "Measurement", "dp", "bouc_wen", "modal"]
@@ -99,6 +99,7 @@ def dp(
     ``align=False`` pairs samples by index. With ``out``, writes ``dp.toml``, ``dp.json``
     and (``plots``) the figure there.
     """
+    check_numbers(real={"k_p": k_p, "offset_tolerance": offset_tolerance, "uniform_tolerance": uniform_tolerance})
     with _sources(first=first, second=second) as f, as_arguments():
         raw = _native.identify_dp(
             f["first"], f["second"], k_p, offset_tolerance, align, _out(out), plots, uniform_tolerance
@@ -130,11 +131,12 @@ def bouc_wen(
     fitted from the record's end; ``particles`` (30) and ``max_iterations`` (400) size the
     swarm.
     """
-    for name, value in (("cycles", cycles), ("particles", particles), ("max_iterations", max_iterations)):
-        _whole(name, value)
     seeds = list(seeds)
-    for k, s in enumerate(seeds):
-        _whole(f"seeds[{k}]", s)
+    check_numbers(
+        whole={"cycles": cycles, "particles": particles, "max_iterations": max_iterations,
+               **{f"seeds[{k}]": s for k, s in enumerate(seeds)}},
+        real={"d_p": d_p, "k_p": k_p, "period": period, "uniform_tolerance": uniform_tolerance},
+    )
     with _sources(file=file) as f, as_arguments():
         raw = _native.identify_bouc_wen(
             f["file"], d_p, target, k_p, seeds, period, cycles, particles, max_iterations, _out(out), plots,
@@ -165,12 +167,15 @@ def modal(
     of the fragment, ``band`` (F1, F2) in Hz the fits' band; the rest as the command line's
     flags. ``values["parameters"]`` holds k and c.
     """
-    for name, value in (("modes", modes), ("use_mode", use_mode), ("segment", segment)):
-        _whole(name, value)
     if band is not None:
         band = tuple(band)  # type: ignore[assignment]
         if len(band) != 2:
             raise InputError("<arguments>", "band", f"give two frequencies (F1, F2) in Hz, not {band!r}")
+    check_numbers(
+        whole={"modes": modes, "use_mode": use_mode, "segment": segment},
+        real={"mass": mass, "exp_window": exp_window, "force_window": force_window, "min_coherence": min_coherence,
+              "uniform_tolerance": uniform_tolerance, **{f"band[{k}]": f for k, f in enumerate(band or ())}},
+    )
     with _sources(file=file) as f, as_arguments():
         raw = _native.identify_modal(
             f["file"], mass, modes, band, element, use_mode, segment, exp_window, force_window, min_coherence,
