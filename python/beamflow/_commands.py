@@ -9,14 +9,14 @@ import csv
 import io
 import json
 import os
-import re
 import tempfile
 from pathlib import Path
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from . import _native
+from ._arguments import Size, as_arguments, budget_text, check_numbers
 from ._case import Case
 from ._progress import ProgressArg, callback
 from .errors import InputError, IoError
@@ -24,39 +24,6 @@ from .errors import InputError, IoError
 __all__ = ["OptimizeResult", "optimize", "merge", "paper", "synth"]
 
 PathLike = Union[str, "os.PathLike[str]"]
-#: A budget: a size such as ``"8G"`` or a number of bytes; a count such as ``1e9``.
-Size = Union[int, str]
-
-_FLAG = re.compile(r"--([a-z][a-z0-9-]*)")
-
-
-def _argument(flag: str) -> str:
-    """The Python argument of a command-line flag: ``--max-memory`` → ``max_memory``."""
-    return _FLAG.sub(lambda m: m.group(1).replace("-", "_"), flag)
-
-
-@contextlib.contextmanager
-def as_arguments() -> Iterator[None]:
-    """Re-raises the library's input errors naming the Python arguments where they name
-    the command line's flags."""
-    try:
-        yield
-    except InputError as e:
-        if e.file != "<cli>" and not _FLAG.search(e.field + e.reason):
-            raise
-        file = "<arguments>" if e.file == "<cli>" else e.file
-        raise type(e)(file, _argument(e.field), _argument(e.reason)) from None
-
-
-def budget_text(value: Optional[Size], name: str) -> Optional[str]:
-    """A budget argument as the text the library parses."""
-    if value is None:
-        return None
-    if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-        raise InputError("<arguments>", name, f"give a number or a text such as \"8G\", not {type(value).__name__}")
-    if isinstance(value, float) and value.is_integer():
-        value = int(value)
-    return str(value)
 
 
 def spec_text(spec: Union[PathLike, Mapping[str, Any]], base_dir: Optional[PathLike], field: str = "base") -> Any:
@@ -277,18 +244,3 @@ def synth(
     raw["files"] = [Path(p) for p in raw["files"]]
     raw["truth"] = json.loads(raw["truth"])
     return raw
-
-
-def check_numbers(whole: Optional[Mapping[str, Any]] = None, real: Optional[Mapping[str, Any]] = None) -> None:
-    """Arguments of the wrong type, and whole numbers below zero (the library takes them
-    unsigned), refused here naming the argument; the library checks their ranges."""
-    for name, value in (whole or {}).items():
-        if value is None:
-            continue
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-            raise InputError("<arguments>", name, f"give a whole number, not {value!r}")
-        if value < 0:
-            raise InputError("<arguments>", name, f"{value} is negative: give a whole number from 0")
-    for name, value in (real or {}).items():
-        if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating))):
-            raise InputError("<arguments>", name, f"give a number, not {value!r}")

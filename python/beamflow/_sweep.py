@@ -9,10 +9,10 @@ from typing import Any, Dict, Iterator, Mapping, Optional, Union
 import numpy as np
 
 from . import _native
-from ._case import Case
 from ._progress import ProgressArg, callback
 from ._results import Quantity
-from ._commands import Size, as_arguments, budget_text, check_numbers, spec_text
+from ._arguments import Size, as_arguments, budget_text, check_numbers
+from ._commands import spec_text
 from .errors import InputError, SweepInterrupted
 
 __all__ = ["SweepTable", "sweep", "read_sweep_table"]

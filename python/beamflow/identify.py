@@ -20,7 +20,8 @@ from typing import Any, Dict, List, Mapping, Optional, Sequence, Tuple, Union
 import numpy as np
 
 from . import _native
-from ._commands import PathLike, Size, as_arguments, budget_text, check_numbers
+from ._arguments import Size, as_arguments, budget_text, check_numbers
+from ._commands import PathLike
 from .errors import InputError
 
 __all__ = ["Identification", "Measurement", "dp", "bouc_wen", "modal"]

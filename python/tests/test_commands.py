@@ -319,3 +319,15 @@ def test_synth_equals_the_cli(cli: Path, tmp_path: Path, kind: str) -> None:
     for f, g in zip(r["files"], again["files"]):
         data = lambda p: [l for l in p.read_text(encoding="utf-8").splitlines() if not l.startswith("#")]
         assert data(f) == data(g)
+
+
+def test_a_case_runs_and_checks_within_a_budget() -> None:
+    case = beamflow.Case.from_file("cases/beam-frame-12V-60Hz.toml")
+    for call in (lambda: case.run(max_steps=10), lambda: case.check(max_steps=10)):
+        with pytest.raises(beamflow.InputError) as e:
+            call()
+        assert "max_steps" in e.value.reason and "--" not in str(e.value), e.value
+    with pytest.raises(beamflow.InputError) as e:
+        case.run(max_memory="lots")
+    assert e.value.field == "max_memory"
+    assert case.check(max_memory="64G", max_steps=1e12)["dofs"] > 0
