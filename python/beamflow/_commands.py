@@ -133,6 +133,7 @@ def optimize(
     max_steps: Optional[Size] = None,
     as_frame: Optional[bool] = None,
     progress: ProgressArg = None,
+    client: Any = None,
 ) -> OptimizeResult:
     """Runs an optimisation (``docs/optimize.md``), as ``beamflow optimize`` does.
 
@@ -143,12 +144,24 @@ def optimize(
     ``max_steps`` bound what it may take, as the command line's ``--max-memory`` and
     ``--max-steps``. The result does not depend on ``threads``.
 
+    With a Dask ``client`` (``distributed.Client``) the search runs here and every
+    candidate is solved on a worker of its cluster by the library's evaluator: the same
+    optimisation, bit for bit; ``threads`` (default: the cluster's worker threads) is then
+    how many candidates are out at once. The files the optimisation names must be readable
+    by the workers at the same paths.
+
     ``progress=True`` shows a bar of the evaluations; a callable gets each change. Ctrl-C
     (or an exception from the callable) stops the candidates being solved at their next
     step and raises ``KeyboardInterrupt``.
     """
     check_numbers(whole={"threads": threads})
     text, name, directory, cleanup = spec_text(spec, base_dir)
+    remote = None
+    if client is not None:
+        from ._dask import cluster_threads, evaluator_on
+
+        remote = evaluator_on(client, text, name, directory)
+        threads = threads or cluster_threads(client)
     cb, close = callback(progress)
     try:
         with as_arguments():
@@ -162,6 +175,7 @@ def optimize(
                 budget_text(max_memory, "max_memory"),
                 budget_text(max_steps, "max_steps"),
                 cb,
+                remote,
             )
     finally:
         close()

@@ -1,17 +1,21 @@
-"""A sweep spread over a Dask cluster: the sweep cut into shards (``beamflow sweep
---shard k/N``), each run on a worker by the library's sweep runner, and the shard tables
-joined by the library's merge (``beamflow merge``), so the table is the one a single
-process gives, bit for bit."""
+"""Sweeps and optimisations spread over a Dask cluster.
+
+A sweep is cut into shards (``beamflow sweep --shard k/N``), each run on a worker by the
+library's sweep runner, and the shard tables joined by the library's merge (``beamflow
+merge``). An optimisation runs its search here and sends each candidate to a worker,
+where the library's evaluator solves it. Either way the numbers are those of a single
+process, bit for bit."""
 
 from __future__ import annotations
 
+import functools
 import tempfile
 from pathlib import Path
 from typing import Any, Callable, Dict, List, Optional, Tuple
 
 from . import _native
 
-__all__ = ["sweep_on"]
+__all__ = ["sweep_on", "evaluator_on", "cluster_threads"]
 
 #: Shards per worker thread: small enough shards that a slow one does not hold the end.
 SHARDS_PER_THREAD = 4
@@ -23,6 +27,32 @@ def run_shard(text: str, name: str, directory: str, shard: str, threads: Optiona
         out = Path(d) / "shard.h5"
         _native.sweep_into(text, name, Path(directory), out, shard, threads, False, False, *budget, None)
         return out.read_bytes()
+
+
+@functools.lru_cache(maxsize=4)
+def _evaluator(text: str, name: str, directory: str) -> Any:
+    """On a worker: the optimisation loaded once for all its candidates there."""
+    return _native.NativeEvaluator(text, name, Path(directory))
+
+
+def evaluate_candidate(text: str, name: str, directory: str, u: List[float]) -> Any:
+    """On a worker: one candidate's evaluation, as plain values."""
+    return _evaluator(text, name, directory).evaluate(u)
+
+
+def evaluator_on(client: Any, text: str, name: str, directory: Path) -> Callable[[List[float]], Any]:
+    """What the library calls for each candidate: its evaluation on ``client``'s workers."""
+    where = str(directory.resolve())
+
+    def evaluate(u: List[float]) -> Any:
+        return client.submit(evaluate_candidate, text, name, where, u, pure=False).result()
+
+    return evaluate
+
+
+def cluster_threads(client: Any) -> int:
+    """The worker threads of ``client``'s cluster."""
+    return _threads(client)
 
 
 def _threads(client: Any) -> int:

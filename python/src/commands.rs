@@ -40,11 +40,12 @@ fn paths(files: &[PathBuf]) -> Vec<String> {
 }
 
 /// Runs an optimisation given as TOML text (`name` labels it, `dir` resolves its base
-/// case); with `out`, writes the command line's output set there. Returns the text files
+/// case), its candidates evaluated by `remote` (see `remote.rs`) if given; with `out`,
+/// writes the command line's output set there. Returns the text files
 /// of the output set by name (`best.toml`, `history.csv`, …), the files written, the base
 /// case's folder, the evaluations and the seconds taken.
 #[pyfunction]
-#[pyo3(signature = (text, name, dir, out=None, threads=None, plots=true, max_memory=None, max_steps=None, progress=None))]
+#[pyo3(signature = (text, name, dir, out=None, threads=None, plots=true, max_memory=None, max_steps=None, progress=None, remote=None))]
 #[allow(clippy::too_many_arguments)]
 pub fn run_optimize<'py>(
     py: Python<'py>,
@@ -57,10 +58,12 @@ pub fn run_optimize<'py>(
     max_memory: Option<String>,
     max_steps: Option<String>,
     progress: Option<Bound<'py, PyAny>>,
+    remote: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
     let budget = budget(max_memory, max_steps)?;
     sweep::exec::worker_threads(threads).map_err(|r| argument("threads", r))?;
     let spec = Spec::from_str(&text, &name, &dir).py_err()?;
+    let evaluate = remote.map(|f| crate::remote::remote(f, spec.objectives.len()));
     let (texts, files, base_dir, evaluations, seconds) =
         background::watched(py, progress.as_ref(), OnInterrupt::Drop, move |report| {
             let on_evaluated = report.counter("optimize", spec.max_evaluations(), "evaluations");
@@ -69,6 +72,7 @@ pub fn run_optimize<'py>(
                 budget,
                 cancel: progress::current_cancel(),
                 on_evaluated: Some(on_evaluated),
+                evaluate,
                 ..Default::default()
             };
             let file = PathBuf::from(&name);

@@ -8,6 +8,7 @@ mod commands;
 mod convert;
 mod drawings;
 mod errors;
+mod remote;
 mod results;
 mod sweep;
 mod system;
@@ -27,6 +28,7 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<case::NativeCase>()?;
     m.add_class::<results::NativeRun>()?;
     m.add_class::<results::NativeTree>()?;
+    m.add_class::<remote::NativeEvaluator>()?;
     m.add_function(wrap_pyfunction!(results::read_results, m)?)?;
     m.add_function(wrap_pyfunction!(convert::toml_dumps, m)?)?;
     m.add_function(wrap_pyfunction!(sweep::run_sweep, m)?)?;

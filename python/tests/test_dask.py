@@ -53,6 +53,30 @@ def test_a_case_dict_and_a_frame_on_the_cluster(client: Any) -> None:
     assert frame.equals(beamflow.sweep(spec))
 
 
+@pytest.mark.parametrize("objectives", [1, 2], ids=["one objective", "pareto"])
+def test_an_optimisation_on_the_cluster_is_the_one_process_optimisation(client: Any, objectives: int) -> None:
+    spec = {
+        "base": "cases/placement-frame.toml",
+        "harmonics": 5,
+        "search": {"seed": 2, "starts": 2, "evaluations": 24, "top": 3, "pareto_points": 3},
+        "variable": [{"path": "actuator[0].x_e", "min": 0.1, "max": 0.6}],
+        "objective": [{"quantity": "net_power", "goal": "maximize"}, {"quantity": "dissipation", "goal": "minimize"}][
+            :objectives
+        ],
+    }
+    events: List[Dict[str, Any]] = []
+    spread = beamflow.optimize(spec, client=client, as_frame=False, progress=events.append)
+    one = beamflow.optimize(spec, as_frame=False, threads=1)
+    assert spread.evaluations == one.evaluations
+    for name, text in one.texts.items():
+        if name != "summary.json":
+            assert spread.texts[name] == text, name
+    for s in (spread.summary, one.summary):
+        s.pop("seconds")
+    assert spread.summary == one.summary
+    assert events[-1]["done"] == spread.evaluations
+
+
 def test_errors_on_the_workers_arrive_whole(client: Any) -> None:
     with pytest.raises(beamflow.InputError) as e:
         beamflow.sweep(SWEEP, client=client, max_steps=2)
