@@ -81,7 +81,7 @@ venv="$work/venv"
 start=$SECONDS
 user "$python" -m venv "$venv"
 user "$venv/bin/python" -m pip install -q --upgrade pip
-user "$venv/bin/python" -m pip install -q "$wheel" pytest h5py pandas matplotlib tqdm
+user "$venv/bin/python" -m pip install -q "$wheel" pytest h5py pandas matplotlib tqdm xarray distributed
 echo "test-python: wheel and test dependencies into a fresh virtualenv without Rust ($((SECONDS - start)) s)"
 test -x "$venv/bin/beamflow" || { echo "test-python: the wheel installed no beamflow command" >&2; exit 1; }
 

@@ -13,11 +13,13 @@ implementation: a case run here gives the numbers of ``beamflow run`` bit for bi
     >>> ss.point_power("frame_stack")                 # W per harmonic (a Quantity)
     >>> res.to_hdf5("frame.h5")
     >>> table = beamflow.sweep("cases/placement-frame.sweep.toml")   # DataFrame with pandas
+    >>> opt = beamflow.optimize("cases/two_frames.opt.toml")         # opt.best, opt.history
 
 Errors are :mod:`beamflow.errors` exceptions carrying the file, field and reason.
 """
 
-from . import errors
+from . import errors, identify
+from ._commands import OptimizeResult, merge, optimize, paper, synth
 from ._case import Case
 from ._native import __version__
 from ._progress import ProgressArg
@@ -37,6 +39,12 @@ __all__ = [
     "sweep",
     "read_sweep_table",
     "SweepTable",
+    "optimize",
+    "OptimizeResult",
+    "merge",
+    "paper",
+    "synth",
+    "identify",
     "System",
     "DofMap",
     "Modes",

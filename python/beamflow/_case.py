@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any, Dict, Iterable, Mapping, Optional, Tuple, Union
 
 from . import _native
+from ._arguments import Size, as_arguments, budget_text
 from ._progress import ProgressArg, callback
 from ._results import Results
 from ._system import Modes, System, _modes, _system
@@ -161,13 +162,18 @@ class Case:
 
     # -- running ------------------------------------------------------------------------
 
-    def check(self) -> Dict[str, Any]:
+    def check(self, *, max_memory: Optional[Size] = None, max_steps: Optional[Size] = None) -> Dict[str, Any]:
         """Builds the model and assembles the system, like ``beamflow check``: returns
         ``elements``, ``dofs``, ``actuators``, ``links`` and ``modal_damping``; raises on
-        any problem (naming the file, the field and the reason)."""
-        return self._native.check()
+        any problem (naming the file, the field and the reason), also an analysis that
+        would take more than ``max_memory`` (e.g. ``"8G"``; default: half the memory
+        available) or ``max_steps`` time steps (default 1e9)."""
+        with as_arguments():
+            return self._native.check(budget_text(max_memory, "max_memory"), budget_text(max_steps, "max_steps"))
 
-    def run(self, *, progress: ProgressArg = None) -> Results:
+    def run(
+        self, *, progress: ProgressArg = None, max_memory: Optional[Size] = None, max_steps: Optional[Size] = None
+    ) -> Results:
         """Runs every analysis of the case and returns its :class:`Results` (the same
         numbers, bit for bit, as ``beamflow run``'s HDF5 and JSON).
 
@@ -179,10 +185,16 @@ class Case:
         task's progress (see :data:`beamflow.ProgressArg`). A transient that did not settle
         warns with :class:`beamflow.ConvergenceWarning` and says so on its analysis
         (:attr:`Analysis.settled`).
+
+        An analysis that would take more than ``max_memory`` (bytes, or e.g. ``"8G"``;
+        default: half the memory available) or ``max_steps`` time steps (default 1e9) is
+        refused before it starts, as ``beamflow run --max-memory/--max-steps`` refuses it.
         """
+        budget = (budget_text(max_memory, "max_memory"), budget_text(max_steps, "max_steps"))
         cb, close = callback(progress)
         try:
-            run = self._native.run(cb)
+            with as_arguments():
+                run = self._native.run(cb, *budget)
         finally:
             close()
         results = Results(run.tree(), run)

@@ -177,6 +177,23 @@ class Analysis(Group):
             raise KeyError(f"{self.path}: no table {name!r} (there are {', '.join(tables) or 'none'})")
         return tables[name]
 
+    def to_xarray(self) -> Any:
+        """This analysis as an xarray Dataset (xarray is an optional dependency): the same
+        numbers on named dimensions, each variable with ``units`` and ``long_name``.
+
+        Steady state and transient: dimensions ``t``, ``link``, ``actuator``, ``harmonic``
+        (coordinate ``frequency``, Hz), ``drive``, ``sensor``, ``load`` and, for the modal
+        tables, ``mode`` (coordinate ``mode_frequency``); variables ``net_power``
+        (actuator), ``mean_power`` (link), the links' time histories by their dataset name
+        (``power``, ``transmitted``, … over link × t), their spectra as ``spectrum_<name>``
+        (link × harmonic), ``drive_<name>``, ``sensor_<name>``, ``load_<name>``,
+        ``<body>_q`` and ``modal_<name>``. Harmonic: ``mobility`` (frequency × point ×
+        force_point), ``velocity``, ``input_power`` and the balance. Modes: ``frequency``
+        and ``shape_w`` (mode × node, coordinate ``x``)."""
+        from ._xarray import to_dataset
+
+        return to_dataset(self)
+
     @property
     def settled(self) -> Optional[bool]:
         """Whether a transient that was to run until its start-up transient died away did
@@ -365,6 +382,11 @@ class Results(Group):
             }
         return dict(self._tables)
 
+    def to_xarray(self) -> Dict[str, Any]:
+        """Every analysis as an xarray Dataset (:meth:`Analysis.to_xarray`), by group name
+        (``analysis_0_steady_state``, …)."""
+        return {a.path.strip("/"): a.to_xarray() for a in self.analyses}
+
     @property
     def warnings(self) -> List[str]:
         """What the results say of their own accuracy that should not pass unseen: each
@@ -440,6 +462,19 @@ class Results(Group):
         p = Path(path)
         self._tree.write_hdf5(p)
         return p
+
+    @property
+    def plot(self) -> Any:
+        """The figures :meth:`write_figures` draws, as matplotlib figures (a
+        :class:`beamflow._plot.Plots`: ``res.plot.time()``, ``res.plot.spectrum(actuator=…)``,
+        ``res.plot["steady_state_frame_loop"]``, ``res.plot.names``)."""
+        if self._run is None:
+            raise AttributeError("figures are drawn from a run (Case.run()), not from a results file")
+        from ._plot import Plots
+
+        if getattr(self, "_plots", None) is None:
+            self._plots = Plots(self._run)
+        return self._plots
 
     def write_figures(self, directory: Union[str, "os.PathLike[str]"], stem: Optional[str] = None) -> List[Path]:
         """Draws the command line's figures of this run (PNG and SVG) into ``directory``;

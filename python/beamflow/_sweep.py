@@ -3,17 +3,17 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Any, Dict, Iterator, Mapping, Optional, Union
 
 import numpy as np
 
 from . import _native
-from ._case import Case
 from ._progress import ProgressArg, callback
 from ._results import Quantity
-from .errors import SweepInterrupted
+from ._arguments import Size, as_arguments, budget_text, check_numbers
+from ._commands import spec_text
+from .errors import InputError, SweepInterrupted
 
 __all__ = ["SweepTable", "sweep", "read_sweep_table"]
 
@@ -94,6 +94,13 @@ def sweep(
     threads: Optional[int] = None,
     as_frame: Optional[bool] = None,
     progress: ProgressArg = None,
+    out: Optional[PathLike] = None,
+    shard: Optional[str] = None,
+    csv: bool = False,
+    plots: bool = True,
+    max_memory: Optional[Size] = None,
+    max_steps: Optional[Size] = None,
+    client: Any = None,
 ) -> Any:
     """Runs a parameter sweep (``docs/sweeps.md``) on the library's parallel runner.
 
@@ -113,66 +120,57 @@ def sweep(
     :class:`SweepTable`. The numbers are those of ``beamflow sweep``, bit for bit, whatever
     ``threads`` (default: one per core).
 
+    With ``out`` (an HDF5 table, ``FILE.h5``) it runs as ``beamflow sweep --out``: finished
+    cases are kept in ``FILE.h5.parts/`` until the table is written, so a sweep stopped (by
+    Ctrl-C, or a crash) resumes where it stopped when called again; ``shard="k/N"`` runs
+    only cases i with i mod N = k − 1 (join the shards with :func:`merge`); ``csv`` also
+    writes the tidy CSV (``FILE.csv``) and ``plots`` the figure, best-case table and
+    report.html beside the table. ``max_memory`` (e.g. ``"8G"``) and ``max_steps`` bound
+    what one case may take and how many cases there may be.
+
+    With a Dask ``client`` (``distributed.Client``) the cases are spread over its workers:
+    the sweep is cut into shards, each run by the library on a worker, and the shard tables
+    joined by the library's merge, so the table is the one a single process gives, bit for
+    bit (with ``out``, written there; ``threads`` is then per worker). The case files the
+    sweep names must be readable by the workers at the same paths.
+
     ``progress=True`` shows a bar of the cases done (tqdm's if installed); a callable is
     called with each change. Ctrl-C stops the cases being solved at their next step and
     raises :class:`beamflow.SweepInterrupted` (a ``KeyboardInterrupt``) whose ``table``
-    holds the cases finished.
+    holds the cases finished (with ``out``: a ``KeyboardInterrupt``, the finished cases
+    being in the checkpoints).
     """
-    if isinstance(spec, Mapping):
-        spec = dict(spec)
-        tmp = None
-        if isinstance(spec.get("base"), Case):
-            tmp = tempfile.TemporaryDirectory(prefix="beamflow-sweep-")
-            spec["base"] = str(_standalone(spec["base"], Path(tmp.name)))
-        try:
-            text = _native.toml_dumps(spec)
-            directory = Path(base_dir or ".")
-            return _run(text, "<dict>", directory, threads, as_frame, progress)
-        finally:
-            if tmp is not None:
-                tmp.cleanup()
-    else:
-        path = Path(spec)
-        try:
-            text = path.read_text(encoding="utf-8")
-        except OSError as e:
-            from .errors import IoError
-
-            raise IoError(str(path), e.strerror or str(e), e.errno) from None
-        directory = Path(base_dir) if base_dir is not None else path.parent
-        return _run(text, str(path), directory, threads, as_frame, progress)
-
-
-def _run(text: str, name: str, directory: Path, threads: Optional[int], as_frame: Optional[bool], progress: ProgressArg) -> Any:
+    check_numbers(whole={"threads": threads})
+    text, name, directory, cleanup = spec_text(spec, base_dir)
+    budget = (budget_text(max_memory, "max_memory"), budget_text(max_steps, "max_steps"))
     cb, close = callback(progress)
     try:
-        raw, stopped = _native.run_sweep(text, name, directory, threads, cb)
+        with as_arguments():
+            if client is not None:
+                if shard is not None:
+                    raise InputError("<arguments>", "shard", "a sweep on a Dask `client` makes its own shards")
+                from ._dask import sweep_on
+
+                table = SweepTable(sweep_on(client, text, name, directory, threads, budget, cb,
+                                            None if out is None else Path(out), csv, plots))
+                return _result(table, as_frame)
+            if out is None:
+                if shard is not None or csv:
+                    field = "shard" if shard is not None else "csv"
+                    raise InputError("<arguments>", field, f"`{field}` needs `out`, the table to write")
+                raw, stopped = _native.run_sweep(text, name, directory, threads, *budget, cb)
+            else:
+                _native.sweep_into(text, name, directory, Path(out), shard, threads, csv, plots, *budget, cb)
+                return read_sweep_table(out, as_frame=as_frame)
     finally:
         close()
+        cleanup()
     table = SweepTable(raw)
     if isinstance(stopped, KeyboardInterrupt):
         raise SweepInterrupted(_result(table, as_frame), table.rows, int(table.meta["total_cases"])) from stopped
     if stopped is not None:
         raise stopped
     return _result(table, as_frame)
-
-
-def _standalone(case: Case, directory: Path) -> Path:
-    """Writes ``case`` as ``directory/base.toml`` for a sweep to read, with the files it
-    names (a mesh, voltage series; relative to the case file) made absolute so that they
-    still resolve from there."""
-    case = case.copy()
-    fields = ["beam.mesh.file"] + [f"actuator[{i}].voltage.file" for i in range(len(case.get("actuator", [])))]
-    changes = {}
-    for path in fields:
-        value = case.get(path)
-        if isinstance(value, str) and not Path(value).is_absolute():
-            changes[path] = str((case.base_dir / value).resolve())
-    if changes:
-        case.update(changes)
-    out = directory / "base.toml"
-    out.write_text(case.to_toml(), encoding="utf-8")
-    return out
 
 
 def read_sweep_table(path: PathLike, *, as_frame: Optional[bool] = None) -> Any:

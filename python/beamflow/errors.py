@@ -43,6 +43,11 @@ class InputError(BeamflowError, ValueError):
         self.field = field
         self.reason = reason
 
+    def __reduce__(self) -> Any:
+        # Rebuilt from its fields (the default passes the message alone), so that it
+        # crosses to and from other processes (multiprocessing, Dask workers) intact.
+        return type(self), (self.file, self.field, self.reason)
+
     def __str__(self) -> str:
         return f"{self.file}: field `{self.field}`: {self.reason}"
 
@@ -59,6 +64,9 @@ class ParseError(BeamflowError, ValueError):
         self.file = file
         self.message = message
 
+    def __reduce__(self) -> Any:
+        return type(self), (self.file, self.message)
+
 
 class IoError(BeamflowError, OSError):
     """Reading or writing a file failed (``path``, ``message``, ``errno``)."""
@@ -69,6 +77,9 @@ class IoError(BeamflowError, OSError):
         self.message = message
         self.errno = errno
         self.filename = path
+
+    def __reduce__(self) -> Any:
+        return type(self), (self.path, self.message, self.errno)
 
     def __str__(self) -> str:
         return f"{self.path}: {self.message}"
@@ -83,6 +94,9 @@ class Hdf5Error(BeamflowError, OSError):
         self.message = message
         self.filename = path
 
+    def __reduce__(self) -> Any:
+        return type(self), (self.path, self.message)
+
     def __str__(self) -> str:
         return f"{self.path}: HDF5: {self.message}"
 
@@ -93,6 +107,9 @@ class NumericalError(BeamflowError, ArithmeticError):
     def __init__(self, message: str) -> None:
         super().__init__(f"numerical failure: {message}")
         self.message = message
+
+    def __reduce__(self) -> Any:
+        return type(self), (self.message,)
 
 
 class ConvergenceWarning(RuntimeWarning):

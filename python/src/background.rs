@@ -13,6 +13,7 @@ use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::panic::AssertUnwindSafe;
 use std::rc::Rc;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{channel, RecvTimeoutError};
 use std::sync::{Arc, Mutex};
 use std::time::Duration;
@@ -54,6 +55,14 @@ impl Progress {
     /// `done` steps of the current task are done.
     pub fn set(&self, done: u64, message: &str) {
         self.with(|r| (r.done, r.message) = (done, message.to_string()));
+    }
+
+    /// Starts `task` counted in finished steps (a sweep's cases, an optimisation's
+    /// candidates): the function returned counts one more each time it is called.
+    pub fn counter(&self, task: &str, total: Option<u64>, unit: &str) -> Arc<dyn Fn() + Send + Sync> {
+        self.start(task, total, unit);
+        let (done, r) = (AtomicU64::new(0), self.clone());
+        Arc::new(move || r.set(done.fetch_add(1, Ordering::Relaxed) + 1, ""))
     }
 
     fn snapshot(&self) -> Report {

@@ -174,11 +174,17 @@ impl NativeCase {
         self.clone()
     }
 
-    /// Builds the model and assembles the system, and holds every analysis to the
-    /// machine's default budget, as `beamflow check` does.
-    fn check<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
+    /// Builds the model and assembles the system, and holds every analysis to the budget
+    /// (`max_memory`, `max_steps`; default: the machine's), as `beamflow check` does.
+    #[pyo3(signature = (max_memory=None, max_steps=None))]
+    fn check<'py>(
+        &self,
+        py: Python<'py>,
+        max_memory: Option<String>,
+        max_steps: Option<String>,
+    ) -> PyResult<Bound<'py, PyDict>> {
         let lc = self.loaded().py_err()?;
-        let budget = beamflow::analysis::budget::Budget::default();
+        let budget = crate::commands::budget(max_memory, max_steps)?;
         let (built, sys, _) = background::run(py, move || beamflow::app::runner::planned(&lc, &budget))?;
         let d = PyDict::new(py);
         d.set_item("elements", built.beam().map_or(0, |b| b.mesh.elements.len()))?;
@@ -195,12 +201,20 @@ impl NativeCase {
         Ok(d)
     }
 
-    /// Runs every analysis of the case (GIL released; Ctrl-C stops the solve and raises at
-    /// once); `progress` is called with each task's progress.
-    #[pyo3(signature = (progress=None))]
-    fn run(&self, py: Python<'_>, progress: Option<Bound<'_, PyAny>>) -> PyResult<NativeRun> {
+    /// Runs every analysis of the case within the budget (`max_memory`, `max_steps`), GIL
+    /// released; Ctrl-C stops the solve and raises at once. `progress` is called with each
+    /// task's progress.
+    #[pyo3(signature = (progress=None, max_memory=None, max_steps=None))]
+    fn run(
+        &self,
+        py: Python<'_>,
+        progress: Option<Bound<'_, PyAny>>,
+        max_memory: Option<String>,
+        max_steps: Option<String>,
+    ) -> PyResult<NativeRun> {
         let lc = self.loaded().py_err()?;
-        NativeRun::compute(py, lc, progress.as_ref())
+        let budget = crate::commands::budget(max_memory, max_steps)?;
+        NativeRun::compute(py, lc, budget, progress.as_ref())
     }
 
     fn system<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {

@@ -4,9 +4,10 @@
 use crate::background::{self, OnInterrupt};
 use crate::convert::array;
 use crate::errors::IntoPy;
+use beamflow::analysis::budget::Budget;
 use beamflow::analysis::case_run::CaseRun;
 use beamflow::app::commands::case_inputs;
-use beamflow::app::runner::run_case;
+use beamflow::app::runner::run_case_within;
 use beamflow::case::LoadedCase;
 use beamflow::io::csv::Cells;
 use beamflow::io::hdf5::{ResultsFile, ResultsReader};
@@ -87,9 +88,14 @@ pub struct NativeRun {
 impl NativeRun {
     /// Runs the case and lays its results out in memory, both on a worker thread;
     /// `progress` is called with the library's tasks as they go (periods, harmonics).
-    pub fn compute(py: Python<'_>, lc: LoadedCase, progress: Option<&Bound<'_, PyAny>>) -> PyResult<NativeRun> {
+    pub fn compute(
+        py: Python<'_>,
+        lc: LoadedCase,
+        budget: Budget,
+        progress: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<NativeRun> {
         let ((lc, run, tree), _) = background::watched(py, progress, OnInterrupt::Drop, move |_| {
-            let run = run_case(&lc)?;
+            let run = run_case_within(&lc, &budget)?;
             let sink = TreeSink::new();
             beamflow::io::results::write_into(&sink, &lc, &run)?;
             let tree = sink.tree();
@@ -118,6 +124,13 @@ impl NativeRun {
             std::fs::create_dir_all(&dir).map_err(|e| beamflow::Error::io(&dir, e))?;
             beamflow::report::figures::plot_run(&dir, &stem, &run)
         })
+    }
+
+    /// The figures `write_figures` draws, as `[(name, description)]` (see `drawings`).
+    fn drawings<'py>(&self, py: Python<'py>) -> PyResult<Vec<(String, Bound<'py, PyDict>)>> {
+        let run = self.run.clone();
+        let kept = background::run(py, move || beamflow::report::figures::run_drawings(&run))?;
+        kept.iter().map(|(name, d)| Ok((name.clone(), crate::drawings::drawing(py, d)?))).collect()
     }
 
     /// The case file the run came from, as messages name it.

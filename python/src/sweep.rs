@@ -10,7 +10,6 @@ use beamflow::sweep::{self, OnEvaluated, RunOptions, Sweep, SweepTable};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 /// The table as `{"columns": [(name, array, unit, description), …], "meta": {…}}`.
@@ -65,23 +64,25 @@ fn table<'py>(py: Python<'py>, t: &SweepTable) -> PyResult<Bound<'py, PyDict>> {
 /// their next step, and the rows finished come back with the `KeyboardInterrupt`, as
 /// `(table, exception)` (`exception` None when the sweep ran to the end).
 #[pyfunction]
-#[pyo3(signature = (text, name, dir, threads=None, progress=None))]
+#[pyo3(signature = (text, name, dir, threads=None, max_memory=None, max_steps=None, progress=None))]
 pub fn run_sweep<'py>(
     py: Python<'py>,
     text: String,
     name: String,
     dir: PathBuf,
     threads: Option<usize>,
+    max_memory: Option<String>,
+    max_steps: Option<String>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<(Bound<'py, PyDict>, Option<Py<PyAny>>)> {
+    let budget = crate::commands::budget(max_memory, max_steps)?;
     let s = Sweep::from_str(&text, &name, &dir).py_err()?;
     let (t, interrupt) = background::watched(py, progress.as_ref(), OnInterrupt::Keep, move |report| {
-        let total = s.len() as u64;
-        report.start("sweep", Some(total), "cases");
-        let (done, r) = (Arc::new(AtomicU64::new(0)), report.clone());
-        let on_evaluated: OnEvaluated = Arc::new(move |_| r.set(done.fetch_add(1, Ordering::Relaxed) + 1, ""));
+        let tick = report.counter("sweep", Some(s.len() as u64), "cases");
+        let on_evaluated: OnEvaluated = Arc::new(move |_| tick());
         let opts = RunOptions {
             threads,
+            budget,
             cancel: progress::current_cancel(),
             on_evaluated: Some(on_evaluated),
             ..Default::default()

@@ -126,9 +126,9 @@ def test_a_case_object_as_the_base(tmp_path: Path) -> None:
     d["actuator"][0]["voltage"] = {"kind": "series", "file": "drive.csv", "time_column": "t", "voltage_column": "u"}
     series = beamflow.Case.from_dict(d, name="series", base_dir=tmp_path / "cases")
     assert series["actuator[0].voltage.file"] == "drive.csv"
-    from beamflow._sweep import _standalone
+    from beamflow._commands import standalone
 
-    written = beamflow.Case.from_file(_standalone(series, tmp_path))
+    written = beamflow.Case.from_file(standalone(series, tmp_path))
     assert written["actuator[0].voltage.file"] == str((tmp_path / "cases" / "drive.csv").resolve())
     # The series was found and read from the temporary base; the sweep then refuses it for
     # the reason a series has, not for a missing file.

@@ -10,3 +10,4 @@ pub mod identify;
 pub mod optimize;
 pub mod paper;
 pub mod runner;
+pub mod sweep;

@@ -31,30 +31,61 @@ pub fn optimize(
     budget: &Budget,
 ) -> Result<(Spec, RunResult, Vec<PathBuf>)> {
     let spec = optimize::load(file)?;
-    budget.admit(&spec.evaluations_cost()).map_err(|e| e.in_file(&spec.file))?;
-    let mut inputs = vec![Input::new(file, "the optimisation file")];
-    inputs.extend(spec.base.input_files(&spec.file).into_iter().map(|(p, what)| Input::new(p, what)));
-    for name in OUTPUTS {
-        refuse_input("--out", &output_file(out, name)?, &inputs)?;
-    }
     let opts = RunOptions { threads, progress: true, budget: *budget, ..Default::default() };
-    let r = optimize::run(&spec, &opts)?;
+    let (r, files) = run_into(&spec, file, &opts, Some(out), plots)?;
+    Ok((spec, r, files))
+}
+
+/// Runs a loaded optimisation (`file` names its file, an input no output may replace) and,
+/// with `out`, writes its output set there; returns the result and the files written.
+pub fn run_into(
+    spec: &Spec,
+    file: &Path,
+    opts: &RunOptions,
+    out: Option<&Path>,
+    plots: bool,
+) -> Result<(RunResult, Vec<PathBuf>)> {
+    opts.budget.admit(&spec.evaluations_cost()).map_err(|e| e.in_file(&spec.file))?;
+    if let Some(out) = out {
+        let mut inputs = vec![Input::new(file, "the optimisation file")];
+        inputs.extend(spec.base.input_files(&spec.file).into_iter().map(|(p, what)| Input::new(p, what)));
+        for name in OUTPUTS {
+            refuse_input("--out", &output_file(out, name)?, &inputs)?;
+        }
+    }
+    let r = optimize::run(spec, opts)?;
+    let files = match out {
+        Some(out) => write(spec, &r, out, opts.threads, plots)?,
+        None => Vec::new(),
+    };
+    Ok((r, files))
+}
+
+/// The text files of a run's output set, by name: the best case, the history, the optima,
+/// the Pareto front (two objectives) and the JSON summary.
+pub fn text_outputs(spec: &Spec, r: &RunResult) -> Result<Vec<(&'static str, String)>> {
+    let mut files = vec![
+        ("best.toml", best_case(spec, &r.best)?),
+        ("history.csv", history_csv(spec, &r.history)),
+        ("optima.csv", table_csv(spec, &r.optima)),
+    ];
+    if !r.pareto.is_empty() {
+        files.push(("pareto.csv", table_csv(spec, &r.pareto)));
+    }
+    files.push(("summary.json", serde_json::to_string_pretty(&summary(spec, r)).expect("plain data serialises")));
+    Ok(files)
+}
+
+/// Writes the output set of a run into `out`: the text files and, with `plots`, the figures.
+fn write(spec: &Spec, r: &RunResult, out: &Path, threads: Option<usize>, plots: bool) -> Result<Vec<PathBuf>> {
     let set = crate::io::output_set::OutputSet::begin(out)?;
     let dir = set.dir().to_path_buf();
     let mut written = Vec::new();
-    let mut put = |name: &str, text: String| -> Result<()> {
+    for (name, text) in text_outputs(spec, r)? {
         let p = output_file(&dir, name)?;
         write_atomic_string(&p, &text)?;
         written.push(p);
-        Ok(())
-    };
-    put("best.toml", best_case(&spec, &r.best)?)?;
-    put("history.csv", history_csv(&spec, &r.history))?;
-    put("optima.csv", table_csv(&spec, &r.optima))?;
-    if !r.pareto.is_empty() {
-        put("pareto.csv", table_csv(&spec, &r.pareto))?;
     }
-    put("summary.json", serde_json::to_string_pretty(&summary(&spec, &r)).expect("plain data serialises"))?;
     if plots {
         let threads = threads.unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
         let pool = rayon::ThreadPoolBuilder::new()
@@ -63,8 +94,8 @@ pub fn optimize(
             .map_err(|e| Error::Numerical(format!("cannot start {threads} worker threads: {e}")))?;
         let (profiles, modal) = pool.install(|| {
             rayon::join(
-                || optimize::explain::profiles(&spec, &r.best, PROFILE_POINTS),
-                || optimize::explain::modal_comparison(&spec, &r.best, &r.history, FIGURE_MODES),
+                || optimize::explain::profiles(spec, &r.best, PROFILE_POINTS),
+                || optimize::explain::modal_comparison(spec, &r.best, &r.history, FIGURE_MODES),
             )
         });
         let o = &spec.objectives[0];
@@ -73,7 +104,7 @@ pub fn optimize(
         written.push(p);
         if !r.pareto.is_empty() {
             let p = output_file(&dir, "pareto.png")?;
-            plot_pareto(&spec, &r, &p)?;
+            plot_pareto(spec, r, &p)?;
             written.push(p);
         }
         if let Some(m) = modal {
@@ -84,7 +115,7 @@ pub fn optimize(
     }
     let finals = written.iter().map(|p| set.final_path(p)).collect();
     set.commit()?;
-    Ok((spec, r, finals))
+    Ok(finals)
 }
 
 /// The front of a two-objective run among every feasible candidate it evaluated.

@@ -31,7 +31,13 @@ pub struct RunOptions {
     /// Set to stop: the candidates being solved stop at their next step, no more are
     /// evaluated, and the run ends in [`Error::Cancelled`].
     pub cancel: Option<Cancel>,
+    /// Evaluates a candidate elsewhere (another process or machine) instead of here; it
+    /// must give what [`Evaluator::evaluate`] of the same spec gives.
+    pub evaluate: Option<Remote>,
 }
+
+/// A candidate's evaluation done elsewhere: u in the unit box → its [`Evaluation`].
+pub type Remote = Arc<dyn Fn(&[f64]) -> Evaluation + Send + Sync>;
 
 /// What an optimisation found.
 #[derive(Clone, Debug)]
@@ -82,15 +88,20 @@ struct Recorder<'a> {
     on_evaluated: Option<Arc<dyn Fn() + Send + Sync>>,
     count: AtomicUsize,
     cancel: Option<Cancel>,
+    remote: Option<Remote>,
 }
 
 impl Cost for Recorder<'_> {
     fn cost(&self, u: &[f64]) -> f64 {
+        let solve = || match &self.remote {
+            Some(f) => f(u),
+            None => self.ev.evaluate(u),
+        };
         // What a stopped run would evaluate is of no use: the search winds down unsolved.
         let e = match &self.cancel {
             Some(c) if c.is_cancelled() => return f64::INFINITY,
-            Some(c) => progress::cancellable(c.clone(), || self.ev.evaluate(u)),
-            None => self.ev.evaluate(u),
+            Some(c) => progress::cancellable(c.clone(), solve),
+            None => solve(),
         };
         let c = self.scalar.of(self.ev.spec, &e);
         if e.feasible() {
@@ -153,6 +164,7 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
         bar: &bar,
         on_evaluated: &opts.on_evaluated,
         cancel: &opts.cancel,
+        remote: &opts.evaluate,
         evaluations: 0,
     };
     let search_with = |session: &mut Session, scalar: Scalar, seed: u64, evals: usize| -> Vec<Evaluation> {
@@ -212,6 +224,7 @@ struct Session<'a> {
     bar: &'a indicatif::ProgressBar,
     on_evaluated: &'a Option<Arc<dyn Fn() + Send + Sync>>,
     cancel: &'a Option<Cancel>,
+    remote: &'a Option<Remote>,
     evaluations: usize,
 }
 
@@ -229,6 +242,7 @@ impl Session<'_> {
             on_evaluated: self.on_evaluated.clone(),
             count: AtomicUsize::new(0),
             cancel: self.cancel.clone(),
+            remote: self.remote.clone(),
         };
         let out = self.pool.install(|| job(&rec));
         self.evaluations += rec.count.load(Ordering::Relaxed);

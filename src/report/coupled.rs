@@ -2,12 +2,12 @@
 //! velocity at each response point per unit input) and its mode shapes beside the bare
 //! beam's.
 
-use super::figures::save;
+use super::figures::{save, Dest};
 use super::plot::{LinePlot, MultiPanel, Series};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::error::Result;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Coupled modes drawn, one panel each.
 const SHAPES: usize = 6;
@@ -26,7 +26,7 @@ fn input_text(input: &str) -> String {
 
 /// `<tag>_transfer`: one row per input, |V/F| on log axes beside its phase, a line per
 /// response point.
-pub fn transfer_figure(dir: &Path, tag: &str, h: &HarmonicResult) -> Result<Vec<PathBuf>> {
+pub fn transfer_figure(dir: Dest, tag: &str, h: &HarmonicResult) -> Result<Vec<PathBuf>> {
     if h.transfer_inputs.is_empty() {
         return Ok(Vec::new());
     }
@@ -77,7 +77,7 @@ pub fn counterpart(m: &ModesResult, w: &[f64]) -> Option<(usize, f64)> {
 
 /// `<tag>_coupled`: a panel per coupled mode, its shape on the beam beside the bare-beam
 /// mode it resembles most (largest MAC of w at the nodes, sign matched).
-pub fn modes_figure(dir: &Path, tag: &str, m: &ModesResult) -> Result<Vec<PathBuf>> {
+pub fn modes_figure(dir: Dest, tag: &str, m: &ModesResult) -> Result<Vec<PathBuf>> {
     let Some(c) = &m.coupled else { return Ok(Vec::new()) };
     let mut panels = Vec::new();
     for (r, w) in c.shapes_w.iter().enumerate().take(SHAPES) {

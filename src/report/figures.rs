@@ -11,26 +11,67 @@ use crate::analysis::steady_state::SteadyStateResult;
 use crate::error::Result;
 use crate::power::modal::ModalDecomposition;
 use crate::power::spectra::db;
+use std::cell::RefCell;
 use std::path::{Path, PathBuf};
 
-/// Something that can be rendered to a path.
+/// Something that can be rendered to a path, and handed over as what it draws.
 pub trait Figure {
     fn render_to(&self, path: &Path) -> Result<()>;
+    fn drawing(&self) -> Drawing;
+}
+
+/// What a figure draws, owned: the Python package draws it again with matplotlib.
+#[derive(Clone, Debug)]
+pub enum Drawing {
+    Lines(LinePlot),
+    Panels(MultiPanel),
+    Bars(BarChart),
 }
 
 impl Figure for LinePlot {
     fn render_to(&self, path: &Path) -> Result<()> {
         self.render(path)
     }
+    fn drawing(&self) -> Drawing {
+        Drawing::Lines(self.clone())
+    }
 }
 impl Figure for MultiPanel {
     fn render_to(&self, path: &Path) -> Result<()> {
         self.render(path)
     }
+    fn drawing(&self) -> Drawing {
+        Drawing::Panels(self.clone())
+    }
 }
 impl Figure for BarChart {
     fn render_to(&self, path: &Path) -> Result<()> {
         self.render(path)
+    }
+    fn drawing(&self) -> Drawing {
+        Drawing::Bars(self.clone())
+    }
+}
+
+/// Named drawings kept instead of written.
+pub type Drawings = RefCell<Vec<(String, Drawing)>>;
+
+/// Where figures go: files in a folder, or drawings kept by name.
+#[derive(Clone, Copy)]
+pub enum Dest<'a> {
+    Folder(&'a Path),
+    Keep(&'a Drawings),
+}
+
+impl<'a> From<&'a Path> for Dest<'a> {
+    fn from(dir: &'a Path) -> Self {
+        Dest::Folder(dir)
+    }
+}
+
+impl<'a> From<&'a PathBuf> for Dest<'a> {
+    fn from(dir: &'a PathBuf) -> Self {
+        Dest::Folder(dir)
     }
 }
 impl Figure for super::plot::HeatMap {
@@ -45,8 +86,15 @@ impl Figure for super::plot::MapGrid {
 }
 
 /// Writes `dir/name.<ext>` in each figure format (PNG and SVG unless `--formats` says
-/// otherwise); returns the paths.
-pub fn save(fig: &dyn Figure, dir: &Path, name: &str) -> Result<Vec<PathBuf>> {
+/// otherwise) and returns the paths; or keeps the drawing as `name` (no paths).
+pub fn save<'a>(fig: &dyn Figure, to: impl Into<Dest<'a>>, name: &str) -> Result<Vec<PathBuf>> {
+    let dir = match to.into() {
+        Dest::Folder(dir) => dir,
+        Dest::Keep(kept) => {
+            kept.borrow_mut().push((name.to_string(), fig.drawing()));
+            return Ok(Vec::new());
+        }
+    };
     let mut out = Vec::new();
     for format in super::plot::figure_formats() {
         let p = crate::io::paths::output_file(dir, &format!("{name}.{}", format.ext()))?;
@@ -280,6 +328,18 @@ pub fn analysis_tags(run: &CaseRun) -> Vec<String> {
 
 /// The standard figures of `run`: one set per analysis, named `<stem>_<analysis type>…`.
 pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
+    draw_run(Dest::Folder(dir), stem, run)
+}
+
+/// The figures [`plot_run`] writes, as drawings named as their files without the stem
+/// (`steady_state_frame_time`, …).
+pub fn run_drawings(run: &CaseRun) -> Result<Vec<(String, Drawing)>> {
+    let kept = Drawings::default();
+    draw_run(Dest::Keep(&kept), "", run)?;
+    Ok(kept.into_inner().into_iter().map(|(name, d)| (name.trim_start_matches('_').to_string(), d)).collect())
+}
+
+fn draw_run(dir: Dest, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     let plate = run.model.structure.as_ref().and_then(|s| s.plate());
     if let Some(p) = plate {
@@ -336,7 +396,7 @@ pub fn plot_run(dir: &Path, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
 /// accelerance FRF from the drive, the power density into the structure and (with Welch
 /// segments) the coherence.
 fn record_figures(
-    dir: &Path,
+    dir: Dest,
     tag: &str,
     t: &[f64],
     links: &[LinkSeries],
@@ -418,7 +478,7 @@ fn record_figures(
 /// Each point load's figure: its force and the beam's velocity at its point, and (periodic
 /// runs) its power per harmonic.
 fn load_figures(
-    dir: &Path,
+    dir: Dest,
     tag: &str,
     t: &[f64],
     loads: &[crate::analysis::series::LoadSeries],
@@ -461,7 +521,7 @@ const PLOTTED_PERIODS: usize = 3;
 
 #[allow(clippy::too_many_arguments)]
 fn periodic_figures(
-    dir: &Path,
+    dir: Dest,
     tag: &str,
     run: &CaseRun,
     t: &[f64],

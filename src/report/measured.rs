@@ -4,21 +4,21 @@
 //! level error per harmonic — and for force and acceleration one period of both, rebuilt
 //! from those harmonics.
 
-use super::figures::save;
+use super::figures::{save, Dest};
 use super::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
 use crate::analysis::measured::Comparison;
 use crate::case::measured::MeasuredQuantity;
 use crate::error::Result;
 use crate::power::spectra::db;
 use std::f64::consts::PI;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Points per period of the rebuilt time panels.
 const SAMPLES: usize = 200;
 
 /// The figures of a run's comparisons, named `<stem>_<analysis>_measured_<name>` where
 /// `tags[i]` names analysis `i` (its type, see [`super::figures::analysis_tags`]).
-pub fn figures(dir: &Path, stem: &str, tags: &[String], comparisons: &[Comparison]) -> Result<Vec<PathBuf>> {
+pub fn figures(dir: Dest, stem: &str, tags: &[String], comparisons: &[Comparison]) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
     let mut keys: Vec<(usize, &str)> = comparisons.iter().map(|c| (c.analysis, c.name.as_str())).collect();
     keys.dedup();

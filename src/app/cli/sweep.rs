@@ -1,12 +1,10 @@
 //! `beamflow sweep` and `beamflow merge`.
 
 use crate::error::{Error, Result};
-use crate::io::lock::OutputLock;
-use crate::io::paths::{refuse_input, Input};
 use crate::report::sweep as report;
 use crate::sweep::{self, RunOptions, Shard, SweepTable};
 use clap::Args;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Arguments of `beamflow sweep`.
 #[derive(Args, Debug)]
@@ -49,23 +47,6 @@ pub struct MergeArgs {
     pub csv: bool,
 }
 
-/// With `csv`, writes the table as CSV beside `out` (its extension replaced by `.csv`).
-fn write_csv(t: &SweepTable, out: &Path, csv: bool) -> Result<()> {
-    if csv {
-        let p = out.with_extension("csv");
-        if p == out {
-            return Err(Error::input(
-                "<cli>",
-                "--out",
-                "with --csv, name the HDF5 table FILE.h5 (the CSV is FILE.csv)",
-            ));
-        }
-        t.csv_table().write(&p)?;
-        crate::say!("wrote {}", p.display());
-    }
-    Ok(())
-}
-
 pub fn sweep(args: &SweepArgs) -> Result<()> {
     let shard = match &args.shard {
         Some(s) => Shard::parse(s, "<cli>", "--shard")?,
@@ -73,11 +54,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     };
     sweep::exec::worker_threads(args.threads).map_err(|r| Error::input("<cli>", "--threads", r))?;
     let s = sweep::load(&args.sweep)?;
-    let mut inputs = vec![Input::new(&args.sweep, "the sweep file")];
-    inputs.extend(s.base.input_files(&s.file).into_iter().map(|(p, what)| Input::new(p, what)));
-    refuse_overwrite(&args.out, &inputs)?;
-    let (n, cost) = s.cases_cost(shard);
-    args.budget.budget().admit(&cost).map_err(|e| e.in_file(&s.file))?;
+    let (n, _) = s.cases_cost(shard);
     crate::app::cli::note_line(format_args!(
         "{}: {} cases{}, {} analysis, {} harmonics{}",
         s.file,
@@ -90,13 +67,10 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
             None => String::new(),
         }
     ));
-    // Held to the last report file: a second sweep into the same table waits, then reuses
-    // it (shards into one folder have tables of their own and run at once).
-    let _lock = OutputLock::file(&args.out)?;
     let opts =
         RunOptions { threads: args.threads, shard, progress: true, budget: args.budget.budget(), ..Default::default() };
     let t0 = std::time::Instant::now();
-    let ex = sweep::execute(&s, &args.out, &opts)?;
+    let (ex, files) = crate::app::sweep::sweep_into(&s, &args.sweep, &args.out, &opts, args.csv, !args.no_plots)?;
     let dt = t0.elapsed().as_secs_f64();
     crate::app::cli::note_line(format_args!(
         "{} cases computed in {dt:.2} s ({:.1} cases/s), {} reused",
@@ -105,52 +79,27 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         ex.reused
     ));
     crate::say!("wrote {}", args.out.display());
-    write_csv(&ex.table, &args.out, args.csv)?;
-    if !args.no_plots {
-        report_files(&ex.table, &args.out)?;
-    }
+    report_files(&ex.table, &files, !args.no_plots);
     Ok(())
 }
 
 pub fn merge(args: &MergeArgs) -> Result<()> {
-    if args.shards.is_empty() {
-        return Err(Error::input("<cli>", "SHARD", "give the shard files to merge"));
-    }
-    let inputs: Vec<Input> = args.shards.iter().map(|p| Input::new(p, "a shard to merge")).collect();
-    refuse_overwrite(&args.out, &inputs)?;
-    let t = sweep::merge_files(&args.shards)?;
-    let _lock = OutputLock::file(&args.out)?;
-    t.write(&args.out)?;
+    let (t, files) = crate::app::sweep::merge(&args.shards, &args.out, args.csv, !args.no_plots)?;
     crate::say!("merged {} shards, {} cases: wrote {}", args.shards.len(), t.rows.len(), args.out.display());
-    write_csv(&t, &args.out, args.csv)?;
-    if !args.no_plots {
-        report_files(&t, &args.out)?;
-    }
+    report_files(&t, &files, !args.no_plots);
     Ok(())
 }
 
-/// Refuses an `--out` table whose file, checkpoint folder or report files (beside it)
-/// would replace one of `inputs`.
-fn refuse_overwrite(out: &Path, inputs: &[Input]) -> Result<()> {
-    let mut outputs = vec![out.to_path_buf(), sweep::parts_dir(out)];
-    outputs.extend(report::files_beside(out));
-    for o in &outputs {
-        refuse_input("--out", o, inputs)?;
-    }
-    Ok(())
-}
-
-fn report_files(t: &SweepTable, out: &Path) -> Result<()> {
-    for p in report::plot(t, out)? {
+/// Says which files were written beside the table, and with `plots` shows the best cases.
+fn report_files(t: &SweepTable, files: &[PathBuf], plots: bool) {
+    for p in files {
         crate::say!("wrote {}", p.display());
     }
-    let md = report::write_markdown(t, out)?;
-    crate::say!(
-        "\nBest {} cases by net power into the beam:\n{}",
-        t.best.min(t.rows.len()),
-        report::best_table(t, t.best)
-    );
-    crate::say!("wrote {}", md.display());
-    crate::say!("wrote {}", report::write_report(t, out)?.display());
-    Ok(())
+    if plots {
+        crate::say!(
+            "\nBest {} cases by net power into the beam:\n{}",
+            t.best.min(t.rows.len()),
+            report::best_table(t, t.best)
+        );
+    }
 }
