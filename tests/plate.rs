@@ -364,3 +364,57 @@ fn transient_matches_the_steady_state_at_the_newmark_frequency() {
     let (pt, ps) = (t.mean_power[0], s.mean_power[0]);
     assert!(rel(pt, ps) < 1e-4, "transient {pt:e} W vs steady state at {warped} Hz {ps:e} W");
 }
+
+/// A two-dimensional placement on the plate: the optimiser's best position of an inertial
+/// actuator against a 30 × 24 sweep grid of the same steady states, found with a fifth of
+/// the grid's evaluations, within a grid step of the grid's best and at least as good.
+/// (Near a coupled resonance the power has ridges narrower than such a grid — at 190 Hz
+/// the optimiser finds 4.5 mW where the grid's best is 4.0 mW — so the reference problem is
+/// one whose landscape the grid resolves: 120 Hz, well damped.)
+#[test]
+fn placement_optimum_on_the_plate_matches_a_dense_grid() {
+    use beamflow::optimize::{self, RunOptions, Spec};
+    use beamflow::sweep::{self, Sweep};
+    let dir = tempfile::tempdir().unwrap();
+    let base = plate_case(
+        "simply_supported",
+        12,
+        10,
+        "[damping]\nkind = \"rayleigh\"\na0 = 30.0\na1 = 5.0e-6\n\
+         [[actuator]]\ntype = \"inertial\"\nat = [0.2, 0.2]\n[actuator.stack]\nhysteresis = false\n\
+         [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 120.0\n\
+         [[analysis]]\ntype = \"steady_state\"\nharmonics = 1\n",
+    );
+    std::fs::write(dir.path().join("base.toml"), base).unwrap();
+    let (nx, ny) = (30usize, 24usize);
+    let box_ = "min = 0.05\nmax = 0.45\n";
+    let sweep_text = format!(
+        "base = \"base.toml\"\nharmonics = 1\n[[parameter]]\npath = \"actuator[0].at[0]\"\nstart = 0.05\nstop = 0.45\n\
+         count = {nx}\n[[parameter]]\npath = \"actuator[0].at[1]\"\nstart = 0.05\nstop = 0.35\ncount = {ny}\n"
+    );
+    let sw = Sweep::from_str(&sweep_text, "grid.sweep.toml", dir.path()).unwrap();
+    let t = sweep::run(&sw, &sweep::RunOptions { threads: Some(2), ..Default::default() }).unwrap();
+    let best = t.rows.iter().max_by(|a, b| a.net_power[0].total_cmp(&b.net_power[0])).unwrap();
+    let spec_text = format!(
+        "base = \"base.toml\"\nharmonics = 1\n[search]\nseed = 3\nstarts = 4\nevaluations = {}\ntop = 1\n\
+         [[variable]]\npath = \"actuator[0].at[0]\"\n{box_}[[variable]]\npath = \"actuator[0].at[1]\"\nmin = 0.05\nmax = 0.35\n\
+         [[objective]]\nquantity = \"net_power\"\n",
+        nx * ny / 5
+    );
+    let s = Spec::from_str(&spec_text, "plate.opt.toml", dir.path()).unwrap();
+    let r = optimize::run(&s, &RunOptions { threads: Some(2), ..Default::default() }).unwrap();
+    let (x, y) = (s.variables[0].number(r.best.u[0]), s.variables[1].number(r.best.u[1]));
+    let (sx, sy) = (0.40 / (nx - 1) as f64, 0.30 / (ny - 1) as f64);
+    assert!(
+        r.best.values[0] >= best.net_power[0] * (1.0 - 1e-9),
+        "{} below the grid's {}",
+        r.best.values[0],
+        best.net_power[0]
+    );
+    assert!(
+        (x - best.inputs[0]).abs() <= 1.5 * sx && (y - best.inputs[1]).abs() <= 1.5 * sy,
+        "optimum at ({x}, {y}), grid best at ({}, {})",
+        best.inputs[0],
+        best.inputs[1]
+    );
+}

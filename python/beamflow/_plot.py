@@ -111,9 +111,48 @@ def _bars(ax: Any, b: Dict[str, Any]) -> None:
     _notes(ax, b["notes"])
 
 
+def _map(ax: Any, m: Dict[str, Any]) -> None:
+    z = np.asarray(m["z"])
+    if m["diverging"]:
+        lim = float(np.abs(z).max()) or 1.0
+        kw = dict(cmap="RdBu_r", vmin=-lim, vmax=lim)
+    else:
+        kw = dict(cmap="viridis")
+    mesh = ax.pcolormesh(m["x"], m["y"], z, shading="nearest", **kw)
+    if m["z_label"]:
+        ax.figure.colorbar(mesh, ax=ax, label=_text(m["z_label"]))
+    for line in m["lines"]:
+        xs, ys = zip(*line)
+        ax.plot(xs, ys, color="black", lw=1.2)
+    for x, y, label in m["marks"]:
+        ax.plot([x], [y], marker="^", color="black", ls="none")
+        if label:
+            ax.annotate(_text(label), (x, y), xytext=(6, 6), textcoords="offset points", fontsize="small")
+    ax.set_aspect("equal")
+    ax.set_title(_text(m["title"]))
+    ax.set_xlabel(_text(m["x_label"]))
+    ax.set_ylabel(_text(m["y_label"]))
+
+
 def draw(d: Dict[str, Any]) -> Any:
     """A matplotlib Figure of a drawing the library describes."""
     Figure = _matplotlib()
+    if d["kind"] == "maps":
+        n, cols = len(d["panels"]), d["columns"]
+        rows = math.ceil(n / cols)
+        fig = Figure(figsize=(6 * cols, 4.2 * rows), layout="constrained")
+        axes = fig.subplots(rows, cols, squeeze=False).ravel()
+        for ax, p in zip(axes, d["panels"]):
+            _map(ax, p)
+        for ax in axes[n:]:
+            ax.set_visible(False)
+        fig.suptitle(_text(d["title"]))
+        return fig
+    if d["kind"] == "map":
+        w, h = d["size"]
+        fig = Figure(figsize=(w / 100, h / 100), layout="constrained")
+        _map(fig.subplots(), d)
+        return fig
     if d["kind"] == "panels":
         n, cols = len(d["panels"]), d["columns"]
         rows = math.ceil(n / cols)

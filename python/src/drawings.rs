@@ -80,11 +80,39 @@ fn bars<'py>(py: Python<'py>, b: &BarChart) -> PyResult<Bound<'py, PyDict>> {
     Ok(d)
 }
 
-/// A drawing as a dict: `kind` (`lines`, `panels`, `bars`) and the description's fields.
+fn map<'py>(py: Python<'py>, h: &beamflow::report::plot::HeatMap) -> PyResult<Bound<'py, PyDict>> {
+    let d = PyDict::new(py);
+    d.set_item("kind", "map")?;
+    d.set_item("title", &h.title)?;
+    d.set_item("x_label", &h.x_label)?;
+    d.set_item("y_label", &h.y_label)?;
+    d.set_item("z_label", &h.z_label)?;
+    d.set_item("x", array(py, h.x.clone(), &[h.x.len()])?)?;
+    d.set_item("y", array(py, h.y.clone(), &[h.y.len()])?)?;
+    d.set_item("z", array(py, h.z.clone(), &[h.y.len(), h.x.len()])?)?;
+    d.set_item("log_z", h.log_z)?;
+    d.set_item("diverging", h.diverging)?;
+    d.set_item("lines", h.lines.clone())?;
+    d.set_item("marks", h.marks.iter().map(|m| (m.x, m.y, m.label.clone())).collect::<Vec<_>>())?;
+    d.set_item("size", h.size)?;
+    Ok(d)
+}
+
+/// A drawing as a dict: `kind` (`lines`, `panels`, `bars`, `map`, `maps`) and the
+/// description's fields.
 pub fn drawing<'py>(py: Python<'py>, d: &Drawing) -> PyResult<Bound<'py, PyDict>> {
     match d {
         Drawing::Lines(p) => lines(py, p),
         Drawing::Panels(m) => panels(py, m),
         Drawing::Bars(b) => bars(py, b),
+        Drawing::Map(h) => map(py, h),
+        Drawing::Maps(g) => {
+            let d = PyDict::new(py);
+            d.set_item("kind", "maps")?;
+            d.set_item("title", &g.title)?;
+            d.set_item("columns", g.columns)?;
+            d.set_item("panels", g.panels.iter().map(|h| map(py, h)).collect::<PyResult<Vec<_>>>()?)?;
+            Ok(d)
+        }
     }
 }

@@ -116,7 +116,9 @@ impl Limits {
     /// Every placement and drive limit `case` breaks (empty: it satisfies them all).
     pub fn violations(&self, case: &Case) -> Vec<Violation> {
         let mut out = Vec::new();
-        if case.base == BaseKind::Beam {
+        if let Some(p) = &case.plate {
+            out.extend(self.plate_violations(case, p));
+        } else if case.base == BaseKind::Beam {
             let length = case.beam.length;
             let sup = supports(case);
             let c = self.support_clearance;
@@ -168,6 +170,100 @@ impl Limits {
                         constraint: "constraints.max_voltage".into(),
                         detail: format!("actuator[{i}] is driven up to {v} V, above {vmax} V"),
                         amount: v - vmax,
+                    });
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Distance (m) from point p to the segment [a, b] in the plane.
+fn point_segment(p: (f64, f64), a: (f64, f64), b: (f64, f64)) -> f64 {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let len2 = dx * dx + dy * dy;
+    let t = if len2 > 0.0 { (((p.0 - a.0) * dx + (p.1 - a.1) * dy) / len2).clamp(0.0, 1.0) } else { 0.0 };
+    (p.0 - a.0 - t * dx).hypot(p.1 - a.1 - t * dy)
+}
+
+/// Least distance (m) between the segments [a, b] and [c, d] (0 where they cross).
+fn segment_gap(a: (f64, f64), b: (f64, f64), c: (f64, f64), d: (f64, f64)) -> f64 {
+    let side = |p: (f64, f64), q: (f64, f64), r: (f64, f64)| (q.0 - p.0) * (r.1 - p.1) - (q.1 - p.1) * (r.0 - p.0);
+    let crosses = side(a, b, c) * side(a, b, d) < 0.0 && side(c, d, a) * side(c, d, b) < 0.0;
+    if crosses {
+        return 0.0;
+    }
+    point_segment(a, c, d).min(point_segment(b, c, d)).min(point_segment(c, a, b)).min(point_segment(d, a, b))
+}
+
+/// An actuator's footprint on a plate: the segment between its outermost feet (a point for
+/// an inertial actuator).
+fn plate_footprint(a: &ActuatorSpec) -> ((f64, f64), (f64, f64)) {
+    let feet: Vec<(f64, f64)> = a.feet().iter().map(|(_, l)| (l.x(), l.y().unwrap_or(0.0))).collect();
+    (feet[feet.len().min(2) - 1], feet[feet.len() - 1])
+}
+
+impl Limits {
+    /// The placement limits on a plate: every foot inside the plate and at least
+    /// `support_clearance` from each held edge (clamped or simply supported) and from each
+    /// point support; footprints at least `clearance` apart.
+    fn plate_violations(&self, case: &Case, p: &crate::case::PlateSpec) -> Vec<Violation> {
+        use crate::case::EdgeSpec;
+        let mut out = Vec::new();
+        let c = self.support_clearance;
+        let (lx, ly) = (p.length_x, p.length_y);
+        let e = p.edges;
+        // Each held edge as (name, distance of (x, y) to it).
+        let edges: [(&str, EdgeSpec, Box<dyn Fn(f64, f64) -> f64>); 4] = [
+            ("x = 0", e.x0, Box::new(|x, _| x)),
+            ("x = L_x", e.x1, Box::new(move |x, _| lx - x)),
+            ("y = 0", e.y0, Box::new(|_, y| y)),
+            ("y = L_y", e.y1, Box::new(move |_, y| ly - y)),
+        ];
+        for (i, a) in case.actuator.iter().enumerate() {
+            for (what, at) in a.feet() {
+                let (x, y) = (at.x(), at.y().unwrap_or(0.0));
+                for (name, kind, dist) in &edges {
+                    let d = dist(x, y);
+                    let limit = if *kind == EdgeSpec::Free { 0.0 } else { c };
+                    if d < limit || d < 0.0 {
+                        out.push(Violation {
+                            constraint: "constraints.support_clearance".into(),
+                            detail: format!(
+                                "actuator[{i}]'s {what} foot at (x, y) = ({x:.4}, {y:.4}) m is {d:.4} m from the edge \
+                                 {name}, less than {limit} m"
+                            ),
+                            amount: (limit - d).max(f64::MIN_POSITIVE),
+                        });
+                    }
+                }
+                for s in &p.support {
+                    let d = (x - s.at[0]).hypot(y - s.at[1]);
+                    if d < c {
+                        out.push(Violation {
+                            constraint: "constraints.support_clearance".into(),
+                            detail: format!(
+                                "actuator[{i}]'s {what} foot is {d:.4} m from the point support at ({}, {}) m",
+                                s.at[0], s.at[1]
+                            ),
+                            amount: (c - d).max(f64::MIN_POSITIVE),
+                        });
+                    }
+                }
+            }
+        }
+        for (i, a) in case.actuator.iter().enumerate() {
+            for (j, b) in case.actuator.iter().enumerate().skip(i + 1) {
+                let ((a0, a1), (b0, b1)) = (plate_footprint(a), plate_footprint(b));
+                let gap = segment_gap(a0, a1, b0, b1);
+                if gap < self.clearance {
+                    out.push(Violation {
+                        constraint: "constraints.clearance".into(),
+                        detail: format!(
+                            "actuator[{i}] and actuator[{j}] stand {gap:.4} m apart, less than {} m",
+                            self.clearance
+                        ),
+                        amount: self.clearance - gap,
                     });
                 }
             }

@@ -26,6 +26,8 @@ pub enum Drawing {
     Lines(LinePlot),
     Panels(MultiPanel),
     Bars(BarChart),
+    Map(super::plot::HeatMap),
+    Maps(super::plot::MapGrid),
 }
 
 impl Figure for LinePlot {
@@ -78,10 +80,16 @@ impl Figure for super::plot::HeatMap {
     fn render_to(&self, path: &Path) -> Result<()> {
         self.render(path)
     }
+    fn drawing(&self) -> Drawing {
+        Drawing::Map(self.clone())
+    }
 }
 impl Figure for super::plot::MapGrid {
     fn render_to(&self, path: &Path) -> Result<()> {
         self.render(path)
+    }
+    fn drawing(&self) -> Drawing {
+        Drawing::Maps(self.clone())
     }
 }
 

@@ -1,13 +1,13 @@
 //! Figures of a plate: its mode shapes as colour maps with their nodal lines, and the plate
 //! drawn with its edges, point supports, actuator feet and sensors.
 
-use super::figures::save;
+use super::figures::{save, Dest};
 use super::plot::{HeatMap, MapGrid, MapMark, Marker};
 use crate::analysis::case_run::CaseRun;
 use crate::analysis::modes::ModesResult;
 use crate::error::Result;
 use crate::plate::{element as bfs, Edge, Plate};
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 /// Samples per element side: the field between nodes follows the element's own bicubic
 /// shape functions, so maps of coarse meshes are smooth.
@@ -87,7 +87,7 @@ fn plate_map(plate: &Plate, title: String, label: &str, width: u32) -> HeatMap {
 
 /// `<tag>` of a modes analysis on a plate: the first six mode shapes as colour maps of w
 /// with their nodal lines (w = 0) in black.
-pub fn modes_figure(dir: &Path, tag: &str, plate: &Plate, m: &ModesResult) -> Result<Vec<PathBuf>> {
+pub fn modes_figure(dir: Dest, tag: &str, plate: &Plate, m: &ModesResult) -> Result<Vec<PathBuf>> {
     let mut panels = Vec::new();
     for (r, dofs) in m.node_shapes.iter().enumerate().take(6) {
         let mut h = plate_map(plate, format!("mode {}: {:.2} Hz", r + 1, m.frequencies_hz[r]), "w (m/√kg)", 520);
@@ -108,7 +108,7 @@ pub fn modes_figure(dir: &Path, tag: &str, plate: &Plate, m: &ModesResult) -> Re
 
 /// `<stem>_layout`: the plate with its edges named, point supports, actuator feet and
 /// sensors, drawn to scale.
-pub fn layout_figure(dir: &Path, stem: &str, plate: &Plate, run: &CaseRun) -> Result<Vec<PathBuf>> {
+pub fn layout_figure(dir: Dest, stem: &str, plate: &Plate, run: &CaseRun) -> Result<Vec<PathBuf>> {
     let (lx, ly) = plate.grid.lengths();
     let edge = |e: Edge| match e {
         Edge::Clamped => "clamped",

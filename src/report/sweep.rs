@@ -59,6 +59,9 @@ fn axis_text(path: &str, unit: &str, actuators: &[String]) -> String {
     let field = path.rsplit('.').next().unwrap_or(path);
     let what = match field {
         "x_e" => "position x_{E}",
+        "at[0]" => "position x",
+        "at[1]" => "position y",
+        "direction" => "direction ψ",
         "frequency" => "drive frequency",
         "amplitude" => "drive amplitude",
         "offset" => "drive offset",
@@ -218,11 +221,21 @@ fn figure(t: &SweepTable) -> Option<Figure> {
         let signed = z.iter().any(|&v| v <= 0.0);
         let floor = if max > 0.0 { max * 1e-12 } else { 1e-30 };
         let mut h = HeatMap::new(
-            format!("{title}: net power into the beam"),
+            format!("{title}: net power into the structure"),
             axis_label(t, px),
             axis_label(t, py),
             if signed { "|net power| (W)" } else { "net power (W)" },
         );
+        // The grid's best case marked (the largest net power).
+        if let Some(k) = (0..z.len()).max_by(|&a, &b| z[a].total_cmp(&z[b])) {
+            let (i, j) = (k % xs.len(), k / xs.len());
+            h.marks.push(super::plot::MapMark {
+                x: xs[i],
+                y: ys[j],
+                label: format!("best: {}", super::plot::text::si(z[k], "W", 4)),
+                marker: super::plot::Marker { shape: super::plot::Shape::Diamond, hollow: false },
+            });
+        }
         h.x = xs;
         h.y = ys;
         h.z = z.iter().map(|v| v.abs().max(floor)).collect();

@@ -95,7 +95,9 @@ pub fn unit_of(path: &str) -> &'static str {
     let name = path.rsplit('.').next().unwrap_or(path);
     let name = name.split('[').next().unwrap_or(name);
     match name {
-        "x_e" | "a" | "e" | "x" | "length" | "width" | "thickness" | "h0" => "m",
+        "x_e" | "a" | "e" | "x" | "at" | "length" | "length_x" | "length_y" | "width" | "thickness" | "h0" => "m",
+        "direction" => "deg",
+        "poisson_ratio" => "1",
         "frequency" | "f_start" | "f_end" => "Hz",
         "amplitude" | "offset" | "from" | "to" => "V",
         "phase" => "rad",
