@@ -16,6 +16,7 @@ use super::series::{LinkSeries, SensorSeries};
 use crate::case::measured::{Measured, MeasuredQuantity};
 use crate::error::{Error, Result};
 use crate::identify::measurement::Quantity;
+use crate::power::point::mean_power_from_acceleration;
 use crate::power::spectra::harmonics;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -190,7 +191,7 @@ fn compare(analysis: usize, m: &Measured, q: MeasuredQuantity, p: &Predicted, pe
     let power = |f: &[Complex64], a: &[Complex64]| -> Vec<Complex64> {
         (0..=k_max)
             .map(|k| {
-                let pk = if k == 0 { 0.0 } else { -0.5 * (f[k] * a[k].conj()).im / (k as f64 * w0) };
+                let pk = if k == 0 { 0.0 } else { mean_power_from_acceleration(f[k], a[k], k as f64 * w0) };
                 Complex64::new(pk, 0.0)
             })
             .collect()
