@@ -15,7 +15,7 @@ use super::case_run::AnalysisResult;
 use super::series::{LinkSeries, SensorSeries};
 use crate::case::measured::{Measured, MeasuredQuantity};
 use crate::error::{Error, Result};
-use crate::identify::measurement::Quantity;
+use crate::io::measurement::Quantity;
 use crate::power::point::mean_power_from_acceleration;
 use crate::power::spectra::harmonics;
 use num_complex::Complex64;

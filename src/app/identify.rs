@@ -20,11 +20,11 @@ use crate::error::{Error, Result};
 use crate::identify::bouc_wen_fit::{self, CycleData, CycleOptions, FitOptions, FitTarget, MultiSeedFit};
 use crate::identify::dp::{self, DpEstimate, DpOptions};
 use crate::identify::frf::{self, Frf, FrfOptions, Segmentation};
-use crate::identify::measurement::{self, LoadOptions, Quantity};
 use crate::identify::modal_fit::{self, DynamicParameters, IdentifiedElement, ModalFit, RfpOptions, SdofOptions};
 use crate::identify::synth::{self, SynthKind, SynthOptions, Truth};
 use crate::io::atomic::write_atomic_string;
 use crate::io::lock::OutputLock;
+use crate::io::measurement::{self, LoadOptions, Quantity};
 use crate::io::paths::{output_file, refuse_input, refuse_output, Input};
 use crate::report::identify as plots;
 
