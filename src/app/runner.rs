@@ -405,7 +405,7 @@ impl Runner<'_> {
         let mut r = transient::run(model, &red, s)?;
         if rs.error_estimate {
             let samples = ESTIMATE_SAMPLES.max(samples_for_harmonics(h).unwrap_or(usize::MAX));
-            report.error = Some(reduction::estimate_error(model, self.reference()?, &red, h, samples)?);
+            report.error = Some(steady_state::estimate_reduction_error(model, self.reference()?, &red, h, samples)?);
         }
         r.reduction = Some(report);
         Ok(r)
@@ -441,7 +441,7 @@ impl Runner<'_> {
         let mut r = steady_state::run_counted(model, &red, HarmonicCount::Fixed(h), samples)?;
         if rs.error_estimate {
             let full = steady_state::run(model, self.reference()?, h, samples)?;
-            report.error = Some(reduction::compare(&full, &r));
+            report.error = Some(steady_state::reduction_error(&full, &r));
         }
         r.reduction = Some(report);
         Ok(r)

@@ -2,7 +2,7 @@
 //! Every figure is written as SVG, and as PNG and PDF as `--formats` asks.
 
 use super::plot::text::si;
-use super::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
+use super::plot::{save, BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
@@ -12,39 +12,6 @@ use crate::error::Result;
 use crate::power::modal::ModalDecomposition;
 use crate::power::spectra::db;
 use std::path::{Path, PathBuf};
-
-/// Something that can be rendered to a path.
-pub trait Figure {
-    fn render_to(&self, path: &Path) -> Result<()>;
-}
-
-impl Figure for LinePlot {
-    fn render_to(&self, path: &Path) -> Result<()> {
-        self.render(path)
-    }
-}
-impl Figure for MultiPanel {
-    fn render_to(&self, path: &Path) -> Result<()> {
-        self.render(path)
-    }
-}
-impl Figure for BarChart {
-    fn render_to(&self, path: &Path) -> Result<()> {
-        self.render(path)
-    }
-}
-
-/// Writes `dir/name.<ext>` in each figure format (PNG and SVG unless `--formats` says
-/// otherwise); returns the paths.
-pub fn save(fig: &dyn Figure, dir: &Path, name: &str) -> Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for format in super::plot::figure_formats() {
-        let p = crate::io::paths::output_file(dir, &format!("{name}.{}", format.ext()))?;
-        fig.render_to(&p)?;
-        out.push(p);
-    }
-    Ok(out)
-}
 
 /// Time axis in ms from the start of the window.
 pub fn ms_axis(t: &[f64]) -> Vec<f64> {

@@ -20,7 +20,7 @@ use crate::identify::modal_fit::ModalFit;
 use crate::report::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
 
 // Figures are written through the run figures' helpers: PNG and SVG side by side.
-pub use crate::report::figures::{save as render_both, Figure};
+pub use crate::report::plot::{save as render_both, Figure};
 
 /// Short file name for titles.
 fn short(file: &str) -> String {

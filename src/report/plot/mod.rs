@@ -31,7 +31,7 @@ mod lines;
 mod outline;
 pub mod text;
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU32, AtomicU8, Ordering};
 use std::sync::OnceLock;
 
@@ -967,4 +967,37 @@ mod tests {
         let one = HeatMap { x: vec![0.0], y: vec![1.0], z: vec![2.0], ..HeatMap::new("one", "x", "y", "z") };
         one.render(d.path().join("one.png")).unwrap();
     }
+}
+
+/// Something that can be rendered to a path.
+pub trait Figure {
+    fn render_to(&self, path: &Path) -> Result<()>;
+}
+
+impl Figure for LinePlot {
+    fn render_to(&self, path: &Path) -> Result<()> {
+        self.render(path)
+    }
+}
+impl Figure for MultiPanel {
+    fn render_to(&self, path: &Path) -> Result<()> {
+        self.render(path)
+    }
+}
+impl Figure for BarChart {
+    fn render_to(&self, path: &Path) -> Result<()> {
+        self.render(path)
+    }
+}
+
+/// Writes `dir/name.<ext>` in each figure format (PNG and SVG unless `--formats` says
+/// otherwise); returns the paths.
+pub fn save(fig: &dyn Figure, dir: &Path, name: &str) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for format in figure_formats() {
+        let p = crate::io::paths::output_file(dir, &format!("{name}.{}", format.ext()))?;
+        fig.render_to(&p)?;
+        out.push(p);
+    }
+    Ok(out)
 }
