@@ -5,7 +5,7 @@ use crate::background::{self, OnInterrupt};
 use crate::convert::array;
 use crate::errors::IntoPy;
 use beamflow::analysis::case_run::CaseRun;
-use beamflow::app::commands::case_inputs;
+use beamflow::app::case_inputs;
 use beamflow::app::runner::run_case;
 use beamflow::case::LoadedCase;
 use beamflow::io::csv::Cells;

@@ -695,7 +695,7 @@ pub fn synth(req: &SynthRequest) -> Result<SynthOutcome> {
     let lc = LoadedCase::load(&req.case)?;
     let s = synth::synthesize(&lc, &req.options)?;
     let paths = record_paths(&req.out, s.records.len());
-    let inputs = crate::app::commands::case_inputs(&lc);
+    let inputs = crate::app::case_inputs(&lc);
     for (k, p) in paths.iter().enumerate() {
         refuse_input("--out", p, &inputs)?;
         refuse_output("--out", p, &paths[..k])?;

@@ -333,7 +333,7 @@ fn hold_roundoff(lc: &LoadedCase, model: &Model, field: &str, r: &AnalysisResult
     let Some(bound) = r.mesh_roundoff() else { return Ok(()) };
     let strict = lc.case.beam.mesh.strict_roundoff;
     match crate::analysis::roundoff::check(model, strict, field, bound).map_err(|e| e.in_file(&lc.file))? {
-        Some(text) => crate::app::cli::note_line(format_args!("warning: {}: {text}", lc.file)),
+        Some(text) => crate::app::console::note_line(format_args!("warning: {}: {text}", lc.file)),
         None => {}
     }
     Ok(())

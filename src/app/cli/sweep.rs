@@ -78,7 +78,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     refuse_overwrite(&args.out, &inputs)?;
     let (n, cost) = s.cases_cost(shard);
     args.budget.budget().admit(&cost).map_err(|e| e.in_file(&s.file))?;
-    crate::app::cli::note_line(format_args!(
+    crate::app::console::note_line(format_args!(
         "{}: {} cases{}, {} analysis, {} harmonics{}",
         s.file,
         s.len(),
@@ -98,7 +98,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
     let ex = sweep::execute(&s, &args.out, &opts)?;
     let dt = t0.elapsed().as_secs_f64();
-    crate::app::cli::note_line(format_args!(
+    crate::app::console::note_line(format_args!(
         "{} cases computed in {dt:.2} s ({:.1} cases/s), {} reused",
         ex.computed,
         if dt > 0.0 { ex.computed as f64 / dt } else { 0.0 },
