@@ -17,7 +17,7 @@
 #[macro_export]
 macro_rules! say {
     ($($arg:tt)*) => {
-        $crate::app::cli::say_line(format_args!($($arg)*))
+        $crate::app::console::say_line(format_args!($($arg)*))
     };
 }
 

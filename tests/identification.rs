@@ -16,9 +16,9 @@ use beamflow::app::identify::{
 use beamflow::case::LoadedCase;
 use beamflow::identify::bouc_wen_fit::{self, normalised_squared_error, CycleOptions, FitOptions, FitTarget};
 use beamflow::identify::dp::DpOptions;
-use beamflow::identify::measurement::LoadOptions;
 use beamflow::identify::modal_fit::IdentifiedElement;
 use beamflow::identify::synth::{SynthKind, SynthOptions};
+use beamflow::io::measurement::LoadOptions;
 use beamflow::signal::voltage::VoltageInput;
 use common::rel;
 use std::path::{Path, PathBuf};
@@ -268,9 +268,9 @@ fn multi_mode_fit_through_a_file() {
     // A 2-DOF chain ground –k1– m1 –k2– m2 with proportional damping, hammer and
     // accelerometer on m2; 6 hits, 1 % noise, written as a measurement CSV.
     use beamflow::identify::frf::{add_hammer_pulse, impact_response};
-    use beamflow::identify::measurement::{self, Measurement, Quantity};
     use beamflow::identify::pso::Rng;
     use beamflow::identify::synth::add_noise;
+    use beamflow::io::measurement::{self, Measurement, Quantity};
     let dir = tempfile::tempdir().unwrap();
     let (m1, m2, k1, k2) = (1.0, 0.5, 4.0e5, 2.0e5);
     let mm = vec![vec![m1, 0.0], vec![0.0, m2]];

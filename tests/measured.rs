@@ -2,8 +2,8 @@
 //! prediction, scaled by a known factor or shifted by a known time, must give exactly that
 //! error back; bad measurement files are refused before any solve, naming file and field.
 
+use beamflow::analysis::case_run::Comparison;
 use beamflow::analysis::case_run::{AnalysisResult, CaseRun};
-use beamflow::analysis::measured::Comparison;
 use beamflow::app::runner::run_case;
 use beamflow::case::measured::MeasuredQuantity;
 use beamflow::case::LoadedCase;

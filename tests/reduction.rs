@@ -47,7 +47,7 @@ fn model_and_system(name: &str) -> (Model, System) {
 fn error_at(model: &Model, full: &System, hz: f64, static_correction: bool) -> f64 {
     let rs = ReductionSettings { cutoff: Cutoff::Hz(hz), static_correction, error_estimate: true, modal_damping: None };
     let (red, _) = reduction::reduce(model, full, &rs, hz).unwrap();
-    reduction::estimate_error(model, full, &red, 9, 1024).unwrap().max_relative_error
+    beamflow::analysis::steady_state::estimate_reduction_error(model, full, &red, 9, 1024).unwrap().max_relative_error
 }
 
 fn sci(v: &[f64]) -> String {

@@ -3,7 +3,7 @@
 //! without panicking; what they accept must be finite and usable.
 #![no_main]
 
-use beamflow::identify::measurement::{self, LoadOptions, Quantity};
+use beamflow::io::measurement::{self, LoadOptions, Quantity};
 use beamflow::signal::csv::{check_time_axis, parse_columns};
 use beamflow::signal::voltage::VoltageInput;
 use libfuzzer_sys::fuzz_target;

@@ -6,7 +6,7 @@ use crate::convert::array;
 use crate::errors::IntoPy;
 use beamflow::analysis::budget::Budget;
 use beamflow::analysis::case_run::CaseRun;
-use beamflow::app::commands::case_inputs;
+use beamflow::app::case_inputs;
 use beamflow::app::runner::run_case_within;
 use beamflow::case::LoadedCase;
 use beamflow::io::csv::Cells;

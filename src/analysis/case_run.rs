@@ -7,6 +7,8 @@ use crate::analysis::modes::ModesResult;
 use crate::analysis::steady_state::SteadyStateResult;
 use crate::analysis::transient::TransientResult;
 use crate::assembly::{Model, System};
+use crate::case::measured::MeasuredQuantity;
+use num_complex::Complex64;
 
 /// One analysis' result, in case order.
 #[derive(Clone, Debug)]
@@ -24,7 +26,7 @@ pub struct CaseRun {
     pub system: System,
     pub results: Vec<AnalysisResult>,
     /// The case's measurements against each periodic analysis' prediction.
-    pub measured: Vec<crate::analysis::measured::Comparison>,
+    pub measured: Vec<Comparison>,
 }
 
 /// The largest energy-balance error a result may have (relative): the analyses balance to
@@ -98,6 +100,59 @@ impl AnalysisResult {
                     s.load_spectra.iter().find_map(|l| one(&format!("loads.{}.mean_power", l.name), l.power_total))
                 })
                 .or_else(|| s.links.iter().find_map(|l| first(&format!("links.{}.interface", l.name), &l.interface))),
+        }
+    }
+}
+
+/// One measured quantity against one analysis' prediction.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Comparison {
+    /// The analysis (case order) the prediction is from.
+    pub analysis: usize,
+    pub name: String,
+    pub point: String,
+    pub quantity: MeasuredQuantity,
+    /// The measurement's source, as read.
+    pub file: String,
+    /// The harmonics compared (k ≥ 1) and their frequencies (Hz).
+    pub harmonic: Vec<usize>,
+    pub frequency: Vec<f64>,
+    /// Complex amplitudes (N or m/s²) at those harmonics; for power, the power per
+    /// harmonic (W) as a real number.
+    pub measured: Vec<Complex64>,
+    pub predicted: Vec<Complex64>,
+    /// Level error (dB) and phase error (rad, in (−π, π]; for power 0 or π: the sign).
+    pub error_db: Vec<f64>,
+    pub phase_error: Vec<f64>,
+    /// RMS of measured minus predicted over the record (unit of the quantity), and that
+    /// relative to the prediction's RMS over the same times; NaN for power.
+    pub rms_error: f64,
+    pub relative_rms_error: f64,
+    pub tolerance_db: Option<f64>,
+}
+
+impl Comparison {
+    /// The largest |level error| over the compared harmonics (NaN if none).
+    pub fn max_abs_error_db(&self) -> f64 {
+        self.error_db.iter().map(|e| e.abs()).reduce(f64::max).unwrap_or(f64::NAN)
+    }
+
+    /// The level error at the drive frequency (harmonic 1), if compared.
+    pub fn drive_error_db(&self) -> Option<f64> {
+        self.harmonic.iter().position(|&k| k == 1).map(|i| self.error_db[i])
+    }
+
+    /// Whether every compared harmonic is within the tolerance (None without one).
+    pub fn agrees(&self) -> Option<bool> {
+        self.tolerance_db.map(|t| !self.harmonic.is_empty() && self.max_abs_error_db() <= t)
+    }
+
+    /// The SI unit of the amplitudes.
+    pub fn unit(&self) -> &'static str {
+        match self.quantity {
+            MeasuredQuantity::Force => "N",
+            MeasuredQuantity::Acceleration => "m/s^2",
+            MeasuredQuantity::Power => "W",
         }
     }
 }

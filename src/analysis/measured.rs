@@ -11,11 +11,12 @@
 //! squared quantity) and the phase error arg(M_k/P_k); over the record, the RMS of the
 //! measured series minus the prediction evaluated at the measured times (means removed).
 
-use super::case_run::AnalysisResult;
+use super::case_run::{AnalysisResult, Comparison};
 use super::series::{LinkSeries, SensorSeries};
 use crate::case::measured::{Measured, MeasuredQuantity};
 use crate::error::{Error, Result};
-use crate::identify::measurement::Quantity;
+use crate::io::measurement::Quantity;
+use crate::power::point::mean_power_from_acceleration;
 use crate::power::spectra::harmonics;
 use num_complex::Complex64;
 use std::f64::consts::PI;
@@ -26,59 +27,6 @@ pub const PRESENT_DB: f64 = 60.0;
 
 /// The most harmonics fitted to a measured record.
 pub const MAX_FITTED_HARMONICS: usize = 32;
-
-/// One measured quantity against one analysis' prediction.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Comparison {
-    /// The analysis (case order) the prediction is from.
-    pub analysis: usize,
-    pub name: String,
-    pub point: String,
-    pub quantity: MeasuredQuantity,
-    /// The measurement's source, as read.
-    pub file: String,
-    /// The harmonics compared (k ≥ 1) and their frequencies (Hz).
-    pub harmonic: Vec<usize>,
-    pub frequency: Vec<f64>,
-    /// Complex amplitudes (N or m/s²) at those harmonics; for power, the power per
-    /// harmonic (W) as a real number.
-    pub measured: Vec<Complex64>,
-    pub predicted: Vec<Complex64>,
-    /// Level error (dB) and phase error (rad, in (−π, π]; for power 0 or π: the sign).
-    pub error_db: Vec<f64>,
-    pub phase_error: Vec<f64>,
-    /// RMS of measured minus predicted over the record (unit of the quantity), and that
-    /// relative to the prediction's RMS over the same times; NaN for power.
-    pub rms_error: f64,
-    pub relative_rms_error: f64,
-    pub tolerance_db: Option<f64>,
-}
-
-impl Comparison {
-    /// The largest |level error| over the compared harmonics (NaN if none).
-    pub fn max_abs_error_db(&self) -> f64 {
-        self.error_db.iter().map(|e| e.abs()).reduce(f64::max).unwrap_or(f64::NAN)
-    }
-
-    /// The level error at the drive frequency (harmonic 1), if compared.
-    pub fn drive_error_db(&self) -> Option<f64> {
-        self.harmonic.iter().position(|&k| k == 1).map(|i| self.error_db[i])
-    }
-
-    /// Whether every compared harmonic is within the tolerance (None without one).
-    pub fn agrees(&self) -> Option<bool> {
-        self.tolerance_db.map(|t| !self.harmonic.is_empty() && self.max_abs_error_db() <= t)
-    }
-
-    /// The SI unit of the amplitudes.
-    pub fn unit(&self) -> &'static str {
-        match self.quantity {
-            MeasuredQuantity::Force => "N",
-            MeasuredQuantity::Acceleration => "m/s^2",
-            MeasuredQuantity::Power => "W",
-        }
-    }
-}
 
 /// One period of a prediction: samples of the point's series over its last period, and
 /// the time that period starts at (s).
@@ -190,7 +138,7 @@ fn compare(analysis: usize, m: &Measured, q: MeasuredQuantity, p: &Predicted, pe
     let power = |f: &[Complex64], a: &[Complex64]| -> Vec<Complex64> {
         (0..=k_max)
             .map(|k| {
-                let pk = if k == 0 { 0.0 } else { -0.5 * (f[k] * a[k].conj()).im / (k as f64 * w0) };
+                let pk = if k == 0 { 0.0 } else { mean_power_from_acceleration(f[k], a[k], k as f64 * w0) };
                 Complex64::new(pk, 0.0)
             })
             .collect()

@@ -2,7 +2,7 @@
 //!
 //! [`reduce`] builds the reduced [`System`] (see [`crate::solve::modal_basis`] for the basis:
 //! bare-beam modes up to a cut-off, residual-flexibility vectors at the feet, actuator
-//! bodies physical); the analyses then run on it unchanged. [`estimate_error`] compares
+//! bodies physical); the analyses then run on it unchanged. [`super::steady_state::estimate_reduction_error`] compares
 //! the frequency-domain periodic steady state (§9) of the reduced and the full model at the
 //! drive harmonics — a few complex solves each — and reports how far the point powers
 //! differ. The estimate is the same whichever domain the reduced run itself was in: the
@@ -10,7 +10,6 @@
 //! from the time-step error of a transient.
 
 use super::drive::common_period;
-use super::steady_state::{self, SteadyStateResult};
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::solve::modal_basis::{self as red, ReductionOptions};
@@ -176,47 +175,4 @@ pub fn complete_modal_basis(full: &System, ratios: &[f64]) -> Result<System> {
     let opts =
         ReductionOptions { cutoff: f64::INFINITY, static_correction: false, modal_damping: Some(ratios.to_vec()) };
     Ok(red::reduce(full, &modes, &opts)?.system)
-}
-
-/// Compares two steady states of the same model (point and net powers).
-pub fn compare(full: &SteadyStateResult, reduced: &SteadyStateResult) -> ReductionError {
-    let scale = full.mean_power.iter().fold(0.0f64, |a, p| a.max(p.abs()));
-    let rel = |a: f64, b: f64, floor: f64| {
-        let d = b.abs().max(floor);
-        if d > 0.0 {
-            (a - b).abs() / d
-        } else {
-            (a - b).abs()
-        }
-    };
-    let relative_error: Vec<f64> =
-        reduced.mean_power.iter().zip(&full.mean_power).map(|(&r, &f)| rel(r, f, 1e-6 * scale)).collect();
-    let net_scale = full.net_power.iter().fold(0.0f64, |a, p| a.max(p.abs()));
-    ReductionError {
-        harmonics: full.harmonics,
-        full_mean_power: full.mean_power.clone(),
-        reduced_mean_power: reduced.mean_power.clone(),
-        max_relative_error: relative_error.iter().fold(0.0f64, |a, &b| a.max(b)),
-        relative_error,
-        net_power_relative_error: reduced
-            .net_power
-            .iter()
-            .zip(&full.net_power)
-            .map(|(&r, &f)| rel(r, f, 1e-6 * net_scale))
-            .collect(),
-    }
-}
-
-/// Runs the frequency-domain steady state of both models at `harmonics` harmonics and
-/// compares their point powers.
-pub fn estimate_error(
-    model: &Model,
-    full: &System,
-    reduced: &System,
-    harmonics: usize,
-    samples: usize,
-) -> Result<ReductionError> {
-    let f = steady_state::run(model, full, harmonics, samples)?;
-    let r = steady_state::run(model, reduced, harmonics, samples)?;
-    Ok(compare(&f, &r))
 }

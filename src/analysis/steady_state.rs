@@ -13,6 +13,7 @@
 //! between cases that share a system.
 
 use super::drive::{force_harmonics, load_cycles, stack_cycle, DriveTiming, StackCycle, StackForceCache};
+use super::reduction::{ReductionError, ReductionReport};
 use super::roundoff::{self, MeshRefinement};
 use super::series::{
     body_dofs, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
@@ -81,7 +82,7 @@ pub struct SteadyStateResult {
     pub modal: Option<ModalDecomposition>,
     /// Set when the run used a modal reduction: its basis and error estimate.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub reduction: Option<super::reduction::ReductionReport>,
+    pub reduction: Option<ReductionReport>,
 }
 
 /// How much of the steady state [`run_with`] computes.
@@ -653,4 +654,47 @@ impl<'s> HarmonicSolver<'s> {
         }
         Ok(())
     }
+}
+
+/// Compares two steady states of the same model (point and net powers).
+pub fn reduction_error(full: &SteadyStateResult, reduced: &SteadyStateResult) -> ReductionError {
+    let scale = full.mean_power.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+    let rel = |a: f64, b: f64, floor: f64| {
+        let d = b.abs().max(floor);
+        if d > 0.0 {
+            (a - b).abs() / d
+        } else {
+            (a - b).abs()
+        }
+    };
+    let relative_error: Vec<f64> =
+        reduced.mean_power.iter().zip(&full.mean_power).map(|(&r, &f)| rel(r, f, 1e-6 * scale)).collect();
+    let net_scale = full.net_power.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+    ReductionError {
+        harmonics: full.harmonics,
+        full_mean_power: full.mean_power.clone(),
+        reduced_mean_power: reduced.mean_power.clone(),
+        max_relative_error: relative_error.iter().fold(0.0f64, |a, &b| a.max(b)),
+        relative_error,
+        net_power_relative_error: reduced
+            .net_power
+            .iter()
+            .zip(&full.net_power)
+            .map(|(&r, &f)| rel(r, f, 1e-6 * net_scale))
+            .collect(),
+    }
+}
+
+/// Runs the frequency-domain steady state of both models at `harmonics` harmonics and
+/// compares their point powers.
+pub fn estimate_reduction_error(
+    model: &Model,
+    full: &System,
+    reduced: &System,
+    harmonics: usize,
+    samples: usize,
+) -> Result<ReductionError> {
+    let f = run(model, full, harmonics, samples)?;
+    let r = run(model, reduced, harmonics, samples)?;
+    Ok(reduction_error(&f, &r))
 }

@@ -1,5 +1,6 @@
 //! What the CLI commands do, as library functions (the CLI only parses arguments).
 
+use super::case_inputs;
 use crate::analysis::budget::Budget;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::modes;
@@ -31,7 +32,7 @@ pub fn modes(case: &Path, count: Option<usize>, json: Option<&Path>) -> Result<(
     crate::say!("{}", modes_table(&r));
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&r).expect("plain data serialises");
-        crate::app::cli::write_text_or_stdout(path, &text)?;
+        crate::app::console::write_text_or_stdout(path, &text)?;
     }
     Ok(())
 }
@@ -70,7 +71,7 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
 /// ([`crate::case::plausible`]); the run goes on.
 fn warn_implausible(lc: &LoadedCase) {
     for w in crate::case::plausible::warnings(&lc.case) {
-        crate::app::cli::note_line(format_args!("warning: {}: {w}", lc.file));
+        crate::app::console::note_line(format_args!("warning: {}: {w}", lc.file));
     }
 }
 
@@ -80,7 +81,7 @@ fn warn_untrustworthy(file: &str, run: &CaseRun) {
     for (i, r) in run.results.iter().enumerate() {
         if let AnalysisResult::Transient(t) = r {
             for w in t.record.iter().flat_map(|rec| &rec.estimate.warnings) {
-                crate::app::cli::note_line(format_args!("warning: {file}: analysis[{i}]: {w}"));
+                crate::app::console::note_line(format_args!("warning: {file}: analysis[{i}]: {w}"));
             }
         }
     }
@@ -109,14 +110,9 @@ pub fn check(case: &Path, budget: &Budget) -> Result<()> {
     Ok(())
 }
 
-/// The files a loaded case reads, for the overwrite checks of [`crate::io::paths`].
-pub fn case_inputs(lc: &LoadedCase) -> Vec<Input> {
-    lc.input_files().into_iter().map(|(p, what)| Input::new(p, what)).collect()
-}
-
 /// Refuses a `--json` file that is an input, the output folder or one of `outputs`.
 fn check_json_target(json: Option<&Path>, inputs: &[Input], outputs: &[PathBuf]) -> Result<()> {
-    let Some(j) = json.filter(|j| !crate::app::cli::is_stdout(j)) else { return Ok(()) };
+    let Some(j) = json.filter(|j| !crate::app::console::is_stdout(j)) else { return Ok(()) };
     refuse_input("--json", j, inputs)?;
     refuse_output("--json", j, outputs)?;
     if j.is_dir() {
@@ -212,7 +208,7 @@ pub fn run(
     crate::say!("{}", crate::io::summary::headline_text(&summary));
     warn_untrustworthy(&lc.file, &run);
     if let Some(j) = json {
-        crate::app::cli::write_text_or_stdout(j, &text)?;
+        crate::app::console::write_text_or_stdout(j, &text)?;
     }
     Ok(())
 }

@@ -20,11 +20,11 @@ use crate::error::{Error, Result};
 use crate::identify::bouc_wen_fit::{self, CycleData, CycleOptions, FitOptions, FitTarget, MultiSeedFit};
 use crate::identify::dp::{self, DpEstimate, DpOptions};
 use crate::identify::frf::{self, Frf, FrfOptions, Segmentation};
-use crate::identify::measurement::{self, LoadOptions, Quantity};
 use crate::identify::modal_fit::{self, DynamicParameters, IdentifiedElement, ModalFit, RfpOptions, SdofOptions};
 use crate::identify::synth::{self, SynthKind, SynthOptions, Truth};
 use crate::io::atomic::write_atomic_string;
 use crate::io::lock::OutputLock;
+use crate::io::measurement::{self, LoadOptions, Quantity};
 use crate::io::paths::{output_file, refuse_input, refuse_output, Input};
 use crate::report::identify as plots;
 
@@ -695,7 +695,7 @@ pub fn synth(req: &SynthRequest) -> Result<SynthOutcome> {
     let lc = LoadedCase::load(&req.case)?;
     let s = synth::synthesize(&lc, &req.options)?;
     let paths = record_paths(&req.out, s.records.len());
-    let inputs = crate::app::commands::case_inputs(&lc);
+    let inputs = crate::app::case_inputs(&lc);
     for (k, p) in paths.iter().enumerate() {
         refuse_input("--out", p, &inputs)?;
         refuse_output("--out", p, &paths[..k])?;

@@ -6,8 +6,14 @@
 
 pub mod cli;
 pub mod commands;
+pub mod console;
 pub mod identify;
 pub mod optimize;
 pub mod paper;
 pub mod runner;
 pub mod sweep;
+
+/// The files a loaded case reads, for the overwrite checks of [`crate::io::paths`].
+pub fn case_inputs(lc: &crate::case::LoadedCase) -> Vec<crate::io::paths::Input> {
+    lc.input_files().into_iter().map(|(p, what)| crate::io::paths::Input::new(p, what)).collect()
+}

@@ -14,9 +14,9 @@ use crate::case::{BodySpec, LoadedCase};
 use crate::error::{Error, Result};
 use crate::io::atomic::write_atomic_string;
 use crate::report::figures::{
-    body_panel, components_panel, forces_panel, ms_axis, power_spectrum_panel, save, spectrum_panel, total_panel,
-    PowerLines,
+    body_panel, components_panel, forces_panel, ms_axis, power_spectrum_panel, spectrum_panel, total_panel, PowerLines,
 };
+use crate::report::plot::save;
 use crate::report::plot::text::si;
 use crate::report::plot::{BarChart, LinePlot, MultiPanel, Series};
 use serde_json::json;

@@ -335,7 +335,7 @@ fn hold_roundoff(lc: &LoadedCase, model: &Model, field: &str, r: &AnalysisResult
     let Some(bound) = r.mesh_roundoff() else { return Ok(()) };
     let strict = lc.case.beam.mesh.strict_roundoff;
     match crate::analysis::roundoff::check(model, strict, field, bound).map_err(|e| e.in_file(&lc.file))? {
-        Some(text) => crate::app::cli::note_line(format_args!("warning: {}: {text}", lc.file)),
+        Some(text) => crate::app::console::note_line(format_args!("warning: {}: {text}", lc.file)),
         None => {}
     }
     Ok(())
@@ -407,7 +407,7 @@ impl Runner<'_> {
         let mut r = transient::run(model, &red, s)?;
         if rs.error_estimate {
             let samples = ESTIMATE_SAMPLES.max(samples_for_harmonics(h).unwrap_or(usize::MAX));
-            report.error = Some(reduction::estimate_error(model, self.reference()?, &red, h, samples)?);
+            report.error = Some(steady_state::estimate_reduction_error(model, self.reference()?, &red, h, samples)?);
         }
         r.reduction = Some(report);
         Ok(r)
@@ -443,7 +443,7 @@ impl Runner<'_> {
         let mut r = steady_state::run_counted(model, &red, HarmonicCount::Fixed(h), samples)?;
         if rs.error_estimate {
             let full = steady_state::run(model, self.reference()?, h, samples)?;
-            report.error = Some(reduction::compare(&full, &r));
+            report.error = Some(steady_state::reduction_error(&full, &r));
         }
         r.reduction = Some(report);
         Ok(r)

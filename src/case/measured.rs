@@ -1,10 +1,10 @@
 //! Measured data a case names (`[[measurement]]`), to be set beside its predictions: the
 //! files are read and checked here, before any solve, with the reader identification uses
-//! ([`crate::identify::measurement`]); the comparison is [`crate::analysis::measured`].
+//! ([`crate::io::measurement`]); the comparison is [`crate::analysis::measured`].
 
 use super::LoadedCase;
 use crate::error::{Error, Result};
-use crate::identify::measurement::{self, LoadOptions, Measurement, Quantity};
+use crate::io::measurement::{self, LoadOptions, Measurement, Quantity};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

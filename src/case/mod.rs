@@ -16,6 +16,15 @@ pub use build::build_model;
 pub use schema::*;
 
 use crate::error::{Error, Result};
+
+impl Case {
+    /// Checks every field, then the admissible range of every number (`ranges`); the first
+    /// problem is returned, naming file and field.
+    pub fn validate(&self, file: &str) -> Result<()> {
+        self.validate_fields(file)?;
+        ranges::check(self, file)
+    }
+}
 use std::path::{Path, PathBuf};
 
 /// A parsed case and where it came from.

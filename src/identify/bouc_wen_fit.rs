@@ -36,9 +36,9 @@
 
 use crate::actuator::bouc_wen::BoucWen;
 use crate::error::{Error, Result};
-use crate::identify::measurement::{Measurement, Quantity};
 use crate::identify::pso::{self, PsoOptions, StopReason};
 use crate::identify::toml_float;
+use crate::io::measurement::{Measurement, Quantity};
 
 /// What the record's response column is.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -472,8 +472,8 @@ pub fn fit_multi_seed(data: &CycleData, opts: &FitOptions, seeds: &[u64]) -> Res
 mod tests {
     use super::*;
     use crate::identify::frf::tests::add_noise;
-    use crate::identify::measurement::{self, LoadOptions};
     use crate::identify::pso::Rng;
+    use crate::io::measurement::{self, LoadOptions};
     use crate::signal::voltage::VoltageInput;
 
     const TRUE: BoucWen = BoucWen { d_p: 1.3e-7, alpha: 0.3, beta: 0.02, gamma: 0.005 };

@@ -25,8 +25,8 @@ use num_complex::Complex64;
 use rustfft::FftPlanner;
 
 use crate::error::{Error, Result};
-use crate::identify::measurement::{self, LoadOptions, Measurement, Quantity};
 use crate::identify::toml_float;
+use crate::io::measurement::{self, LoadOptions, Measurement, Quantity};
 
 /// Settings of [`estimate_dp`].
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]

@@ -282,9 +282,9 @@ fn averaged_spectra(
 }
 
 /// H1 estimate from a loaded measurement (its `force` and `acceleration` columns).
-pub fn h1_from_measurement(m: &crate::identify::measurement::Measurement, opts: &FrfOptions) -> Result<Frf> {
-    let f = m.column(crate::identify::measurement::Quantity::Force)?;
-    let a = m.column(crate::identify::measurement::Quantity::Acceleration)?;
+pub fn h1_from_measurement(m: &crate::io::measurement::Measurement, opts: &FrfOptions) -> Result<Frf> {
+    let f = m.column(crate::io::measurement::Quantity::Force)?;
+    let a = m.column(crate::io::measurement::Quantity::Acceleration)?;
     h1(&m.file, f, a, m.dt, opts)
 }
 

@@ -4,7 +4,7 @@
 //!
 //! | step | module | gives |
 //! |---|---|---|
-//! | load and validate measurement CSVs | [`measurement`] | [`measurement::Measurement`] |
+//! | load and validate measurement CSVs | [`crate::io::measurement`] | [`crate::io::measurement::Measurement`] |
 //! | d_p from two records with a constant voltage offset | [`dp`] | [`dp::DpEstimate`] |
 //! | α, β, γ by particle swarm inside the class-I constraints | [`bouc_wen_fit`] (on [`pso`]) | [`bouc_wen_fit::BoucWenFit`] |
 //! | impact test → H1 frequency response and coherence | [`frf`] | [`frf::Frf`] |
@@ -25,7 +25,6 @@
 pub mod bouc_wen_fit;
 pub mod dp;
 pub mod frf;
-pub mod measurement;
 pub mod modal_fit;
 pub mod pso;
 pub mod synth;
@@ -52,6 +51,19 @@ pub(crate) fn toml_float(x: f64) -> String {
     let s = format!("{rounded:?}");
     // `{:?}` gives e.g. "0.3", "1.3e-7", "3e20", "30000000.0": all valid TOML floats.
     s
+}
+
+impl crate::io::measurement::Measurement {
+    /// A comment block describing the record (no case fields: measurements are inputs).
+    pub fn to_case_fragment(&self) -> String {
+        format!(
+            "# measurement {}: {} samples, dt = {} s, columns: {}\n",
+            self.file,
+            self.len(),
+            toml_float(self.dt),
+            self.quantities().iter().map(|q| q.name()).collect::<Vec<_>>().join(", ")
+        )
+    }
 }
 
 /// Serialises complex numbers as `[re, im]` pairs (num-complex is built without serde).
@@ -108,6 +120,14 @@ mod tests {
             let back = t["v"].as_float().unwrap();
             assert!(((back - x) / x).abs() < 1e-5, "{x} -> {frag}");
         }
+    }
+
+    #[test]
+    fn a_measurement_fragment_is_a_comment() {
+        use crate::io::measurement::{Measurement, Quantity};
+        let m = Measurement::new("m", vec![0.0, 1e-3], vec![(Quantity::Force, vec![1.0, 2.0])]).unwrap();
+        let frag = m.to_case_fragment();
+        assert!(frag.starts_with('#') && frag.contains("dt = 0.001 s"), "{frag}");
     }
 
     #[test]

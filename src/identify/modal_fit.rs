@@ -80,7 +80,17 @@ pub struct ModalFit {
 impl ModalFit {
     /// The fitted receptance of the (window-corrected) model at ω (rad/s).
     pub fn receptance(&self, omega: f64) -> Complex64 {
-        let s = Complex64::new(0.0, omega);
+        self.receptance_at(Complex64::new(0.0, omega), omega)
+    }
+
+    /// The fitted accelerance at ω (rad/s), −ω²·receptance, with the exponential window's
+    /// pole shift put back so that it compares with the (windowed) measured H1.
+    pub fn windowed_accelerance(&self, omega: f64) -> Complex64 {
+        -omega * omega * self.receptance_at(Complex64::new(self.exp_decay_removed, omega), omega)
+    }
+
+    /// The modal sum Σ R/(s − p) + R*/(s − p*) at s, with the residuals at ω.
+    fn receptance_at(&self, s: Complex64, omega: f64) -> Complex64 {
         let mut h = Complex64::new(self.upper_residual - self.lower_residual / (omega * omega), 0.0);
         for m in &self.modes {
             let p = m.pole();

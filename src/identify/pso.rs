@@ -19,45 +19,30 @@
 //!   otherwise stop at `max_iterations`. The reason is reported in [`StopReason`].
 //!
 //! The swarm's random numbers come from xoshiro256++ seeded by the seed (`rand_xoshiro`);
-//! [`Rng`] is xoshiro256** seeded through splitmix64. The same seed gives bit-identical
+//! [`Rng`] is xoshiro256** (`rand_xoshiro`) seeded through splitmix64. The same seed gives bit-identical
 //! results on every platform and thread count.
 
 use crate::error::{Error, Result};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Pseudo-random generator: xoshiro256** (Blackman & Vigna), seeded by splitmix64.
+/// Pseudo-random generator: xoshiro256** (Blackman & Vigna, `rand_xoshiro`), seeded by
+/// splitmix64, with uniform and normal deviates.
 #[derive(Clone, Debug)]
 pub struct Rng {
-    s: [u64; 4],
+    bits: rand_xoshiro::Xoshiro256StarStar,
     spare_normal: Option<f64>,
 }
 
 impl Rng {
     /// A generator whose whole stream is determined by `seed`.
     pub fn new(seed: u64) -> Self {
-        let mut z = seed;
-        let mut next = || {
-            z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut x = z;
-            x = (x ^ (x >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            x = (x ^ (x >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            x ^ (x >> 31)
-        };
-        let s = [next(), next(), next(), next()];
-        Rng { s, spare_normal: None }
+        use rand::SeedableRng;
+        Rng { bits: rand_xoshiro::Xoshiro256StarStar::seed_from_u64(seed), spare_normal: None }
     }
 
     /// Next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
-        let result = self.s[1].wrapping_mul(5).rotate_left(7).wrapping_mul(9);
-        let t = self.s[1] << 17;
-        self.s[2] ^= self.s[0];
-        self.s[3] ^= self.s[1];
-        self.s[1] ^= self.s[2];
-        self.s[0] ^= self.s[3];
-        self.s[2] ^= t;
-        self.s[3] = self.s[3].rotate_left(45);
-        result
+        rand::RngCore::next_u64(&mut self.bits)
     }
 
     /// Uniform in [0, 1) with 53 random bits.

@@ -32,10 +32,10 @@ use crate::actuator::Actuator;
 use crate::case::LoadedCase;
 use crate::error::{Error, Result};
 use crate::identify::frf;
-use crate::identify::measurement::{Measurement, Quantity};
 use crate::identify::modal_fit::IdentifiedElement;
 use crate::identify::pso::Rng;
 use crate::identify::toml_float;
+use crate::io::measurement::{Measurement, Quantity};
 use crate::signal::voltage::VoltageInput;
 
 /// What to synthesise.

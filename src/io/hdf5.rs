@@ -17,7 +17,7 @@
 use std::path::{Path, PathBuf};
 use std::str::FromStr;
 
-use ::hdf5::types::{CompoundField, CompoundType, FloatSize, H5Type, TypeDescriptor, VarLenAscii, VarLenUnicode};
+use ::hdf5::types::{H5Type, TypeDescriptor, VarLenAscii, VarLenUnicode};
 use num_complex::Complex64;
 
 use super::atomic::PendingFile;
@@ -27,26 +27,13 @@ use crate::error::{Error, Result};
 use std::collections::BTreeMap;
 
 /// In-file layout of one complex number: the compound `{r: f64, i: f64}` that h5py reads
-/// as `complex128`. Kept private; callers use [`Complex64`].
+/// as `complex128` (its description derived from the `repr(C)` layout). Kept private;
+/// callers use [`Complex64`].
 #[repr(C)]
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, ::hdf5::H5Type)]
 struct H5Complex {
     r: f64,
     i: f64,
-}
-
-// SAFETY: `H5Complex` is `repr(C)`, 16 bytes, with `r` at offset 0 and `i` at offset 8,
-// exactly as described.
-unsafe impl H5Type for H5Complex {
-    fn type_descriptor() -> TypeDescriptor {
-        TypeDescriptor::Compound(CompoundType {
-            fields: vec![
-                CompoundField::new("r", TypeDescriptor::Float(FloatSize::U8), 0, 0),
-                CompoundField::new("i", TypeDescriptor::Float(FloatSize::U8), 8, 1),
-            ],
-            size: 16,
-        })
-    }
 }
 
 /// Turns an HDF5 library error into [`Error::Hdf5`] naming the user-facing file (never the
@@ -559,6 +546,17 @@ fn format_utc(secs: u64) -> String {
 mod tests {
     use super::*;
     use std::process::Command;
+
+    /// The complex compound is what h5py reads as `complex128`: `r` then `i`, two 8-byte
+    /// floats in 16 bytes.
+    #[test]
+    fn complex_compound_is_the_h5py_layout() {
+        let TypeDescriptor::Compound(c) = H5Complex::type_descriptor() else { panic!("not a compound") };
+        assert_eq!(c.size, 16);
+        let fields: Vec<_> = c.fields.iter().map(|f| (f.name.as_str(), f.offset, f.ty.clone())).collect();
+        let f64_ty = TypeDescriptor::Float(::hdf5::types::FloatSize::U8);
+        assert_eq!(fields, [("r", 0, f64_ty.clone()), ("i", 8, f64_ty)]);
+    }
 
     fn sample(path: &Path) {
         let f = ResultsFile::create(path).unwrap();

@@ -25,6 +25,7 @@ pub mod atomic;
 pub mod csv;
 pub mod hdf5;
 pub mod lock;
+pub mod measurement;
 pub mod mtx;
 pub mod output_set;
 pub mod paths;

@@ -3,9 +3,9 @@
 use super::hdf5::{utc_timestamp, ResultsFile};
 use super::sink::GroupSink;
 use crate::actuator::link_id;
+use crate::analysis::case_run::Comparison;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
-use crate::analysis::measured::Comparison;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
 use crate::analysis::series::{

@@ -87,7 +87,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
 }
 
 /// A measurement against the prediction: where, what, and the errors.
-fn measured(c: &crate::analysis::measured::Comparison) -> Value {
+fn measured(c: &crate::analysis::case_run::Comparison) -> Value {
     json!({"name": c.name, "point": c.point, "quantity": c.quantity.name(), "file": c.file,
            "harmonics_compared": c.harmonic.len(), "drive_error_db": c.drive_error_db(),
            "max_abs_error_db": finite_or_null(c.max_abs_error_db()), "relative_rms_error": finite_or_null(c.relative_rms_error),

@@ -2,7 +2,7 @@
 //! velocity at each response point per unit input) and its mode shapes beside the bare
 //! beam's.
 
-use super::figures::{save, Dest};
+use super::plot::{save, Dest};
 use super::plot::{LinePlot, MultiPanel, Series};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;

@@ -20,7 +20,7 @@ use crate::identify::modal_fit::ModalFit;
 use crate::report::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
 
 // Figures are written through the run figures' helpers: PNG and SVG side by side.
-pub use crate::report::figures::{save as render_both, Figure};
+pub use crate::report::plot::{save as render_both, Figure};
 
 /// Short file name for titles.
 fn short(file: &str) -> String {
@@ -115,18 +115,6 @@ fn short_stop(f: &crate::identify::bouc_wen_fit::BoucWenFit) -> &'static str {
     }
 }
 
-/// The fitted accelerance at ω (rad/s), with the exponential window's pole shift put back so
-/// that it compares with the (windowed) measured H1.
-pub fn fitted_accelerance(fit: &ModalFit, omega: f64) -> Complex64 {
-    let s = Complex64::new(fit.exp_decay_removed, omega);
-    let mut h = Complex64::new(fit.upper_residual - fit.lower_residual / (omega * omega), 0.0);
-    for m in &fit.modes {
-        let p = m.pole();
-        h += m.residue / (s - p) + m.residue.conj() / (s - p.conj());
-    }
-    -omega * omega * h
-}
-
 /// Phase in degrees wrapped to [−90, 270): a driving-point accelerance lies in [0, 180].
 fn phase_deg(h: Complex64) -> f64 {
     let mut d = h.arg().to_degrees();
@@ -165,7 +153,8 @@ pub fn frf_figure(file: &str, frf: &Frf, fits: &[(&str, &ModalFit)]) -> MultiPan
         let (lo, hi) = fit.band;
         let n = 400;
         let fx: Vec<f64> = (0..=n).map(|i| lo + (hi - lo) * i as f64 / n as f64).collect();
-        let h: Vec<Complex64> = fx.iter().map(|&fr| fitted_accelerance(fit, 2.0 * std::f64::consts::PI * fr)).collect();
+        let h: Vec<Complex64> =
+            fx.iter().map(|&fr| fit.windowed_accelerance(2.0 * std::f64::consts::PI * fr)).collect();
         let modes: Vec<String> =
             fit.modes.iter().map(|m| format!("f_{{n}} = {:.2} Hz, ζ = {:.4}", m.freq_hz(), m.zeta)).collect();
         let name = format!("{label}: {}", modes.join("; "));

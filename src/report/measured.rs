@@ -4,9 +4,9 @@
 //! level error per harmonic — and for force and acceleration one period of both, rebuilt
 //! from those harmonics.
 
-use super::figures::{save, Dest};
+use super::plot::{save, Dest};
 use super::plot::{LinePlot, MultiPanel, Series, SeriesStyle};
-use crate::analysis::measured::Comparison;
+use crate::analysis::case_run::Comparison;
 use crate::case::measured::MeasuredQuantity;
 use crate::error::Result;
 use crate::power::spectra::db;

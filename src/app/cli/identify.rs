@@ -5,10 +5,10 @@ use crate::app::identify::{self as commands, BoucWenRequest, DpRequest, ModalReq
 use crate::error::{Error, Result};
 use crate::identify::bouc_wen_fit::{CycleOptions, FitOptions, FitTarget};
 use crate::identify::dp::DpOptions;
-use crate::identify::measurement::LoadOptions;
 use crate::identify::modal_fit::IdentifiedElement;
 use crate::identify::pso::PsoOptions;
 use crate::identify::synth::{SynthKind, SynthOptions};
+use crate::io::measurement::LoadOptions;
 use clap::{Args, Subcommand, ValueEnum};
 use std::path::PathBuf;
 

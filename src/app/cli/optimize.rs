@@ -29,7 +29,7 @@ pub fn optimize(args: &OptimizeArgs) -> Result<()> {
     let out = args.out.clone().unwrap_or_else(|| PathBuf::from("out").join(stem));
     let (spec, r, files) =
         crate::app::optimize::optimize(&args.spec, &out, args.threads, !args.no_plots, &args.budget.budget())?;
-    crate::app::cli::note_line(format_args!(
+    crate::app::console::note_line(format_args!(
         "{}: {} variables, {} evaluations in {:.2} s ({:.0} per second)",
         spec.file,
         spec.variables.len(),
@@ -38,7 +38,7 @@ pub fn optimize(args: &OptimizeArgs) -> Result<()> {
         r.evaluations as f64 / r.seconds.max(1e-9)
     ));
     if let Some(o) = &r.best.outcome {
-        crate::app::cli::note_line(format_args!(
+        crate::app::console::note_line(format_args!(
             "best: {} harmonics solved, energy balance |Σ P − dissipation| / dissipation = {:.1e}",
             spec.harmonics, o.balance_error
         ));

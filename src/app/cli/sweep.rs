@@ -55,7 +55,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     sweep::exec::worker_threads(args.threads).map_err(|r| Error::input("<cli>", "--threads", r))?;
     let s = sweep::load(&args.sweep)?;
     let (n, _) = s.cases_cost(shard);
-    crate::app::cli::note_line(format_args!(
+    crate::app::console::note_line(format_args!(
         "{}: {} cases{}, {} analysis, {} harmonics{}",
         s.file,
         s.len(),
@@ -72,7 +72,7 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
     let (ex, files) = crate::app::sweep::sweep_into(&s, &args.sweep, &args.out, &opts, args.csv, !args.no_plots)?;
     let dt = t0.elapsed().as_secs_f64();
-    crate::app::cli::note_line(format_args!(
+    crate::app::console::note_line(format_args!(
         "{} cases computed in {dt:.2} s ({:.1} cases/s), {} reused",
         ex.computed,
         if dt > 0.0 { ex.computed as f64 / dt } else { 0.0 },

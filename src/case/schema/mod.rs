@@ -265,8 +265,9 @@ impl Case {
         }
     }
 
-    /// Checks every field; the first problem is returned, naming file and field.
-    pub fn validate(&self, file: &str) -> Result<()> {
+    /// Checks every field on its own terms (the admissible ranges are checked after, by
+    /// [`Case::validate`]); the first problem is returned, naming file and field.
+    pub(super) fn validate_fields(&self, file: &str) -> Result<()> {
         let b = &self.beam;
         b.validate(file)?;
         if let Some(p) = &self.plate {
@@ -310,6 +311,6 @@ impl Case {
         for (i, an) in self.analysis.iter().enumerate() {
             an.validate(file, &format!("analysis[{i}]"), self)?;
         }
-        super::ranges::check(self, file)
+        Ok(())
     }
 }

@@ -25,7 +25,9 @@
 
 pub mod axis;
 mod bars;
+pub mod figure;
 mod heat;
+pub use figure::{save, Dest, Figure};
 pub mod legend;
 mod lines;
 mod outline;

@@ -73,9 +73,8 @@ impl BandNewmark {
                 y
             }};
         }
-        // SAFETY (band rows): i·B + t < n·B.
-        let band = |i: usize, t: usize| unsafe { -*l.get_unchecked(i * b + t) };
-        let la_f = &self.pairs.fwd[..];
+        let band = |i: usize, t: usize| -l[i * b + t];
+        let pairs_f = &self.pairs.fwd[..];
         // Rows r (even) and r + 1 from the same window, y_{r+1} with y_r substituted
         // (`la`: `PairRows::fwd`).
         macro_rules! pair {
@@ -116,12 +115,14 @@ impl BandNewmark {
         macro_rules! band_group {
             () => {{
                 let dv = [d_inv[i], d_inv[i + 1], d_inv[i + 2], d_inv[i + 3]];
-                // SAFETY: pair p < n/2 = la_f.len() (the group's rows are below n).
-                let la = |p: usize| unsafe { *la_f.get_unchecked(p) };
                 if lp < long.len() && long[lp].row < i + G {
-                    group!(band, band, la, dv, true);
+                    group!(band, band, |p: usize| PairRows::ahead(&pairs_f[p]), dv, true);
                 } else {
-                    group!(band, band, la, dv, false);
+                    // The group's two pairs, sliced once: a pair's reads need no bounds checks.
+                    let (i0, two) = (i, window::<_, 2>(pairs_f, i / 2));
+                    let even = |r: usize, t: usize| two[(r - i0) / 2][t];
+                    let la = |p: usize| PairRows::ahead(&two[p - i0 / 2]);
+                    group!(even, even, la, dv, false);
                 }
             }};
         }
@@ -185,9 +186,8 @@ impl BandNewmark {
                 xi
             }};
         }
-        // SAFETY (band rows): (i+s)·B + B − s < (n+B)·B.
-        let band = |i: usize, s: usize| unsafe { -*l.get_unchecked((i + s) * b + b - s) };
-        let la_b = &self.pairs.bwd[..];
+        let band = |i: usize, s: usize| -l[(i + s) * b + b - s];
+        let pairs_b = &self.pairs.bwd[..];
         // Rows o = e + 1 and e (even) from the same window, x_e with x_o substituted
         // (`la`: `PairRows::bwd`).
         macro_rules! pair {
@@ -230,12 +230,15 @@ impl BandNewmark {
         // A band group, checking for long rows only if the next one (going up) is in it.
         macro_rules! band_group {
             () => {{
-                // SAFETY: as in the forward sweep.
-                let la = |p: usize| unsafe { *la_b.get_unchecked(p) };
-                if lp > 0 && long[lp - 1].row >= i - G {
-                    group!(i - G, band, band, la, true);
+                let g0 = i - G;
+                if lp > 0 && long[lp - 1].row >= g0 {
+                    group!(g0, band, band, |p: usize| PairRows::ahead(&pairs_b[p]), true);
                 } else {
-                    group!(i - G, band, band, la, false);
+                    // As in the forward sweep.
+                    let two = window::<_, 2>(pairs_b, g0 / 2);
+                    let odd = |r: usize, s: usize| two[(r - g0) / 2][s];
+                    let la = |p: usize| PairRows::ahead(&two[p - g0 / 2]);
+                    group!(g0, odd, odd, la, false);
                 }
             }};
         }
@@ -258,6 +261,13 @@ impl BandNewmark {
             band_group!();
         }
     }
+}
+
+/// The `N` entries of `x` from `start`, as an array: indexed by constants, they need no
+/// bounds checks.
+#[inline(always)]
+fn window<T, const N: usize>(x: &[T], start: usize) -> &[T; N] {
+    x[start..start + N].try_into().expect("a slice of N entries")
 }
 
 /// Two rows of a sweep from the same window w = (newest, middle, oldest) of unknowns:
@@ -288,12 +298,15 @@ fn pair_rows<const FMA: bool>(
 /// rows of a pair are computed from the same three unknowns before it (see the module).
 #[derive(Clone, Debug, Default)]
 pub(super) struct PairRows {
-    /// Forward, pair p: the odd row r = 2p + 1 with y_{r−1} substituted, as the multipliers
-    /// of y_{r−4}, y_{r−3}, y_{r−2} and of z_{r−1}.
-    fwd: Vec<[f64; 4]>,
-    /// Backward, pair p: the even row e = 2p with x_{e+1} substituted, as the multipliers of
-    /// x_{e+4}, x_{e+3}, x_{e+2} and of the right-hand side of row e + 1.
-    bwd: Vec<[f64; 4]>,
+    /// Forward, pair p: −L(e, e − 3 + t), t ∈ 0..3, of the even row e = 2p (and a zero),
+    /// then the odd row r = 2p + 1 with y_{r−1} substituted, as the multipliers of y_{r−4},
+    /// y_{r−3}, y_{r−2} and of z_{r−1} ([`PairRows::ahead`]). A pair's band reads are one
+    /// line of eight numbers rather than rows of the factor.
+    fwd: Vec<[f64; 8]>,
+    /// Backward, pair p: −L(o + s, o), s ∈ 1..=3 (index 0 unused), of the odd row o = 2p + 1,
+    /// then the even row e = 2p with x_{e+1} substituted, as the multipliers of x_{e+4},
+    /// x_{e+3}, x_{e+2} and of the right-hand side of row e + 1.
+    bwd: Vec<[f64; 8]>,
 }
 
 impl PairRows {
@@ -311,14 +324,28 @@ impl PairRows {
             v
         };
         let pairs = 0..n / 2;
-        PairRows {
-            fwd: pairs.clone().map(|p| Self::ahead_fwd(left(2 * p), left(2 * p + 1))).collect(),
-            bwd: pairs.map(|p| Self::ahead_bwd(below(2 * p), below(2 * p + 1))).collect(),
-        }
+        let line = |plain: [f64; 4], ahead: [f64; 4]| {
+            let mut q = [0.0; 8];
+            q[..4].copy_from_slice(&plain);
+            q[4..].copy_from_slice(&ahead);
+            q
+        };
+        let fwd = |p: usize| {
+            let e = left(2 * p);
+            line([e[0], e[1], e[2], 0.0], Self::ahead_fwd(e, left(2 * p + 1)))
+        };
+        let bwd = |p: usize| line(below(2 * p + 1), Self::ahead_bwd(below(2 * p), below(2 * p + 1)));
+        PairRows { fwd: pairs.clone().map(fwd).collect(), bwd: pairs.map(bwd).collect() }
     }
 
     pub(super) fn len(&self) -> usize {
-        4 * (self.fwd.len() + self.bwd.len())
+        8 * (self.fwd.len() + self.bwd.len())
+    }
+
+    /// The substituted multipliers of a pair's line.
+    #[inline(always)]
+    fn ahead(line: &[f64; 8]) -> [f64; 4] {
+        [line[4], line[5], line[6], line[7]]
     }
 
     /// y_o = z_o + a_o·y_{o−3} + b_o·y_{o−2} + c_o·y_{o−1} (`odd` = [a_o, b_o, c_o]) with

@@ -50,7 +50,7 @@ use crate::linalg::band::{BandFactor, BandMatrices};
 use crate::linalg::{Csr, Skyline};
 use crate::simd::band::PeriodicRun;
 use crate::simd::update::StepCoeffs;
-use crate::simd::{has_avx512, has_fma};
+use crate::simd::{dispatch, has_avx512, has_fma, Builds};
 
 mod coeffs;
 mod dense;
@@ -466,18 +466,7 @@ impl BandNewmark {
     }
 
     fn observe_dispatch(&mut self) {
-        #[cfg(target_arch = "x86_64")]
-        if self.fma {
-            // SAFETY: `fma` is set only when the processor reports AVX2 and FMA.
-            return unsafe { self.observe_avx2() };
-        }
-        self.observe::<false>();
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn observe_avx2(&mut self) {
-        self.observe::<true>();
+        dispatch(self.fma, self, ());
     }
 
     #[inline(always)]
@@ -487,18 +476,7 @@ impl BandNewmark {
     }
 
     fn dispatch(&mut self, k: StepCoeffs) {
-        #[cfg(target_arch = "x86_64")]
-        if self.fma {
-            // SAFETY: `fma` is set only when the processor reports AVX2 and FMA.
-            return unsafe { self.step_avx2(k) };
-        }
-        self.by_width::<false>(k)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn step_avx2(&mut self, k: StepCoeffs) {
-        self.by_width::<true>(k)
+        dispatch(self.fma, self, k);
     }
 
     #[inline(always)]
@@ -563,5 +541,23 @@ impl BandNewmark {
         if self.track_dissipation {
             self.diss_sum += ops.dissipation::<FMA>(&self.x[b..], &mut self.z[..n]);
         }
+    }
+}
+
+/// A step (`by_width`) in one build, for [`dispatch`].
+impl Builds<StepCoeffs> for BandNewmark {
+    type Out = ();
+    #[inline(always)]
+    fn run<const FMA: bool>(&mut self, k: StepCoeffs) {
+        self.by_width::<FMA>(k)
+    }
+}
+
+/// The read-outs (`observe`) in one build, for [`dispatch`].
+impl Builds<()> for BandNewmark {
+    type Out = ();
+    #[inline(always)]
+    fn run<const FMA: bool>(&mut self, _: ()) {
+        self.observe::<FMA>()
     }
 }

@@ -87,11 +87,8 @@ impl BandNewmark {
                 lp += 1;
             }
             if b > 0 {
-                for t in 0..b - 1 {
-                    // SAFETY: i·B + t < n·B and i + t < n + B.
-                    unsafe {
-                        y = madd::<FMA>(-*l.get_unchecked(i * b + t), *z.get_unchecked(i + t), y);
-                    }
+                for (&lt, &zt) in l[i * b..i * b + b - 1].iter().zip(&z[i..i + b - 1]) {
+                    y = madd::<FMA>(-lt, zt, y);
                 }
                 y = madd::<FMA>(-l[i * b + b - 1], prev, y);
             }
@@ -122,10 +119,7 @@ impl BandNewmark {
             let mut xi = x[i];
             if b > 0 {
                 for s in (2..=b).rev() {
-                    // SAFETY: (i+s)·B + B − s < (n+B)·B and i + s < n + B.
-                    unsafe {
-                        xi = madd::<FMA>(-*l.get_unchecked((i + s) * b + b - s), *x.get_unchecked(i + s), xi);
-                    }
+                    xi = madd::<FMA>(-l[(i + s) * b + b - s], x[i + s], xi);
                 }
                 xi = madd::<FMA>(-l[(i + 1) * b + b - 1], prev, xi);
             }

@@ -30,7 +30,6 @@
 use std::path::Path;
 
 use crate::error::{Error, Result};
-use crate::identify::toml_float;
 
 /// A measured quantity (one column).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize, serde::Deserialize)]
@@ -618,19 +617,6 @@ pub fn load_point_hdf5(path: &Path, group: Option<&str>, point: &str, opts: &Loa
     Ok(m)
 }
 
-impl Measurement {
-    /// A comment block describing the record (no case fields: measurements are inputs).
-    pub fn to_case_fragment(&self) -> String {
-        format!(
-            "# measurement {}: {} samples, dt = {} s, columns: {}\n",
-            self.file,
-            self.len(),
-            toml_float(self.dt),
-            self.quantities().iter().map(|q| q.name()).collect::<Vec<_>>().join(", ")
-        )
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -671,7 +657,6 @@ mod tests {
         assert_eq!(back.voltage, m.voltage);
         assert_eq!(back.displacement, m.displacement);
         assert_eq!(back.file, path.display().to_string());
-        assert!(m.to_case_fragment().starts_with('#'));
     }
 
     #[test]
