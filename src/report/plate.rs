@@ -155,3 +155,50 @@ pub fn layout_figure(dir: Dest, stem: &str, plate: &Plate, run: &CaseRun) -> Res
     }
     save(&h, dir, &format!("{stem}_layout"))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plate::{Edges, Grid};
+    use std::f64::consts::PI;
+
+    /// The (2, 1) mode of a simply supported plate, given by its exact node DOFs: sampled
+    /// through the shape functions it matches the sine to the bicubic's accuracy, and its
+    /// nodal line is found at x = L_x/2.
+    #[test]
+    fn a_sampled_mode_matches_its_function_and_its_nodal_line_is_found() {
+        let (lx, ly) = (0.5, 0.4);
+        let ss = crate::plate::Edge::SimplySupported;
+        let plate = Plate {
+            grid: Grid::through(lx, ly, 10, 8, &[]),
+            thickness: 0.003,
+            youngs_modulus: 70e9,
+            poisson_ratio: 0.33,
+            density: 2700.0,
+            edges: Edges { x0: ss, x1: ss, y0: ss, y1: ss },
+            supports: vec![],
+            point_masses: vec![],
+            springs: vec![],
+        };
+        let (a, b) = (2.0 * PI / lx, PI / ly);
+        let dofs: Vec<f64> = (0..plate.grid.n_nodes())
+            .flat_map(|n| {
+                let (x, y) = plate.grid.position(n);
+                let (sx, cx, sy, cy) = ((a * x).sin(), (a * x).cos(), (b * y).sin(), (b * y).cos());
+                [sx * sy, a * cx * sy, b * sx * cy, a * b * cx * cy]
+            })
+            .collect();
+        let (xs, ys, z) = sample(&plate, &dofs);
+        for (k, v) in z.iter().enumerate() {
+            let (x, y) = (xs[k % xs.len()], ys[k / xs.len()]);
+            assert!((v - (a * x).sin() * (b * y).sin()).abs() < 2e-3, "at ({x}, {y})");
+        }
+        let lines = zero_lines(&xs, &ys, &z);
+        assert!(!lines.is_empty());
+        for seg in &lines {
+            for &(x, _) in seg {
+                assert!((x - 0.5 * lx).abs() < 1e-3, "nodal line point at x = {x}");
+            }
+        }
+    }
+}
