@@ -526,8 +526,12 @@ pub fn modal_power_figure(m: &ModalDecomposition, run: &CaseRun, s: &SteadyState
         sources.push((load.name.clone(), p.clone(), sp.power_total));
     }
     let shown = modes_that_matter(sources.iter().map(|(_, p, _)| p.as_slice()));
-    let mut bar =
-        BarChart::new("Net power into the beam by mode", "bare-beam mode (number, natural frequency)", "power (W)");
+    let kind = run.model.structure.as_ref().map_or("beam", |s| s.kind());
+    let mut bar = BarChart::new(
+        format!("Net power into the {kind} by mode"),
+        format!("bare-{kind} mode (number, natural frequency)"),
+        "power (W)",
+    );
     bar.categories = shown.iter().map(|&r| format!("{}\n{:.0} Hz", r + 1, m.mode_frequency_hz[r])).collect();
     bar.categories.push("rest".into());
     for (name, per_mode, total) in sources {
