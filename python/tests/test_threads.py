@@ -121,6 +121,9 @@ def test_python_runs_while_a_case_solves() -> None:
 
 INTERRUPT = """
 import os, signal, sys, threading, time
+# Python raises KeyboardInterrupt only where SIGINT was not ignored when it started; a
+# background job's children inherit it ignored, so the handler is set as a user's is.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 import beamflow
 what = sys.argv[1]
 if what == "sweep":
