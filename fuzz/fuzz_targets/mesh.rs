@@ -26,8 +26,8 @@ fuzz_target!(|data: &[u8]| {
     );
     let Ok(lc) = LoadedCase::from_str(&case, "fuzz.toml", dir) else { return };
     if let Ok((model, _)) = beamflow::analysis::plan::model_and_system(&lc) {
-        if let Some(beam) = &model.beam {
-            if let Ok(m) = beamflow::analysis::modes::run(beam, 3) {
+        if let Some(structure) = &model.structure {
+            if let Ok(m) = beamflow::analysis::modes::run(structure, 3) {
                 assert!(m.frequencies_hz.iter().all(|f| f.is_finite()), "{:?}", m.frequencies_hz);
             }
         }
