@@ -183,9 +183,11 @@ pub fn headline_text(v: &Value) -> String {
                 s += &rigid_forces(f);
             }
             if let Some(m) = a["mean_power_w"].as_object() {
+                // Named after the structure the power goes into ("beam", "plate").
+                let into = v["structure"].as_str().filter(|s| *s != "none").unwrap_or("base");
                 for (k, p) in m {
-                    s +=
-                        &format!("  mean power into the base at {k:<24} {:>12.4e} W\n", p.as_f64().unwrap_or(f64::NAN));
+                    let line = format!("mean power into the {into} at {k}");
+                    s += &format!("  {line:<52} {:>12.4e} W\n", p.as_f64().unwrap_or(f64::NAN));
                 }
             }
             for (k, p) in a["load_power_w"].as_object().into_iter().flatten() {
