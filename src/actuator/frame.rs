@@ -31,14 +31,17 @@ pub struct Frame {
     pub direction: f64,
 }
 
+/// A frame's feet from its stack foot `at` (spec §15): the stack at x_c + e·d and the legs
+/// at x_c ∓ a·d, with the top beam's centre x_c = x_E − e·d and d the in-plane direction ψ
+/// (rad). Each is written from x_c so that a beam gets x_E − e + offset exactly.
+pub fn feet(at: Location, e: f64, a: f64, psi: f64) -> [Location; 3] {
+    let c = at.offset(-e, psi);
+    [c.offset(e, psi), c.offset(-a, psi), c.offset(a, psi)]
+}
+
 impl Frame {
     /// Its links, in the order of its component: the stack, then the legs.
     pub const LINKS: [&'static str; 3] = ["stack", "left_leg", "right_leg"];
-
-    /// Centre of the top beam x_c = x_E − e·d.
-    pub fn centre(&self) -> Option<Location> {
-        self.at.map(|x| x.offset(-self.e, self.direction))
-    }
 
     /// DOFs (y, φ); the stack's half mass rides rigidly on the top beam at offset e, so it
     /// adds m_p/2·[1, e]ᵀ[1, e] to the body mass matrix.
@@ -47,10 +50,8 @@ impl Frame {
         let half = 0.5 * s.m_p;
         let e = self.e;
         let mass = DMatrix::from_row_slice(2, 2, &[self.m_b + half, half * e, half * e, self.j_b + half * e * e]);
-        let foot = |offset: f64| match self.centre() {
-            Some(c) => FootBase::On(c.offset(offset, self.direction)),
-            None => FootBase::Ground,
-        };
+        let feet = self.at.map(|at| feet(at, e, self.a, self.direction));
+        let foot = |i: usize| feet.map_or(FootBase::Ground, |f| FootBase::On(f[i]));
         Component {
             dof_names: vec!["y", "phi"],
             mass,
@@ -60,7 +61,7 @@ impl Frame {
                     k: s.k_p,
                     c: s.c_p,
                     top: vec![(0, 1.0), (1, e)],
-                    foot: foot(e),
+                    foot: foot(0),
                     foot_mass: half,
                     active: true,
                 },
@@ -69,7 +70,7 @@ impl Frame {
                     k: self.left.k_l,
                     c: self.left.c_l,
                     top: vec![(0, 1.0), (1, -self.a)],
-                    foot: foot(-self.a),
+                    foot: foot(1),
                     foot_mass: 0.0,
                     active: false,
                 },
@@ -78,7 +79,7 @@ impl Frame {
                     k: self.right.k_l,
                     c: self.right.c_l,
                     top: vec![(0, 1.0), (1, self.a)],
-                    foot: foot(self.a),
+                    foot: foot(2),
                     foot_mass: 0.0,
                     active: false,
                 },

@@ -61,13 +61,19 @@ fn profile_bytes(n: u64, band: u64) -> Option<u64> {
     sum(&[system_bytes(n), product(&[n, band, 8 * 3])])
 }
 
+/// How far back a skyline row of a plate reaches (entries) when its shorter side has `side`
+/// grid lines: four DOFs per node over about one RCM front and a margin.
+fn plate_band(side: u64) -> u64 {
+    count(4).saturating_mul(side.saturating_add(2))
+}
+
 /// The structure DOFs of a model (every node's kinds, before supports remove some), and
 /// how far back a skyline row reaches on it (0 for a beam, whose band is a few entries).
 fn structure_dofs(model: &Model) -> (u64, u64) {
     match &model.structure {
         Some(crate::structure::Structure::Plate(p)) => {
             let side = p.grid.x.len().min(p.grid.y.len());
-            (count(p.grid.n_nodes() * 4), count(4 * (side + 2)))
+            (count(p.grid.n_nodes() * 4), plate_band(count(side)))
         }
         Some(s) => (count(s.n_nodes()).saturating_mul(2), 0),
         None => (0, 0),
@@ -121,7 +127,7 @@ fn plate_mesh(lc: &LoadedCase, p: &crate::case::PlateSpec) -> Cost {
     );
     let [nx, ny] = p.mesh.elements.map(|n| count(n).saturating_add(1).saturating_add(points));
     let n = product(&[nx, ny, 4]);
-    let band = count(4).saturating_mul(nx.min(ny).saturating_add(2));
+    let band = plate_band(nx.min(ny));
     cost(
         n.and_then(|n| profile_bytes(n, band)),
         Some(0),

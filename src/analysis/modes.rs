@@ -221,10 +221,7 @@ fn closed_form(structure: &Structure, count: usize) -> (Vec<f64>, String) {
                 let a = navier::lowest(count, lx, ly, d, rho_h).into_iter().map(|(_, _, w)| hz(w)).collect();
                 return (a, "simply supported Kirchhoff plate (Navier)".into());
             }
-            let e = p.edges;
-            let clamped = [e.x0, e.x1, e.y0, e.y1].iter().all(|&k| k == crate::plate::Edge::Clamped);
-            let bare = p.supports.is_empty() && p.point_masses.is_empty() && p.springs.is_empty();
-            if clamped && bare && (lx - ly).abs() <= 1e-12 * lx {
+            if p.is_bare_with(crate::plate::Edge::Clamped) && (lx - ly).abs() <= 1e-12 * lx {
                 let scale = (d / rho_h).sqrt() / (lx * lx);
                 let a = navier::CLAMPED_SQUARE_LAMBDA.iter().take(count).map(|l| hz(l * scale)).collect();
                 return (a, "clamped square Kirchhoff plate (Leissa, 5 digits)".into());

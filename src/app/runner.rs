@@ -124,15 +124,12 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                     let structure = model.structure.as_ref().expect("checked");
                     for (j, f) in force.iter().enumerate() {
                         let at = f.location();
-                        match structure.attach(&at) {
-                            Ok(a) if a.len() == 1 => {}
-                            _ => {
-                                return Err(Error::input(
-                                    &lc.file,
-                                    format!("{field}.force[{j}].{}", at.field()),
-                                    format!("{at} is not on a mesh node"),
-                                ))
-                            }
+                        if structure.node_at(&at).is_none() {
+                            return Err(Error::input(
+                                &lc.file,
+                                format!("{field}.force[{j}].{}", at.field()),
+                                format!("{at} is not on a mesh node"),
+                            ));
                         }
                     }
                     Ok(())

@@ -26,6 +26,18 @@ impl DofMap {
     /// right after `anchors[a]`, the node its feet reach last in that order (None for an
     /// actuator on the rigid ground: after everything); `body_sizes[a]` its body DOFs.
     pub fn number(structure: Option<&Structure>, anchors: &[Option<usize>], body_sizes: &[usize]) -> DofMap {
+        let order = structure.map(Structure::node_order).unwrap_or_default();
+        DofMap::number_in(structure, &order, anchors, body_sizes)
+    }
+
+    /// [`DofMap::number`] with the structure's node order already computed (`order`, from
+    /// [`Structure::node_order`]).
+    pub fn number_in(
+        structure: Option<&Structure>,
+        order: &[usize],
+        anchors: &[Option<usize>],
+        body_sizes: &[usize],
+    ) -> DofMap {
         let mut map = DofMap { bodies: vec![Vec::new(); anchors.len()], ..Default::default() };
         let mut next = 0usize;
         let mut take = || {
@@ -43,7 +55,7 @@ impl DofMap {
             map.kinds = s.dof_names();
             map.structure = s.kind();
             map.nodes = vec![None; s.n_nodes() * map.kinds.len()];
-            for node in s.node_order() {
+            for &node in order {
                 for (k, fixed) in s.fixed(node).into_iter().enumerate() {
                     map.nodes[node * map.kinds.len() + k] = (!fixed).then(&mut take);
                 }

@@ -7,7 +7,7 @@ use crate::beam::{element_stiffness_rows, Beam, SupportKind};
 use crate::error::{Error, Result};
 use crate::linalg::{BandedR, Csr, Skyline};
 use crate::signal::voltage::VoltageInput;
-use crate::structure::{Location, Structure};
+use crate::structure::{single_node, Location, Structure};
 use num_complex::Complex64;
 use std::sync::Arc;
 
@@ -172,13 +172,17 @@ impl System {
         let structure = model.structure.as_ref();
         let feet = feet_attachments(&comps, structure)?;
         // Each actuator's bodies are numbered after the last node its feet reach.
-        let rank = node_ranks(structure);
+        let order = structure.map(Structure::node_order).unwrap_or_default();
+        let mut rank = vec![0; order.len()];
+        for (r, &node) in order.iter().enumerate() {
+            rank[node] = r;
+        }
         let anchors: Vec<Option<usize>> = feet
             .iter()
             .map(|links| links.iter().flatten().flat_map(|a| a.iter().map(|t| t.0)).max_by_key(|&n| rank[n]))
             .collect();
         let sizes: Vec<usize> = comps.iter().map(|c| c.dof_names.len()).collect();
-        let dofs = DofMap::number(structure, &anchors, &sizes);
+        let dofs = DofMap::number_in(structure, &order, &anchors, &sizes);
         let n = dofs.n;
         let [m_beam, c_beam, k_beam] = structure_matrices(structure, &dofs, model.rayleigh());
         let actuators = actuator_matrices(&comps, &feet, structure, &dofs);
@@ -226,10 +230,10 @@ impl System {
             return Err(Error::Numerical(format!("{field}: a reduced system has no single w DOF at {at} (use w_at)")));
         }
         let s = model.structure.as_ref().ok_or_else(|| Error::case_field(field, "the model has no structure"))?;
-        match s.attach(at).map_err(|e| Error::case_field(field, e))?.as_slice() {
-            [(node, 0, c)] if *c == 1.0 => Ok(self.dofs.w(*node)),
-            _ => Err(Error::case_field(field, format!("{at} is not on a mesh node"))),
-        }
+        let attachment = s.attach(at).map_err(|e| Error::case_field(field, e))?;
+        let node =
+            single_node(&attachment).ok_or_else(|| Error::case_field(field, format!("{at} is not on a mesh node")))?;
+        Ok(self.dofs.w(node))
     }
 
     /// Skyline matrix α·K + β·C + γ·M (real), e.g. the Newmark effective stiffness.
@@ -313,16 +317,6 @@ pub(super) fn feet_attachments(
         feet.push(links);
     }
     Ok(feet)
-}
-
-/// Each node's position in the structure's numbering order.
-fn node_ranks(structure: Option<&Structure>) -> Vec<usize> {
-    let Some(s) = structure else { return Vec::new() };
-    let mut rank = vec![0; s.n_nodes()];
-    for (r, node) in s.node_order().into_iter().enumerate() {
-        rank[node] = r;
-    }
-    rank
 }
 
 /// The structure's own M, C and K: elements, point masses, support springs, Rayleigh
@@ -431,14 +425,8 @@ pub(super) fn actuator_matrices(
             if link.active {
                 out.drives[ai] = g.clone();
             }
-            let node = match attachment {
-                [(node, 0, c)] if *c == 1.0 => Some(*node),
-                _ => None,
-            };
-            let foot_dof = match foot.as_slice() {
-                [(d, c)] if node.is_some() && *c == 1.0 => Some(*d),
-                _ => None,
-            };
+            let node = single_node(attachment);
+            let foot_dof = node.and_then(|n| dofs.w(n));
             out.links.push(LinkDofs {
                 actuator: ai,
                 name: link.name.clone(),

@@ -145,22 +145,10 @@ impl Limits {
                     }
                 }
             }
-            for (i, a) in case.actuator.iter().enumerate() {
-                for (j, b) in case.actuator.iter().enumerate().skip(i + 1) {
-                    let (pa, pb) = (footprint(a), footprint(b));
-                    let gap = (pb.0 - pa.1).max(pa.0 - pb.1);
-                    if gap < self.clearance {
-                        out.push(Violation {
-                            constraint: "constraints.clearance".into(),
-                            detail: format!(
-                                "actuator[{i}] and actuator[{j}] stand {gap:.4} m apart, less than {} m",
-                                self.clearance
-                            ),
-                            amount: self.clearance - gap,
-                        });
-                    }
-                }
-            }
+            out.extend(self.clearance_violations(case, |a, b| {
+                let (pa, pb) = (footprint(a), footprint(b));
+                (pb.0 - pa.1).max(pa.0 - pb.1)
+            }));
         }
         if let Some(vmax) = self.max_voltage {
             for (i, a) in case.actuator.iter().enumerate() {
@@ -196,11 +184,16 @@ fn segment_gap(a: (f64, f64), b: (f64, f64), c: (f64, f64), d: (f64, f64)) -> f6
     point_segment(a, c, d).min(point_segment(b, c, d)).min(point_segment(c, a, b)).min(point_segment(d, a, b))
 }
 
-/// An actuator's footprint on a plate: the segment between its outermost feet (a point for
-/// an inertial actuator).
+/// An actuator's footprint on a plate: the segment between a frame's legs, or an inertial
+/// actuator's one foot.
 fn plate_footprint(a: &ActuatorSpec) -> ((f64, f64), (f64, f64)) {
-    let feet: Vec<(f64, f64)> = a.feet().iter().map(|(_, l)| (l.x(), l.y().unwrap_or(0.0))).collect();
-    (feet[feet.len().min(2) - 1], feet[feet.len() - 1])
+    let xy = |l: &crate::structure::Location| (l.x(), l.y().unwrap_or(0.0));
+    // `feet` lists the stack foot, then a frame's left and right legs.
+    let feet = a.feet();
+    match a.body {
+        BodySpec::Inertial { .. } => (xy(&feet[0].1), xy(&feet[0].1)),
+        BodySpec::Frame(_) => (xy(&feet[1].1), xy(&feet[2].1)),
+    }
 }
 
 impl Limits {
@@ -252,10 +245,20 @@ impl Limits {
                 }
             }
         }
+        out.extend(self.clearance_violations(case, |a, b| {
+            let ((a0, a1), (b0, b1)) = (plate_footprint(a), plate_footprint(b));
+            segment_gap(a0, a1, b0, b1)
+        }));
+        out
+    }
+
+    /// Every pair of actuators whose footprints stand less than `clearance` apart, by the
+    /// structure's `gap` (m) between two actuators' footprints.
+    fn clearance_violations(&self, case: &Case, gap: impl Fn(&ActuatorSpec, &ActuatorSpec) -> f64) -> Vec<Violation> {
+        let mut out = Vec::new();
         for (i, a) in case.actuator.iter().enumerate() {
             for (j, b) in case.actuator.iter().enumerate().skip(i + 1) {
-                let ((a0, a1), (b0, b1)) = (plate_footprint(a), plate_footprint(b));
-                let gap = segment_gap(a0, a1, b0, b1);
+                let gap = gap(a, b);
                 if gap < self.clearance {
                     out.push(Violation {
                         constraint: "constraints.clearance".into(),

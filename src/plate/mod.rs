@@ -125,14 +125,19 @@ impl Plate {
         )
     }
 
-    /// Whether all four edges are simply supported and nothing else holds or loads the plate:
-    /// the case with the Navier solution.
-    pub fn is_navier(&self) -> bool {
-        let ss = Edge::SimplySupported;
+    /// Whether nothing but its edges holds the plate or rides on it (no point supports,
+    /// masses or springs), and every edge is `edge`: the plates with closed forms.
+    pub fn is_bare_with(&self, edge: Edge) -> bool {
         let e = self.edges;
-        [e.x0, e.x1, e.y0, e.y1].iter().all(|&k| k == ss)
+        [e.x0, e.x1, e.y0, e.y1].iter().all(|&k| k == edge)
             && self.supports.is_empty()
             && self.point_masses.is_empty()
             && self.springs.is_empty()
+    }
+
+    /// All four edges simply supported and nothing else on the plate: the case with the
+    /// Navier solution.
+    pub fn is_navier(&self) -> bool {
+        self.is_bare_with(Edge::SimplySupported)
     }
 }

@@ -134,8 +134,8 @@ pub fn layout_figure(dir: Dest, stem: &str, plate: &Plate, run: &CaseRun) -> Res
         side("y = 0", e.y0, 0.3 * lx, 0.0),
         side(&format!("y = {ly}"), e.y1, 0.3 * lx, ly),
     ]);
-    for (node, _) in plate.supports.iter().map(|s| (s.node, ())) {
-        let (x, y) = plate.grid.position(node);
+    for s in &plate.supports {
+        let (x, y) = plate.grid.position(s.node);
         h.marks.push(MapMark {
             x,
             y,

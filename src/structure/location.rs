@@ -43,12 +43,6 @@ impl Location {
             Location::Plate { .. } => "at",
         }
     }
-
-    /// Distance to another point (m).
-    pub fn distance(&self, other: &Location) -> f64 {
-        let dy = self.y().unwrap_or(0.0) - other.y().unwrap_or(0.0);
-        (self.x() - other.x()).hypot(dy)
-    }
 }
 
 impl fmt::Display for Location {

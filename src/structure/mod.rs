@@ -24,6 +24,14 @@ pub enum Structure {
 /// node; the element's shape functions inside one.
 pub type Attachment = Vec<(usize, usize, f64)>;
 
+/// The node an attachment stands on, if it is one node's w (not shape functions).
+pub fn single_node(attachment: &[(usize, usize, f64)]) -> Option<usize> {
+    match attachment {
+        [(node, 0, c)] if *c == 1.0 => Some(*node),
+        _ => None,
+    }
+}
+
 /// One element as the assembler sees it: its nodes (each carrying the structure's DOF kinds
 /// in order) and its stiffness and mass over those DOFs, node by node.
 pub struct ElementView<'a> {
@@ -206,6 +214,11 @@ impl Structure {
             }
             (s, _) => Err(format!("{at} is not a point on a {}", s.kind())),
         }
+    }
+
+    /// The node at a point, if the point is on the structure and is a node.
+    pub fn node_at(&self, at: &Location) -> Option<usize> {
+        self.attach(at).ok().as_deref().and_then(single_node)
     }
 
     /// Which case fields hold the structure, for messages about an unheld motion.

@@ -90,8 +90,8 @@ impl ActuatorSpec {
 impl FrameSpec {
     /// Leg positions (m), left and right: x_c ∓ a with the frame centre x_c = x_E − e.
     pub fn leg_positions(&self, x_e: f64) -> (f64, f64) {
-        let xc = x_e - self.e;
-        (xc - self.a, xc + self.a)
+        let [_, left, right] = crate::actuator::frame::feet(Location::Beam { x: x_e }, self.e, self.a, 0.0);
+        (left.x(), right.x())
     }
 }
 
@@ -329,9 +329,8 @@ impl ActuatorSpec {
         match &self.body {
             BodySpec::Inertial { .. } => vec![("stack", stack)],
             BodySpec::Frame(fr) => {
-                let psi = self.direction.to_radians();
-                let c = stack.offset(-fr.e, psi);
-                vec![("stack", stack), ("left leg", c.offset(-fr.a, psi)), ("right leg", c.offset(fr.a, psi))]
+                let [stack, left, right] = crate::actuator::frame::feet(stack, fr.e, fr.a, self.direction.to_radians());
+                vec![("stack", stack), ("left leg", left), ("right leg", right)]
             }
         }
     }

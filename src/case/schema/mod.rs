@@ -140,16 +140,15 @@ impl Extent {
 /// Checks a point written as `x` (beam) or `at` (plate) on the case's structure; `f` is the
 /// point's table, e.g. `sensor[0]`.
 fn on_structure(file: &str, f: &str, x: Option<f64>, at: Option<[f64; 2]>, extent: Extent) -> Result<()> {
-    let (field, given) = match (x, at, extent) {
-        (Some(_), Some(_), _) => {
-            return Err(Error::input(file, f, "give `x` on a beam or `at = [x, y]` on a plate, not both"))
-        }
-        (_, None, Extent::Plate { .. }) => (format!("{f}.at"), None),
-        (None, _, Extent::Beam { .. } | Extent::Rigid) => (format!("{f}.x"), None),
-        (Some(_), None, _) => (format!("{f}.x"), Some(())),
-        (None, Some(_), _) => (format!("{f}.at"), Some(())),
+    if x.is_some() && at.is_some() {
+        return Err(Error::input(file, f, "give `x` on a beam or `at = [x, y]` on a plate, not both"));
+    }
+    // The field the structure takes its points in, and whether it is given.
+    let (field, given) = match extent {
+        Extent::Plate { .. } => (format!("{f}.at"), at.is_some()),
+        Extent::Beam { .. } | Extent::Rigid => (format!("{f}.x"), x.is_some()),
     };
-    if given.is_none() {
+    if !given {
         return Err(Error::input(file, field, "required: the point's position on the structure"));
     }
     extent.holds(&analysis::location(x, at)).map_err(|why| Error::input(file, field, why))
