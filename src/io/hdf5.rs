@@ -99,7 +99,13 @@ impl ResultsFile {
     pub fn create(path: impl AsRef<Path>) -> Result<Self> {
         let path = path.as_ref().to_path_buf();
         let pending = PendingFile::new(&path)?;
-        let file = ::hdf5::File::create(pending.tmp_path()).map_err(h5err(&path, "creating file"))?;
+        // No HDF5 file lock: the library opens without close-on-exec, so a process another
+        // thread spawns would inherit the descriptor and hold the lock after we close; the
+        // temporary file is ours alone, so the lock would protect nothing.
+        let file = ::hdf5::File::with_options()
+            .with_fapl(|p| p.file_locking(false))
+            .create(pending.tmp_path())
+            .map_err(h5err(&path, "creating file"))?;
         Ok(ResultsFile { file: Some(file), pending: Some(pending), path })
     }
 
@@ -314,7 +320,11 @@ impl ResultsReader {
         // Report a missing file as the plain I/O error it is, not an HDF5 stack; refuse a
         // FIFO or device before the HDF5 library opens (and blocks on) it.
         crate::input_file::regular_file(&path)?;
-        let file = ::hdf5::File::open(&path).map_err(h5err(&path, "opening file"))?;
+        // No lock to take (see `ResultsFile::create`): a reader never writes.
+        let file = ::hdf5::File::with_options()
+            .with_fapl(|p| p.file_locking(false))
+            .open(&path)
+            .map_err(h5err(&path, "opening file"))?;
         Ok(ResultsReader { file, path })
     }
 
@@ -556,6 +566,22 @@ mod tests {
         let fields: Vec<_> = c.fields.iter().map(|f| (f.name.as_str(), f.offset, f.ty.clone())).collect();
         let f64_ty = TypeDescriptor::Float(::hdf5::types::FloatSize::U8);
         assert_eq!(fields, [("r", 0, f64_ty.clone()), ("i", 8, f64_ty)]);
+    }
+
+    /// A process spawned while a results file is being written inherits HDF5's descriptor;
+    /// the finished file still opens while that process lives.
+    #[test]
+    fn a_child_process_holding_the_descriptor_does_not_lock_the_file() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("r.h5");
+        let f = ResultsFile::create(&p).unwrap();
+        f.set_attr_str("program", "beamflow").unwrap();
+        let mut child = Command::new("sleep").arg("5").spawn().unwrap();
+        f.finish().unwrap();
+        let opened = ResultsReader::open(&p).map(|_| ());
+        child.kill().ok();
+        child.wait().ok();
+        opened.unwrap();
     }
 
     fn sample(path: &Path) {
