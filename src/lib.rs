@@ -29,6 +29,7 @@ pub mod beam;
 pub mod case;
 pub mod error;
 pub mod identify;
+pub mod imported;
 pub mod input_file;
 pub mod io;
 pub mod linalg;

@@ -29,6 +29,9 @@ pub struct Frame {
     pub at: Option<Location>,
     /// The frame's in-plane direction ψ (rad from +x), d = (cos ψ, sin ψ); 0 on a beam.
     pub direction: f64,
+    /// Where the legs stand when given by themselves (an imported model's nodes), in place
+    /// of the positions `at`, `e`, `a` and ψ imply.
+    pub legs: Option<[Location; 2]>,
 }
 
 /// A frame's feet from its stack foot `at` (spec §15): the stack at x_c + e·d and the legs
@@ -50,7 +53,10 @@ impl Frame {
         let half = 0.5 * s.m_p;
         let e = self.e;
         let mass = DMatrix::from_row_slice(2, 2, &[self.m_b + half, half * e, half * e, self.j_b + half * e * e]);
-        let feet = self.at.map(|at| feet(at, e, self.a, self.direction));
+        let feet = self.at.map(|at| match self.legs {
+            Some([left, right]) => [at, left, right],
+            None => feet(at, e, self.a, self.direction),
+        });
         let foot = |i: usize| feet.map_or(FootBase::Ground, |f| FootBase::On(f[i]));
         Component {
             dof_names: vec!["y", "phi"],

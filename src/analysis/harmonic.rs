@@ -324,7 +324,7 @@ fn modal_dissipation(modes: &Modes, ratios: &[f64], m: &crate::linalg::Csr, q: &
             for (row, &d) in modes.dofs.iter().enumerate() {
                 eta += mq[d] * modes.shapes[(row, r)];
             }
-            modal_dissipated_power(w, damping.coefficient(r, modes.omega[r]), eta)
+            modal_dissipated_power(w, damping.coefficient(r, modes.omega[r], &[]), eta)
         })
         .sum()
 }

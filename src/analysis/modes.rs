@@ -228,6 +228,7 @@ fn closed_form(structure: &Structure, count: usize) -> (Vec<f64>, String) {
             }
             (Vec::new(), "none (no closed form for this plate)".into())
         }
+        Structure::Imported(_) => (Vec::new(), "none (an imported model)".into()),
     }
 }
 
@@ -266,7 +267,7 @@ pub fn run(structure: &Structure, count: usize) -> Result<ModesResult> {
         })
         .collect();
     let node_shapes = match structure {
-        Structure::Plate(_) => (0..modes.count())
+        Structure::Plate(_) | Structure::Imported(_) => (0..modes.count())
             .map(|r| {
                 let g = modes.shape_global(r, sys.n());
                 sys.dofs.nodes.iter().map(|d| d.map_or(0.0, |d| g[d])).collect()

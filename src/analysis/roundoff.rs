@@ -59,6 +59,9 @@ fn elements_along(model: &Model) -> usize {
     match &model.structure {
         Some(crate::structure::Structure::Beam(b)) => b.mesh.elements.len(),
         Some(crate::structure::Structure::Plate(p)) => p.grid.nx().max(p.grid.ny()),
+        // A chain through every node is the longest line of elements a mesh can hold, so
+        // the envelope it gives bounds any imported mesh's.
+        Some(crate::structure::Structure::Imported(m)) => m.nodes.len(),
         None => 0,
     }
 }

@@ -488,7 +488,7 @@ impl SteadyStateResult {
     /// (`sys` is the full system the amplitudes Q_k belong to).
     pub fn decompose_modes(&mut self, model: &Model, sys: &System, count: usize) -> Result<()> {
         let modes = super::modes::bare_modes_on(model, sys, count)?;
-        self.decompose_with(sys, modes.as_ref(), ModalDamping::of(&model.damping));
+        self.decompose_with(sys, modes.as_ref(), ModalDamping::of_model(model, sys));
         Ok(())
     }
 

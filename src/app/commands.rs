@@ -93,15 +93,28 @@ pub fn check(case: &Path, budget: &Budget) -> Result<()> {
     let lc = LoadedCase::load(case)?;
     warn_implausible(&lc);
     let (built, sys, _) = crate::app::runner::planned(&lc, budget)?;
-    let elements = match &built.structure {
-        Some(crate::structure::Structure::Beam(b)) => b.mesh.elements.len(),
-        Some(crate::structure::Structure::Plate(p)) => p.grid.nx() * p.grid.ny(),
-        None => 0,
+    let parts = match &built.structure {
+        Some(crate::structure::Structure::Beam(b)) => format!("{} elements", b.mesh.elements.len()),
+        Some(crate::structure::Structure::Plate(p)) => format!("{} elements", p.grid.nx() * p.grid.ny()),
+        Some(crate::structure::Structure::Imported(m)) if !m.report.definiteness_checked => format!(
+            "{} nodes, {} massless row(s); M and K not checked for definiteness (the model is above the \
+             check's factor size)",
+            m.nodes.len(),
+            m.report.massless_rows
+        ),
+        Some(crate::structure::Structure::Imported(m)) => format!(
+            "{} nodes, {} rigid-body mode(s) (below {:.3e} Hz), {} massless row(s)",
+            m.nodes.len(),
+            m.report.rigid_body_modes,
+            m.report.rigid_below_hz,
+            m.report.massless_rows
+        ),
+        None => "0 elements".to_string(),
     };
     crate::say!(
-        "{}: ok — {} elements, {} DOFs, {} actuator(s), {} load(s), {} analysis(es)",
+        "{}: ok — {}, {} DOFs, {} actuator(s), {} load(s), {} analysis(es)",
         lc.file,
-        elements,
+        parts,
         sys.n(),
         built.actuators.len(),
         built.loads.len(),
@@ -172,6 +185,9 @@ pub fn run(
         let p = staged(format!("{stem}_dofs.csv"))?;
         crate::io::mtx::write_dof_map(&p, &crate::assembly::dof_rows(&run.model, &run.system))?;
         written.push(p);
+        // The structure alone, in the format `[imported]` reads, from the full model.
+        let full = crate::assembly::System::assemble(&run.model)?;
+        written.extend(crate::io::mtx::write_structure(set.dir(), stem, &full, &run.model)?);
     }
     if csv {
         written.extend(crate::io::results_csv::write(set.dir(), stem, &lc, &run)?);

@@ -26,9 +26,14 @@ pub const MODAL_TABLE_MODES: usize = 30;
 /// The forces of a harmonic analysis: its own `[[analysis.force]]`, or else the case's
 /// sine loads, each at its amplitude and phase. A load A·sin(ωt + φ) is the phasor
 /// A·e^{i(φ − π/2)} of the analysis's convention F(t) = Re(F̂·e^{iωt}).
-fn harmonic_forces(force: &[crate::case::ForceSpec], loads: &[crate::assembly::PointLoad]) -> Vec<PointForce> {
+fn harmonic_forces(force: &[crate::case::ForceSpec], model: &crate::assembly::Model) -> Vec<PointForce> {
+    let loads = &model.loads;
     if !force.is_empty() {
-        return force.iter().map(|f| PointForce { at: f.location(), amplitude: f.amplitude, phase: f.phase }).collect();
+        let resolve = |at| model.structure.as_ref().map_or(at, |s| s.resolve(at));
+        return force
+            .iter()
+            .map(|f| PointForce { at: resolve(f.location()), amplitude: f.amplitude, phase: f.phase })
+            .collect();
     }
     loads
         .iter()
@@ -124,6 +129,9 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                     let structure = model.structure.as_ref().expect("checked");
                     for (j, f) in force.iter().enumerate() {
                         let at = f.location();
+                        if let Err(why) = structure.attach(&at) {
+                            return Err(Error::input(&lc.file, format!("{field}.force[{j}].{}", at.field()), why));
+                        }
                         if structure.node_at(&at).is_none() {
                             return Err(Error::input(
                                 &lc.file,
@@ -248,7 +256,7 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
             }
             AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Coupled } => {
                 need_beam()?;
-                let forces = harmonic_forces(force, &model.loads);
+                let forces = harmonic_forces(force, &model);
                 let r = harmonic::run(&model, &system, &frequencies.list(), &forces, None);
                 (r.map(AnalysisResult::Harmonic), Some(&system.dofs))
             }
@@ -381,7 +389,7 @@ impl Runner<'_> {
             roundoff_tolerance: model.roundoff_tolerance,
         };
         let sys = System::assemble(&bare)?;
-        let forces = harmonic_forces(force, &model.loads);
+        let forces = harmonic_forces(force, &model);
         let modal = match model.modal_ratios() {
             Some(r) => Some((modes::bare_modes(structure, usize::MAX)?, r)),
             None => None,
@@ -427,7 +435,7 @@ impl Runner<'_> {
             } else {
                 modes::bare_modes_on(model, self.system, MODAL_TABLE_MODES)?
             };
-            s.decompose_with(self.system, bare.as_ref(), ModalDamping::of(&model.damping));
+            s.decompose_with(self.system, bare.as_ref(), ModalDamping::of_model(model, self.system));
             return Ok(s);
         };
         // A reduced model's cut-off follows the harmonic count, so it needs one first.

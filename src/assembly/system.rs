@@ -231,9 +231,10 @@ impl System {
         }
         let s = model.structure.as_ref().ok_or_else(|| Error::case_field(field, "the model has no structure"))?;
         let attachment = s.attach(at).map_err(|e| Error::case_field(field, e))?;
-        let node =
-            single_node(&attachment).ok_or_else(|| Error::case_field(field, format!("{at} is not on a mesh node")))?;
-        Ok(self.dofs.w(node))
+        let (node, kind) = crate::structure::single_dof(&attachment).ok_or_else(|| {
+            Error::case_field(field, format!("{at} is not on a mesh node (or acts along a negative component)"))
+        })?;
+        Ok(self.dofs.node_dof(node, kind))
     }
 
     /// Skyline matrix α·K + β·C + γ·M (real), e.g. the Newmark effective stiffness.
@@ -343,6 +344,9 @@ pub(super) fn structure_matrices(
                 }
             }
         });
+        if let Some(model) = s.imported() {
+            imported_entries(model, dofs, &mut mb, &mut kb);
+        }
         for (node, kind, v) in s.point_inertia() {
             if let Some(i) = dofs.node_dof(node, kind) {
                 mb.push((i, i, v));
@@ -367,8 +371,36 @@ pub(super) fn structure_matrices(
             }
         }
     }
+    if let Some(c) = structure.and_then(Structure::imported).and_then(|m| m.c.as_ref().map(|c| (m, c))) {
+        let (model, c) = c;
+        ctrip.extend(
+            c.triplets()
+                .filter_map(|(i, j, v)| Some((imported_dof(model, dofs, i)?, imported_dof(model, dofs, j)?, v))),
+        );
+    }
     ctrip.extend(cb);
     [m_el, Csr::from_triplets(n, &ctrip), Csr::from_triplets(n, &kb)]
+}
+
+/// The system DOF of an imported model's row (None for a fixed row).
+fn imported_dof(model: &crate::imported::Imported, dofs: &DofMap, row: usize) -> Option<usize> {
+    let (node, kind) = model.rows[row];
+    dofs.node_dof(node, kind)
+}
+
+/// An imported model's M and K entries on the system's DOFs (fixed rows dropped).
+fn imported_entries(
+    model: &crate::imported::Imported,
+    dofs: &DofMap,
+    mb: &mut Vec<(usize, usize, f64)>,
+    kb: &mut Vec<(usize, usize, f64)>,
+) {
+    for (a, out) in [(&model.m, mb), (&model.k, kb)] {
+        out.extend(
+            a.triplets()
+                .filter_map(|(i, j, v)| Some((imported_dof(model, dofs, i)?, imported_dof(model, dofs, j)?, v))),
+        );
+    }
 }
 
 /// The actuators' contributions: body masses and foot masses (m), link springs (k) and
@@ -426,7 +458,7 @@ pub(super) fn actuator_matrices(
                 out.drives[ai] = g.clone();
             }
             let node = single_node(attachment);
-            let foot_dof = node.and_then(|n| dofs.w(n));
+            let foot_dof = crate::structure::single_dof(attachment).and_then(|(n, k)| dofs.node_dof(n, k));
             out.links.push(LinkDofs {
                 actuator: ai,
                 name: link.name.clone(),

@@ -131,12 +131,55 @@ pub fn build_plate(lc: &LoadedCase, p: &PlateSpec) -> Result<Plate> {
     Ok(plate)
 }
 
-/// Builds the case's structure: its plate if it has one, else its beam.
+/// Builds the case's structure: its plate or imported model if it has one, else its beam.
 pub fn build_structure(lc: &LoadedCase) -> Result<Structure> {
-    match &lc.case.plate {
-        Some(p) => Ok(Structure::Plate(build_plate(lc, p)?)),
-        None => Ok(Structure::Beam(build_beam(lc)?)),
+    match (&lc.case.plate, &lc.case.imported) {
+        (Some(p), _) => Ok(Structure::Plate(build_plate(lc, p)?)),
+        (None, Some(m)) => Ok(Structure::Imported(crate::imported::shared(&m.files(&lc.dir), &lc.file)?)),
+        (None, None) => Ok(Structure::Beam(build_beam(lc)?)),
     }
+}
+
+/// Where a point of the case is on `structure` (an imported node's position filled in),
+/// refused naming `field` if it does not attach there.
+fn resolved(
+    file: &str,
+    structure: Option<&Structure>,
+    at: Location,
+    field: impl Fn(&Location) -> String,
+) -> Result<Location> {
+    let Some(s) = structure else { return Ok(at) };
+    if let Location::Node { .. } = at {
+        s.attach(&at).map_err(|why| Error::input(file, field(&at), why))?;
+    }
+    Ok(s.resolve(at))
+}
+
+/// A frame's three nodes on an imported model against its `a` and `e`: the legs 2a apart,
+/// the stack e from their midpoint (each to 1 % of a), so the top beam's rigid-body
+/// kinematics describe the frame that stands there.
+fn frame_spacing(file: &str, f: &str, feet: [Location; 3], a: f64, e: f64) -> Result<()> {
+    let xyz = |l: &Location| match l {
+        Location::Node { xyz, .. } => *xyz,
+        _ => [l.x(), l.y().unwrap_or(0.0), 0.0],
+    };
+    let [s, l, r] = feet.map(|p| xyz(&p));
+    let dist = |p: [f64; 3], q: [f64; 3]| p.iter().zip(&q).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+    let mid = [0, 1, 2].map(|i| 0.5 * (l[i] + r[i]));
+    let (span, offset) = (dist(l, r), dist(s, mid));
+    if (span - 2.0 * a).abs() > 0.01 * a || (offset - e.abs()).abs() > 0.01 * a {
+        return Err(Error::input(
+            file,
+            format!("{f}.legs"),
+            format!(
+                "the leg nodes are {span} m apart and the stack node {offset} m from their midpoint, but the \
+                 frame has 2a = {} m and |e| = {} m: set `a` and `e` to the nodes' spacing",
+                2.0 * a,
+                e.abs()
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// Builds the beam alone (its mesh, supports and attachments).
@@ -226,7 +269,8 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
     };
     let d = &case.damping;
     let damping = match (&beam, d.kind) {
-        (None, _) | (_, DampingKind::None) => Damping::None,
+        // A given damping matrix is part of the structure's own C (assembly).
+        (None, _) | (_, DampingKind::None | DampingKind::Given) => Damping::None,
         (Some(_), DampingKind::Rayleigh) => {
             Damping::Rayleigh(Rayleigh { a0: d.a0.unwrap_or(0.0), a1: d.a1.unwrap_or(0.0) })
         }
@@ -247,9 +291,22 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
             voltage,
             hysteresis_on: s.hysteresis,
         };
+        let on = beam.as_ref();
+        let f_field = |what: &'static str| move |_: &Location| format!("actuator[{i}].{what}");
+        let at = resolved(&lc.file, on, a.location(), f_field("node"))?;
         let foot = match case.base {
-            BaseKind::Beam => FootBase::On(a.location()),
+            BaseKind::Beam => FootBase::On(at),
             BaseKind::Rigid => FootBase::Ground,
+        };
+        let legs = match (&a.body, a.legs) {
+            (BodySpec::Frame(fr), Some(_)) => {
+                let feet = a.feet();
+                let l = resolved(&lc.file, on, feet[1].1, f_field("legs"))?;
+                let r = resolved(&lc.file, on, feet[2].1, f_field("legs"))?;
+                frame_spacing(&lc.file, &format!("actuator[{i}]"), [at, l, r], fr.a, fr.e)?;
+                Some([l, r])
+            }
+            _ => None,
         };
         let name = a.effective_name(i, case.actuator.len());
         actuators.push(match &a.body {
@@ -263,16 +320,22 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
                 e: f.e,
                 left: Leg { k_l: f.left.k_l, c_l: f.left.c_l },
                 right: Leg { k_l: f.right.k_l, c_l: f.right.c_l },
-                at: matches!(foot, FootBase::On(_)).then_some(a.location()),
+                at: matches!(foot, FootBase::On(_)).then_some(at),
                 direction: a.direction.to_radians(),
+                legs,
             }),
         });
     }
-    let sensors = case.sensor.iter().map(|s| Sensor { name: s.name.clone(), at: s.location() }).collect();
+    let mut sensors = Vec::with_capacity(case.sensor.len());
+    for (i, s) in case.sensor.iter().enumerate() {
+        let at = resolved(&lc.file, beam.as_ref(), s.location(), |_| format!("sensor[{i}].node"))?;
+        sensors.push(Sensor { name: s.name.clone(), at });
+    }
     let mut loads = Vec::with_capacity(case.load.len());
     for (i, l) in case.load.iter().enumerate() {
         let force = l.force.build(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
-        loads.push(PointLoad { name: l.effective_name(i), at: l.location(), force });
+        let at = resolved(&lc.file, beam.as_ref(), l.location(), |_| format!("load[{i}].node"))?;
+        loads.push(PointLoad { name: l.effective_name(i), at, force });
     }
     let roundoff_tolerance = case.beam.mesh.roundoff_tolerance;
     Ok(Model { structure: beam, damping, actuators, sensors, loads, roundoff_tolerance })

@@ -45,6 +45,58 @@ pub fn write_dof_map(path: &Path, rows: &[crate::assembly::DofRow]) -> Result<()
     super::atomic::write_atomic_string(path, &text)
 }
 
+/// Writes the structure's own M, K and C (elements, point masses, supports' and grounded
+/// springs, its damping; no actuator) and their DOF map in the format an imported model
+/// reads (spec §17): `{stem}_structure_{M,K,C}.mtx` and `{stem}_structure_dofs.csv` in
+/// `dir`, the rows in the system's numbering of the structure's free DOFs. Components are
+/// beamflow's own DOF kinds (w, theta, w_x, …), which have no exact name among ux … rz.
+/// Returns the files written.
+pub fn write_structure(
+    dir: &Path,
+    stem: &str,
+    sys: &crate::assembly::System,
+    model: &crate::assembly::Model,
+) -> Result<Vec<std::path::PathBuf>> {
+    let Some(structure) = &model.structure else { return Ok(Vec::new()) };
+    let dofs = &sys.dofs;
+    let rows = dofs.structure_dofs();
+    let mut local = vec![usize::MAX; sys.n()];
+    for (r, &d) in rows.iter().enumerate() {
+        local[d] = r;
+    }
+    let mut written = Vec::new();
+    for (name, a) in [("M", &sys.m_beam), ("K", &sys.k_beam), ("C", &sys.c_beam)] {
+        let mut t = sprs::TriMat::new((rows.len(), rows.len()));
+        for (i, j, v) in a.triplets().filter(|t| local[t.0] != usize::MAX && local[t.1] != usize::MAX) {
+            t.add_triplet(local[i], local[j], v);
+        }
+        let p = dir.join(format!("{stem}_structure_{name}.mtx"));
+        write_system_matrix(&p, &t.to_csr())?;
+        written.push(p);
+    }
+    let k = dofs.kinds.len();
+    let mut owner = vec![(0, 0); sys.n()];
+    for (at, d) in dofs.nodes.iter().enumerate() {
+        if let Some(d) = d {
+            owner[*d] = (at / k, at % k);
+        }
+    }
+    let mut text = format!("{}\n", crate::imported::dof_map::HEADER);
+    for (r, &d) in rows.iter().enumerate() {
+        let (node, kind) = owner[d];
+        let xyz = match structure.node_location(node) {
+            crate::structure::Location::Node { xyz, .. } => xyz,
+            at => [at.x(), at.y().unwrap_or(0.0), 0.0],
+        };
+        let id = structure.imported().map_or(node as i64, |m| m.nodes[node].id);
+        text += &format!("{},{id},{:?},{:?},{:?},{}\n", r + 1, xyz[0], xyz[1], xyz[2], dofs.kinds[kind]);
+    }
+    let p = dir.join(format!("{stem}_structure_dofs.csv"));
+    super::atomic::write_atomic_string(&p, &text)?;
+    written.push(p);
+    Ok(written)
+}
+
 /// Reads a real Matrix Market file (general or symmetric) into CSR form; used to check
 /// round trips and to load reference matrices in tests.
 pub fn read_matrix_market(path: &Path) -> Result<CsMat<f64>> {

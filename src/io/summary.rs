@@ -183,8 +183,13 @@ pub fn headline_text(v: &Value) -> String {
                 s += &rigid_forces(f);
             }
             if let Some(m) = a["mean_power_w"].as_object() {
-                // Named after the structure the power goes into ("beam", "plate").
-                let into = v["structure"].as_str().filter(|s| *s != "none").unwrap_or("base");
+                // Named after the structure the power goes into ("beam", "plate", an imported
+                // "model").
+                let into = match v["structure"].as_str() {
+                    Some("none") | None => "base",
+                    Some("imported") => "model",
+                    Some(s) => s,
+                };
                 for (k, p) in m {
                     let line = format!("mean power into the {into} at {k}");
                     s += &format!("  {line:<52} {:>12.4e} W\n", p.as_f64().unwrap_or(f64::NAN));

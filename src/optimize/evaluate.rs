@@ -165,7 +165,7 @@ impl<'s> Evaluator<'s> {
             if let Some(m) = crate::analysis::modes::few_bare_modes_on(model, &sys, self.modes).map_err(s)? {
                 let interface: Vec<Vec<Complex64>> = r.spectra.iter().map(|sp| sp.interface.clone()).collect();
                 let loads: Vec<Vec<Complex64>> = r.load_spectra.iter().map(|l| l.force.clone()).collect();
-                let damping = ModalDamping::of(&model.damping);
+                let damping = ModalDamping::of_model(model, &sys);
                 let d = decompose(&sys, &m, damping, (&solver.q, omega0), &interface, &loads);
                 modal_power = (0..m.count()).map(|k| d.point_power.iter().map(|p| p[k]).sum()).collect();
                 mode_frequency_hz = d.mode_frequency_hz;

@@ -23,6 +23,10 @@ pub enum ModalDamping<'a> {
     Rayleigh { a0: f64, a1: f64 },
     /// Modal damping ratios ζ_r per mode (the last repeats): c_r = 2ζ_r·ω_r (1/s).
     Ratios(&'a [f64]),
+    /// A damping matrix as given (an imported model's C, on the system's DOFs): c_r is its
+    /// modal diagonal φ_rᵀ·C·φ_r; the coupling between modes it may hold is left in the
+    /// residual the decomposition reports.
+    Matrix(&'a crate::linalg::Csr),
 }
 
 impl<'a> ModalDamping<'a> {
@@ -38,11 +42,22 @@ impl<'a> ModalDamping<'a> {
         }
     }
 
-    /// The modal damping coefficient c_r (1/s) of mode r (0-based) at ω_r (rad/s).
-    pub fn coefficient(&self, r: usize, omega_r: f64) -> f64 {
+    /// The damping of `model` on the modes of its system `sys`: the given matrix of an
+    /// imported model that has one, else [`ModalDamping::of`].
+    pub fn of_model(model: &'a crate::assembly::Model, sys: &'a System) -> Self {
+        match model.structure.as_ref().and_then(|s| s.imported()) {
+            Some(m) if m.c.is_some() => ModalDamping::Matrix(&sys.c_beam),
+            _ => ModalDamping::of(&model.damping),
+        }
+    }
+
+    /// The modal damping coefficient c_r (1/s) of mode r (0-based) at ω_r (rad/s), its
+    /// mass-normalised shape `phi` on the system's DOFs.
+    pub fn coefficient(&self, r: usize, omega_r: f64, phi: &[f64]) -> f64 {
         match *self {
             ModalDamping::Rayleigh { a0, a1 } => a0 + a1 * omega_r * omega_r,
             ModalDamping::Ratios(z) => 2.0 * ratio_of(z, r) * omega_r,
+            ModalDamping::Matrix(c) => c.bilinear(phi, phi),
         }
     }
 }
@@ -83,6 +98,11 @@ pub struct ModalDecomposition {
     pub power_participation: Vec<f64>,
     /// Share of the response: Σ_k |η_r,k|² ω_k² normalised (kinetic-energy share).
     pub response_participation: Vec<f64>,
+}
+
+/// Σ c·v[d] over a pattern of (DOF, coefficient).
+fn pattern_value(pattern: &[(usize, f64)], v: &[f64]) -> f64 {
+    pattern.iter().map(|&(d, c)| c * v[d]).sum()
 }
 
 /// Decomposes harmonic amplitudes `q[k]` at frequencies `k·omega0` (rad/s) of the system
@@ -127,7 +147,7 @@ pub fn decompose(
                             .iter()
                             .enumerate()
                             .filter(|(_, lk)| lk.actuator == a)
-                            .map(|(l, lk)| lk.foot_dof.map_or(Complex64::default(), |d| interface[l][k] * phi[r][d]))
+                            .map(|(l, lk)| interface[l][k] * pattern_value(&lk.foot, &phi[r]))
                             .sum::<Complex64>()
                             .norm()
                     })
@@ -139,10 +159,9 @@ pub fn decompose(
         }
         let iw = Complex64::new(0.0, w);
         for (l, lk) in sys.links.iter().enumerate() {
-            if let Some(d) = lk.foot_dof {
-                for r in 0..nm {
-                    out.point_power[l][r] += mean_power(interface[l][k], iw * phi[r][d] * eta[r]);
-                }
+            for r in 0..nm {
+                let phi_foot = pattern_value(&lk.foot, &phi[r]);
+                out.point_power[l][r] += mean_power(interface[l][k], iw * phi_foot * eta[r]);
             }
         }
         for (j, pattern) in sys.loads.iter().enumerate() {
@@ -153,7 +172,7 @@ pub fn decompose(
         }
         for (r, (&wr, &eta_r)) in modes.omega.iter().zip(&eta).enumerate().take(nm) {
             let e2 = eta_r.norm_sqr();
-            out.dissipation[r] += modal_dissipated_power(w, damping.coefficient(r, wr), eta_r);
+            out.dissipation[r] += modal_dissipated_power(w, damping.coefficient(r, wr, &phi[r]), eta_r);
             out.kinetic_energy[r] += 0.25 * w * w * e2;
             out.strain_energy[r] += 0.25 * wr * wr * e2;
         }
@@ -162,7 +181,8 @@ pub fn decompose(
         let full: f64 = (1..q.len())
             .map(|k| {
                 let w = k as f64 * omega0;
-                lk.foot_dof.map_or(0.0, |d| mean_power(interface[l][k], Complex64::new(0.0, w) * q[k][d]))
+                let foot: Complex64 = lk.foot.iter().map(|&(d, c)| q[k][d] * c).sum();
+                mean_power(interface[l][k], Complex64::new(0.0, w) * foot)
             })
             .sum();
         out.point_residual.push(full - out.point_power[l].iter().sum::<f64>());

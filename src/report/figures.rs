@@ -526,7 +526,10 @@ pub fn modal_power_figure(m: &ModalDecomposition, run: &CaseRun, s: &SteadyState
         sources.push((load.name.clone(), p.clone(), sp.power_total));
     }
     let shown = modes_that_matter(sources.iter().map(|(_, p, _)| p.as_slice()));
-    let kind = run.model.structure.as_ref().map_or("beam", |s| s.kind());
+    let kind = match run.model.structure.as_ref().map(|s| s.kind()) {
+        Some("imported") => "model",
+        kind => kind.unwrap_or("beam"),
+    };
     let mut bar = BarChart::new(
         format!("Net power into the {kind} by mode"),
         format!("bare-{kind} mode (number, natural frequency)"),

@@ -10,13 +10,17 @@ pub mod ordering;
 pub use location::Location;
 
 use crate::beam::{element_mass, element_stiffness, Beam, SupportKind};
+use crate::imported::{Imported, COMPONENTS};
 use crate::plate::{element as bfs, Plate, PointSupportKind};
+use std::sync::Arc;
 
 /// A structure of any kind.
 #[derive(Clone, Debug)]
 pub enum Structure {
     Beam(Beam),
     Plate(Plate),
+    /// A model from another FE code (spec §17), shared: its matrices can be large.
+    Imported(Arc<Imported>),
 }
 
 /// An attachment's action on the structure: its normal displacement w at a point as
@@ -24,10 +28,16 @@ pub enum Structure {
 /// node; the element's shape functions inside one.
 pub type Attachment = Vec<(usize, usize, f64)>;
 
-/// The node an attachment stands on, if it is one node's w (not shape functions).
+/// The node an attachment stands on, if it is one DOF of one node (not shape functions).
 pub fn single_node(attachment: &[(usize, usize, f64)]) -> Option<usize> {
+    single_dof(attachment).map(|(node, _)| node)
+}
+
+/// The node and DOF kind an attachment is, if it is one DOF of one node taken positively
+/// (w of a beam or plate node; a component of an imported model's node).
+pub fn single_dof(attachment: &[(usize, usize, f64)]) -> Option<(usize, usize)> {
     match attachment {
-        [(node, 0, c)] if *c == 1.0 => Some(*node),
+        [(node, kind, c)] if *c == 1.0 => Some((*node, *kind)),
         _ => None,
     }
 }
@@ -41,11 +51,12 @@ pub struct ElementView<'a> {
 }
 
 impl Structure {
-    /// "beam" or "plate", for messages and the case file's table name.
+    /// "beam", "plate" or "imported", for messages and the case file's table name.
     pub fn kind(&self) -> &'static str {
         match self {
             Structure::Beam(_) => "beam",
             Structure::Plate(_) => "plate",
+            Structure::Imported(_) => "imported",
         }
     }
 
@@ -67,14 +78,24 @@ impl Structure {
         match self {
             Structure::Beam(b) => b.mesh.n_nodes(),
             Structure::Plate(p) => p.grid.n_nodes(),
+            Structure::Imported(m) => m.nodes.len(),
         }
     }
 
-    /// The DOF kinds every node carries, in order (the first is w, the normal displacement).
+    /// The DOF kinds every node carries, in order (on a beam and a plate the first is w, the
+    /// normal displacement; an imported model's nodes carry the components its map names).
     pub fn dof_names(&self) -> &'static [&'static str] {
         match self {
             Structure::Beam(_) => &["w", "theta"],
             Structure::Plate(_) => &bfs::DOF_NAMES,
+            Structure::Imported(_) => &COMPONENTS,
+        }
+    }
+
+    pub fn imported(&self) -> Option<&Imported> {
+        match self {
+            Structure::Imported(m) => Some(m),
+            _ => None,
         }
     }
 
@@ -86,6 +107,7 @@ impl Structure {
                 vec![w, t]
             }
             Structure::Plate(p) => p.fixed(node).to_vec(),
+            Structure::Imported(m) => m.fixed(node),
         }
     }
 
@@ -100,10 +122,12 @@ impl Structure {
                     (0..g.ny()).flat_map(|j| (0..g.nx()).map(move |i| g.element_nodes(i, j))).collect();
                 ordering::reverse_cuthill_mckee(&ordering::adjacency(g.n_nodes(), elements.iter().map(|e| &e[..])))
             }
+            Structure::Imported(m) => ordering::reverse_cuthill_mckee(&m.node_graph()),
         }
     }
 
-    /// Visits every element, in the structure's own order.
+    /// Visits every element, in the structure's own order (an imported model has none: its
+    /// matrices come assembled, see [`Structure::imported`]).
     pub fn for_each_element(&self, mut visit: impl FnMut(ElementView)) {
         match self {
             Structure::Beam(b) => {
@@ -133,6 +157,7 @@ impl Structure {
                     }
                 }
             }
+            Structure::Imported(_) => {}
         }
     }
 
@@ -143,6 +168,7 @@ impl Structure {
                 b.point_masses.iter().flat_map(|p| [(p.node, 0, p.mass), (p.node, 1, p.rotary_inertia)]).collect()
             }
             Structure::Plate(p) => p.point_masses.iter().map(|m| (m.node, 0, m.mass)).collect(),
+            Structure::Imported(_) => Vec::new(),
         }
     }
 
@@ -165,6 +191,7 @@ impl Structure {
                     _ => None,
                 })
                 .collect(),
+            Structure::Imported(_) => Vec::new(),
         }
     }
 
@@ -174,6 +201,7 @@ impl Structure {
         let springs = match self {
             Structure::Beam(b) => &b.springs,
             Structure::Plate(p) => &p.springs,
+            Structure::Imported(_) => return Vec::new(),
         };
         springs.iter().map(|s| (s.node, s.stiffness, s.damping)).collect()
     }
@@ -185,6 +213,10 @@ impl Structure {
             Structure::Plate(p) => {
                 let (x, y) = p.grid.position(node);
                 Location::Plate { x, y }
+            }
+            Structure::Imported(m) => {
+                let n = &m.nodes[node];
+                Location::Node { node: n.id, component: 2, sign: 1, xyz: n.xyz }
             }
         }
     }
@@ -212,7 +244,29 @@ impl Structure {
                     .filter(|t| t.2 != 0.0)
                     .collect())
             }
+            (Structure::Imported(m), Location::Node { node, component, sign, .. }) => {
+                let i = m.node_index(node).ok_or_else(|| format!("node {node} is not in the model's DOF map"))?;
+                let c = component as usize;
+                match m.row(i, c) {
+                    Some(r) if !m.fixed[r] => Ok(vec![(i, c, f64::from(sign))]),
+                    Some(_) => Err(format!("{at}: that row is fixed")),
+                    None => Err(format!("{at}: the model has no {} DOF at node {node}", COMPONENTS[c])),
+                }
+            }
             (s, _) => Err(format!("{at} is not a point on a {}", s.kind())),
+        }
+    }
+
+    /// The point with what the structure knows of it filled in: an imported model's node
+    /// gets its position. Other points, and nodes the model lacks (which [`Structure::attach`]
+    /// refuses), come back as they are.
+    pub fn resolve(&self, at: Location) -> Location {
+        match (self, at) {
+            (Structure::Imported(m), Location::Node { node, component, sign, .. }) => match m.node_index(node) {
+                Some(i) => Location::Node { node, component, sign, xyz: m.nodes[i].xyz },
+                None => at,
+            },
+            _ => at,
         }
     }
 
@@ -226,6 +280,7 @@ impl Structure {
         match self {
             Structure::Beam(_) => "beam.support and beam.spring",
             Structure::Plate(_) => "plate.edges, plate.support and plate.spring",
+            Structure::Imported(_) => "imported.fixed (or the model's own boundary conditions)",
         }
     }
 
@@ -234,6 +289,7 @@ impl Structure {
         match self {
             Structure::Beam(b) => b.mass(),
             Structure::Plate(p) => p.mass(),
+            Structure::Imported(m) => m.mass(),
         }
     }
 }

@@ -18,6 +18,12 @@ pub struct ActuatorSpec {
     pub x_e: f64,
     /// Stack foot position (x, y) on a plate (m), in place of `x_e`.
     pub at: Option<[f64; 2]>,
+    /// The stack foot's node on an imported model and the component the stack pushes along
+    /// (`uz`, or `-uz` for an actuator on the other side), in place of `x_e`.
+    pub node: Option<i64>,
+    pub component: Option<String>,
+    /// A frame's left and right leg nodes on an imported model.
+    pub legs: Option<[i64; 2]>,
     /// A frame's in-plane direction on a plate ψ (degrees from +x): its legs stand on the
     /// line through the stack foot along (cos ψ, sin ψ).
     pub direction: f64,
@@ -108,6 +114,12 @@ struct ActuatorToml {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     at: Option<[f64; 2]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
+    node: Option<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    component: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    legs: Option<[i64; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     direction: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     m_t: Option<f64>,
@@ -187,10 +199,24 @@ impl TryFrom<ActuatorToml> for ActuatorSpec {
         if t.direction.is_some() && t.at.is_none() {
             return Err("`direction` turns a frame in a plate's plane; it needs `at = [x, y]`".into());
         }
+        if t.node.is_some() && (t.at.is_some() || t.x_e.is_some()) {
+            return Err(
+                "give the stack foot as `x_e` (beam), `at` (plate) or `node` (imported model), not several".into()
+            );
+        }
+        if t.legs.is_some() && !matches!(body, BodySpec::Frame(_)) {
+            return Err("actuator field `legs` applies only to a frame actuator, and this one is inertial".into());
+        }
+        if (t.legs.is_some() || t.component.is_some()) && t.node.is_none() {
+            return Err("`component` and `legs` go with `node`, the stack foot's node on an imported model".into());
+        }
         Ok(ActuatorSpec {
             name: t.name,
             x_e: t.x_e.unwrap_or(DEFAULT_X_E),
             at: t.at,
+            node: t.node,
+            component: t.component,
+            legs: t.legs,
             direction: t.direction.unwrap_or(0.0),
             body,
             stack: t.stack,
@@ -205,8 +231,11 @@ impl From<ActuatorSpec> for ActuatorToml {
         let mut t = ActuatorToml {
             kind: ActuatorType::Inertial,
             name: a.name,
-            x_e: a.at.is_none().then_some(a.x_e),
+            x_e: (a.at.is_none() && a.node.is_none()).then_some(a.x_e),
             at: a.at,
+            node: a.node,
+            component: a.component,
+            legs: a.legs,
             direction: (a.at.is_some() && matches!(a.body, BodySpec::Frame(_))).then_some(a.direction),
             m_t: None,
             m_b: None,
@@ -315,12 +344,20 @@ impl ActuatorSpec {
         })
     }
 
-    /// Where the stack foot stands (on whichever structure the case has).
+    /// Where the stack foot stands (on whichever structure the case has; a node without a
+    /// valid component, which validation refuses, reads as NaN).
     pub fn location(&self) -> Location {
-        match self.at {
-            Some([x, y]) => Location::Plate { x, y },
-            None => Location::Beam { x: self.x_e },
+        match (self.at, self.node) {
+            (Some([x, y]), _) => Location::Plate { x, y },
+            (None, Some(n)) => self.node_location(n).unwrap_or(Location::Beam { x: f64::NAN }),
+            (None, None) => Location::Beam { x: self.x_e },
         }
+    }
+
+    /// Node `n` along this actuator's component.
+    fn node_location(&self, n: i64) -> std::result::Result<Location, String> {
+        let c = self.component.as_deref().ok_or_else(|| format!("node {n} needs a `component` (e.g. \"uz\")"))?;
+        Location::node(n, c)
     }
 
     /// The feet of the actuator: the stack's, then a frame's left and right legs.
@@ -328,6 +365,10 @@ impl ActuatorSpec {
         let stack = self.location();
         match &self.body {
             BodySpec::Inertial { .. } => vec![("stack", stack)],
+            BodySpec::Frame(_) if self.legs.is_some() => {
+                let legs = self.legs.unwrap_or_default().map(|n| self.node_location(n).unwrap_or(stack));
+                vec![("stack", stack), ("left leg", legs[0]), ("right leg", legs[1])]
+            }
             BodySpec::Frame(fr) => {
                 let [stack, left, right] = crate::actuator::frame::feet(stack, fr.e, fr.a, self.direction.to_radians());
                 vec![("stack", stack), ("left leg", left), ("right leg", right)]
@@ -372,6 +413,29 @@ impl ActuatorSpec {
                     }
                 }
             }
+        }
+        if let Extent::Imported = extent {
+            let Some(n) = self.node else {
+                return Err(Error::input(
+                    file,
+                    format!("{f}.node"),
+                    "an imported model takes the stack foot as `node` and `component`",
+                ));
+            };
+            self.node_location(n).map_err(|why| Error::input(file, format!("{f}.component"), why))?;
+            if matches!(self.body, BodySpec::Frame(_)) && self.legs.is_none() {
+                return Err(Error::input(
+                    file,
+                    format!("{f}.legs"),
+                    "a frame on an imported model stands on three nodes: give `legs = [left, right]`",
+                ));
+            }
+        } else if self.node.is_some() {
+            return Err(Error::input(
+                file,
+                format!("{f}.node"),
+                "`node` names a point of an imported model, and this case has none",
+            ));
         }
         if let Extent::Plate { .. } = extent {
             if self.at.is_none() {

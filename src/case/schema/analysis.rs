@@ -34,11 +34,21 @@ pub struct SensorSpec {
     /// Position (x, y) on a plate (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at: Option<[f64; 2]>,
+    /// A node of an imported model (its id in the DOF map) and the `component` there
+    /// (`uz`, `-uz`, …).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub component: Option<String>,
 }
 
 impl SensorSpec {
     pub fn location(&self) -> Location {
-        location(self.x, self.at)
+        self.point().location().unwrap_or(Location::Beam { x: f64::NAN })
+    }
+
+    pub fn point(&self) -> PointSpec {
+        PointSpec { x: self.x, at: self.at, node: self.node, component: self.component.clone() }
     }
 }
 
@@ -56,13 +66,23 @@ pub struct LoadSpec {
     /// Position (x, y) on a plate (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at: Option<[f64; 2]>,
+    /// A node of an imported model (its id in the DOF map) and the `component` there
+    /// (`uz`, `-uz`, …).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub component: Option<String>,
     /// The force's time history (N).
     pub force: SignalSpec,
 }
 
 impl LoadSpec {
     pub fn location(&self) -> Location {
-        location(self.x, self.at)
+        self.point().location().unwrap_or(Location::Beam { x: f64::NAN })
+    }
+
+    pub fn point(&self) -> PointSpec {
+        PointSpec { x: self.x, at: self.at, node: self.node, component: self.component.clone() }
     }
 
     /// The name results use: as given, or `load<i+1>`.
@@ -81,6 +101,12 @@ pub struct ForceSpec {
     /// Position (x, y) on a plate (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub at: Option<[f64; 2]>,
+    /// A node of an imported model (its id in the DOF map) and the `component` there
+    /// (`uz`, `-uz`, …).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub node: Option<i64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub component: Option<String>,
     #[serde(default = "d_one")]
     pub amplitude: f64,
     #[serde(default)]
@@ -89,13 +115,38 @@ pub struct ForceSpec {
 
 impl ForceSpec {
     pub fn location(&self) -> Location {
-        location(self.x, self.at)
+        self.point().location().unwrap_or(Location::Beam { x: f64::NAN })
+    }
+
+    pub fn point(&self) -> PointSpec {
+        PointSpec { x: self.x, at: self.at, node: self.node, component: self.component.clone() }
     }
 }
 
-/// A point as written: `x` on a beam or `at = [x, y]` on a plate (validation makes sure the
-/// case gives the one its structure takes; an unset coordinate reads as NaN, which the
-/// validation refuses first).
+/// A point as written: `x` on a beam, `at = [x, y]` on a plate, or `node` and `component`
+/// on an imported model.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PointSpec {
+    pub x: Option<f64>,
+    pub at: Option<[f64; 2]>,
+    pub node: Option<i64>,
+    pub component: Option<String>,
+}
+
+impl PointSpec {
+    /// The point (validation makes sure the case gives the one its structure takes; an unset
+    /// coordinate reads as NaN, which the validation refuses first). Errors with the reason
+    /// if a node's component is missing or not one.
+    pub fn location(&self) -> std::result::Result<Location, String> {
+        match (self.node, &self.component) {
+            (Some(n), Some(c)) => Location::node(n, c),
+            (Some(n), None) => Err(format!("node {n} needs a `component` (e.g. \"uz\")")),
+            (None, _) => Ok(location(self.x, self.at)),
+        }
+    }
+}
+
+/// A point written as `x` on a beam or `at = [x, y]` on a plate (see [`PointSpec`]).
 pub fn location(x: Option<f64>, at: Option<[f64; 2]>) -> Location {
     match (x, at) {
         (_, Some([x, y])) => Location::Plate { x, y },
@@ -491,7 +542,7 @@ impl AnalysisSpec {
                     }
                 }
                 for (j, p) in force.iter().enumerate() {
-                    super::on_structure(file, &format!("{f}.force[{j}]"), p.x, p.at, case.extent())?;
+                    super::on_structure(file, &format!("{f}.force[{j}]"), &p.point(), case.extent())?;
                     if !p.amplitude.is_finite() || !p.phase.is_finite() {
                         return Err(Error::input(
                             file,

@@ -224,6 +224,8 @@ pub enum DampingKind {
     Hysteretic,
     /// Undamped beam.
     None,
+    /// An imported model's own damping matrix (`imported.damping`), as given.
+    Given,
 }
 
 impl BeamSpec {
@@ -325,7 +327,7 @@ impl DampingSpec {
                     return Err(Error::input(file, "damping.eta", format!("must be in (0, 1), got {}", d.eta)));
                 }
             }
-            DampingKind::None => {}
+            DampingKind::None | DampingKind::Given => {}
         }
         Ok(())
     }

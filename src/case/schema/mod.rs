@@ -4,11 +4,13 @@
 mod actuator;
 mod analysis;
 mod beam;
+mod imported;
 mod plate;
 
 pub use actuator::*;
 pub use analysis::*;
 pub use beam::*;
+pub use imported::*;
 pub use plate::*;
 
 use super::signal;
@@ -31,6 +33,9 @@ pub struct Case {
     /// A thin plate in place of the beam (spec §16).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plate: Option<PlateSpec>,
+    /// A model from another FE code in place of the beam (spec §17).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub imported: Option<ImportedSpec>,
     #[serde(default)]
     pub damping: DampingSpec,
     #[serde(default)]
@@ -109,8 +114,15 @@ fn non_negative(file: &str, field: &str, v: f64) -> Result<()> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Extent {
     Rigid,
-    Beam { length: f64 },
-    Plate { lx: f64, ly: f64 },
+    Beam {
+        length: f64,
+    },
+    Plate {
+        lx: f64,
+        ly: f64,
+    },
+    /// An imported model: points are its nodes, checked when the model is loaded.
+    Imported,
 }
 
 impl Extent {
@@ -130,6 +142,11 @@ impl Extent {
                     Err(format!("{at} is outside the plate [0, {lx}] × [0, {ly}] m"))
                 }
             }
+            (Extent::Imported, Location::Node { .. }) => Ok(()),
+            (Extent::Imported, _) => {
+                Err("an imported model takes a point as `node` (its id) and `component` (e.g. \"uz\")".into())
+            }
+            (_, Location::Node { .. }) => Err("`node` and `component` name a point of an imported model".into()),
             (Extent::Rigid, _) => Err("the base is rigid: there is no structure to stand on".into()),
             (Extent::Beam { .. }, _) => Err("a beam takes a position as `x` (m)".into()),
             (Extent::Plate { .. }, _) => Err("a plate takes a position as `at = [x, y]` (m)".into()),
@@ -137,21 +154,31 @@ impl Extent {
     }
 }
 
-/// Checks a point written as `x` (beam) or `at` (plate) on the case's structure; `f` is the
-/// point's table, e.g. `sensor[0]`.
-fn on_structure(file: &str, f: &str, x: Option<f64>, at: Option<[f64; 2]>, extent: Extent) -> Result<()> {
-    if x.is_some() && at.is_some() {
-        return Err(Error::input(file, f, "give `x` on a beam or `at = [x, y]` on a plate, not both"));
+/// Checks a point written as `x` (beam), `at` (plate) or `node` and `component` (imported
+/// model) on the case's structure; `f` is the point's table, e.g. `sensor[0]`.
+fn on_structure(file: &str, f: &str, p: &analysis::PointSpec, extent: Extent) -> Result<()> {
+    let given = [p.x.is_some(), p.at.is_some(), p.node.is_some()].iter().filter(|&&g| g).count();
+    if given > 1 {
+        return Err(Error::input(
+            file,
+            f,
+            "give one of `x` (beam), `at = [x, y]` (plate) or `node` (imported model), not several",
+        ));
+    }
+    if p.component.is_some() && p.node.is_none() {
+        return Err(Error::input(file, format!("{f}.component"), "a component goes with `node` (an imported model)"));
     }
     // The field the structure takes its points in, and whether it is given.
     let (field, given) = match extent {
-        Extent::Plate { .. } => (format!("{f}.at"), at.is_some()),
-        Extent::Beam { .. } | Extent::Rigid => (format!("{f}.x"), x.is_some()),
+        Extent::Plate { .. } => (format!("{f}.at"), p.at.is_some()),
+        Extent::Imported => (format!("{f}.node"), p.node.is_some()),
+        Extent::Beam { .. } | Extent::Rigid => (format!("{f}.x"), p.x.is_some()),
     };
     if !given {
         return Err(Error::input(file, field, "required: the point's position on the structure"));
     }
-    extent.holds(&analysis::location(x, at)).map_err(|why| Error::input(file, field, why))
+    let at = p.location().map_err(|why| Error::input(file, format!("{f}.component"), why))?;
+    extent.holds(&at).map_err(|why| Error::input(file, field, why))
 }
 
 fn on_beam(file: &str, field: &str, x: f64, length: f64) -> Result<()> {
@@ -255,11 +282,47 @@ impl Case {
         Ok(())
     }
 
+    /// An imported model stands alone (no `[beam]` or `[plate]`, a structure to stand on),
+    /// and its damping matrix is used exactly when `damping.kind = "given"`.
+    fn validate_imported(&self, file: &str) -> Result<()> {
+        let given = self.damping.kind == DampingKind::Given;
+        let Some(m) = &self.imported else {
+            if given {
+                return Err(Error::input(
+                    file,
+                    "damping.kind",
+                    "\"given\" uses an imported model's damping matrix; this case has none",
+                ));
+            }
+            return Ok(());
+        };
+        if self.plate.is_some() || toml::to_string(&self.beam).ok() != toml::to_string(&BeamSpec::default()).ok() {
+            return Err(Error::input(
+                file,
+                "imported",
+                "a case describes one structure: give `[imported]` alone, without `[beam]` or `[plate]`",
+            ));
+        }
+        if self.base == BaseKind::Rigid {
+            return Err(Error::input(file, "base", "base = \"rigid\" has no structure: drop `[imported]` or the base"));
+        }
+        match (&m.damping, given) {
+            (Some(_), false) => Err(Error::input(
+                file,
+                "damping.kind",
+                "the imported model gives a damping matrix (`imported.damping`): set damping.kind = \"given\" to use it, or drop the file",
+            )),
+            (None, true) => Err(Error::input(file, "damping.kind", "\"given\" needs `imported.damping`, the damping matrix file")),
+            _ => m.validate(file),
+        }
+    }
+
     /// What the case's points lie on.
     pub fn extent(&self) -> Extent {
         match (&self.plate, self.base) {
             (_, BaseKind::Rigid) => Extent::Rigid,
             (Some(p), _) => p.extent(),
+            (None, _) if self.imported.is_some() => Extent::Imported,
             (None, BaseKind::Beam) => Extent::Beam { length: self.beam.length },
         }
     }
@@ -269,6 +332,7 @@ impl Case {
     pub(super) fn validate_fields(&self, file: &str) -> Result<()> {
         let b = &self.beam;
         b.validate(file)?;
+        self.validate_imported(file)?;
         if let Some(p) = &self.plate {
             if toml::to_string(b).ok() != toml::to_string(&BeamSpec::default()).ok() {
                 return Err(Error::input(
@@ -292,7 +356,7 @@ impl Case {
             a.validate(file, &format!("actuator[{i}]"), extent)?;
         }
         for (i, s) in self.sensor.iter().enumerate() {
-            on_structure(file, &format!("sensor[{i}]"), s.x, s.at, extent)?;
+            on_structure(file, &format!("sensor[{i}]"), &s.point(), extent)?;
         }
         for (i, l) in self.load.iter().enumerate() {
             if self.base == BaseKind::Rigid {
@@ -302,7 +366,7 @@ impl Case {
                     "a point load acts on the beam, and base = \"rigid\" has none",
                 ));
             }
-            on_structure(file, &format!("load[{i}]"), l.x, l.at, extent)?;
+            on_structure(file, &format!("load[{i}]"), &l.point(), extent)?;
             l.force.validate(file, &format!("load[{i}].force"))?;
         }
         self.validate_names(file)?;

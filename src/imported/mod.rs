@@ -1,0 +1,193 @@
+//! A structure imported from another finite-element code (spec §17): its mass, stiffness
+//! and optionally damping matrices as Matrix Market files, and a DOF map naming each row's
+//! node, position and component. beamflow's own matrix export writes the same format.
+//!
+//! The model is checked when loaded, each failure naming the file and the row or entry:
+//! sizes, finite entries, symmetry ([`matrix_market`]), the map ([`dof_map`]), and the
+//! definiteness of M and K from the inertia of their factorisations ([`check`]).
+
+pub mod check;
+pub mod dof_map;
+pub mod matrix_market;
+
+pub use dof_map::{Node, COMPONENTS};
+
+use crate::error::{Error, Result};
+use crate::linalg::Csr;
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+
+/// An imported linear model: matrices over its rows, and which node and component each row
+/// is. Rows listed as fixed are held at zero.
+#[derive(Clone, Debug)]
+pub struct Imported {
+    pub nodes: Vec<Node>,
+    /// For each matrix row, its node (index into `nodes`) and component (index into
+    /// [`COMPONENTS`]).
+    pub rows: Vec<(usize, usize)>,
+    /// Mass (kg, kg·m² on rotations), stiffness and the given damping, over the rows.
+    pub m: Csr,
+    pub k: Csr,
+    pub c: Option<Csr>,
+    /// Rows held at zero (boundary conditions not yet applied in the files).
+    pub fixed: Vec<bool>,
+    by_id: HashMap<i64, usize>,
+    /// `(node, component)` → row.
+    row_of: HashMap<(usize, usize), usize>,
+    /// What the model's check found (rigid-body modes, massless rows).
+    pub report: check::Report,
+}
+
+/// Where an imported model's files are, resolved against the case's folder, and which rows
+/// its boundary conditions hold.
+#[derive(Clone, Debug)]
+pub struct Files {
+    pub mass: PathBuf,
+    pub stiffness: PathBuf,
+    pub damping: Option<PathBuf>,
+    pub dofs: PathBuf,
+    /// 1-based rows held at zero.
+    pub fixed: Vec<usize>,
+}
+
+/// The model `files` name, loaded once per process and shared: a sweep builds its model
+/// for every case, and an imported model can be large. A cached model is used while its
+/// files keep their length and modification time.
+pub fn shared(files: &Files, case_file: &str) -> Result<std::sync::Arc<Imported>> {
+    use std::sync::{Arc, Mutex};
+    type Stamp = Vec<(PathBuf, u64, Option<std::time::SystemTime>)>;
+    static LAST: Mutex<Option<(Stamp, Vec<usize>, Arc<Imported>)>> = Mutex::new(None);
+    let paths = [Some(&files.mass), Some(&files.stiffness), files.damping.as_ref(), Some(&files.dofs)];
+    let stamp: Stamp = paths
+        .into_iter()
+        .flatten()
+        .map(|p| {
+            let meta = std::fs::metadata(p).ok();
+            (p.clone(), meta.as_ref().map_or(0, |m| m.len()), meta.and_then(|m| m.modified().ok()))
+        })
+        .collect();
+    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some((s, fixed, model)) = last.as_ref() {
+        if *s == stamp && *fixed == files.fixed {
+            return Ok(model.clone());
+        }
+    }
+    let max_entries = crate::analysis::budget::machine_memory() / 2 / matrix_market::BYTES_PER_ENTRY;
+    let model = Arc::new(Imported::load(files, max_entries, case_file)?);
+    *last = Some((stamp, files.fixed.clone(), model.clone()));
+    Ok(model)
+}
+
+impl Imported {
+    /// Reads and checks a model; `max_entries` bounds each matrix file (from the memory
+    /// budget); `case_file` names the case in the message about a fixed row.
+    pub fn load(files: &Files, max_entries: u64, case_file: &str) -> Result<Imported> {
+        let k = matrix_market::read(&files.stiffness, max_entries)?.matrix;
+        let n = k.dim();
+        let same_size = |p: &Path, a: &Csr| -> Result<()> {
+            if a.dim() == n {
+                Ok(())
+            } else {
+                Err(Error::input(
+                    p.display().to_string(),
+                    "size",
+                    format!("{} rows, but the stiffness {} has {n}", a.dim(), files.stiffness.display()),
+                ))
+            }
+        };
+        let m = matrix_market::read(&files.mass, max_entries)?.matrix;
+        same_size(&files.mass, &m)?;
+        let c = match &files.damping {
+            Some(p) => {
+                let c = matrix_market::read(p, max_entries)?.matrix;
+                same_size(p, &c)?;
+                Some(c)
+            }
+            None => None,
+        };
+        let table = dof_map::read(&files.dofs, n)?;
+        let mut fixed = vec![false; n];
+        for (i, &r) in files.fixed.iter().enumerate() {
+            if !(1..=n).contains(&r) {
+                return Err(Error::input(
+                    case_file,
+                    format!("imported.fixed[{i}]"),
+                    format!("row {r} is not in 1..={n}"),
+                ));
+            }
+            fixed[r - 1] = true;
+        }
+        let row_of = table.rows.iter().enumerate().map(|(r, &nk)| (nk, r)).collect();
+        let mut model = Imported {
+            nodes: table.nodes,
+            rows: table.rows,
+            m,
+            k,
+            c,
+            fixed,
+            by_id: table.by_id,
+            row_of,
+            report: Default::default(),
+        };
+        model.report = check::check(&model, files)?;
+        Ok(model)
+    }
+
+    /// Number of matrix rows.
+    pub fn n(&self) -> usize {
+        self.rows.len()
+    }
+
+    /// The index of node `id`, if the model has it.
+    pub fn node_index(&self, id: i64) -> Option<usize> {
+        self.by_id.get(&id).copied()
+    }
+
+    /// The row of a node's component, if the model has that DOF.
+    pub fn row(&self, node: usize, component: usize) -> Option<usize> {
+        self.row_of.get(&(node, component)).copied()
+    }
+
+    /// Which components of a node are held (absent from the model, or a fixed row).
+    pub fn fixed(&self, node: usize) -> Vec<bool> {
+        (0..COMPONENTS.len()).map(|c| self.row(node, c).is_none_or(|r| self.fixed[r])).collect()
+    }
+
+    /// The node nearest `xyz` (m) and its distance.
+    pub fn nearest(&self, xyz: [f64; 3]) -> (usize, f64) {
+        let d = |p: &[f64; 3]| p.iter().zip(&xyz).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
+        self.nodes.iter().enumerate().map(|(i, n)| (i, d(&n.xyz))).fold((0, f64::INFINITY), |a, b| {
+            if b.1 < a.1 {
+                b
+            } else {
+                a
+            }
+        })
+    }
+
+    /// Total mass (kg): the translational mass along the first translation the model has,
+    /// uᵀ·M·u with u = 1 on every row of that component (the rigid translation).
+    pub fn mass(&self) -> f64 {
+        let Some(comp) = (0..3).chain([6]).find(|&c| self.rows.iter().any(|r| r.1 == c)) else { return 0.0 };
+        let u: Vec<f64> = self.rows.iter().map(|r| if r.1 == comp { 1.0 } else { 0.0 }).collect();
+        self.m.bilinear(&u, &u)
+    }
+
+    /// Node adjacency through K's and M's pattern (for the fill-reducing node order).
+    pub fn node_graph(&self) -> Vec<Vec<usize>> {
+        let mut adj: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
+        for a in [&self.k, &self.m] {
+            for (i, j, _) in a.triplets() {
+                let (ni, nj) = (self.rows[i].0, self.rows[j].0);
+                if ni != nj {
+                    adj[ni].push(nj);
+                }
+            }
+        }
+        for l in &mut adj {
+            l.sort_unstable();
+            l.dedup();
+        }
+        adj
+    }
+}

@@ -1,0 +1,284 @@
+//! Imported models (spec §17): beamflow's own beam and plate exported in the imported
+//! format and read back give the native results; a model checked on load refuses what is
+//! not a structure's M, K and map, naming the file and the row; and a model built by hand
+//! has the modes its closed form says.
+
+use beamflow::analysis::budget::Budget;
+use beamflow::imported::{Files, Imported};
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+
+fn run(case: &Path, out: &Path) -> Value {
+    beamflow::app::commands::run(case, Some(out), None, false, false, &Budget::default()).unwrap();
+    let stem = case.file_stem().unwrap().to_str().unwrap();
+    serde_json::from_str(&std::fs::read_to_string(out.join(format!("{stem}.json"))).unwrap()).unwrap()
+}
+
+/// The id of the exported node at (x, y).
+fn node_at(dofs: &Path, x: f64, y: f64) -> i64 {
+    let text = std::fs::read_to_string(dofs).unwrap();
+    for line in text.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let (px, py): (f64, f64) = (f[2].parse().unwrap(), f[3].parse().unwrap());
+        if (px - x).abs() < 1e-12 && (py - y).abs() < 1e-12 {
+            return f[1].parse().unwrap();
+        }
+    }
+    panic!("no node at ({x}, {y}) in {}", dofs.display());
+}
+
+/// Every number of `a` found at the same place in `b`, relative difference (largest).
+fn largest_difference(a: &Value, b: &Value, skip: &[&str], path: &str) -> (f64, String) {
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => x
+            .iter()
+            .filter(|(k, _)| !skip.contains(&k.as_str()))
+            .filter_map(|(k, v)| y.get(k).map(|w| largest_difference(v, w, skip, &format!("{path}/{k}"))))
+            .fold((0.0, String::new()), |m, d| if d.0 > m.0 { d } else { m }),
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() && x.iter().all(Value::is_number) => {
+            // A list of numbers (a spectrum, a table column) against its largest entry.
+            let num = |v: &Value| v.as_f64().unwrap();
+            let scale = x.iter().chain(y).fold(0.0f64, |m, v| m.max(num(v).abs()));
+            x.iter()
+                .zip(y)
+                .enumerate()
+                .map(|(i, (v, w))| {
+                    let d = if scale == 0.0 { 0.0 } else { (num(v) - num(w)).abs() / scale };
+                    (d, format!("{path}[{i}]"))
+                })
+                .fold((0.0, String::new()), |m, d| if d.0 > m.0 { d } else { m })
+        }
+        (Value::Array(x), Value::Array(y)) if x.len() == y.len() => x
+            .iter()
+            .zip(y)
+            .enumerate()
+            .map(|(i, (v, w))| largest_difference(v, w, skip, &format!("{path}[{i}]")))
+            .fold((0.0, String::new()), |m, d| if d.0 > m.0 { d } else { m }),
+        (Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (x.as_f64().unwrap(), y.as_f64().unwrap());
+            let scale = x.abs().max(y.abs());
+            (if scale == 0.0 { 0.0 } else { (x - y).abs() / scale }, path.to_string())
+        }
+        _ => (0.0, String::new()),
+    }
+}
+
+fn imported_table(out: &Path, stem: &str) -> String {
+    let p = |n: &str| out.join(format!("{stem}_structure_{n}")).display().to_string();
+    format!(
+        "[imported]\nmass = {:?}\nstiffness = {:?}\ndamping = {:?}\ndofs = {:?}\n[damping]\nkind = \"given\"\n",
+        p("M.mtx"),
+        p("K.mtx"),
+        p("C.mtx"),
+        p("dofs.csv")
+    )
+}
+
+/// Quantities that differ by construction: round-off residues and the stated bounds (each
+/// path estimates its own: the beam's modes come from its stiffness root, the imported
+/// model's from LDLᵀ), the closed forms only a native structure has, and the names.
+const BOUNDS: [&str; 9] = [
+    "truncation_estimate",
+    "mesh_roundoff",
+    "roundoff_bound",
+    "energy_balance_rel_error",
+    "analytic_hz",
+    "relative_error",
+    "case",
+    "structure",
+    "title",
+];
+
+#[test]
+fn a_frame_on_the_beam_exported_and_imported_puts_in_the_same_power() {
+    let dir = tempfile::tempdir().unwrap();
+    let drive = "[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n\
+                 [[analysis]]\ntype = \"steady_state\"\n[[analysis]]\ntype = \"modes\"\ncount = 6\n\
+                 [[analysis]]\ntype = \"harmonic\"\nsystem = \"coupled\"\n[analysis.frequencies]\nvalues = [30.0, 60.0, 250.0]\n";
+    let native = dir.path().join("native.toml");
+    std::fs::write(
+        &native,
+        format!(
+            "[beam]\n[[actuator]]\ntype = \"frame\"\nname = \"frame\"\nx_e = 0.150\n{drive}[output]\nmatrices = true\n"
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let a = run(&native, &out);
+    let dofs = out.join("native_structure_dofs.csv");
+    let [s, l, r] = [0.150, 0.109, 0.189].map(|x| node_at(&dofs, x, 0.0));
+    let imported = dir.path().join("imported.toml");
+    std::fs::write(
+        &imported,
+        format!(
+            "{}[[actuator]]\ntype = \"frame\"\nname = \"frame\"\nnode = {s}\ncomponent = \"w\"\nlegs = [{l}, {r}]\n{drive}",
+            imported_table(&out, "native")
+        ),
+    )
+    .unwrap();
+    let b = run(&imported, &dir.path().join("out2"));
+    assert_eq!(b["structure"], "imported");
+    let p = |v: &Value| v["analyses"][0]["mean_power_w"].clone();
+    assert!(p(&a).as_object().is_some_and(|m| m.len() == 3), "{}", p(&a));
+    let (d, at) = largest_difference(&a, &b, &BOUNDS, "");
+    assert!(d <= 1e-8, "largest relative difference {d:e} at {at}");
+}
+
+#[test]
+fn an_inertial_actuator_on_the_plate_exported_and_imported_puts_in_the_same_power() {
+    let dir = tempfile::tempdir().unwrap();
+    let plate = "[plate]\nlength_x = 0.5\nlength_y = 0.4\nthickness = 0.003\nyoungs_modulus = 70e9\n\
+                 poisson_ratio = 0.33\ndensity = 2700.0\n[plate.mesh]\nelements = [10, 8]\n\
+                 [plate.edges]\nx0 = \"clamped\"\nx1 = \"simply_supported\"\ny0 = \"free\"\ny1 = \"simply_supported\"\n";
+    let drive = "[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 83.0\n\
+                 [[analysis]]\ntype = \"steady_state\"\n[[analysis]]\ntype = \"modes\"\ncount = 8\n";
+    let native = dir.path().join("native.toml");
+    std::fs::write(
+        &native,
+        format!("{plate}[[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\nat = [0.15, 0.2]\n{drive}[output]\nmatrices = true\n"),
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let a = run(&native, &out);
+    let node = node_at(&out.join("native_structure_dofs.csv"), 0.15, 0.2);
+    let imported = dir.path().join("imported.toml");
+    std::fs::write(
+        &imported,
+        format!(
+            "{}[[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\nnode = {node}\ncomponent = \"w\"\n{drive}",
+            imported_table(&out, "native")
+        ),
+    )
+    .unwrap();
+    let b = run(&imported, &dir.path().join("out2"));
+    let (d, at) = largest_difference(&a, &b, &BOUNDS, "");
+    assert!(d <= 1e-8, "largest relative difference {d:e} at {at}");
+}
+
+/// A spring–mass chain written by hand: M, K and a map, in a folder.
+struct Chain {
+    _dir: tempfile::TempDir,
+    files: Files,
+}
+
+fn chain(m: &str, k: &str, dofs: &str) -> Chain {
+    let dir = tempfile::tempdir().unwrap();
+    let p = |n: &str, text: &str| -> PathBuf {
+        let p = dir.path().join(n);
+        std::fs::write(&p, text).unwrap();
+        p
+    };
+    let files = Files {
+        mass: p("m.mtx", m),
+        stiffness: p("k.mtx", k),
+        damping: None,
+        dofs: p("dofs.csv", dofs),
+        fixed: vec![],
+    };
+    Chain { _dir: dir, files }
+}
+
+const SYM: &str = "%%MatrixMarket matrix coordinate real symmetric\n";
+const MAP2: &str = "row,node,x_m,y_m,z_m,component\n1,10,0,0,0,uz\n2,11,1,0,0,uz\n";
+
+/// Two masses m on springs k (ground–m–m): ω² = (k/m)·(3 ∓ √5)/2.
+#[test]
+fn a_two_mass_chain_has_its_closed_form_modes() {
+    let (m, k) = (2.0, 8.0e4);
+    let c = chain(
+        &format!("{SYM}2 2 2\n1 1 {m}\n2 2 {m}\n"),
+        &format!("{SYM}2 2 3\n1 1 {}\n2 1 {}\n2 2 {k}\n", 2.0 * k, -k),
+        MAP2,
+    );
+    let model = std::sync::Arc::new(Imported::load(&c.files, 1000, "case.toml").unwrap());
+    assert_eq!(model.report.rigid_body_modes, 0);
+    let s = beamflow::structure::Structure::Imported(model);
+    let r = beamflow::analysis::modes::run(&s, 2).unwrap();
+    for (f, sign) in r.frequencies_hz.iter().zip([-1.0, 1.0]) {
+        let exact = ((k / m) * (3.0 + sign * 5f64.sqrt()) / 2.0).sqrt() / (2.0 * std::f64::consts::PI);
+        assert!((f - exact).abs() <= 1e-12 * exact, "{f} against {exact}");
+    }
+}
+
+#[test]
+fn a_free_chain_reports_its_rigid_body_mode_and_a_massless_row_is_accepted() {
+    // Free–free: one rigid translation.
+    let c = chain(&format!("{SYM}2 2 2\n1 1 1\n2 2 1\n"), &format!("{SYM}2 2 3\n1 1 5\n2 1 -5\n2 2 5\n"), MAP2);
+    assert_eq!(Imported::load(&c.files, 1000, "case.toml").unwrap().report.rigid_body_modes, 1);
+    // A massless middle DOF held by stiffness (a lumped model's rotation, say).
+    let map3 = "row,node,x_m,y_m,z_m,component\n1,1,0,0,0,uz\n2,1,0,0,0,ry\n3,2,1,0,0,uz\n";
+    let c = chain(
+        &format!("{SYM}3 3 2\n1 1 1\n3 3 1\n"),
+        &format!("{SYM}3 3 5\n1 1 3\n2 1 -1\n2 2 3\n3 2 -1\n3 3 3\n"),
+        map3,
+    );
+    let model = Imported::load(&c.files, 1000, "case.toml").unwrap();
+    assert_eq!((model.report.massless_rows, model.report.rigid_body_modes), (1, 0));
+}
+
+#[test]
+fn what_is_not_a_structure_is_refused_naming_the_file_and_row() {
+    let m = format!("{SYM}2 2 2\n1 1 1\n2 2 1\n");
+    let k = format!("{SYM}2 2 3\n1 1 2\n2 1 -1\n2 2 2\n");
+    let gen = "%%MatrixMarket matrix coordinate real general\n";
+    for (mm, kk, map, file, expect) in [
+        (m.clone(), format!("{gen}2 2 4\n1 1 2\n1 2 -1\n2 1 -1.5\n2 2 2\n"), MAP2, "k.mtx", "not symmetric"),
+        (format!("{SYM}2 2 2\n1 1 1\n2 2 -1\n"), k.clone(), MAP2, "m.mtx", "negative eigenvalue"),
+        (m.clone(), format!("{SYM}2 2 3\n1 1 2\n2 1 -3\n2 2 2\n"), MAP2, "k.mtx", "negative eigenvalue"),
+        (m.clone(), format!("{SYM}2 2 3\n1 1 NaN\n2 1 -1\n2 2 2\n"), MAP2, "k.mtx", "line 3"),
+        (format!("{SYM}3 3 1\n1 1 1\n"), k.clone(), MAP2, "m.mtx", "3 rows"),
+        (m.clone(), k.clone(), "row,node,x_m,y_m,z_m,component\n1,10,0,0,0,uz\n", "dofs.csv", "row 2"),
+        (
+            m.clone(),
+            k.clone(),
+            "row,node,x_m,y_m,z_m,component\n1,10,0,0,0,uz\n1,11,1,0,0,uz\n",
+            "dofs.csv",
+            "given twice",
+        ),
+        (format!("{SYM}2 2 1\n1 1 1\n"), format!("{SYM}2 2 1\n1 1 1\n"), MAP2, "k.mtx", "neither stiffness nor mass"),
+    ] {
+        let c = chain(&mm, &kk, map);
+        let e = Imported::load(&c.files, 1000, "case.toml")
+            .err()
+            .unwrap_or_else(|| panic!("accepted {expect}"))
+            .to_string();
+        assert!(e.contains(file) && e.contains(expect), "{e} (expected {file}: {expect})");
+    }
+}
+
+#[test]
+fn a_case_on_an_imported_model_names_a_missing_node_and_a_bad_component() {
+    let c = chain(&format!("{SYM}2 2 2\n1 1 1\n2 2 1\n"), &format!("{SYM}2 2 3\n1 1 2e6\n2 1 -1e6\n2 2 2e6\n"), MAP2);
+    let dir = c.files.mass.parent().unwrap().to_path_buf();
+    let case = |point: &str| {
+        format!(
+            "[imported]\nmass = \"m.mtx\"\nstiffness = \"k.mtx\"\ndofs = \"dofs.csv\"\n\
+             [damping]\nkind = \"rayleigh\"\na0 = 2.0\na1 = 1e-5\n\
+             [[actuator]]\ntype = \"inertial\"\n{point}\n[actuator.stack]\nhysteresis = false\n[actuator.voltage]\nkind = \"sine\"\namplitude = 1.0\nfrequency = 10.0\n\
+             [[analysis]]\ntype = \"steady_state\"\n"
+        )
+    };
+    for (point, field, expect) in [
+        ("node = 99\ncomponent = \"uz\"", "actuator[0].node", "node 99 is not in the model"),
+        ("node = 10\ncomponent = \"ux\"", "actuator[0].node", "no ux DOF at node 10"),
+        ("node = 10\ncomponent = \"sideways\"", "actuator[0].component", "not a component"),
+        ("x_e = 0.1", "actuator[0].node", "imported model takes the stack foot"),
+    ] {
+        let p = dir.join("case.toml");
+        std::fs::write(&p, case(point)).unwrap();
+        let e = beamflow::app::commands::run(&p, Some(&dir.join("out")), None, false, false, &Budget::default())
+            .err()
+            .unwrap_or_else(|| panic!("accepted {point}"))
+            .to_string();
+        assert!(e.contains("case.toml") && e.contains(field) && e.contains(expect), "{e} (expected {field}: {expect})");
+    }
+    // Driven on the +uz side and on the −uz side: the same power into the model.
+    let power = |point: &str| {
+        let p = dir.join("case.toml");
+        std::fs::write(&p, case(point)).unwrap();
+        let v = run(&p, &dir.join("out"));
+        v["analyses"][0]["mean_power_w"]["inertial_stack"].as_f64().unwrap()
+    };
+    let (up, down) = (power("node = 11\ncomponent = \"uz\""), power("node = 11\ncomponent = \"-uz\""));
+    assert!(up > 0.0 && (up - down).abs() <= 1e-12 * up, "{up} against {down}");
+}
