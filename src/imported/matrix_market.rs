@@ -8,7 +8,7 @@
 
 use crate::error::{Error, Result};
 use crate::linalg::Csr;
-use std::io::{BufRead, BufReader};
+use std::io::{BufRead, BufReader, Read as _};
 use std::path::Path;
 
 /// Bytes one stored entry costs while reading (a triplet) and after (CSR, both triangles).
@@ -38,14 +38,8 @@ pub fn read(path: &Path, max_entries: u64) -> Result<Read> {
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let name = path.display().to_string();
     let bad = |line: usize, why: String| Error::input(&name, format!("line {line}"), why);
-    let mut lines = BufReader::new(file).lines().enumerate().map(|(i, l)| (i + 1, l));
-    let next = |lines: &mut dyn Iterator<Item = (usize, std::io::Result<String>)>| -> Result<Option<(usize, String)>> {
-        match lines.next() {
-            None => Ok(None),
-            Some((i, Ok(l))) => Ok(Some((i, l))),
-            Some((i, Err(e))) => Err(bad(i, format!("cannot be read as text: {e}"))),
-        }
-    };
+    let mut lines = Lines { reader: BufReader::new(file), number: 0, buf: Vec::new() };
+    let next = |lines: &mut Lines| -> Result<Option<(usize, String)>> { lines.next().map_err(|(i, why)| bad(i, why)) };
     let (_, header) = next(&mut lines)?.ok_or_else(|| bad(1, "the file is empty".into()))?;
     let symmetric = parse_header(&header).map_err(|why| bad(1, why))?;
     // The size line: the first line that is not a comment.
@@ -107,6 +101,38 @@ pub fn read(path: &Path, max_entries: u64) -> Result<Read> {
             .map_err(|(r, c, why)| Error::input(&name, format!("entry ({}, {})", r + 1, c + 1), why))?;
     }
     Ok(Read { matrix, stored })
+}
+
+/// Longest line read (bytes): an entry is three numbers; a longer "line" (a file of zeros,
+/// or binary data) is refused without being held in memory.
+const MAX_LINE: u64 = 1024;
+
+/// The file's lines, each read up to [`MAX_LINE`] bytes.
+struct Lines {
+    reader: BufReader<std::fs::File>,
+    number: usize,
+    buf: Vec<u8>,
+}
+
+impl Lines {
+    /// The next line and its 1-based number, None at the end; the line and the reason if it
+    /// is too long or not text.
+    fn next(&mut self) -> std::result::Result<Option<(usize, String)>, (usize, String)> {
+        self.number += 1;
+        self.buf.clear();
+        let n = (&mut self.reader)
+            .take(MAX_LINE + 1)
+            .read_until(b'\n', &mut self.buf)
+            .map_err(|e| (self.number, format!("cannot be read: {e}")))?;
+        if n == 0 {
+            return Ok(None);
+        }
+        if self.buf.last() != Some(&b'\n') && n as u64 > MAX_LINE {
+            return Err((self.number, format!("is longer than {MAX_LINE} bytes: not a Matrix Market line")));
+        }
+        let text = std::str::from_utf8(&self.buf).map_err(|_| (self.number, "is not text (UTF-8)".to_string()))?;
+        Ok(Some((self.number, text.trim_end_matches(['\n', '\r']).to_string())))
+    }
 }
 
 /// `true` for symmetric storage, `false` for general; the reason otherwise.
@@ -215,10 +241,21 @@ mod tests {
             ("%%MatrixMarket matrix array real general\n".to_string(), "array"),
             (format!("{h}2 2 99999999999\n"), "budget"),
             ("%%MatrixMarket matrix coordinate real symmetric\n2 2 1\n1 2 1\n".to_string(), "lower triangle"),
+            (format!("{h}2 2 1\n{}", "0".repeat(5000)), "longer than"),
         ] {
             let (_d, p) = write(&text);
             let e = read(&p, 1000).err().unwrap_or_else(|| panic!("accepted {text:?}")).to_string();
             assert!(e.contains("k.mtx") && e.contains(expect), "{e} (expected {expect})");
         }
+    }
+
+    /// A 2 GB file (sparse on disk: a header, a size line, then zeros) is refused at its
+    /// first long line, having read about a kilobyte of it.
+    #[test]
+    fn a_two_gigabyte_file_is_refused_at_once() {
+        let (_d, p) = write("%%MatrixMarket matrix coordinate real general\n2 2 1\n");
+        std::fs::OpenOptions::new().write(true).open(&p).unwrap().set_len(2 << 30).unwrap();
+        let e = read(&p, 1000).err().unwrap().to_string();
+        assert!(e.contains("line 3") && e.contains("longer than"), "{e}");
     }
 }
