@@ -193,23 +193,24 @@ fn lanczos(
         }
         let lam = sigma + 1.0 / th;
         omega.push(lam.max(0.0).sqrt());
+        // On the column's slice: indexing the matrix entry by entry costs as much as the
+        // sums on a large model.
+        let shape = shapes.col_mut(r).try_as_col_major_mut().expect("a fresh matrix is column-major").as_slice_mut();
         for (k, qk) in q.iter().take(mdim).enumerate() {
             let coef = s[(k, c)];
-            for i in 0..n {
-                shapes[(i, r)] += coef * qk[i];
+            for (x, qx) in shape.iter_mut().zip(qk) {
+                *x += coef * qx;
             }
         }
         // Sign convention as in the dense solver: largest entry positive.
         let mut big = 0.0f64;
-        for i in 0..n {
-            if shapes[(i, r)].abs() > big.abs() {
-                big = shapes[(i, r)];
+        for &x in shape.iter() {
+            if x.abs() > big.abs() {
+                big = x;
             }
         }
         if big < 0.0 {
-            for i in 0..n {
-                shapes[(i, r)] = -shapes[(i, r)];
-            }
+            shape.iter_mut().for_each(|x| *x = -*x);
         }
     }
     Ok((omega, shapes, converged))
