@@ -204,3 +204,14 @@ fn modal_analysis_of_a_large_plate_takes_the_sparse_path() {
         assert!(rel(*a, *b).abs() < 1e-10, "{a} vs {b}");
     }
 }
+
+/// A cancelled request stops the Lanczos run at its next vector with `Cancelled`.
+#[test]
+fn cancellation_stops_the_sparse_lanczos_run() {
+    use beamflow::progress::{cancellable, Cancel};
+    let sys = plate("simply_supported", 12, 10);
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let got = cancellable(cancel, || modes_sparse(&sys.k, &sys.m, 4, 0.0));
+    assert!(matches!(got, Err(beamflow::error::Error::Cancelled)), "{got:?}");
+}

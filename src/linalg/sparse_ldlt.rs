@@ -237,6 +237,17 @@ mod tests {
     }
 
     #[test]
+    fn matrices_off_the_pattern_are_errors() {
+        let a = Csr::from_triplets(3, &[(0, 0, 1.0), (1, 1, 1.0), (2, 2, 1.0)]);
+        let b = Csr::from_triplets(3, &[(0, 2, 1.0), (2, 0, 1.0)]);
+        assert!(SparsePattern::analyse(&[&a, &Csr::zeros(2)]).is_err());
+        assert!(SparsePattern::analyse(&[]).is_err());
+        let p = SparsePattern::analyse(&[&a]).unwrap();
+        let err = p.factorize(&[(1.0, &b)]).unwrap_err().to_string();
+        assert!(err.contains("outside the analysed sparse pattern"), "{err}");
+    }
+
+    #[test]
     fn singular_matrix_is_reported_not_solved() {
         let a = Csr::from_triplets(2, &[(0, 0, 1.0), (0, 1, 1.0), (1, 0, 1.0), (1, 1, 1.0)]);
         let p = SparsePattern::analyse(&[&a]).unwrap();
