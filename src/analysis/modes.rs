@@ -35,10 +35,13 @@ pub fn bare_modes_of(structure: &Structure, sys: &System, count: usize) -> Resul
     // Dense reduction up to a few thousand DOFs (all modes at once, robust); beyond that,
     // or when only a few modes of a large model are wanted, shift-invert Lanczos (linear
     // cost in the number of DOFs).
+    // Beams keep their banded or profile factor (their profile is a band); other
+    // structures' profiles are wide (a plate's is a grid row) and take the sparse LDLᵀ.
     if sys.n() > DENSE_EIGEN_LIMIT && count < sys.n() / 4 {
-        match root {
-            Some(root) => crate::solve::lanczos::lowest_modes_from_root(&root, &sys.m, count),
-            None => crate::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, count, 0.0),
+        match (root, structure.beam()) {
+            (Some(root), _) => crate::solve::lanczos::lowest_modes_from_root(&root, &sys.m, count),
+            (None, Some(_)) => crate::solve::lanczos::modes_shift_invert(&sys.k, &sys.m, &sys.envelope, count, 0.0),
+            (None, None) => crate::solve::lanczos::modes_sparse(&sys.k, &sys.m, count, 0.0),
         }
     } else {
         match root {

@@ -2,18 +2,21 @@
 //! form we want: a profile (skyline) LDLᵀ that is fast for the banded-with-a-few-long-rows
 //! matrices a beam with actuators produces, for real and complex symmetric matrices alike;
 //! and a banded square-root factor of the stiffness built from its element rows without
-//! forming K (see [`banded_qr`]), for modes of very fine meshes.
+//! forming K (see [`banded_qr`]), for modes of very fine meshes; and a sparse LDLᵀ with a
+//! fill-reducing ordering for 2-D meshes and imported models (see [`sparse_ldlt`]).
 
 pub mod band;
 pub mod banded_qr;
 pub mod scalar;
 pub mod skyline;
 pub mod sparse;
+pub mod sparse_ldlt;
 
 pub use banded_qr::BandedR;
 pub use scalar::Scalar;
 pub use skyline::{Skyline, SkylineLdlt};
 pub use sparse::Csr;
+pub use sparse_ldlt::{SparseLdlt, SparsePattern};
 
 /// Σ aᵢ·bᵢ, summed in order (the Krylov and reduction bases' inner products).
 pub fn dot(a: &[f64], b: &[f64]) -> f64 {

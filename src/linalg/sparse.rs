@@ -82,6 +82,13 @@ impl Csr {
         self.mat.get(i, j).copied().unwrap_or(0.0)
     }
 
+    /// Row i's stored columns (ascending) and values.
+    pub fn row(&self, i: usize) -> (&[usize], &[f64]) {
+        let ip: &[usize] = self.mat.indptr().into_raw_storage();
+        let range = ip[i]..ip[i + 1];
+        (&self.mat.indices()[range.clone()], &self.mat.data()[range])
+    }
+
     /// Iterates the stored entries as (row, col, value).
     pub fn triplets(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
         let ip: &[usize] = self.mat.indptr().into_raw_storage();

@@ -1,6 +1,7 @@
 //! The lowest modes of large models: shift-invert Lanczos, solving with K's banded
 //! square-root factor from the element rows (σ = 0, supported structures: accurate on very
-//! fine meshes) or with the profile LDLᵀ of K − σM as assembled.
+//! fine meshes), with the profile LDLᵀ of K − σM as assembled (beams with actuators), or
+//! with its sparse LDLᵀ under a fill-reducing ordering (plates, imported models).
 //!
 //! The operator x ↦ (K − σM)⁻¹·M·x has eigenvalues θ = 1/(λ − σ), so the modes nearest the
 //! shift come first and are well separated (for a beam 1/λ falls as r⁻⁴). Lanczos runs in
@@ -11,7 +12,7 @@
 
 use super::eigen::Modes;
 use crate::error::{Error, Result};
-use crate::linalg::{dot, BandedR, Csr, Skyline};
+use crate::linalg::{dot, BandedR, Csr, Skyline, SparsePattern};
 use faer::{Mat, Side};
 
 /// The `count` modes of (K, M) nearest above the shift σ (rad²/s²; use 0 for the lowest
@@ -27,7 +28,34 @@ pub fn modes_shift_invert(k: &Csr, m: &Csr, envelope: &[usize], count: usize, si
     k.add_into_skyline(1.0, &mut a);
     m.add_into_skyline(-sigma, &mut a);
     let fac = a.factorize()?;
-    run(m, count, sigma, &|x| fac.solve_in_place(x), false)
+    run(m, count, sigma, &|x| fac.solve_in_place(x), Start::Plain, false)
+}
+
+/// The `count` modes of (K, M) nearest above the shift σ, factorising K − σM with the
+/// sparse LDLᵀ (see [`crate::linalg::sparse_ldlt`]): for meshes whose profile is wide
+/// (plates) and imported models of any sparsity. Progress and cancellation go through the
+/// thread's [`crate::progress`] task, one step per Lanczos vector.
+///
+/// M may be singular (no rotary inertia lumped): the start vector is (K − σM)⁻¹·M·r, which
+/// has no component that M does not see, and every later vector stays in that range.
+/// A singular M's infinite eigenvalues are not found: at most M's rank modes come back.
+pub fn modes_sparse(k: &Csr, m: &Csr, count: usize, sigma: f64) -> Result<Modes> {
+    check_sizes(m, count)?;
+    if k.dim() != m.dim() {
+        return Err(Error::Numerical(format!("K has {} DOFs, M {}", k.dim(), m.dim())));
+    }
+    let pattern = SparsePattern::analyse(&[k, m])?;
+    let fac = pattern.factorize(&[(1.0, k), (-sigma, m)])?;
+    run(m, count, sigma, &|x| fac.solve_in_place(x), Start::Purified, false)
+}
+
+/// How the Lanczos start vector is made from a fixed pseudo-random one r.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Start {
+    /// r itself (M positive definite).
+    Plain,
+    /// The operator applied once, (K − σM)⁻¹·M·r: free of M's null space.
+    Purified,
 }
 
 /// The `count` lowest modes of (K, M) with K = RᵀR given by its square-root factor (see
@@ -39,7 +67,7 @@ pub fn lowest_modes_from_root(root: &BandedR, m: &Csr, count: usize) -> Result<M
         return Err(Error::Numerical(format!("stiffness factor has {} DOFs, M {}", root.dim(), m.dim())));
     }
     check_sizes(m, count)?;
-    run(m, count, 0.0, &|x| root.solve_normal_in_place(x), true)
+    run(m, count, 0.0, &|x| root.solve_normal_in_place(x), Start::Plain, true)
 }
 
 /// At least one mode and one DOF: each entry point checks before any factorisation.
@@ -53,14 +81,14 @@ fn check_sizes(m: &Csr, count: usize) -> Result<()> {
 /// Lanczos on x ↦ (K − σM)⁻¹·M·x, `solve` applying (K − σM)⁻¹ in place, with more vectors
 /// until the wanted Ritz pairs converge (sizes already checked by `check_sizes`).
 /// `from_root` only labels the result (see [`Modes::from_root`]).
-fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64]), from_root: bool) -> Result<Modes> {
+fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64]), start: Start, from_root: bool) -> Result<Modes> {
     let n = m.dim();
     let count = count.min(n);
     let mut steps = (2 * count + 20).max(40).min(n);
     loop {
         let task =
             crate::progress::Task::start(&format!("{count} modes of {n} DOFs"), Some(steps as u64), "Lanczos vectors");
-        let (omega, shapes, converged) = lanczos(m, solve, n, steps, count, sigma, &task)?;
+        let (omega, shapes, converged) = lanczos(m, solve, start, steps, count, sigma, &task)?;
         if converged || steps == n {
             if !converged {
                 return Err(Error::Numerical(format!(
@@ -76,19 +104,30 @@ fn run(m: &Csr, count: usize, sigma: f64, solve: &dyn Fn(&mut [f64]), from_root:
 fn lanczos(
     m: &Csr,
     solve: &dyn Fn(&mut [f64]),
-    n: usize,
+    start: Start,
     steps: usize,
     count: usize,
     sigma: f64,
     task: &crate::progress::Task,
 ) -> Result<(Vec<f64>, Mat<f64>, bool)> {
+    let n = m.dim();
     let mut q: Vec<Vec<f64>> = Vec::with_capacity(steps + 1);
     let mut mq: Vec<Vec<f64>> = Vec::with_capacity(steps + 1);
     // A deterministic start vector with all modes present.
     let mut v: Vec<f64> = (0..n).map(|i| 1.0 + 0.37 * ((i as f64 * 0.618_033_988_75).fract() - 0.5)).collect();
     let mut mv = vec![0.0; n];
+    if start == Start::Purified {
+        m.mul_vec(&v, &mut mv);
+        v.copy_from_slice(&mv);
+        solve(&mut v);
+    }
     m.mul_vec(&v, &mut mv);
     let norm = dot(&v, &mv).sqrt();
+    if !(norm > 0.0 && norm.is_finite()) {
+        return Err(Error::Numerical(format!(
+            "shift-invert Lanczos: the start vector has M-norm {norm:e} (is M zero?)"
+        )));
+    }
     v.iter_mut().for_each(|x| *x /= norm);
     mv.iter_mut().for_each(|x| *x /= norm);
     q.push(v);
@@ -154,23 +193,24 @@ fn lanczos(
         }
         let lam = sigma + 1.0 / th;
         omega.push(lam.max(0.0).sqrt());
+        // On the column's slice: indexing the matrix entry by entry costs as much as the
+        // sums on a large model.
+        let shape = shapes.col_mut(r).try_as_col_major_mut().expect("a fresh matrix is column-major").as_slice_mut();
         for (k, qk) in q.iter().take(mdim).enumerate() {
             let coef = s[(k, c)];
-            for i in 0..n {
-                shapes[(i, r)] += coef * qk[i];
+            for (x, qx) in shape.iter_mut().zip(qk) {
+                *x += coef * qx;
             }
         }
         // Sign convention as in the dense solver: largest entry positive.
         let mut big = 0.0f64;
-        for i in 0..n {
-            if shapes[(i, r)].abs() > big.abs() {
-                big = shapes[(i, r)];
+        for &x in shape.iter() {
+            if x.abs() > big.abs() {
+                big = x;
             }
         }
         if big < 0.0 {
-            for i in 0..n {
-                shapes[(i, r)] = -shapes[(i, r)];
-            }
+            shape.iter_mut().for_each(|x| *x = -*x);
         }
     }
     Ok((omega, shapes, converged))

@@ -1,0 +1,217 @@
+//! The sparse LDLᵀ and the shift-invert Lanczos on it: solves against faer's dense Cholesky,
+//! plate modes against the profile path, the inertia against the eigenvalues below the
+//! shift (Sturm), a singular M against a dense reference with its massless DOFs condensed
+//! out, and errors for a singular K.
+
+mod common;
+
+use beamflow::analysis::modes;
+use beamflow::case::build::build_structure;
+use beamflow::linalg::{Csr, SparsePattern};
+use beamflow::solve::eigen;
+use beamflow::solve::lanczos::{modes_shift_invert, modes_sparse};
+use common::*;
+use faer::linalg::solvers::Solve;
+use faer::{Mat, Side};
+
+/// The example plate of spec §16 (0.5 × 0.4 × 0.003 m aluminium) with `edges` on every side.
+fn plate(edges: &str, nx: usize, ny: usize) -> beamflow::assembly::System {
+    let text = format!(
+        "[plate]\nlength_x = 0.5\nlength_y = 0.4\nthickness = 0.003\nyoungs_modulus = 70e9\npoisson_ratio = 0.33\n\
+         density = 2700.0\n[plate.mesh]\nelements = [{nx}, {ny}]\n\
+         [plate.edges]\nx0 = \"{edges}\"\nx1 = \"{edges}\"\ny0 = \"{edges}\"\ny1 = \"{edges}\"\n"
+    );
+    modes::bare_system(&build_structure(&case(&text)).unwrap()).unwrap()
+}
+
+fn lcg(seed: &mut u64) -> f64 {
+    *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+    ((*seed >> 11) as f64) / ((1u64 << 53) as f64) - 0.5
+}
+
+/// A random symmetric matrix with `per_row` off-diagonal entries a row, made positive
+/// definite by diagonal dominance.
+fn random_spd(n: usize, per_row: usize, seed: &mut u64) -> Csr {
+    let mut trip = Vec::new();
+    let mut diag = vec![1.0; n];
+    for i in 0..n {
+        for _ in 0..per_row {
+            let j = ((lcg(seed) + 0.5) * n as f64) as usize % n;
+            let v = lcg(seed);
+            if i != j {
+                trip.push((i, j, v));
+                trip.push((j, i, v));
+                diag[i] += v.abs();
+                diag[j] += v.abs();
+            }
+        }
+    }
+    trip.extend(diag.iter().enumerate().map(|(i, &d)| (i, i, d)));
+    Csr::from_triplets(n, &trip)
+}
+
+fn dense(a: &Csr) -> Mat<f64> {
+    let n = a.dim();
+    let d = a.to_dense();
+    Mat::from_fn(n, n, |i, j| d[i * n + j])
+}
+
+/// Solves of two combinations on one analysed pattern match faer's dense Cholesky.
+#[test]
+fn random_spd_solves_match_dense_cholesky() {
+    let mut seed = 11;
+    let n = 600;
+    let a = random_spd(n, 4, &mut seed);
+    let b = Csr::from_triplets(n, &(0..n).map(|i| (i, i, 0.5 + lcg(&mut seed))).collect::<Vec<_>>());
+    let pattern = SparsePattern::analyse(&[&a, &b]).unwrap();
+    assert!(pattern.factor_bytes() > 0);
+    let rhs: Vec<f64> = (0..n).map(|_| lcg(&mut seed)).collect();
+    for shift in [0.0, 0.3] {
+        let fac = pattern.factorize(&[(1.0, &a), (-shift, &b)]).unwrap();
+        assert_eq!(fac.negative_pivots(), 0);
+        let mut x = rhs.clone();
+        fac.solve_in_place(&mut x);
+        let want = (dense(&a) - shift * dense(&b)).llt(Side::Lower).unwrap().solve(Mat::from_fn(n, 1, |i, _| rhs[i]));
+        let scale = (0..n).map(|i| want[(i, 0)].abs()).fold(0.0, f64::max);
+        for i in 0..n {
+            assert!(
+                (x[i] - want[(i, 0)]).abs() < 1e-12 * scale,
+                "shift {shift}, row {i}: {} vs {}",
+                x[i],
+                want[(i, 0)]
+            );
+        }
+    }
+}
+
+/// Modes of a simply supported plate through the sparse LDLᵀ equal those through the
+/// profile LDLᵀ, frequencies to 1e-10 and the first shape to 1e-8.
+#[test]
+fn plate_modes_match_the_profile_path() {
+    let sys = plate("simply_supported", 24, 20);
+    let profile = modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 12, 0.0).unwrap();
+    let sparse = modes_sparse(&sys.k, &sys.m, 12, 0.0).unwrap();
+    assert_eq!(sparse.count(), 12);
+    for (r, (a, b)) in profile.omega.iter().zip(&sparse.omega).enumerate() {
+        assert!(rel(*b, *a).abs() < 1e-10, "mode {r}: {b} vs {a}");
+    }
+    let n = sys.n();
+    let (a, b) = (profile.shape_global(0, n), sparse.shape_global(0, n));
+    let big = a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+    assert!(a.iter().zip(&b).all(|(x, y)| (x - y).abs() < 1e-8 * big));
+}
+
+/// The number of negative pivots of K − σM equals the number of eigenvalues below σ,
+/// between every pair of the first ten modes of a clamped plate.
+#[test]
+fn inertia_counts_the_plate_eigenvalues_below_the_shift() {
+    let sys = plate("clamped", 14, 12);
+    let all = eigen::modes(&sys.k, &sys.m, &(0..sys.n()).collect::<Vec<_>>(), 11).unwrap();
+    let pattern = SparsePattern::analyse(&[&sys.k, &sys.m]).unwrap();
+    for below in 0..=10 {
+        let lam = |r: usize| all.omega[r] * all.omega[r];
+        let sigma = if below == 0 { 0.5 * lam(0) } else { 0.5 * (lam(below - 1) + lam(below)) };
+        let fac = pattern.factorize(&[(1.0, &sys.k), (-sigma, &sys.m)]).unwrap();
+        assert_eq!(fac.negative_pivots(), below, "σ = {sigma:e}");
+    }
+}
+
+/// A chain of springs (K positive definite) with a third of its DOFs massless: the modes
+/// equal those of the dense problem with the massless DOFs condensed out, and each shape
+/// satisfies K·x = λ·M·x on every DOF, massless ones included.
+#[test]
+fn singular_mass_matches_the_condensed_dense_problem() {
+    let n = 60;
+    let mut seed = 5;
+    let mut kt = Vec::new();
+    for i in 0..n {
+        kt.push((i, i, 2.5));
+        if i + 1 < n {
+            kt.extend([(i, i + 1, -1.0), (i + 1, i, -1.0)]);
+        }
+        if i + 2 < n {
+            kt.extend([(i, i + 2, -0.2), (i + 2, i, -0.2)]);
+        }
+    }
+    let k = Csr::from_triplets(n, &kt);
+    let mass: Vec<f64> = (0..n).map(|i| if i % 3 == 2 { 0.0 } else { 1.0 + 0.4 * lcg(&mut seed) }).collect();
+    let m = Csr::from_triplets(n, &mass.iter().enumerate().map(|(i, &v)| (i, i, v)).collect::<Vec<_>>());
+    let count = 6;
+    let got = modes_sparse(&k, &m, count, 0.0).unwrap();
+    assert_eq!(got.count(), count);
+
+    // Reference: K_red = K_mm − K_m0·K_00⁻¹·K_0m on the massive DOFs, then the symmetric
+    // eigenproblem of M_mm^-½·K_red·M_mm^-½.
+    let kd = dense(&k);
+    let (massive, massless): (Vec<usize>, Vec<usize>) = (0..n).partition(|&i| mass[i] > 0.0);
+    let sub = |r: &[usize], c: &[usize]| Mat::from_fn(r.len(), c.len(), |i, j| kd[(r[i], c[j])]);
+    let k00 = sub(&massless, &massless);
+    let k0m = sub(&massless, &massive);
+    let kred = sub(&massive, &massive) - k0m.transpose() * k00.llt(Side::Lower).unwrap().solve(&k0m);
+    let s = |i: usize| mass[massive[i]].sqrt();
+    let reduced = Mat::from_fn(massive.len(), massive.len(), |i, j| kred[(i, j)] / (s(i) * s(j)));
+    let evd = reduced.self_adjoint_eigen(Side::Lower).unwrap();
+    let lam_ref = evd.S().column_vector();
+    for r in 0..count {
+        let (lam, want) = (got.omega[r] * got.omega[r], lam_ref[r]);
+        assert!(rel(lam, want).abs() < 1e-10, "mode {r}: λ = {lam} vs {want}");
+        let x = got.shape_global(r, n);
+        let (mut kx, mut mx) = (vec![0.0; n], vec![0.0; n]);
+        k.mul_vec(&x, &mut kx);
+        m.mul_vec(&x, &mut mx);
+        let scale = kx.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        for i in 0..n {
+            assert!((kx[i] - lam * mx[i]).abs() < 1e-9 * scale, "mode {r}, DOF {i} (mass {})", mass[i]);
+        }
+        let mnorm: f64 = x.iter().zip(&mx).map(|(a, b)| a * b).sum();
+        assert!((mnorm - 1.0).abs() < 1e-10, "mode {r}: xᵀMx = {mnorm}");
+    }
+}
+
+/// A plate with free edges has rigid motions: at σ = 0 its K is singular, and the sparse
+/// path says so (an error naming a DOF), through the solver and through the modal analysis.
+#[test]
+fn free_plate_at_zero_shift_is_an_error() {
+    let sys = plate("free", 12, 10);
+    let err = modes_sparse(&sys.k, &sys.m, 4, 0.0).unwrap_err().to_string();
+    assert!(err.contains("singular"), "{err}");
+    // Shifted below the rigid modes (λ = 0) the same model factorises, with the inertia of
+    // a negative shift: no eigenvalue below.
+    let pattern = SparsePattern::analyse(&[&sys.k, &sys.m]).unwrap();
+    let lowest_flexible = {
+        let all = eigen::modes(&sys.k, &sys.m, &(0..sys.n()).collect::<Vec<_>>(), 4).unwrap();
+        all.omega[3] * all.omega[3]
+    };
+    let fac = pattern.factorize(&[(1.0, &sys.k), (0.1 * lowest_flexible, &sys.m)]).unwrap();
+    assert_eq!(fac.negative_pivots(), 0);
+    let fac = pattern.factorize(&[(1.0, &sys.k), (-0.5 * lowest_flexible, &sys.m)]).unwrap();
+    assert_eq!(fac.negative_pivots(), 3, "three rigid motions below a positive shift");
+}
+
+/// A plate above the dense solver's size takes the sparse path in the modal analysis: the
+/// frequencies agree with the profile path's.
+#[test]
+fn modal_analysis_of_a_large_plate_takes_the_sparse_path() {
+    let text = "[plate]\nlength_x = 0.5\nlength_y = 0.4\nthickness = 0.003\nyoungs_modulus = 70e9\n\
+                poisson_ratio = 0.33\ndensity = 2700.0\n[plate.mesh]\nelements = [30, 24]\n[plate.edges]\n\
+                x0 = \"clamped\"\nx1 = \"simply_supported\"\ny0 = \"clamped\"\ny1 = \"simply_supported\"\n";
+    let structure = build_structure(&case(text)).unwrap();
+    let sys = modes::bare_system(&structure).unwrap();
+    assert!(sys.n() > modes::DENSE_EIGEN_LIMIT);
+    let got = modes::run(&structure, 8).unwrap().modes;
+    let profile = modes_shift_invert(&sys.k, &sys.m, &sys.envelope, 8, 0.0).unwrap();
+    for (a, b) in got.omega.iter().zip(&profile.omega) {
+        assert!(rel(*a, *b).abs() < 1e-10, "{a} vs {b}");
+    }
+}
+
+/// A cancelled request stops the Lanczos run at its next vector with `Cancelled`.
+#[test]
+fn cancellation_stops_the_sparse_lanczos_run() {
+    use beamflow::progress::{cancellable, Cancel};
+    let sys = plate("simply_supported", 12, 10);
+    let cancel = Cancel::new();
+    cancel.cancel();
+    let got = cancellable(cancel, || modes_sparse(&sys.k, &sys.m, 4, 0.0));
+    assert!(matches!(got, Err(beamflow::error::Error::Cancelled)), "{got:?}");
+}
