@@ -21,6 +21,7 @@ Errors are :mod:`beamflow.errors` exceptions carrying the file, field and reason
 from . import errors, identify
 from ._commands import OptimizeResult, merge, optimize, paper, synth
 from ._case import Case
+from ._imported import imported
 from ._native import __version__
 from ._progress import ProgressArg
 from ._results import Analysis, Group, Quantity, Results, read_results
@@ -31,6 +32,7 @@ from .errors import *  # noqa: F401,F403  (the exception classes, listed in erro
 __all__ = [
     "__version__",
     "Case",
+    "imported",
     "Results",
     "Analysis",
     "Group",
