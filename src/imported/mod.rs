@@ -36,6 +36,9 @@ pub struct Imported {
     row_of: HashMap<(usize, usize), usize>,
     /// What the model's check found (rigid-body modes, massless rows).
     pub report: check::Report,
+    /// How far back a skyline row reaches on average in the numbering assembly uses (the
+    /// nodes in reverse Cuthill–McKee order): what a profile factor of the model costs.
+    pub mean_band: usize,
 }
 
 /// Where an imported model's files are, resolved against the case's folder, and which rows
@@ -128,8 +131,10 @@ impl Imported {
             by_id: table.by_id,
             row_of,
             report: Default::default(),
+            mean_band: 0,
         };
         model.report = check::check(&model, files)?;
+        model.mean_band = model.profile_band();
         Ok(model)
     }
 
@@ -171,6 +176,24 @@ impl Imported {
         let Some(comp) = (0..3).chain([6]).find(|&c| self.rows.iter().any(|r| r.1 == c)) else { return 0.0 };
         let u: Vec<f64> = self.rows.iter().map(|r| if r.1 == comp { 1.0 } else { 0.0 }).collect();
         self.m.bilinear(&u, &u)
+    }
+
+    /// The mean reach of a skyline row with the nodes in reverse Cuthill–McKee order (the
+    /// order [`crate::structure::Structure::node_order`] numbers them in), a node's rows
+    /// together: what a profile factor of the model costs.
+    fn profile_band(&self) -> usize {
+        let order = crate::structure::ordering::reverse_cuthill_mckee(&self.node_graph());
+        let mut first_row = vec![0usize; self.nodes.len()];
+        for (rank, &node) in order.iter().enumerate() {
+            first_row[node] = rank * COMPONENTS.len();
+        }
+        let pos: Vec<usize> = self.rows.iter().map(|&(node, c)| first_row[node] + c).collect();
+        let mut first = pos.clone();
+        for (i, j, _) in self.k.triplets().chain(self.m.triplets()) {
+            first[i] = first[i].min(pos[j]);
+        }
+        let total: usize = pos.iter().zip(&first).map(|(p, f)| p - f).sum();
+        total / self.n().max(1) + 1
     }
 
     /// Node adjacency through K's and M's pattern (for the fill-reducing node order).
