@@ -4,6 +4,8 @@
 //! from the footprints and by re-solving the best case with the full steady state), and
 //! bad input refused before anything is solved.
 
+mod common;
+
 use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state;
 use beamflow::assembly::System;
@@ -466,6 +468,11 @@ fn the_written_best_case_reproduces_the_optimum() {
     }
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
     assert_eq!(history.lines().count(), r.history.len() + 1);
+    for f in ["history.csv", "optima.csv"] {
+        let text = std::fs::read_to_string(out.join(f)).unwrap();
+        common::csv_header_convention(f, &text).unwrap();
+    }
+    assert!(history.starts_with("evaluation,feasible,\"best so far [W]\","), "{history:.80}");
     // `beamflow run` of best.toml solves the same steady state.
     let lc = LoadedCase::load(&out.join("best.toml")).unwrap();
     let built = calibrated_model(&lc).unwrap();

@@ -128,7 +128,7 @@ fn the_report_holds_every_figure_and_every_number_of_the_summary() {
         assert!(shown.iter().any(|s| (s - v).abs() <= 1e-15 * v.abs()), "{v:e} of the JSON is not in the report");
     }
     // The headline: the net power with its unit, and the case file itself.
-    let net = summary["analyses"][0]["net_power_w"][0].as_f64().unwrap();
+    let net = summary["analyses"][0]["net_power_w"]["frame"].as_f64().unwrap();
     assert!(html.contains(&format!("data-value=\"{net:e}\" title=\"{net:e}\">6.323 µW<")), "net power {net:e}");
     assert!(html.contains("x_e = 0.150") && html.contains("<pre>"));
     assert!(!html.contains("<script") && !html.contains(" src=") && !html.contains("https://"));

@@ -186,8 +186,8 @@ fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
 }
 
 fn header(spec: &Spec) -> String {
-    let mut h: Vec<String> = spec.objectives.iter().map(|o| format!("{} ({})", o.label, o.unit())).collect();
-    h.extend(spec.variables.iter().map(|v| format!("{} ({})", v.name, v.unit())));
+    let mut h: Vec<String> = spec.objectives.iter().map(|o| format!("{} [{}]", o.label, o.unit())).collect();
+    h.extend(spec.variables.iter().map(|v| format!("{} [{}]", v.name, v.unit())));
     h.iter().map(|c| format!("\"{c}\"")).collect::<Vec<_>>().join(",")
 }
 
@@ -201,7 +201,7 @@ fn row(spec: &Spec, e: &Evaluation) -> String {
 /// first objective so far, its objectives and variables.
 fn history_csv(spec: &Spec, h: &[Evaluation]) -> String {
     let o = &spec.objectives[0];
-    let mut s = format!("evaluation,feasible,\"best so far ({})\",{}\n", o.unit(), header(spec));
+    let mut s = format!("evaluation,feasible,\"best so far [{}]\",{}\n", o.unit(), header(spec));
     let mut best = f64::NAN;
     for (i, e) in h.iter().enumerate() {
         if e.feasible() && (best.is_nan() || o.better(e.values[0], best)) {

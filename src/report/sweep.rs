@@ -253,7 +253,8 @@ fn figure(t: &SweepTable) -> Option<Figure> {
         for (a, name) in t.actuators.iter().enumerate() {
             let y: Vec<f64> = order.iter().map(|&j| t.rows[j].net_power[a]).collect();
             all_pos &= y.iter().all(|&v| v > 0.0);
-            p.series.push(Series::line(name.clone(), xs.clone(), y).with_style(style));
+            let s = Series::line(name.clone(), xs.clone(), y).with_style(style);
+            p.series.push(s.coloured(crate::report::palette::actuator(a)));
         }
         if t.actuators.len() > 1 {
             let y: Vec<f64> = order.iter().map(|&j| t.rows[j].total_net_power()).collect();

@@ -63,7 +63,11 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         s.analysis.as_str(),
         s.harmonics,
         match s.base.cached_damping {
-            Some(r) => format!(", Rayleigh a0 = {:.6e} 1/s, a1 = {:.6e} s computed once", r.a0, r.a1),
+            Some(r) => format!(
+                ", Rayleigh a0 = {} 1/s, a1 = {} computed once",
+                crate::report::eng(r.a0, 4),
+                crate::report::si(r.a1, "s", 4)
+            ),
             None => String::new(),
         }
     ));

@@ -246,12 +246,26 @@ pub struct Series {
     /// Indices i where the line starts anew: no line joins point i − 1 to point i (a gap
     /// in the data, e.g. candidates that could not be solved).
     pub breaks: Vec<usize>,
+    /// The series' own colour (a point's or an actuator's, [`crate::report::palette`]);
+    /// `None`: the plot's colour cycle by the series' place.
+    pub colour: Option<RGBColor>,
 }
 
 impl Series {
     /// A series drawn as a connected line.
     pub fn line(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
-        Series { label: label.into(), x, y, style: SeriesStyle::Line, wrap: None, breaks: Vec::new() }
+        Series { label: label.into(), x, y, style: SeriesStyle::Line, wrap: None, breaks: Vec::new(), colour: None }
+    }
+
+    /// The same series in `colour` (a point's or an actuator's, the same in every figure).
+    pub fn coloured(mut self, colour: RGBColor) -> Self {
+        self.colour = Some(colour);
+        self
+    }
+
+    /// The colour it is drawn in, being the `i`-th series of its plot.
+    fn colour_at(&self, i: usize) -> RGBColor {
+        self.colour.unwrap_or_else(|| palette_color(i))
     }
 
     /// The same series as an angle of `period` (y units): lines break where it wraps.
@@ -296,7 +310,14 @@ pub struct LinePlot {
     pub notes: Vec<String>,
     /// Figure size in pixels at 100 dpi (width, height); ignored inside a [`MultiPanel`].
     pub size: (u32, u32),
+    /// x intervals shaded as a light band behind the series (where an estimate is not to
+    /// be trusted), with their legend text.
+    pub shaded: Vec<(f64, f64)>,
+    pub shaded_label: String,
 }
+
+/// The fill of [`LinePlot::shaded`] bands: light, so every series stays readable on it.
+pub const SHADE: RGBColor = RGBColor(255, 226, 170);
 
 impl Default for LinePlot {
     fn default() -> Self {
@@ -313,6 +334,8 @@ impl Default for LinePlot {
             stem_base: 0.0,
             notes: Vec::new(),
             size: (1000, 600),
+            shaded: Vec::new(),
+            shaded_label: String::new(),
         }
     }
 }
@@ -386,6 +409,11 @@ pub struct BarChart {
     /// Lines of text under the legend.
     pub notes: Vec<String>,
     pub size: (u32, u32),
+    /// Each group's colour (groups that are actuators); missing: the colour cycle.
+    pub group_colours: Vec<RGBColor>,
+    /// Each category's colour, for every bar in it (categories that are points or
+    /// actuators); it takes precedence over the group's.
+    pub category_colours: Vec<RGBColor>,
 }
 
 impl BarChart {
@@ -400,7 +428,15 @@ impl BarChart {
             log_y: false,
             notes: Vec::new(),
             size: (1000, 600),
+            group_colours: Vec::new(),
+            category_colours: Vec::new(),
         }
+    }
+
+    /// The colour of group `g`'s bar in category `i`.
+    fn bar_colour(&self, g: usize, i: usize) -> RGBColor {
+        let group = || self.group_colours.get(g).copied().unwrap_or_else(|| palette_color(g));
+        self.category_colours.get(i).copied().unwrap_or_else(group)
     }
 
     /// Writes the figure to `path` (`.png` or `.svg`).
