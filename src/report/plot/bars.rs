@@ -45,6 +45,9 @@ impl Drawable for BarChart {
     fn size(&self) -> (u32, u32) {
         self.size
     }
+    fn linear(&self) -> Option<Self> {
+        self.log_y.then(|| BarChart { log_y: false, ..self.clone() })
+    }
     fn validate(&self, file: &str) -> Result<()> {
         if self.categories.is_empty() || self.groups.is_empty() {
             return Err(Error::input(file, "categories", "a bar chart needs at least one category and one group"));

@@ -487,6 +487,9 @@ impl Drawable for LinePlot {
     fn size(&self) -> (u32, u32) {
         self.size
     }
+    fn linear(&self) -> Option<Self> {
+        (self.log_x || self.log_y || self.symlog_y.is_some()).then(|| self.linearised())
+    }
     fn validate(&self, file: &str) -> Result<()> {
         self.check(file, "")
     }
@@ -501,12 +504,23 @@ impl MultiPanel {
     }
 }
 
+impl LinePlot {
+    /// The same plot on linear axes.
+    fn linearised(&self) -> LinePlot {
+        LinePlot { log_x: false, log_y: false, symlog_y: None, ..self.clone() }
+    }
+}
+
 impl Drawable for MultiPanel {
     fn size(&self) -> (u32, u32) {
         let title = if self.title.is_empty() { 0 } else { TITLE_PX + 20 };
         let cols = self.columns.max(1) as u32;
         let width = if cols == 1 { 1000 } else { 700 * cols };
         self.size.unwrap_or((width, 320 * self.rows() as u32 + title))
+    }
+    fn linear(&self) -> Option<Self> {
+        let log = self.panels.iter().any(|p| p.log_x || p.log_y || p.symlog_y.is_some());
+        log.then(|| MultiPanel { panels: self.panels.iter().map(LinePlot::linearised).collect(), ..self.clone() })
     }
     fn validate(&self, file: &str) -> Result<()> {
         if self.panels.is_empty() {
