@@ -461,10 +461,17 @@ fn the_written_best_case_reproduces_the_optimum() {
     std::fs::write(&file, TWO.replace("evaluations = 1500", "evaluations = 200")).unwrap();
     let out = dir.path().join("out");
     let (_, r, files) =
-        beamflow::app::optimize::optimize(&file, &out, Some(2), false, &beamflow::analysis::budget::Budget::default())
+        beamflow::app::optimize::optimize(&file, &out, Some(2), true, &beamflow::analysis::budget::Budget::default())
             .unwrap();
-    for f in ["best.toml", "history.csv", "optima.csv", "summary.json"] {
+    for f in ["best.toml", "history.csv", "optima.csv", "summary.json", "report.html", "profiles.svg", "profiles.png"] {
         assert!(files.contains(&out.join(f)), "{f} missing in {files:?}");
+    }
+    // The report: the optimum, its figures with anchors, every file linked.
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("<figure id=\"fig-profiles\">") && html.contains("<svg"), "{html:.300}");
+    for f in &files {
+        let name = f.file_name().unwrap().to_string_lossy();
+        assert!(html.contains(&format!("<a href=\"{name}\">")), "{name} not linked");
     }
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
     assert_eq!(history.lines().count(), r.history.len() + 1);

@@ -448,12 +448,7 @@ fn report_page(md: &str, written: &[PathBuf], cases: &[&LoadedCase]) -> Result<S
     }
     p.para("Fig. 11's cases are the rigid-base case with the frame actuator removed and the top mass m_{t} set.");
     p.section("files", "Files");
-    let names: String = written
-        .iter()
-        .filter_map(|f| f.file_name())
-        .map(|n| format!("<li><code>{}</code></li>", escape(&n.to_string_lossy())))
-        .collect();
-    p.push(&format!("<ul>{names}</ul>\n"));
+    p.push(&crate::report::html::file_list(written));
     Ok(p.finish(
         "beamflow — the paper's experiments",
         &format!(

@@ -77,13 +77,7 @@ impl RunReport<'_> {
             }
         }
         p.section("files", "Files of this run");
-        let names: String = self
-            .files
-            .iter()
-            .filter_map(|f| f.file_name())
-            .map(|n| format!("<li><code>{}</code></li>", escape(&n.to_string_lossy())))
-            .collect();
-        p.push(&format!("<ul>{names}</ul>\n"));
+        p.push(&super::html::file_list(self.files));
         p.push(&details(
             &format!("Every number of {}.json", self.stem()),
             &table(&["key", "value"], &json_rows(self.summary)),

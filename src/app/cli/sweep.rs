@@ -100,10 +100,6 @@ fn report_files(t: &SweepTable, files: &[PathBuf], plots: bool) {
         crate::say!("wrote {}", p.display());
     }
     if plots {
-        crate::say!(
-            "\nBest {} cases by net power into the beam:\n{}",
-            t.best.min(t.rows.len()),
-            report::best_table(t, t.best)
-        );
+        crate::say!("\n{} by net power into the beam:\n{}", report::best_title(t), report::best_table(t, t.best));
     }
 }
