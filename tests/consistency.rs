@@ -91,3 +91,90 @@ fn the_console_shows_powers_and_steps_with_si_prefixes() {
     }
     assert!(console.contains("Δt = 83.333 µs"), "{console}");
 }
+
+/// `[output.figures]`: which figures, in which formats, how wide, at which font scale and
+/// whether log axes are used, as the case says; the command line's `--formats` wins.
+#[test]
+fn a_case_sets_its_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml");
+    let text = std::fs::read_to_string(shipped).unwrap()
+        + "\n[output.figures]\nwidth_in = 6.0\nfont_scale = 2.0\nformats = [\"svg\", \"pdf\"]\nlog_axes = false\n\
+           only = [\"power_spectrum\"]\n";
+    let case = dir.path().join("c.toml");
+    std::fs::write(&case, text).unwrap();
+    let run = |out: &str, extra: &[&str]| {
+        let out = dir.path().join(out);
+        let mut args = vec!["run", case.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        args.extend_from_slice(extra);
+        let o = beamflow(&args);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let mut names: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".svg") || n.ends_with(".png") || n.ends_with(".pdf"))
+            .collect();
+        names.sort();
+        (out, names)
+    };
+    let (out, names) = run("a", &[]);
+    assert_eq!(
+        names,
+        [
+            "c_steady_state_frame_power_spectrum.pdf",
+            "c_steady_state_frame_power_spectrum.svg",
+            "c_transient_frame_power_spectrum.pdf",
+            "c_transient_frame_power_spectrum.svg"
+        ]
+    );
+    let svg = std::fs::read_to_string(out.join("c_steady_state_frame_power_spectrum.svg")).unwrap();
+    // 6 in at 100 px to the inch, drawn on half the canvas: text twice its size.
+    assert!(svg.starts_with("<svg width=\"600\" height=\"360\" viewBox=\"0 0 300 180\""), "{:.100}", svg);
+    // Linear axes: the unit's prefix on the axis, plain numbers on the ticks (a log or
+    // symmetric-log axis puts units on its ticks, `100 nW`).
+    assert!(svg.contains("aria-label=\"power into the beam (µW)\""));
+    assert!(!svg.contains(" nW\"") && !svg.contains(" µW\""));
+    // The report: each figure with its anchor and links to its files, every file linked.
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let id = "fig-c_steady_state_frame_power_spectrum";
+    assert!(html.contains(&format!("<figure id=\"{id}\">")) && html.contains(&format!("href=\"#{id}\"")));
+    for name in names.iter().map(String::as_str).chain(["c.json", "c.h5"]) {
+        assert!(html.contains(&format!("<a href=\"{name}\">")), "{name} not linked");
+    }
+    // The command line's formats win over the case's.
+    let (_, names) = run("b", &["--formats", "png,svg"]);
+    assert!(names.iter().any(|n| n.ends_with(".png")) && !names.iter().any(|n| n.ends_with(".pdf")), "{names:?}");
+}
+
+/// The results file says what was computed: the program, the case text's hash and every
+/// parameter as resolved, defaults included, beside the calibrated damping.
+#[test]
+fn the_model_group_holds_every_resolved_parameter() {
+    use beamflow::io::hdf5::ResultsReader;
+    let dir = tempfile::tempdir().unwrap();
+    run_csv("beam-frame-12V-60Hz.toml", dir.path());
+    let r = ResultsReader::open(dir.path().join("beam-frame-12V-60Hz.h5")).unwrap();
+    let text =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml")).unwrap();
+    assert_eq!(r.attr_str("model", "case_hash").unwrap(), beamflow::io::hash::text_hash(&text));
+    assert_eq!(r.attr_str("model", "version").unwrap(), env!("CARGO_PKG_VERSION"));
+    // Written in the case: as written.
+    assert_eq!(r.attr_f64("model/parameters/actuator_0", "x_e").unwrap(), 0.150);
+    assert_eq!(r.attr_f64("model/parameters/actuator_0/voltage", "frequency").unwrap(), 60.0);
+    // Not written: the defaults the run used, every group of the case present.
+    let lc =
+        beamflow::case::LoadedCase::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml"))
+            .unwrap();
+    assert_eq!(r.attr_f64("model/parameters/beam", "length").unwrap(), lc.case.beam.length);
+    let groups = r.list_groups("model/parameters").unwrap();
+    for g in ["beam", "damping", "actuator_0", "analysis_0", "analysis_1", "output"] {
+        assert!(groups.iter().any(|x| x == g), "{g} missing in {groups:?}");
+    }
+    let stack = r.list_groups("model/parameters/actuator_0").unwrap();
+    assert!(stack.iter().any(|x| x == "stack"), "{stack:?}");
+    // The damping the solves applied: calibrated, positive.
+    assert!(r.attr_f64("model", "rayleigh_a0").unwrap() > 0.0 && r.attr_f64("model", "rayleigh_a1").unwrap() > 0.0);
+    // The resolved case reads back as the same case.
+    let back: toml::Value = toml::from_str(&r.read_str("model/resolved_toml").unwrap()).unwrap();
+    assert_eq!(back, toml::Value::try_from(&lc.case).unwrap());
+}

@@ -98,6 +98,32 @@ fn each_point_has_one_colour_in_every_figure() {
     assert_eq!(inertial["stack foot"], hex(beamflow::report::palette::point("inertial", "stack")));
 }
 
+/// A transient that keeps its whole history draws it from t = 0, the start-up visible, in
+/// the points' colours.
+#[test]
+fn a_whole_history_is_drawn_from_the_start() {
+    let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-inertial-12V-60Hz.toml");
+    let mut lc = LoadedCase::load(&case).unwrap();
+    lc.case.output.full_history = true;
+    let run = run_case(&lc).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let files = plot_run(dir.path(), "c", &run).unwrap();
+    let name = "c_transient_inertial_history.svg";
+    assert!(files.iter().any(|f| f.ends_with(name)), "{files:?}");
+    let svg = std::fs::read_to_string(dir.path().join(name)).unwrap();
+    let colours = legend_colours(&svg);
+    let hex = |c: plotters::style::RGBColor| format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+    assert_eq!(colours, [("stack foot".to_string(), hex(beamflow::report::palette::point("inertial", "stack")))]);
+    // The time axis starts at zero: the start-up is in the figure.
+    let numbers: Vec<(f64, f64)> =
+        labels(&svg).iter().filter(|l| !l.turned).filter_map(|l| Some((l.text.parse().ok()?, l.centre.1))).collect();
+    let bottom = numbers.iter().map(|n| n.1).fold(f64::NEG_INFINITY, f64::max);
+    let x_ticks: Vec<f64> = numbers.iter().filter(|n| (n.1 - bottom).abs() < 3.0).map(|n| n.0).collect();
+    // (The first tick stands within one spacing of t = 0; the last periods alone would start
+    // seconds later.)
+    assert!(x_ticks.len() >= 3 && x_ticks[0] <= 1.0001 * (x_ticks[1] - x_ticks[0]), "{x_ticks:?}");
+}
+
 /// The value of attribute `name` in a tag.
 fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
     let key = format!(" {name}=\"");
@@ -156,6 +182,7 @@ const AXES: &[(&str, &[(&str, &str)])] = &[
     ("_spectrum.svg", &[("frequency (Hz)", "force level (dB re 1 N)")]),
     ("_time.svg", &[("time (ms)", "transmitted force (N)"), ("time (ms)", "force (N)"), ("time (ms)", "power (W)")]),
     ("_power_by_mode.svg", &[("bare-beam mode (number, natural frequency)", "power (W)")]),
+    ("_history.svg", &[("time (s)", "transmitted force (N)")]),
 ];
 
 #[test]

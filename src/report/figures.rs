@@ -301,6 +301,9 @@ fn draw_run(dir: Dest, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                     }
                 }
                 out.extend(load_figures(dir, &tag, time, &t.loads, &t.load_spectra)?);
+                if t.record.is_none() && t.t.len() > n {
+                    out.extend(history_figures(dir, &tag, run, t)?);
+                }
             }
             AnalysisResult::SteadyState(s) => {
                 out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?);
@@ -418,6 +421,56 @@ fn bands_of(f: &[f64], bins: &std::collections::BTreeSet<usize>) -> Vec<(f64, f6
         }
     }
     out
+}
+
+/// Buckets of a whole history drawn (each its least and largest value, in time order): the
+/// start-up's envelope stays exact however long the run.
+const HISTORY_BUCKETS: usize = 2000;
+
+/// `v` over `t` reduced to [`HISTORY_BUCKETS`] buckets of consecutive samples, each as its
+/// smallest and largest value in the order they occur.
+fn envelope(t: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let per = t.len().div_ceil(HISTORY_BUCKETS).max(1);
+    if per == 1 {
+        return (t.to_vec(), v.to_vec());
+    }
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for (tc, vc) in t.chunks(per).zip(v.chunks(per)) {
+        let lo = (0..vc.len()).min_by(|&a, &b| vc[a].total_cmp(&vc[b])).unwrap_or(0);
+        let hi = (0..vc.len()).max_by(|&a, &b| vc[a].total_cmp(&vc[b])).unwrap_or(0);
+        for k in if lo <= hi { [lo, hi] } else { [hi, lo] } {
+            x.push(tc[k]);
+            y.push(vc[k]);
+        }
+    }
+    (x, y)
+}
+
+/// A transient that kept its whole history (`[output] full_history`): each actuator's
+/// transmitted forces from t = 0, so the start-up shows, as an envelope of
+/// [`HISTORY_BUCKETS`] buckets.
+fn history_figures(
+    dir: Dest,
+    tag: &str,
+    run: &CaseRun,
+    t: &crate::analysis::transient::TransientResult,
+) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for (a, act) in run.model.actuators.iter().enumerate() {
+        let name = act.name();
+        let mut p = LinePlot::new(
+            format!("{name}: transmitted forces from the start, {} periods", t.periods_run),
+            "time (s)",
+            "transmitted force (N)",
+        );
+        for l in t.links.iter().filter(|l| l.actuator == a) {
+            let (x, y) = envelope(&t.t, &l.transmitted);
+            p.series.push(Series::line(link_label(l), x, y).coloured(palette::link(&run.model.actuators, l)));
+        }
+        p.notes = vec![format!("{} samples,", t.t.len()), format!("≤ {} buckets drawn", HISTORY_BUCKETS)];
+        out.extend(save(&p, dir, &format!("{tag}_{name}_history"))?);
+    }
+    Ok(out)
 }
 
 /// Each point load's figure: its force and the beam's velocity at its point, and (periodic
