@@ -20,6 +20,110 @@ fn frame_run_figures() -> (tempfile::TempDir, Vec<String>) {
     (dir, svgs)
 }
 
+/// The SVG figures of a shipped case's run, read: (file name, SVG text).
+fn case_figures(case: &str) -> Vec<(String, String)> {
+    let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases").join(case);
+    let run = run_case(&LoadedCase::load(&case).unwrap()).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let files = plot_run(dir.path(), "c", &run).unwrap();
+    files
+        .iter()
+        .filter(|p| p.extension().is_some_and(|e| e == "svg"))
+        .map(|p| (p.file_name().unwrap().to_string_lossy().into_owned(), std::fs::read_to_string(p).unwrap()))
+        .collect()
+}
+
+/// The colour of each legend entry of an SVG figure: the stroke of the sample (a short
+/// two-point line, level or upright) just left of the entry's text.
+fn legend_colours(svg: &str) -> Vec<(String, String)> {
+    let samples: Vec<((f64, f64), String)> = tags(svg, "polyline")
+        .into_iter()
+        .filter_map(|t| {
+            let stroke = attr(t, "stroke").filter(|s| *s != "#000000")?;
+            let pts: Vec<(f64, f64)> = attr(t, "points")?
+                .split_whitespace()
+                .filter_map(|p| p.split_once(',').and_then(|(x, y)| Some((x.parse().ok()?, y.parse().ok()?))))
+                .collect();
+            let short = pts.len() == 2 && (pts[0].0 - pts[1].0).abs() + (pts[0].1 - pts[1].1).abs() < 40.0;
+            short.then(|| ((pts[0].0.max(pts[1].0), 0.5 * (pts[0].1 + pts[1].1)), stroke.to_string()))
+        })
+        .collect();
+    labels(svg)
+        .into_iter()
+        .filter(|l| !l.turned)
+        .filter_map(|l| {
+            let (x, y) = l.centre;
+            let near = samples.iter().filter(|((sx, sy), _)| *sx < x && x - sx < 120.0 && (sy - y).abs() < 8.0);
+            let (_, c) = near.min_by(|a, b| (x - a.0 .0).total_cmp(&(x - b.0 .0)))?;
+            Some((l.text, c.clone()))
+        })
+        .collect()
+}
+
+/// Each point has one colour in every figure of a run (forces, spectra, powers), and the
+/// frame's stack foot, its legs and the inertial actuator's foot four different ones.
+#[test]
+fn each_point_has_one_colour_in_every_figure() {
+    let points = ["stack foot", "left leg", "right leg"];
+    let colours_of = |case: &str| {
+        let mut seen: std::collections::BTreeMap<String, std::collections::BTreeSet<String>> = Default::default();
+        let mut figures = 0;
+        for (name, svg) in case_figures(case) {
+            let entries: Vec<(String, String)> =
+                legend_colours(&svg).into_iter().filter(|(l, _)| points.contains(&l.as_str())).collect();
+            figures += !entries.is_empty() as usize;
+            for (label, colour) in entries {
+                seen.entry(label).or_default().insert(format!("{colour} ({name})"));
+            }
+        }
+        assert!(figures >= 4, "{case}: {figures} figures name the points");
+        seen.into_iter()
+            .map(|(label, c)| {
+                let distinct: std::collections::BTreeSet<&str> = c.iter().map(|s| &s[..7]).collect();
+                assert_eq!(distinct.len(), 1, "{case}: {label} in several colours: {c:?}");
+                (label, distinct.into_iter().next().unwrap().to_string())
+            })
+            .collect::<std::collections::BTreeMap<String, String>>()
+    };
+    let frame = colours_of("beam-frame-12V-60Hz.toml");
+    let inertial = colours_of("beam-inertial-12V-60Hz.toml");
+    assert_eq!(frame.len(), 3, "{frame:?}");
+    let mut all: Vec<&String> = frame.values().collect();
+    all.push(&inertial["stack foot"]);
+    let distinct: std::collections::BTreeSet<&&String> = all.iter().collect();
+    assert_eq!(distinct.len(), 4, "frame {frame:?}, inertial {inertial:?}");
+    // They are the palette's, the one home of these colours.
+    let hex = |c: plotters::style::RGBColor| format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+    assert_eq!(frame["left leg"], hex(beamflow::report::palette::point("frame", "left_leg")));
+    assert_eq!(inertial["stack foot"], hex(beamflow::report::palette::point("inertial", "stack")));
+}
+
+/// A transient that keeps its whole history draws it from t = 0, the start-up visible, in
+/// the points' colours.
+#[test]
+fn a_whole_history_is_drawn_from_the_start() {
+    let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-inertial-12V-60Hz.toml");
+    let mut lc = LoadedCase::load(&case).unwrap();
+    lc.case.output.full_history = true;
+    let run = run_case(&lc).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let files = plot_run(dir.path(), "c", &run).unwrap();
+    let name = "c_transient_inertial_history.svg";
+    assert!(files.iter().any(|f| f.ends_with(name)), "{files:?}");
+    let svg = std::fs::read_to_string(dir.path().join(name)).unwrap();
+    let colours = legend_colours(&svg);
+    let hex = |c: plotters::style::RGBColor| format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+    assert_eq!(colours, [("stack foot".to_string(), hex(beamflow::report::palette::point("inertial", "stack")))]);
+    // The time axis starts at zero: the start-up is in the figure.
+    let numbers: Vec<(f64, f64)> =
+        labels(&svg).iter().filter(|l| !l.turned).filter_map(|l| Some((l.text.parse().ok()?, l.centre.1))).collect();
+    let bottom = numbers.iter().map(|n| n.1).fold(f64::NEG_INFINITY, f64::max);
+    let x_ticks: Vec<f64> = numbers.iter().filter(|n| (n.1 - bottom).abs() < 3.0).map(|n| n.0).collect();
+    // (The first tick stands within one spacing of t = 0; the last periods alone would start
+    // seconds later.)
+    assert!(x_ticks.len() >= 3 && x_ticks[0] <= 1.0001 * (x_ticks[1] - x_ticks[0]), "{x_ticks:?}");
+}
+
 /// The value of attribute `name` in a tag.
 fn attr<'a>(tag: &'a str, name: &str) -> Option<&'a str> {
     let key = format!(" {name}=\"");
@@ -78,6 +182,7 @@ const AXES: &[(&str, &[(&str, &str)])] = &[
     ("_spectrum.svg", &[("frequency (Hz)", "force level (dB re 1 N)")]),
     ("_time.svg", &[("time (ms)", "transmitted force (N)"), ("time (ms)", "force (N)"), ("time (ms)", "power (W)")]),
     ("_power_by_mode.svg", &[("bare-beam mode (number, natural frequency)", "power (W)")]),
+    ("_history.svg", &[("time (s)", "transmitted force (N)")]),
 ];
 
 #[test]

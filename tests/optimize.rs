@@ -4,6 +4,8 @@
 //! from the footprints and by re-solving the best case with the full steady state), and
 //! bad input refused before anything is solved.
 
+mod common;
+
 use beamflow::analysis::plan::calibrated_model;
 use beamflow::analysis::steady_state;
 use beamflow::assembly::System;
@@ -459,13 +461,25 @@ fn the_written_best_case_reproduces_the_optimum() {
     std::fs::write(&file, TWO.replace("evaluations = 1500", "evaluations = 200")).unwrap();
     let out = dir.path().join("out");
     let (_, r, files) =
-        beamflow::app::optimize::optimize(&file, &out, Some(2), false, &beamflow::analysis::budget::Budget::default())
+        beamflow::app::optimize::optimize(&file, &out, Some(2), true, &beamflow::analysis::budget::Budget::default())
             .unwrap();
-    for f in ["best.toml", "history.csv", "optima.csv", "summary.json"] {
+    for f in ["best.toml", "history.csv", "optima.csv", "summary.json", "report.html", "profiles.svg", "profiles.png"] {
         assert!(files.contains(&out.join(f)), "{f} missing in {files:?}");
+    }
+    // The report: the optimum, its figures with anchors, every file linked.
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("<figure id=\"fig-profiles\">") && html.contains("<svg"), "{html:.300}");
+    for f in &files {
+        let name = f.file_name().unwrap().to_string_lossy();
+        assert!(html.contains(&format!("<a href=\"{name}\">")), "{name} not linked");
     }
     let history = std::fs::read_to_string(out.join("history.csv")).unwrap();
     assert_eq!(history.lines().count(), r.history.len() + 1);
+    for f in ["history.csv", "optima.csv"] {
+        let text = std::fs::read_to_string(out.join(f)).unwrap();
+        common::csv_header_convention(f, &text).unwrap();
+    }
+    assert!(history.starts_with("evaluation,feasible,\"best so far [W]\","), "{history:.80}");
     // `beamflow run` of best.toml solves the same steady state.
     let lc = LoadedCase::load(&out.join("best.toml")).unwrap();
     let built = calibrated_model(&lc).unwrap();

@@ -113,8 +113,12 @@ fn the_report_holds_every_figure_and_every_number_of_the_summary() {
     assert!(svgs.len() >= 10, "{svgs:?}");
     assert_eq!(html.matches("<svg").count(), svgs.len());
     for s in &svgs {
-        let caption = format!("<figcaption>{}</figcaption>", s.replace(".svg", ".{png,svg}"));
-        assert!(html.contains(&caption), "{s} is not in the report");
+        // Each figure under its anchor, linked to its files.
+        let stem = s.trim_end_matches(".svg");
+        assert!(html.contains(&format!("<figure id=\"fig-{stem}\">")), "{s} is not in the report");
+        for f in [s.clone(), format!("{stem}.png")] {
+            assert!(html.contains(&format!("<a href=\"{f}\">")), "{f} is not linked");
+        }
     }
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("beam-frame-12V-60Hz.json")).unwrap()).unwrap();
@@ -128,7 +132,7 @@ fn the_report_holds_every_figure_and_every_number_of_the_summary() {
         assert!(shown.iter().any(|s| (s - v).abs() <= 1e-15 * v.abs()), "{v:e} of the JSON is not in the report");
     }
     // The headline: the net power with its unit, and the case file itself.
-    let net = summary["analyses"][0]["net_power_w"][0].as_f64().unwrap();
+    let net = summary["analyses"][0]["net_power_w"]["frame"].as_f64().unwrap();
     assert!(html.contains(&format!("data-value=\"{net:e}\" title=\"{net:e}\">6.323 µW<")), "net power {net:e}");
     assert!(html.contains("x_e = 0.150") && html.contains("<pre>"));
     assert!(!html.contains("<script") && !html.contains(" src=") && !html.contains("https://"));
@@ -214,7 +218,7 @@ fn measurements_and_the_coupled_system_appear_in_figures_and_report() {
         assert!(!out.join("c_harmonic.png").exists());
         for f in ["c_steady_state_measured_bench", "c_harmonic_transfer", "c_modes_coupled"] {
             assert!(out.join(format!("{f}.png")).exists(), "{f}.png");
-            assert!(html.contains(&format!("<figcaption>{f}.{{png,svg}}</figcaption>")), "{f} is not in the report");
+            assert!(html.contains(&format!("<figure id=\"fig-{f}\">")), "{f} is not in the report");
         }
         let shown = data_values(&html);
         assert!(shown.iter().any(|v| (v - offset).abs() < 1e-6), "no level error of {offset} dB in the report");

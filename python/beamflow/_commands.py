@@ -95,7 +95,7 @@ class OptimizeResult:
 
     ``best`` is the best case (a :class:`Case`, runnable as it is: the best values set and a
     steady-state analysis added if the base case had none); ``history`` every evaluation in
-    order (``evaluation``, ``feasible``, ``best so far (<unit>)``, each objective and
+    order (``evaluation``, ``feasible``, ``best so far [<unit>]``, each objective and
     variable with its unit), ``optima`` the distinct local optima, best first, and
     ``pareto`` the Pareto front of a two-objective run (None with one objective): pandas
     DataFrames when pandas is installed, else dicts of numpy columns, the numbers of

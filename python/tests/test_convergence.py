@@ -37,7 +37,8 @@ def test_a_transient_that_did_not_settle_warns_and_says_so(cli: Path, tmp_path: 
     path.write_text(case.to_toml())
     stdout = run_cli(cli, "run", str(path), "--out", str(tmp_path / "out"), "--no-plots")
     assert "NOT settled after 4 periods" in stdout
-    cli_power = json.loads((tmp_path / "out" / "unsettled.json").read_text())["analyses"][0]["net_power_w"]
+    summary = json.loads((tmp_path / "out" / "unsettled.json").read_text())
+    cli_power = [summary["analyses"][0]["net_power_w"][name] for name in summary["actuators"]]
     assert np.array_equal(bits(np.array(cli_power)), bits(np.asarray(tr["net_power"])))
 
 

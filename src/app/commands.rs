@@ -192,6 +192,8 @@ pub fn run(
     if csv {
         written.extend(crate::io::results_csv::write(set.dir(), stem, &lc, &run)?);
     }
+    // The case's figure settings, for its figures and the report that holds them.
+    let _figures = crate::report::plot::Scoped::new((&lc.case.output.figures).into());
     if plots && lc.case.output.plots {
         let _drawing = crate::progress::Task::start("figures", None, "");
         written.extend(crate::report::figures::plot_run(set.dir(), stem, &run)?);

@@ -14,8 +14,19 @@ use crate::sweep::field::set_path;
 use std::path::{Path, PathBuf};
 
 /// Every file an optimisation may write into its output folder.
-const OUTPUTS: [&str; 8] =
-    ["best.toml", "history.csv", "optima.csv", "pareto.csv", "summary.json", "profiles.png", "modes.png", "pareto.png"];
+const TEXT_OUTPUTS: [&str; 6] = ["best.toml", "history.csv", "optima.csv", "pareto.csv", "summary.json", REPORT];
+
+/// The figures of a run (each written in every figure format).
+const FIGURES: [&str; 3] = ["profiles", "modes", "pareto"];
+
+/// The run's report: its best case, optima and figures on one page.
+const REPORT: &str = "report.html";
+
+/// Every file a run may write into its folder.
+fn outputs() -> Vec<String> {
+    let figures = FIGURES.iter().flat_map(|f| crate::report::plot::Format::ALL.map(|x| format!("{f}.{}", x.ext())));
+    TEXT_OUTPUTS.iter().map(|s| s.to_string()).chain(figures).collect()
+}
 
 /// Points per real variable in the profile figure.
 const PROFILE_POINTS: usize = 41;
@@ -49,8 +60,8 @@ pub fn run_into(
     if let Some(out) = out {
         let mut inputs = vec![Input::new(file, "the optimisation file")];
         inputs.extend(spec.base.input_files(&spec.file).into_iter().map(|(p, what)| Input::new(p, what)));
-        for name in OUTPUTS {
-            refuse_input("--out", &output_file(out, name)?, &inputs)?;
+        for name in outputs() {
+            refuse_input("--out", &output_file(out, &name)?, &inputs)?;
         }
     }
     let r = optimize::run(spec, opts)?;
@@ -99,27 +110,28 @@ fn write(spec: &Spec, r: &RunResult, out: &Path, threads: Option<usize>, plots: 
             )
         });
         let o = &spec.objectives[0];
-        let p = output_file(&dir, "profiles.png")?;
-        crate::report::optimize::plot_profiles(&p, "Objective through the optimum", &o.label, &o.unit(), &profiles)?;
-        written.push(p);
+        let title = "Objective through the optimum";
+        let [profiles_name, modes_name, pareto_name] = FIGURES;
+        let objective = (o.label.as_str(), o.unit());
+        let objective = (objective.0, objective.1.as_str());
+        written.extend(crate::report::optimize::plot_profiles(&dir, profiles_name, title, objective, &profiles)?);
         if !r.pareto.is_empty() {
-            let p = output_file(&dir, "pareto.png")?;
-            plot_pareto(spec, r, &p)?;
-            written.push(p);
+            written.extend(plot_pareto(spec, r, &dir, pareto_name)?);
         }
         if let Some(m) = modal {
-            let p = output_file(&dir, "modes.png")?;
-            crate::report::optimize::plot_modal(&p, &m)?;
-            written.push(p);
+            written.extend(crate::report::optimize::plot_modal(&dir, modes_name, &m)?);
         }
     }
+    let report = output_file(&dir, REPORT)?;
+    written.push(report.clone());
+    write_atomic_string(&report, &report_page(spec, r, &written)?)?;
     let finals = written.iter().map(|p| set.final_path(p)).collect();
     set.commit()?;
     Ok(finals)
 }
 
 /// The front of a two-objective run among every feasible candidate it evaluated.
-fn plot_pareto(spec: &Spec, r: &RunResult, path: &Path) -> Result<()> {
+fn plot_pareto(spec: &Spec, r: &RunResult, dir: &Path, name: &str) -> Result<Vec<PathBuf>> {
     let column = |rows: &[&Evaluation], k: usize| rows.iter().map(|e| e.values[k]).collect::<Vec<f64>>();
     let feasible: Vec<&Evaluation> = r.history.iter().filter(|e| e.feasible()).collect();
     let front: Vec<&Evaluation> = r.pareto.iter().collect();
@@ -129,12 +141,66 @@ fn plot_pareto(spec: &Spec, r: &RunResult, path: &Path) -> Result<()> {
         (spec.objectives[1].label.as_str(), units[1].as_str()),
     ];
     crate::report::optimize::plot_pareto(
-        path,
+        (dir, name),
         axes,
         [column(&feasible, 0), column(&feasible, 1)],
         [column(&front, 0), column(&front, 1)],
         [r.best.values[0], r.best.values[1]],
     )
+}
+
+/// The run's report: the best case, the optima, the figures and the files, one page.
+fn report_page(spec: &Spec, r: &RunResult, files: &[PathBuf]) -> Result<String> {
+    use crate::report::html::{cell, escape, figure, file_list, num as number, table, Page};
+    let mut p = Page::new();
+    let mut header: Vec<String> = vec!["rank".into()];
+    header.extend(spec.objectives.iter().map(|o| o.label.clone()));
+    header.extend(spec.variables.iter().map(|v| v.name.clone()));
+    let rows = |set: &[Evaluation]| -> Vec<Vec<String>> {
+        set.iter()
+            .enumerate()
+            .map(|(i, e)| {
+                let mut row = vec![cell(&(i + 1).to_string())];
+                row.extend(spec.objectives.iter().zip(&e.values).map(|(o, v)| number(*v, &o.unit())));
+                row.extend(spec.variables.iter().zip(&e.u).map(|(v, &u)| match v.value(u) {
+                    toml::Value::Float(x) => number(x, v.unit()),
+                    other => cell(&other.to_string()),
+                }));
+                row
+            })
+            .collect()
+    };
+    let header: Vec<&str> = header.iter().map(String::as_str).collect();
+    p.section("best", "Best case");
+    p.para(&format!("{} evaluations in {:.1} s, seed {}.", r.evaluations, r.seconds, spec.search.seed));
+    p.push(&table(&header, &rows(std::slice::from_ref(&r.best))));
+    p.section("optima", "Distinct local optima");
+    p.push(&table(&header, &rows(&r.optima)));
+    if !r.pareto.is_empty() {
+        p.section("pareto", "Pareto front");
+        p.push(&table(&header, &rows(&r.pareto)));
+    }
+    let svgs: Vec<&PathBuf> = files.iter().filter(|f| f.extension().is_some_and(|e| e == "svg")).collect();
+    if !svgs.is_empty() {
+        p.section("figures", "Figures");
+        for svg in svgs {
+            p.push(&figure(svg)?);
+        }
+    }
+    p.section("files", "Files of this run");
+    p.push(&file_list(files));
+    if let Ok(text) = crate::input_file::read_text(Path::new(&spec.file)) {
+        p.section("file", "Optimisation file");
+        p.push(&format!("<p><code>{}</code></p>\n<pre>{}</pre>\n", escape(&spec.file), escape(&text)));
+    }
+    let title = if spec.title.is_empty() { spec.file.clone() } else { spec.title.clone() };
+    let meta = format!(
+        "optimisation <code>{}</code> · base <code>{}</code> · beamflow {}",
+        escape(&spec.file),
+        escape(&spec.base.file),
+        env!("CARGO_PKG_VERSION")
+    );
+    Ok(p.finish(&format!("Optimisation: {title}"), &meta))
 }
 
 /// The base case as written (analyses and comments of values aside) with the best values
@@ -186,8 +252,12 @@ fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
 }
 
 fn header(spec: &Spec) -> String {
-    let mut h: Vec<String> = spec.objectives.iter().map(|o| format!("{} ({})", o.label, o.unit())).collect();
-    h.extend(spec.variables.iter().map(|v| format!("{} ({})", v.name, v.unit())));
+    // Brackets of field paths (`actuator[0].x_e`) as in the sweep table's columns, so that
+    // the only brackets of a header hold its unit.
+    use crate::sweep::table::column_name;
+    let mut h: Vec<String> =
+        spec.objectives.iter().map(|o| format!("{} [{}]", column_name(&o.label), o.unit())).collect();
+    h.extend(spec.variables.iter().map(|v| format!("{} [{}]", column_name(&v.name), v.unit())));
     h.iter().map(|c| format!("\"{c}\"")).collect::<Vec<_>>().join(",")
 }
 
@@ -201,7 +271,7 @@ fn row(spec: &Spec, e: &Evaluation) -> String {
 /// first objective so far, its objectives and variables.
 fn history_csv(spec: &Spec, h: &[Evaluation]) -> String {
     let o = &spec.objectives[0];
-    let mut s = format!("evaluation,feasible,\"best so far ({})\",{}\n", o.unit(), header(spec));
+    let mut s = format!("evaluation,feasible,\"best so far [{}]\",{}\n", o.unit(), header(spec));
     let mut best = f64::NAN;
     for (i, e) in h.iter().enumerate() {
         if e.feasible() && (best.is_nan() || o.better(e.values[0], best)) {

@@ -16,6 +16,7 @@ use crate::io::atomic::write_atomic_string;
 use crate::report::figures::{
     body_panel, components_panel, forces_panel, ms_axis, power_spectrum_panel, spectrum_panel, total_panel, PowerLines,
 };
+use crate::report::palette;
 use crate::report::plot::save;
 use crate::report::plot::text::si;
 use crate::report::plot::{BarChart, LinePlot, MultiPanel, Series};
@@ -230,14 +231,16 @@ fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Rigi
         link_index(&rigid, 1, "left_leg"),
         link_index(&rigid, 1, "right_leg"),
     );
+    let acts = &rigid.model.actuators;
     let fig8 = MultiPanel::new(
         "Fig. 8 — transmitted forces on a rigid base, 48 V, 30 Hz",
         vec![
-            forces_panel("inertial-type: F_{T}", &rt.t, &[&rt.links[i_stack]]),
+            forces_panel("inertial-type: F_{T}", &rt.t, &[&rt.links[i_stack]], acts),
             forces_panel(
                 "frame-type: F_{E}, F_{L}, F_{R}",
                 &rt.t,
                 &[&rt.links[f_stack], &rt.links[f_left], &rt.links[f_right]],
+                acts,
             ),
         ],
     );
@@ -249,8 +252,8 @@ fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Rigi
         vec![
             components_panel("inertial-type: components of F_{T}", &rt.t, &rt.links[i_stack]),
             components_panel("frame-type: components of F_{E}", &rt.t, &rt.links[f_stack]),
-            total_panel("inertial-type", "F_{T}", &rt.t, &rt.links[i_stack]),
-            total_panel("frame-type", "F_{E}", &rt.t, &rt.links[f_stack]),
+            total_panel("inertial-type", "F_{T}", &rt.t, &rt.links[i_stack], acts),
+            total_panel("frame-type", "F_{E}", &rt.t, &rt.links[f_stack], acts),
         ],
     )
     .with_columns(2);
@@ -265,13 +268,18 @@ fn rigid_base(rigid_lc: &LoadedCase, out: &Path, w: &mut Written) -> Result<Rigi
         ],
     );
     written.extend(save(&fig10, out, "fig10_top_displacements")?);
+    let colour = |l: usize| palette::link(acts, &rt.links[l]);
     let fig12 = MultiPanel::new(
         "Fig. 12 — transmitted-force spectra: the drive and its odd harmonics",
         vec![
-            spectrum_panel("inertial-type F_{T}", &[("F_{T}", &rt.spectra[i_stack])]),
+            spectrum_panel("inertial-type F_{T}", &[("F_{T}", &rt.spectra[i_stack], colour(i_stack))]),
             spectrum_panel(
                 "frame-type",
-                &[("F_{E}", &rt.spectra[f_stack]), ("F_{L}", &rt.spectra[f_left]), ("F_{R}", &rt.spectra[f_right])],
+                &[
+                    ("F_{E}", &rt.spectra[f_stack], colour(f_stack)),
+                    ("F_{L}", &rt.spectra[f_left], colour(f_left)),
+                    ("F_{R}", &rt.spectra[f_right], colour(f_right)),
+                ],
             ),
         ],
     );
@@ -345,7 +353,9 @@ fn on_beam(bi_lc: &LoadedCase, bf_lc: &LoadedCase, out: &Path, w: &mut Written) 
     }
     let x = ms_axis(&bit.t);
     let mut f13 = LinePlot::new("interface force", "time (ms)", "force (N)");
-    f13.series.push(Series::line("F_{T} at the interface", x.clone(), bit.links[0].interface.clone()));
+    let inertial = palette::link(&bi.model.actuators, &bit.links[0]);
+    f13.series
+        .push(Series::line("F_{T} at the interface", x.clone(), bit.links[0].interface.clone()).coloured(inertial));
     let mut a13 = LinePlot::new("beam acceleration at the interface", "time (ms)", "acceleration (m/s²)");
     a13.series.push(Series::line("ẅ(x_{E})", x, bit.links[0].base_acceleration.clone()));
     written.extend(save(
@@ -356,8 +366,8 @@ fn on_beam(bi_lc: &LoadedCase, bf_lc: &LoadedCase, out: &Path, w: &mut Written) 
     let s14 = &bit.spectra[0];
     let p14 = power_spectrum_panel(
         "Fig. 14 — inertial-type: power-flow spectrum, 12 V, 60 Hz",
-        &[("from F and v", &s14.frequency, &s14.power)],
-        &[("from F and a", &s14.frequency, &s14.power_from_acceleration)],
+        &[("from F and v", &s14.frequency, &s14.power, Some(inertial))],
+        &[("from F and a", &s14.frequency, &s14.power_from_acceleration, None)],
     );
     written.extend(save(&p14, out, "fig14_power_spectrum")?);
     let names = crate::actuator::Frame::LINKS;
@@ -365,17 +375,17 @@ fn on_beam(bi_lc: &LoadedCase, bf_lc: &LoadedCase, out: &Path, w: &mut Written) 
     let xf = ms_axis(&bft.t);
     let mut p15 = LinePlot::new("instantaneous power", "time (ms)", "power (W)");
     for &l in &idx {
-        p15.series.push(Series::line(
-            crate::report::figures::link_label(&bft.links[l]),
-            xf.clone(),
-            bft.links[l].power.clone(),
-        ));
+        let s = Series::line(crate::report::figures::link_label(&bft.links[l]), xf.clone(), bft.links[l].power.clone());
+        p15.series.push(s.coloured(palette::link(&bf.model.actuators, &bft.links[l])));
     }
     let labels: Vec<String> = idx.iter().map(|&l| crate::report::figures::link_label(&bft.links[l])).collect();
     let lines: Vec<PowerLines> = idx
         .iter()
         .zip(&labels)
-        .map(|(&l, name)| (name.as_str(), bfs.spectra[l].frequency.as_slice(), bfs.spectra[l].power.as_slice()))
+        .map(|(&l, name)| {
+            let c = palette::link(&bf.model.actuators, &bft.links[l]);
+            (name.as_str(), bfs.spectra[l].frequency.as_slice(), bfs.spectra[l].power.as_slice(), Some(c))
+        })
         .collect();
     let b15 = power_spectrum_panel("power per harmonic", &lines, &[]);
     written.extend(save(
@@ -438,12 +448,7 @@ fn report_page(md: &str, written: &[PathBuf], cases: &[&LoadedCase]) -> Result<S
     }
     p.para("Fig. 11's cases are the rigid-base case with the frame actuator removed and the top mass m_{t} set.");
     p.section("files", "Files");
-    let names: String = written
-        .iter()
-        .filter_map(|f| f.file_name())
-        .map(|n| format!("<li><code>{}</code></li>", escape(&n.to_string_lossy())))
-        .collect();
-    p.push(&format!("<ul>{names}</ul>\n"));
+    p.push(&crate::report::html::file_list(written));
     Ok(p.finish(
         "beamflow — the paper's experiments",
         &format!(

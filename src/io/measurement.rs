@@ -396,7 +396,7 @@ pub fn parse(text: &str, file: &str, required: &[Quantity], opts: &LoadOptions) 
     Ok(m)
 }
 
-/// Writes a measurement as CSV with SI unit headers (`time (s),voltage (V),...`), values in
+/// Writes a measurement as CSV with SI unit headers (`time [s],voltage [V],...`), values in
 /// shortest round-trip form, so [`load`] gives back the same numbers.
 pub fn write(path: &Path, m: &Measurement) -> Result<()> {
     std::fs::write(path, to_csv(m)).map_err(|e| Error::io(path, e))
@@ -421,7 +421,7 @@ pub fn to_csv_with(m: &Measurement, comments: &[String], digits: Option<usize>) 
             s.push('\n');
         }
     }
-    let head: Vec<String> = qs.iter().map(|q| format!("{} ({})", q.name(), q.si_unit())).collect();
+    let head: Vec<String> = qs.iter().map(|q| format!("{} [{}]", q.name(), q.si_unit())).collect();
     s.push_str(&head.join(","));
     s.push('\n');
     let fmt = |v: f64, time: bool| -> String {
@@ -652,6 +652,10 @@ mod tests {
         let x: Vec<f64> = v.iter().map(|v| 1.3e-7 * v + 1e-9 / 3.0).collect();
         let m = Measurement::new("synthetic", t, vec![(Quantity::Voltage, v), (Quantity::Displacement, x)]).unwrap();
         write(&path, &m).unwrap();
+        // The header convention of every CSV file beamflow writes.
+        let text = std::fs::read_to_string(&path).unwrap();
+        let header = text.lines().find(|l| !l.starts_with('#')).unwrap();
+        assert_eq!(header, "time [s],voltage [V],displacement [m]");
         let back = load(&path, &[Quantity::Voltage, Quantity::Displacement], &LoadOptions::default()).unwrap();
         assert_eq!(back.time, m.time);
         assert_eq!(back.voltage, m.voltage);

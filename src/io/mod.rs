@@ -23,6 +23,7 @@
 
 pub mod atomic;
 pub mod csv;
+pub mod hash;
 pub mod hdf5;
 pub mod lock;
 pub mod measurement;

@@ -38,6 +38,7 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
     f.attr_str("sign_convention", "forces and displacements positive up (+w); power positive into the base; complex amplitudes q(t) = Re(Q·exp(+iωt))")?;
     f.group("case")?.write_str("toml", &lc.text)?;
     let m = f.group("model")?;
+    write_provenance(&m, lc)?;
     m.attr_i64("n_dofs", run.system.n() as i64)?;
     m.attr_f64("rayleigh_a0", run.model.rayleigh().a0)?;
     m.attr_f64("rayleigh_a1", run.model.rayleigh().a1)?;
@@ -69,6 +70,52 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
             _ => "steady_state",
         };
         write_measured(&f.group(&format!("analysis_{}_{kind}/measurements/{}", c.analysis, c.name))?, c)?;
+    }
+    Ok(())
+}
+
+/// What the run was made from: the program version, the case text's hash, and every
+/// parameter of the case as resolved (defaults filled in), under `parameters/` — the
+/// structure, each actuator's stack, body and drive, the damping, the analyses — so that
+/// the file alone says what was computed.
+fn write_provenance<S: GroupSink>(m: &S, lc: &LoadedCase) -> Result<()> {
+    m.attr_str("version", env!("CARGO_PKG_VERSION"))?;
+    m.attr_str("case_hash", &super::hash::text_hash(&lc.text))?;
+    let resolved =
+        toml::Value::try_from(&lc.case).map_err(|e| crate::error::Error::input(&lc.file, "case", e.to_string()))?;
+    m.write_str("resolved_toml", &toml::to_string(&resolved).unwrap_or_default())?;
+    if let toml::Value::Table(t) = &resolved {
+        let p = m.group("parameters")?;
+        p.attr_str("units", "SI, as in the case file (docs/case-format.md)")?;
+        write_table(&p, t)?;
+    }
+    Ok(())
+}
+
+/// A TOML table as a group: tables as groups, arrays of tables as groups `<name>_<i>`,
+/// numbers, booleans and text as attributes, arrays of numbers as datasets.
+fn write_table<S: GroupSink>(g: &S, t: &toml::map::Map<String, toml::Value>) -> Result<()> {
+    use toml::Value;
+    for (k, v) in t {
+        match v {
+            Value::Table(sub) => write_table(&g.group(k)?, sub)?,
+            Value::Float(x) => g.attr_f64(k, *x)?,
+            Value::Integer(i) => g.attr_i64(k, *i)?,
+            Value::Boolean(b) => g.attr_str(k, if *b { "true" } else { "false" })?,
+            Value::String(s) => g.attr_str(k, s)?,
+            Value::Datetime(d) => g.attr_str(k, &d.to_string())?,
+            Value::Array(a) if !a.is_empty() && a.iter().all(Value::is_table) => {
+                for (i, x) in a.iter().enumerate() {
+                    write_table(&g.group(&format!("{k}_{i}"))?, x.as_table().expect("a table"))?;
+                }
+            }
+            Value::Array(a) if a.iter().all(|x| x.is_float() || x.is_integer()) => {
+                let x: Vec<f64> =
+                    a.iter().map(|x| x.as_float().or(x.as_integer().map(|i| i as f64)).unwrap_or(0.0)).collect();
+                g.write_f64(k, &x, &[x.len()], "", "as in the case file")?;
+            }
+            Value::Array(a) => g.write_str_list(k, &a.iter().map(|x| x.to_string()).collect::<Vec<_>>())?,
+        }
     }
     Ok(())
 }

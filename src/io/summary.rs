@@ -5,6 +5,7 @@ use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::series::LoadSpectrum;
 use crate::case::LoadedCase;
 use crate::power::record::RecordAnalysis;
+use crate::report::si;
 use serde_json::{json, Map, Value};
 
 /// A JSON object with one entry per analysis.
@@ -14,6 +15,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
         let lk = &run.system.links[l];
         link_id(run.model.actuators[lk.actuator].name(), &lk.name)
     };
+    let actuators: Vec<&str> = run.model.actuators.iter().map(|a| a.name()).collect();
     for r in &run.results {
         analyses.push(match r {
             AnalysisResult::Modes(m) => {
@@ -40,12 +42,12 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 let amp: Map<String, Value> = t.spectra.iter().enumerate().map(|(l, s)| (link_name(l), json!(s.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
                 let mut v = json!({"type": "transient", "dt_s": t.dt, "steps_per_period": t.steps_per_period, "harmonics": t.harmonics, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
                        "settling_estimate": finite_or_null(t.settling_estimate), "mesh_roundoff": t.mesh_roundoff,
-                       "mean_power_w": points, "net_power_w": t.net_power, "load_power_w": load_powers(&t.load_spectra), "transmitted_force_amplitude_at_drive_n": amp,
+                       "mean_power_w": points, "net_power_w": by_name(&actuators, &t.net_power), "load_power_w": load_powers(&t.load_spectra), "transmitted_force_amplitude_at_drive_n": amp,
                        "beam_dissipation_w": t.beam_dissipation,
                        "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}});
                 add_reduction(&mut v, t.reduction.as_ref());
                 if let Some(rec) = &t.record {
-                    v = record_summary(t, rec);
+                    v = record_summary(t, rec, &actuators);
                     add_reduction(&mut v, t.reduction.as_ref());
                 }
                 v
@@ -57,7 +59,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 }
                 let amp: Map<String, Value> = s.spectra.iter().enumerate().map(|(l, sp)| (link_name(l), json!(sp.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
                 let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "load_residual_w": m.load_residual, "modal_dissipation_w": m.dissipation}));
-                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "truncation_estimate": finite_or_null(s.truncation_estimate), "mesh_roundoff": s.mesh_roundoff, "mean_power_w": points, "net_power_w": s.net_power, "load_power_w": load_powers(&s.load_spectra), "modal": modal,
+                let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "truncation_estimate": finite_or_null(s.truncation_estimate), "mesh_roundoff": s.mesh_roundoff, "mean_power_w": points, "net_power_w": by_name(&actuators, &s.net_power), "load_power_w": load_powers(&s.load_spectra), "modal": modal,
                        "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error});
                 add_reduction(&mut v, s.reduction.as_ref());
                 v
@@ -121,7 +123,7 @@ fn without_beam(a: &mut Value) {
 /// settling, mean power per period); instead the record's quantities — energy delivered and
 /// mean power over the record per point and per actuator, the estimator of its spectra and
 /// FRFs (in the HDF5 file), and what makes them untrustworthy.
-fn record_summary(t: &crate::analysis::transient::TransientResult, rec: &RecordAnalysis) -> Value {
+fn record_summary(t: &crate::analysis::transient::TransientResult, rec: &RecordAnalysis, actuators: &[&str]) -> Value {
     let energy: Map<String, Value> = rec.points.iter().map(|p| (p.name.clone(), json!(p.energy))).collect();
     let power: Map<String, Value> =
         rec.points.iter().map(|p| (p.name.clone(), json!(p.energy / rec.duration))).collect();
@@ -137,14 +139,25 @@ fn record_summary(t: &crate::analysis::transient::TransientResult, rec: &RecordA
             "frequency_resolution_hz": 1.0 / rec.segment_s, "end_activity": end, "end_activity_max": e.end_activity,
             "min_coherence_in_band": e.min_coherence, "low_coherence_share": e.low_coherence_share,
             "trustworthy": e.warnings.is_empty(), "warnings": e.warnings,
-            "energy_j": energy, "mean_power_w": power, "net_energy_j": rec.net_energy,
-            "net_mean_power_w": rec.net_energy.iter().map(|x| x / rec.duration).collect::<Vec<_>>(),
+            "energy_j": energy, "mean_power_w": power, "net_energy_j": by_name(actuators, &rec.net_energy),
+            "net_mean_power_w": by_name(actuators, &rec.net_energy.iter().map(|x| x / rec.duration).collect::<Vec<_>>()),
             "sensors": rec.sensors.iter().map(|s| s.name.clone()).collect::<Vec<_>>()}})
+}
+
+/// Values per actuator (or point) as an object keyed by name, in the given order: every
+/// power and energy of the summary is keyed the same way.
+fn by_name(names: &[&str], values: &[f64]) -> Value {
+    Value::Object(names.iter().zip(values).map(|(n, v)| (n.to_string(), json!(v))).collect())
 }
 
 /// Each point load's mean power into the beam (W), by name.
 fn load_powers(loads: &[LoadSpectrum]) -> Value {
     Value::Object(loads.iter().map(|l| (l.name.clone(), json!(l.power_total))).collect())
+}
+
+/// A power of the summary as the console shows it (`6.323 µW`).
+fn watts(p: &Value) -> String {
+    si(p.as_f64().unwrap_or(f64::NAN), "W", 4)
 }
 
 /// A number, or JSON null where it is not defined (NaN).
@@ -166,12 +179,11 @@ fn add_reduction(v: &mut Value, r: Option<&crate::analysis::reduction::Reduction
 /// A few lines for the terminal.
 pub fn headline_text(v: &Value) -> String {
     let mut s = String::new();
-    let names = v["actuators"].as_array().cloned().unwrap_or_default();
     for a in v["analyses"].as_array().into_iter().flatten() {
         if let Some(t @ ("transient" | "steady_state")) = a["type"].as_str() {
             s += &format!("{t}:\n");
             if t == "transient" {
-                s += &transient_status(a, &names);
+                s += &transient_status(a);
             } else {
                 s += &format!("  {} harmonics", a["harmonics"]);
                 match a["truncation_estimate"].as_f64() {
@@ -192,21 +204,14 @@ pub fn headline_text(v: &Value) -> String {
                 };
                 for (k, p) in m {
                     let line = format!("mean power into the {into} at {k}");
-                    s += &format!("  {line:<52} {:>12.4e} W\n", p.as_f64().unwrap_or(f64::NAN));
+                    s += &format!("  {line:<52} {:>12}\n", watts(p));
                 }
             }
             for (k, p) in a["load_power_w"].as_object().into_iter().flatten() {
-                s += &format!(
-                    "  mean power into the beam by load {k:<19} {:>12.4e} W\n",
-                    p.as_f64().unwrap_or(f64::NAN)
-                );
+                s += &format!("  mean power into the beam by load {k:<19} {:>12}\n", watts(p));
             }
-            for (i, p) in a["net_power_w"].as_array().into_iter().flatten().enumerate() {
-                s += &format!(
-                    "  net power of {:<36} {:>12.4e} W\n",
-                    names.get(i).and_then(|n| n.as_str()).unwrap_or("?"),
-                    p.as_f64().unwrap_or(f64::NAN)
-                );
+            for (name, p) in a["net_power_w"].as_object().into_iter().flatten() {
+                s += &format!("  net power of {name:<39} {:>12}\n", watts(p));
             }
             if let Some(r) = a.get("reduction") {
                 s += &format!(
@@ -265,14 +270,14 @@ fn measured_line(m: &Value) -> String {
 
 /// How a transient ran: its step, the harmonics it analysed, and whether (and how well) it
 /// settled.
-fn transient_status(a: &Value, names: &[Value]) -> String {
+fn transient_status(a: &Value) -> String {
     if let Some(r) = a.get("record") {
-        return record_status(a, r, names);
+        return record_status(a, r);
     }
     let n = a["steps_per_period"].as_u64().unwrap_or(0);
     let mut s = format!(
-        "  Δt = {:.4e} s ({n} steps per period), spectra to harmonic {} (20 steps per harmonic period)\n",
-        a["dt_s"].as_f64().unwrap_or(f64::NAN),
+        "  Δt = {} ({n} steps per period), spectra to harmonic {} (20 steps per harmonic period)\n",
+        si(a["dt_s"].as_f64().unwrap_or(f64::NAN), "s", 5),
         a["harmonics"]
     );
     let periods = a["periods_run"].as_u64().unwrap_or(0);
@@ -292,13 +297,13 @@ fn transient_status(a: &Value, names: &[Value]) -> String {
 
 /// A non-periodic run: its record, how its spectra are averaged, and the energy each point
 /// and each actuator delivered.
-fn record_status(a: &Value, r: &Value, actuators: &[Value]) -> String {
+fn record_status(a: &Value, r: &Value) -> String {
     let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
     let mut s = format!(
-        "  non-periodic drive: one record of {:.4} s at Δt = {:.4e} s, band {:.1}–{:.1} Hz; no period, so no \
+        "  non-periodic drive: one record of {} at Δt = {}, band {:.1}–{:.1} Hz; no period, so no \
          harmonics\n  PSDs and H1 FRFs in the HDF5 file: {}\n",
-        f(&r["duration_s"]),
-        f(&a["dt_s"]),
+        si(f(&r["duration_s"]), "s", 5),
+        si(f(&a["dt_s"]), "s", 5),
         f(&r["band_hz"][0]),
         f(&r["band_hz"][1]),
         r["description"].as_str().unwrap_or("?"),
@@ -316,12 +321,16 @@ fn record_status(a: &Value, r: &Value, actuators: &[Value]) -> String {
     let powers = r["mean_power_w"].as_object();
     for (k, e) in r["energy_j"].as_object().into_iter().flatten() {
         let p = powers.and_then(|m| m.get(k)).map_or(f64::NAN, f);
-        s += &format!("  energy delivered into the structure at {k:<22} {:>12.4e} J, mean {p:>11.4e} W\n", f(e));
+        s += &format!(
+            "  energy delivered into the structure at {k:<22} {:>12}, mean {:>11}\n",
+            si(f(e), "J", 4),
+            si(p, "W", 4)
+        );
     }
-    let net_p = r["net_mean_power_w"].as_array();
-    for (i, (name, e)) in actuators.iter().zip(r["net_energy_j"].as_array().into_iter().flatten()).enumerate() {
-        let p = net_p.and_then(|m| m.get(i)).map_or(f64::NAN, f);
-        s += &format!("  net energy of {:<46} {:>12.4e} J, mean {p:>11.4e} W\n", name.as_str().unwrap_or("?"), f(e));
+    let net_p = r["net_mean_power_w"].as_object();
+    for (name, e) in r["net_energy_j"].as_object().into_iter().flatten() {
+        let p = net_p.and_then(|m| m.get(name)).map_or(f64::NAN, f);
+        s += &format!("  net energy of {name:<46} {:>12}, mean {:>11}\n", si(f(e), "J", 4), si(p, "W", 4));
     }
     s
 }
@@ -331,7 +340,7 @@ fn record_status(a: &Value, r: &Value, actuators: &[Value]) -> String {
 fn rigid_forces(f: &Map<String, Value>) -> String {
     let mut s = String::from("  transmitted force amplitude at the drive frequency:\n");
     for (k, v) in f {
-        s += &format!("    {k:<36} {:>12.4e} N\n", v.as_f64().unwrap_or(f64::NAN));
+        s += &format!("    {k:<36} {:>12}\n", si(v.as_f64().unwrap_or(f64::NAN), "N", 4));
     }
     let stacks: Vec<(&String, f64)> =
         f.iter().filter(|(k, _)| k.ends_with("_stack")).map(|(k, v)| (k, v.as_f64().unwrap_or(f64::NAN))).collect();

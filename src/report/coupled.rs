@@ -4,6 +4,7 @@
 
 use super::plot::{save, Dest};
 use super::plot::{LinePlot, MultiPanel, Series};
+use crate::actuator::Actuator;
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
 use crate::error::Result;
@@ -26,7 +27,7 @@ fn input_text(input: &str) -> String {
 
 /// `<tag>_transfer`: one row per input, |V/F| on log axes beside its phase, a line per
 /// response point.
-pub fn transfer_figure(dir: Dest, tag: &str, h: &HarmonicResult) -> Result<Vec<PathBuf>> {
+pub fn transfer_figure(dir: Dest, tag: &str, h: &HarmonicResult, actuators: &[Actuator]) -> Result<Vec<PathBuf>> {
     if h.transfer_inputs.is_empty() {
         return Ok(Vec::new());
     }
@@ -42,9 +43,10 @@ pub fn transfer_figure(dir: Dest, tag: &str, h: &HarmonicResult) -> Result<Vec<P
         for (i, p) in h.point_names.iter().enumerate() {
             let y: Vec<num_complex::Complex64> = h.transfer_velocity.iter().map(|m| m[i][j]).collect();
             let f = h.frequency_hz.clone();
-            mag.series.push(Series::line(p.clone(), f.clone(), y.iter().map(|c| c.norm().max(1e-300)).collect()));
+            let mine = |s: Series| super::palette::point_series(actuators, p, s);
+            mag.series.push(mine(Series::line(p.clone(), f.clone(), y.iter().map(|c| c.norm().max(1e-300)).collect())));
             let deg = y.iter().map(|c| c.arg().to_degrees()).collect();
-            phase.series.push(Series::line(p.clone(), f, deg).wrapped(360.0));
+            phase.series.push(mine(Series::line(p.clone(), f, deg).wrapped(360.0)));
         }
         panels.push(mag);
         panels.push(phase);

@@ -1,9 +1,11 @@
 //! Standard figures of a case run, and the building blocks the paper figures reuse.
 //! Every figure is written as SVG, and as PNG and PDF as `--formats` asks.
 
+use super::palette;
 pub use super::plot::figure::{save, Dest, Drawing, Drawings, Figure};
 use super::plot::text::si;
 use super::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
+use crate::actuator::Actuator;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
@@ -12,6 +14,7 @@ use crate::analysis::steady_state::SteadyStateResult;
 use crate::error::Result;
 use crate::power::modal::ModalDecomposition;
 use crate::power::spectra::db;
+use plotters::style::RGBColor;
 use std::path::{Path, PathBuf};
 
 /// Time axis in ms from the start of the window.
@@ -28,12 +31,13 @@ pub fn link_label(l: &LinkSeries) -> String {
     }
 }
 
-/// Transmitted force(s) of one actuator over time.
-pub fn forces_panel(title: &str, t: &[f64], links: &[&LinkSeries]) -> LinePlot {
+/// Transmitted force(s) of one actuator over time, each point in its colour.
+pub fn forces_panel(title: &str, t: &[f64], links: &[&LinkSeries], actuators: &[Actuator]) -> LinePlot {
     let x = ms_axis(t);
     let mut p = LinePlot::new(title, "time (ms)", "transmitted force (N)");
     for l in links {
-        p.series.push(Series::line(link_label(l), x.clone(), l.transmitted.clone()));
+        let s = Series::line(link_label(l), x.clone(), l.transmitted.clone());
+        p.series.push(s.coloured(palette::link(actuators, l)));
     }
     p
 }
@@ -44,16 +48,17 @@ pub fn forces_panel(title: &str, t: &[f64], links: &[&LinkSeries]) -> LinePlot {
 pub fn components_panel(title: &str, t: &[f64], l: &LinkSeries) -> LinePlot {
     let x = ms_axis(t);
     let mut p = LinePlot::new(title, "time (ms)", "force (N)");
-    p.series.push(Series::line("stiffness k·u", x.clone(), l.f_stiffness.clone()));
+    p.series.push(Series::line("stiffness k·u", x.clone(), l.f_stiffness.clone()).coloured(palette::part(0)));
     // Dashed: where the damping part matches the stiffness part it would hide it.
-    p.series.push(Series::line("damping c·du/dt", x.clone(), l.f_damping.clone()).with_style(SeriesStyle::Dashed));
-    p.series.push(Series::line("PZT −F_{p}", x, l.f_pzt.clone()));
+    let damping = Series::line("damping c·du/dt", x.clone(), l.f_damping.clone()).with_style(SeriesStyle::Dashed);
+    p.series.push(damping.coloured(palette::part(1)));
+    p.series.push(Series::line("PZT −F_{p}", x, l.f_pzt.clone()).coloured(palette::part(2)));
     p
 }
 
 /// A stack's total transmitted force `symbol` (e.g. `F_{T}`), titled with its size
 /// against the largest component: how far the components cancel.
-pub fn total_panel(who: &str, symbol: &str, t: &[f64], l: &LinkSeries) -> LinePlot {
+pub fn total_panel(who: &str, symbol: &str, t: &[f64], l: &LinkSeries, actuators: &[Actuator]) -> LinePlot {
     let peak = |v: &[f64]| v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
     let largest = peak(&l.f_stiffness).max(peak(&l.f_damping)).max(peak(&l.f_pzt));
     let share = if largest > 0.0 { peak(&l.transmitted) / largest } else { f64::NAN };
@@ -62,7 +67,8 @@ pub fn total_panel(who: &str, symbol: &str, t: &[f64], l: &LinkSeries) -> LinePl
         "time (ms)",
         "force (N)",
     );
-    p.series.push(Series::line(format!("total {symbol}"), ms_axis(t), l.transmitted.clone()));
+    let total = Series::line(format!("total {symbol}"), ms_axis(t), l.transmitted.clone());
+    p.series.push(total.coloured(palette::link(actuators, l)));
     p
 }
 
@@ -99,30 +105,34 @@ fn harmonic_axis(p: &mut LinePlot, frequency: &[f64]) {
     }
 }
 
+/// One point's force spectrum: its legend label, the spectrum and the point's colour.
+pub type ForceLines<'a> = (&'a str, &'a LinkSpectrum, RGBColor);
+
 /// Force spectrum in dB re 1 N at the harmonics, as stems up from the bottom of the axis
 /// (lines within 120 dB of the largest), over every analysed harmonic.
-pub fn spectrum_panel(title: &str, spectra: &[(&str, &LinkSpectrum)]) -> LinePlot {
+pub fn spectrum_panel(title: &str, spectra: &[ForceLines]) -> LinePlot {
     let mut p = LinePlot::new(title, "frequency (Hz)", "force level (dB re 1 N)");
     p.stem_base = f64::NEG_INFINITY;
-    let top = spectra.iter().flat_map(|(_, s)| s.transmitted[1..].iter()).fold(0.0f64, |m, c| m.max(c.norm()));
-    for (label, s) in spectra {
+    let top = spectra.iter().flat_map(|(_, s, _)| s.transmitted[1..].iter()).fold(0.0f64, |m, c| m.max(c.norm()));
+    for (label, s, colour) in spectra {
         let (f, l): (Vec<f64>, Vec<f64>) = s.frequency[1..]
             .iter()
             .zip(&s.transmitted[1..])
             .filter(|(_, c)| c.norm() > SPECTRUM_FLOOR * top)
             .map(|(&f, c)| (f, db(c.norm(), 1.0)))
             .unzip();
-        p.series.push(Series::line(*label, f, l).with_style(SeriesStyle::Stems));
+        p.series.push(Series::line(*label, f, l).with_style(SeriesStyle::Stems).coloured(*colour));
     }
-    if let Some((_, s)) = spectra.first() {
+    if let Some((_, s, _)) = spectra.first() {
         harmonic_axis(&mut p, &s.frequency);
     }
     p
 }
 
-/// One line spectrum of power: its legend label, the harmonic frequencies (Hz) and the
-/// power per harmonic (W), index 0 being the mean (not drawn).
-pub type PowerLines<'a> = (&'a str, &'a [f64], &'a [f64]);
+/// One line spectrum of power: its legend label, the harmonic frequencies (Hz), the
+/// power per harmonic (W), index 0 being the mean (not drawn), and its point's colour
+/// (`None`: the colour cycle).
+pub type PowerLines<'a> = (&'a str, &'a [f64], &'a [f64], Option<RGBColor>);
 
 /// Decades of power drawn on a logarithmic scale below the largest line; smaller lines
 /// fall in the linear band around zero of the symmetric-log axis.
@@ -136,14 +146,19 @@ const POWER_DECADES: i32 = 6;
 /// left out: round-off, or unsettled transient (even harmonics of a symmetric drive).
 pub fn power_spectrum_panel(title: &str, stems: &[PowerLines], markers: &[PowerLines]) -> LinePlot {
     let mut p = LinePlot::new(title, "frequency (Hz)", "power into the beam (W)");
-    let top = stems.iter().chain(markers).flat_map(|(_, _, pw)| pw.iter().skip(1)).fold(0.0f64, |m, x| m.max(x.abs()));
-    let kept = |(_, f, pw): &PowerLines| -> (Vec<f64>, Vec<f64>) {
+    let top =
+        stems.iter().chain(markers).flat_map(|(_, _, pw, _)| pw.iter().skip(1)).fold(0.0f64, |m, x| m.max(x.abs()));
+    let kept = |(_, f, pw, _): &PowerLines| -> (Vec<f64>, Vec<f64>) {
         f.iter().zip(pw.iter()).skip(1).filter(|(_, pw)| pw.abs() > 1e-9 * top).map(|(&f, &pw)| (f, pw)).unzip()
     };
     for (style, set) in [(SeriesStyle::Stems, stems), (SeriesStyle::Markers, markers)] {
         for lines in set {
             let (f, pw) = kept(lines);
-            p.series.push(Series::line(lines.0, f, pw).with_style(style));
+            let s = Series::line(lines.0, f, pw).with_style(style);
+            p.series.push(match lines.3 {
+                Some(c) => s.coloured(c),
+                None => s,
+            });
         }
     }
     if p.series.iter().all(|s| s.y.iter().all(|&v| v > 0.0)) {
@@ -151,7 +166,7 @@ pub fn power_spectrum_panel(title: &str, stems: &[PowerLines], markers: &[PowerL
     } else if top > 0.0 {
         p.symlog_y = Some(10f64.powi(top.log10().floor() as i32 - POWER_DECADES));
     }
-    if let Some((_, f, _)) = stems.first() {
+    if let Some((_, f, _, _)) = stems.first() {
         harmonic_axis(&mut p, f);
     }
     p
@@ -178,7 +193,7 @@ fn modes_figure(m: &ModesResult) -> LinePlot {
 
 /// None when the analysis applies no force (transfer functions of the coupled system
 /// only, drawn by [`super::coupled`]).
-fn harmonic_figure(h: &HarmonicResult) -> Option<MultiPanel> {
+fn harmonic_figure(h: &HarmonicResult, actuators: &[Actuator]) -> Option<MultiPanel> {
     let mut mob = LinePlot::new("Driving-point mobility", "frequency (Hz)", "|Y| (m/(N·s))");
     mob.log_x = true;
     mob.log_y = true;
@@ -191,11 +206,8 @@ fn harmonic_figure(h: &HarmonicResult) -> Option<MultiPanel> {
     }
     for j in 0..nforce {
         let y: Vec<f64> = h.mobility.iter().map(|m| m[j][j].norm().max(1e-300)).collect();
-        mob.series.push(Series::line(
-            format!("{} at x = {} m", h.point_names[j], h.point_x[j]),
-            h.frequency_hz.clone(),
-            y,
-        ));
+        let s = Series::line(format!("{} at x = {} m", h.point_names[j], h.point_x[j]), h.frequency_hz.clone(), y);
+        mob.series.push(palette::point_series(actuators, &h.point_names[j], s));
     }
     pw.series.push(Series::line(
         "input ½Re(F·V*)",
@@ -266,10 +278,10 @@ fn draw_run(dir: Dest, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                 }
             },
             AnalysisResult::Harmonic(h) => {
-                if let Some(fig) = harmonic_figure(h) {
+                if let Some(fig) = harmonic_figure(h, &run.model.actuators) {
                     out.extend(save(&fig, dir, &tag)?);
                 }
-                out.extend(super::coupled::transfer_figure(dir, &tag, h)?);
+                out.extend(super::coupled::transfer_figure(dir, &tag, h, &run.model.actuators)?);
             }
             AnalysisResult::Transient(t) => {
                 // Figures show the last periods (a whole history, `[output] full_history`,
@@ -284,10 +296,14 @@ fn draw_run(dir: Dest, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                     }
                     Some(rec) => {
                         // The drives' band, with a margin: beyond it the FRFs divide noise by noise.
-                        out.extend(record_figures(dir, &tag, time, &links, rec, 1.2 * rec.band.1)?)
+                        let acts = &run.model.actuators;
+                        out.extend(record_figures(dir, &tag, time, &links, acts, rec, 1.2 * rec.band.1)?)
                     }
                 }
                 out.extend(load_figures(dir, &tag, time, &t.loads, &t.load_spectra)?);
+                if t.record.is_none() && t.t.len() > n {
+                    out.extend(history_figures(dir, &tag, run, t)?);
+                }
             }
             AnalysisResult::SteadyState(s) => {
                 out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?);
@@ -305,11 +321,13 @@ fn draw_run(dir: Dest, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
 /// A non-periodic run's figures: the transmitted forces over the record, and per point its
 /// accelerance FRF from the drive, the power density into the structure and (with Welch
 /// segments) the coherence.
+#[allow(clippy::too_many_arguments)]
 fn record_figures(
     dir: Dest,
     tag: &str,
     t: &[f64],
     links: &[LinkSeries],
+    actuators: &[Actuator],
     rec: &crate::power::record::RecordAnalysis,
     f_max: f64,
 ) -> Result<Vec<PathBuf>> {
@@ -317,7 +335,7 @@ fn record_figures(
     if !links.is_empty() {
         let refs: Vec<&LinkSeries> = links.iter().collect();
         out.extend(save(
-            &forces_panel("transmitted forces over the record", t, &refs),
+            &forces_panel("transmitted forces over the record", t, &refs, actuators),
             dir,
             &format!("{tag}_record_time"),
         )?);
@@ -344,21 +362,20 @@ fn record_figures(
     let mut force = log_plot("force PSD at each point", "G_{FF} (N²/Hz)", true);
     let mut coh = log_plot("coherence of the accelerance", "γ²", false);
     let trusted = crate::power::record::COHERENCE_TRUSTED;
+    // Bins where some FRF's coherence says it is not to be trusted: shaded behind them.
+    let mut low = std::collections::BTreeSet::new();
     let mut frf_of = |name: &str, h: &[num_complex::Complex64], c: &[f64]| {
         let mag: Vec<f64> = h.iter().map(|h| h.norm().max(1e-300)).collect();
         let deg: Vec<f64> = h.iter().map(|h| h.arg().to_degrees()).collect();
+        let mine = |s: Series| palette::point_series(actuators, name, s);
         let (x, y) = pick(&mag, &|_| true);
-        frf.series.push(Series::line(name, x, y));
+        frf.series.push(mine(Series::line(name, x, y)));
         let (x, y) = pick(&deg, &|_| true);
-        phase.series.push(Series::line(name, x, y).wrapped(360.0));
+        phase.series.push(mine(Series::line(name, x, y).wrapped(360.0)));
         if !c.is_empty() {
-            // Bins whose coherence says the estimate is not to be trusted, marked.
-            let (x, y) = pick(&mag, &|k| c[k] < trusted);
-            if !x.is_empty() {
-                frf.series.push(Series::line(format!("{name}: γ² < {trusted}"), x, y).with_style(SeriesStyle::Markers));
-            }
+            low.extend(bins.iter().filter(|&&k| c[k] < trusted));
             let (x, y) = pick(c, &|_| true);
-            coh.series.push(Series::line(name, x, y));
+            coh.series.push(mine(Series::line(name, x, y)));
         }
     };
     for p in &rec.points {
@@ -368,11 +385,17 @@ fn record_figures(
         frf_of(&format!("sensor {}", sr.name), &sr.acceleration_frf, &sr.acceleration_coherence);
     }
     for p in &rec.points {
+        let mine = |s: Series| palette::point_series(actuators, &p.name, s);
         let (x, y) = pick(&p.power_density, &|_| true);
-        pd.series.push(Series::line(p.name.clone(), x, y));
+        pd.series.push(mine(Series::line(p.name.clone(), x, y)));
         let psd: Vec<f64> = p.force_psd.iter().map(|v| v.max(1e-300)).collect();
         let (x, y) = pick(&psd, &|_| true);
-        force.series.push(Series::line(p.name.clone(), x, y));
+        force.series.push(mine(Series::line(p.name.clone(), x, y)));
+    }
+    let bands = bands_of(f, &low);
+    for p in [&mut frf, &mut phase, &mut coh] {
+        p.shaded = bands.clone();
+        p.shaded_label = format!("γ² < {trusted}");
     }
     let mut panels = vec![frf, phase, pd, force];
     if !coh.series.is_empty() {
@@ -382,6 +405,71 @@ fn record_figures(
     let title =
         format!("record of {:.3} s: {kind}, {} segment(s) of {:.3} s", rec.duration, rec.segments, rec.segment_s);
     out.extend(save(&MultiPanel::new(title, panels), dir, &format!("{tag}_record_spectra"))?);
+    Ok(out)
+}
+
+/// The frequency intervals covered by `bins` (indices into the uniform grid `f`), each bin
+/// from halfway to its neighbours below to halfway to those above, adjacent bins merged.
+fn bands_of(f: &[f64], bins: &std::collections::BTreeSet<usize>) -> Vec<(f64, f64)> {
+    let df = if f.len() > 1 { f[1] - f[0] } else { 0.0 };
+    let mut out: Vec<(f64, f64)> = Vec::new();
+    for &k in bins {
+        let (lo, hi) = (f[k] - 0.5 * df, f[k] + 0.5 * df);
+        match out.last_mut() {
+            Some(last) if lo <= last.1 + 1e-9 * df => last.1 = hi,
+            _ => out.push((lo, hi)),
+        }
+    }
+    out
+}
+
+/// Buckets of a whole history drawn (each its least and largest value, in time order): the
+/// start-up's envelope stays exact however long the run.
+const HISTORY_BUCKETS: usize = 2000;
+
+/// `v` over `t` reduced to [`HISTORY_BUCKETS`] buckets of consecutive samples, each as its
+/// smallest and largest value in the order they occur.
+fn envelope(t: &[f64], v: &[f64]) -> (Vec<f64>, Vec<f64>) {
+    let per = t.len().div_ceil(HISTORY_BUCKETS).max(1);
+    if per == 1 {
+        return (t.to_vec(), v.to_vec());
+    }
+    let (mut x, mut y) = (Vec::new(), Vec::new());
+    for (tc, vc) in t.chunks(per).zip(v.chunks(per)) {
+        let lo = (0..vc.len()).min_by(|&a, &b| vc[a].total_cmp(&vc[b])).unwrap_or(0);
+        let hi = (0..vc.len()).max_by(|&a, &b| vc[a].total_cmp(&vc[b])).unwrap_or(0);
+        for k in if lo <= hi { [lo, hi] } else { [hi, lo] } {
+            x.push(tc[k]);
+            y.push(vc[k]);
+        }
+    }
+    (x, y)
+}
+
+/// A transient that kept its whole history (`[output] full_history`): each actuator's
+/// transmitted forces from t = 0, so the start-up shows, as an envelope of
+/// [`HISTORY_BUCKETS`] buckets.
+fn history_figures(
+    dir: Dest,
+    tag: &str,
+    run: &CaseRun,
+    t: &crate::analysis::transient::TransientResult,
+) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for (a, act) in run.model.actuators.iter().enumerate() {
+        let name = act.name();
+        let mut p = LinePlot::new(
+            format!("{name}: transmitted forces from the start, {} periods", t.periods_run),
+            "time (s)",
+            "transmitted force (N)",
+        );
+        for l in t.links.iter().filter(|l| l.actuator == a) {
+            let (x, y) = envelope(&t.t, &l.transmitted);
+            p.series.push(Series::line(link_label(l), x, y).coloured(palette::link(&run.model.actuators, l)));
+        }
+        p.notes = vec![format!("{} samples,", t.t.len()), format!("≤ {} buckets drawn", HISTORY_BUCKETS)];
+        out.extend(save(&p, dir, &format!("{tag}_{name}_history"))?);
+    }
     Ok(out)
 }
 
@@ -405,7 +493,7 @@ fn load_figures(
         let mut panels = vec![force, vel];
         if let Some(sp) = spectra.get(j) {
             let title = format!("{}: power per harmonic, {} in total", l.name, si(sp.power_total, "W", 4));
-            panels.push(power_spectrum_panel(&title, &[("P_{k}", &sp.frequency, &sp.power)], &[]));
+            panels.push(power_spectrum_panel(&title, &[("P_{k}", &sp.frequency, &sp.power, None)], &[]));
         }
         out.extend(save(
             &MultiPanel::new(format!("point load {}", l.name), panels),
@@ -447,14 +535,15 @@ fn periodic_figures(
         let name = act.name();
         let stack = mine.iter().copied().find(|&l| links[l].name == "stack").expect("every actuator has a stack");
         let mut panels = vec![
-            forces_panel(&format!("{name}: transmitted forces"), t, &refs),
+            forces_panel(&format!("{name}: transmitted forces"), t, &refs, &run.model.actuators),
             components_panel(&format!("{name}: components of the stack-foot force"), t, &links[stack]),
         ];
         if refs.iter().any(|l| l.foot_x.is_some()) {
             let x = ms_axis(t);
             let mut pp = LinePlot::new(format!("{name}: instantaneous power into the beam"), "time (ms)", "power (W)");
             for l in &refs {
-                pp.series.push(Series::line(link_label(l), x.clone(), l.power.clone()));
+                let s = Series::line(link_label(l), x.clone(), l.power.clone());
+                pp.series.push(s.coloured(palette::link(&run.model.actuators, l)));
             }
             panels.push(pp);
         }
@@ -469,16 +558,19 @@ fn periodic_figures(
             &format!("{tag}_{name}_time"),
         )?);
         let labels: Vec<String> = mine.iter().map(|&l| link_label(&links[l])).collect();
-        let specs: Vec<(&str, &LinkSpectrum)> =
-            mine.iter().zip(&labels).map(|(&l, s)| (s.as_str(), &spectra[l])).collect();
+        let colours: Vec<RGBColor> = mine.iter().map(|&l| palette::link(&run.model.actuators, &links[l])).collect();
+        let specs: Vec<ForceLines> =
+            mine.iter().zip(&labels).zip(&colours).map(|((&l, s), &c)| (s.as_str(), &spectra[l], c)).collect();
         out.extend(save(
             &spectrum_panel(&format!("{name}: transmitted-force spectrum"), &specs),
             dir,
             &format!("{tag}_{name}_spectrum"),
         )?);
         if refs.iter().any(|l| l.foot_x.is_some()) {
-            let lines: Vec<PowerLines> =
-                specs.iter().map(|(label, s)| (*label, s.frequency.as_slice(), s.power.as_slice())).collect();
+            let lines: Vec<PowerLines> = specs
+                .iter()
+                .map(|(label, s, c)| (*label, s.frequency.as_slice(), s.power.as_slice(), Some(*c)))
+                .collect();
             out.extend(save(
                 &power_spectrum_panel(&format!("{name}: power per harmonic"), &lines, &[]),
                 dir,
@@ -487,6 +579,7 @@ fn periodic_figures(
             let mut bar =
                 BarChart::new(format!("{name}: time-averaged power into the beam"), "interface point", "power (W)");
             bar.categories = labels.clone();
+            bar.category_colours = colours.clone();
             bar.groups.push((String::new(), mine.iter().map(|&l| mean[l]).collect()));
             bar.show_values = true;
             bar.notes = vec![format!("net: {}", si(mine.iter().map(|&l| mean[l]).sum(), "W", 4))];
@@ -537,6 +630,7 @@ pub fn modal_power_figure(m: &ModalDecomposition, run: &CaseRun, s: &SteadyState
     );
     bar.categories = shown.iter().map(|&r| format!("{}\n{:.0} Hz", r + 1, m.mode_frequency_hz[r])).collect();
     bar.categories.push("rest".into());
+    bar.group_colours = (0..run.model.actuators.len()).map(palette::actuator).collect();
     for (name, per_mode, total) in sources {
         let mut v: Vec<f64> = shown.iter().map(|&r| per_mode[r]).collect();
         v.push(total - v.iter().sum::<f64>());
@@ -585,7 +679,7 @@ mod tests {
             transmitted: vec![c(1.0), c(10.0), c(0.0), c(0.01), c(1e-300)],
             ..Default::default()
         };
-        let p = spectrum_panel("t", &[("stack", &s)]);
+        let p = spectrum_panel("t", &[("stack", &s, palette::point("frame", "stack"))]);
         let series = &p.series[0];
         // 60 Hz at 20 dB, 180 Hz at −40 dB; the zero and the 1e-300 line are not drawn.
         assert_eq!(series.x, vec![60.0, 180.0]);

@@ -127,12 +127,53 @@ pub fn details(summary: &str, inner: &str) -> String {
 pub fn figure(svg_path: &Path) -> Result<String> {
     let text = std::fs::read_to_string(svg_path).map_err(|e| Error::io(svg_path, e))?;
     let start = text.find("<svg").ok_or_else(|| Error::io(svg_path, std::io::Error::other("no <svg> element")))?;
-    let name = svg_path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let stem = svg_path.file_stem().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    // The figure's own anchor, then a link to each of its files beside the report.
+    let files: Vec<String> = crate::report::plot::Format::ALL
+        .iter()
+        .map(|f| svg_path.with_extension(f.ext()))
+        .filter(|p| p.exists())
+        .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .map(|n| file_link(&n, n.rsplit('.').next().unwrap_or("")))
+        .collect();
+    let id = anchor(&stem);
     Ok(format!(
-        "<figure>\n{}\n<figcaption>{}</figcaption>\n</figure>\n",
+        "<figure id=\"{id}\">\n{}\n<figcaption><a href=\"#{id}\">{}</a> · {}</figcaption>\n</figure>\n",
         text[start..].trim_end(),
-        escape(&name.replace(".svg", ".{png,svg}"))
+        escape(&stem),
+        files.join(" ")
     ))
+}
+
+/// The anchor of a figure in a report (`fig-<file stem>`).
+pub fn anchor(stem: &str) -> String {
+    let safe: String =
+        stem.chars().map(|c| if c.is_ascii_alphanumeric() || c == '-' || c == '_' { c } else { '-' }).collect();
+    format!("fig-{safe}")
+}
+
+/// A relative link to a file beside the report: its name percent-encoded in the href,
+/// the text escaped.
+pub fn file_link(name: &str, text: &str) -> String {
+    let href: String = name
+        .bytes()
+        .map(|b| match b {
+            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'-' | b'_' | b'.' | b'~' => (b as char).to_string(),
+            _ => format!("%{b:02X}"),
+        })
+        .collect();
+    format!("<a href=\"{href}\">{}</a>", escape(text))
+}
+
+/// The files of a run as a list of links to them (relative: the report sits beside them).
+pub fn file_list(files: &[std::path::PathBuf]) -> String {
+    let items: String = files
+        .iter()
+        .filter_map(|f| f.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+        .map(|n| format!("<li><code>{}</code></li>", file_link(&n, &n)))
+        .collect();
+    format!("<ul>{items}</ul>\n")
 }
 
 /// Markdown as the reports write it (headings, pipe tables, paragraphs, `code`) as HTML;

@@ -12,7 +12,12 @@ pub mod html;
 pub mod identify;
 pub mod measured;
 pub mod optimize;
+pub mod palette;
 pub mod plate;
 pub mod plot;
 pub mod run_page;
 pub mod sweep;
+
+/// Numbers for people, in the console and the reports alike: an SI prefix on the unit
+/// (`72.73 N`, `818.2 nW`), engineering notation where a unit takes none.
+pub use plot::text::{eng, si};

@@ -3,13 +3,19 @@
 
 use crate::error::Result;
 use crate::optimize::explain::{ModalComparison, Profile};
-use crate::report::plot::{BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
-use std::path::Path;
+use crate::report::plot::{save, BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
+use std::path::{Path, PathBuf};
 
 /// One panel per variable: the objective (`label`, `unit`) against the variable with the
 /// others held at the optimum, the optimum marked, the line broken where candidates are
 /// infeasible.
-pub fn plot_profiles(path: &Path, title: &str, label: &str, unit: &str, profiles: &[Profile]) -> Result<()> {
+pub fn plot_profiles(
+    dir: &Path,
+    name: &str,
+    title: &str,
+    (label, unit): (&str, &str),
+    profiles: &[Profile],
+) -> Result<Vec<PathBuf>> {
     let panels = profiles
         .iter()
         .map(|p| {
@@ -26,14 +32,14 @@ pub fn plot_profiles(path: &Path, title: &str, label: &str, unit: &str, profiles
             lp
         })
         .collect();
-    MultiPanel::new(title, panels).render(path)
+    save(&MultiPanel::new(title, panels), dir, name)
 }
 
 /// Grouped bars: each mode's share of the power the best and the poor candidate put into
 /// the first modes (their totals differ by orders of magnitude; the shares show where it
 /// goes). The shares are of the sum over the modes drawn, not of the net power, which
 /// higher modes and the static residual also carry.
-pub fn plot_modal(path: &Path, m: &ModalComparison) -> Result<()> {
+pub fn plot_modal(dir: &Path, name: &str, m: &ModalComparison) -> Result<Vec<PathBuf>> {
     let n = m.mode_frequency_hz.len();
     let mut b = BarChart::new(
         format!("Where the power goes: each bare-beam mode's share of the power into modes 1–{n}"),
@@ -48,18 +54,18 @@ pub fn plot_modal(path: &Path, m: &ModalComparison) -> Result<()> {
     b.groups =
         vec![(format!("best: {}", m.best_label), share(&m.best)), (format!("poor: {}", m.poor_label), share(&m.poor))];
     b.size = (1200, 650);
-    b.render(path)
+    save(&b, dir, name)
 }
 
 /// The two objectives of every feasible candidate evaluated, the Pareto front among them
 /// and the chosen compromise (the front's point nearest the ideal).
 pub fn plot_pareto(
-    path: &Path,
+    (dir, name): (&Path, &str),
     axes: [(&str, &str); 2],
     feasible: [Vec<f64>; 2],
     front: [Vec<f64>; 2],
     chosen: [f64; 2],
-) -> Result<()> {
+) -> Result<Vec<PathBuf>> {
     let label = |(name, unit): (&str, &str)| if unit == "1" { name.to_string() } else { format!("{name} ({unit})") };
     let mut lp = LinePlot::new("Pareto front of the two objectives", label(axes[0]), label(axes[1]));
     let [fx, fy] = feasible;
@@ -70,5 +76,5 @@ pub fn plot_pareto(
         Series::line("chosen: nearest the ideal point", vec![chosen[0]], vec![chosen[1]])
             .with_style(SeriesStyle::Markers),
     );
-    lp.render(path)
+    save(&lp, dir, name)
 }

@@ -77,13 +77,7 @@ impl RunReport<'_> {
             }
         }
         p.section("files", "Files of this run");
-        let names: String = self
-            .files
-            .iter()
-            .filter_map(|f| f.file_name())
-            .map(|n| format!("<li><code>{}</code></li>", escape(&n.to_string_lossy())))
-            .collect();
-        p.push(&format!("<ul>{names}</ul>\n"));
+        p.push(&super::html::file_list(self.files));
         p.push(&details(
             &format!("Every number of {}.json", self.stem()),
             &table(&["key", "value"], &json_rows(self.summary)),
@@ -112,13 +106,12 @@ impl RunReport<'_> {
     /// Per analysis: net and point powers, load powers, dissipation and the transmitted
     /// force at the drive frequency; natural frequencies for a modes analysis.
     fn headline(&self) -> String {
-        let names: Vec<String> = self.run.model.actuators.iter().map(|a| a.name().to_string()).collect();
         let mut rows = Vec::new();
         for (a, tag) in self.analyses().into_iter().zip(analysis_tags(self.run)) {
             let mut row =
                 |what: String, v: &Value, unit: &str| rows.push(vec![cell(&tag), cell(&what), num(f(v), unit)]);
-            for (i, v) in a["net_power_w"].as_array().into_iter().flatten().enumerate() {
-                row(format!("net power into the beam of {}", names.get(i).map_or("?", String::as_str)), v, "W");
+            for (name, v) in a["net_power_w"].as_object().into_iter().flatten() {
+                row(format!("net power into the beam of {name}"), v, "W");
             }
             for (k, v) in a["mean_power_w"].as_object().into_iter().flatten() {
                 row(format!("mean power at {k}"), v, "W");
@@ -139,8 +132,8 @@ impl RunReport<'_> {
                 for (k, v) in r["mean_power_w"].as_object().into_iter().flatten() {
                     row(format!("mean power over the record at {k}"), v, "W");
                 }
-                for (i, v) in r["net_energy_j"].as_array().into_iter().flatten().enumerate() {
-                    row(format!("net energy of {}", names.get(i).map_or("?", String::as_str)), v, "J");
+                for (name, v) in r["net_energy_j"].as_object().into_iter().flatten() {
+                    row(format!("net energy of {name}"), v, "J");
                 }
             }
             for (i, v) in a["frequencies_hz"].as_array().into_iter().flatten().enumerate() {

@@ -253,7 +253,8 @@ fn figure(t: &SweepTable) -> Option<Figure> {
         for (a, name) in t.actuators.iter().enumerate() {
             let y: Vec<f64> = order.iter().map(|&j| t.rows[j].net_power[a]).collect();
             all_pos &= y.iter().all(|&v| v > 0.0);
-            p.series.push(Series::line(name.clone(), xs.clone(), y).with_style(style));
+            let s = Series::line(name.clone(), xs.clone(), y).with_style(style);
+            p.series.push(s.coloured(crate::report::palette::actuator(a)));
         }
         if t.actuators.len() > 1 {
             let y: Vec<f64> = order.iter().map(|&j| t.rows[j].total_net_power()).collect();
@@ -266,9 +267,59 @@ fn figure(t: &SweepTable) -> Option<Figure> {
     None
 }
 
-/// The best cases by total net power, as a Markdown table of at most `n` rows.
+/// The rows that are local maxima of the total net power over the sweep's grid of one or
+/// two parameters (no neighbour along either parameter or diagonally is higher): the
+/// distinct optima, where the best rows overall would crowd around one peak. None when
+/// the rows do not fill such a grid.
+fn local_maxima(t: &SweepTable) -> Option<Vec<usize>> {
+    let axes: Vec<Vec<f64>> =
+        (0..t.parameters.len()).map(|k| sorted_unique(t.rows.iter().map(|r| r.inputs[k]))).collect();
+    if !(1..=2).contains(&axes.len()) || axes.iter().map(Vec::len).product::<usize>() != t.rows.len() {
+        return None;
+    }
+    let mut at = std::collections::HashMap::new();
+    for (j, r) in t.rows.iter().enumerate() {
+        let cell: Vec<i64> = axes
+            .iter()
+            .zip(&r.inputs)
+            .map(|(a, v)| a.binary_search_by(|x| x.total_cmp(v)).ok().map(|i| i as i64))
+            .collect::<Option<_>>()?;
+        if at.insert(cell, j).is_some() {
+            return None;
+        }
+    }
+    let p = |j: usize| t.rows[j].total_net_power();
+    let steps: Vec<Vec<i64>> = if axes.len() == 1 {
+        vec![vec![-1], vec![1]]
+    } else {
+        (-1..=1).flat_map(|a| (-1..=1).map(move |b| vec![a, b])).filter(|d| d != &[0, 0]).collect()
+    };
+    let mut optima: Vec<usize> = at
+        .iter()
+        .filter(|(cell, &j)| {
+            steps.iter().all(|d| {
+                let n: Vec<i64> = cell.iter().zip(d).map(|(c, d)| c + d).collect();
+                at.get(&n).is_none_or(|&k| p(k) <= p(j))
+            })
+        })
+        .map(|(_, &j)| j)
+        .collect();
+    optima.sort_unstable();
+    Some(optima)
+}
+
+/// What [`best_table`] holds, in words: `Best 3 distinct optima (…)` or `Best 8 cases`.
+pub fn best_title(t: &SweepTable) -> String {
+    match local_maxima(t) {
+        Some(o) => format!("Best {} distinct optima (local maxima of the grid)", o.len().min(t.best)),
+        None => format!("Best {} cases", t.rows.len().min(t.best)),
+    }
+}
+
+/// The best cases by total net power, as a Markdown table of at most `n` rows: on a grid
+/// its distinct optima ([`local_maxima`]), else the best rows.
 pub fn best_table(t: &SweepTable, n: usize) -> String {
-    let mut order: Vec<usize> = (0..t.rows.len()).collect();
+    let mut order: Vec<usize> = local_maxima(t).unwrap_or_else(|| (0..t.rows.len()).collect());
     order.sort_by(|&a, &b| t.rows[b].total_net_power().total_cmp(&t.rows[a].total_net_power()));
     let mut s = String::from("| rank | case |");
     for k in 0..t.parameters.len() {
@@ -337,7 +388,7 @@ pub fn markdown_report(t: &SweepTable) -> String {
     use crate::report::html::{markdown_code, markdown_escape};
     let mut s = format!(
         "# Sweep results: {}\n\nSweep {} (id {}), {} of {} cases, analysis `{}` with {} harmonics. Ranked by the \
-         net power into the beam (sum over actuators).\n\n## Best {} cases\n\n{}",
+         net power into the beam (sum over actuators).\n\n## {}\n\n{}",
         if t.title.is_empty() { "(untitled)".to_string() } else { markdown_escape(&t.title) },
         markdown_code(&t.sweep_file),
         markdown_code(&t.hash),
@@ -345,7 +396,7 @@ pub fn markdown_report(t: &SweepTable) -> String {
         t.total_cases,
         t.analysis,
         t.harmonics,
-        t.best.min(t.rows.len()),
+        best_title(t),
         best_table(t, t.best)
     );
     if let Some(b) = best_positions(t) {
@@ -364,7 +415,66 @@ pub fn write_markdown(t: &SweepTable, out: &Path) -> Result<PathBuf> {
 
 #[cfg(test)]
 mod tests {
-    use super::{axis_text, num};
+    use super::{axis_text, best_table, best_title, num};
+    use crate::sweep::table::{Row, SweepTable};
+
+    /// A sweep over position × frequency whose net power has two peaks, one of them on a
+    /// frequency line where its neighbours are the next-best cases overall.
+    fn two_peaks() -> SweepTable {
+        let (xs, fs) = ([0.1, 0.2, 0.3, 0.4, 0.5, 0.6], [20.0, 40.0, 60.0]);
+        let power = |x: f64, f: f64| {
+            let near = |x0: f64, f0: f64, w: f64| w * (-((x - x0) / 0.1).powi(2) - ((f - f0) / 20.0).powi(2)).exp();
+            near(0.2, 40.0, 10.0) + near(0.5, 40.0, 3.0)
+        };
+        let rows = fs
+            .iter()
+            .flat_map(|&f| xs.iter().map(move |&x| (x, f)))
+            .enumerate()
+            .map(|(index, (x, f))| Row {
+                index,
+                inputs: vec![x, f],
+                net_power: vec![power(x, f)],
+                mean_power: vec![],
+                force_amplitude: vec![],
+                beam_dissipation: power(x, f),
+                balance_error: 0.0,
+            })
+            .collect();
+        SweepTable {
+            title: String::new(),
+            sweep_file: "s.sweep.toml".into(),
+            sweep_text: String::new(),
+            base_text: String::new(),
+            hash: String::new(),
+            total_cases: 18,
+            shard: crate::sweep::Shard::ALL,
+            analysis: "steady_state".into(),
+            harmonics: 1,
+            samples_per_period: 64,
+            damping: None,
+            best: 8,
+            parameters: vec!["actuator[0].x_e".into(), "actuator[0].voltage.frequency".into()],
+            units: vec!["m".into(), "Hz".into()],
+            actuators: vec!["frame".into()],
+            links: vec![],
+            rows,
+        }
+    }
+
+    #[test]
+    fn the_best_cases_of_a_grid_are_its_distinct_optima() {
+        let t = two_peaks();
+        let table = best_table(&t, t.best);
+        let ranked: Vec<&str> = table.lines().skip(2).collect();
+        // Two peaks, not the eight cases nearest the higher one.
+        assert_eq!(ranked.len(), 2, "{table}");
+        assert!(ranked[0].starts_with("| 1 | 7 |") && ranked[1].starts_with("| 2 | 10 |"), "{table}");
+        assert_eq!(best_title(&t), "Best 2 distinct optima (local maxima of the grid)");
+        // Rows that fill no grid: the best rows, as before.
+        let mut scattered = t.clone();
+        scattered.rows.truncate(17);
+        assert_eq!(best_table(&scattered, 8).lines().count(), 2 + 8);
+    }
 
     #[test]
     fn axes_name_the_quantity_whose_it_is_and_its_unit() {

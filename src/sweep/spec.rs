@@ -121,16 +121,7 @@ pub struct Sweep {
     counts: Vec<usize>,
 }
 
-/// FNV-1a, 64 bit: stable across platforms and versions of Rust (unlike `DefaultHasher`).
-pub fn fnv1a(bytes: &[u8], mut h: u64) -> u64 {
-    for &b in bytes {
-        h ^= b as u64;
-        h = h.wrapping_mul(0x0100_0000_01b3);
-    }
-    h
-}
-
-pub const FNV_OFFSET: u64 = 0xcbf2_9ce4_8422_2325;
+pub use crate::io::hash::{fnv1a, FNV_OFFSET};
 
 /// Most values one parameter's range may take (its values are held before any case runs).
 pub const MAX_PARAMETER_VALUES: usize = 100_000;

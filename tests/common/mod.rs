@@ -57,3 +57,48 @@ pub fn case_error_run(text: &str) -> String {
         Err(e) => e.to_string(),
     }
 }
+
+/// The cells of one CSV line (RFC 4180 quotes, no line breaks inside a cell).
+pub fn csv_cells(line: &str) -> Vec<String> {
+    let (mut cells, mut cell, mut quoted) = (Vec::new(), String::new(), false);
+    let mut chars = line.chars().peekable();
+    while let Some(c) = chars.next() {
+        match (c, quoted) {
+            ('"', true) if chars.peek() == Some(&'"') => {
+                cell.push('"');
+                chars.next();
+            }
+            ('"', _) => quoted = !quoted,
+            (',', false) => cells.push(std::mem::take(&mut cell)),
+            _ => cell.push(c),
+        }
+    }
+    cells.push(cell);
+    cells
+}
+
+/// Checks a CSV text against the one header convention of every CSV file beamflow writes:
+/// `name [unit]`, no unit for a text, count or index column, and a unit on every column
+/// of real numbers. Returns what breaks it.
+pub fn csv_header_convention(file: &str, text: &str) -> Result<(), String> {
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let header = csv_cells(lines.next().ok_or(format!("{file}: empty"))?);
+    let first = lines.next().map(csv_cells).unwrap_or_default();
+    for (k, h) in header.iter().enumerate() {
+        let unit = h.strip_suffix(']').and_then(|s| s.rsplit_once(" [")).map(|(name, unit)| (name, unit));
+        match unit {
+            Some((name, unit)) if !name.is_empty() && !unit.is_empty() && !name.contains('[') => {}
+            Some(_) => return Err(format!("{file}: column `{h}` is not `name [unit]`")),
+            None if h.contains('[') || h.contains(']') || h.trim_end().ends_with(')') => {
+                return Err(format!("{file}: column `{h}` is not `name [unit]`"))
+            }
+            None => {
+                let cell = first.get(k).map_or("", String::as_str);
+                if cell.parse::<i64>().is_err() && cell.parse::<f64>().is_ok() {
+                    return Err(format!("{file}: column `{h}` holds real numbers ({cell}) but names no unit"));
+                }
+            }
+        }
+    }
+    Ok(())
+}

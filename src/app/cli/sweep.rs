@@ -63,7 +63,11 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         s.analysis.as_str(),
         s.harmonics,
         match s.base.cached_damping {
-            Some(r) => format!(", Rayleigh a0 = {:.6e} 1/s, a1 = {:.6e} s computed once", r.a0, r.a1),
+            Some(r) => format!(
+                ", Rayleigh a0 = {} 1/s, a1 = {} computed once",
+                crate::report::eng(r.a0, 4),
+                crate::report::si(r.a1, "s", 4)
+            ),
             None => String::new(),
         }
     ));
@@ -96,10 +100,6 @@ fn report_files(t: &SweepTable, files: &[PathBuf], plots: bool) {
         crate::say!("wrote {}", p.display());
     }
     if plots {
-        crate::say!(
-            "\nBest {} cases by net power into the beam:\n{}",
-            t.best.min(t.rows.len()),
-            report::best_table(t, t.best)
-        );
+        crate::say!("\n{} by net power into the beam:\n{}", report::best_title(t), report::best_table(t, t.best));
     }
 }

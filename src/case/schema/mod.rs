@@ -5,12 +5,14 @@ mod actuator;
 mod analysis;
 mod beam;
 mod imported;
+mod output;
 mod plate;
 
 pub use actuator::*;
 pub use analysis::*;
 pub use beam::*;
 pub use imported::*;
+pub use output::*;
 pub use plate::*;
 
 use super::signal;
@@ -78,6 +80,9 @@ pub struct OutputSpec {
     /// Keep whole time histories in the HDF5 file (else the last periods only).
     #[serde(default)]
     pub full_history: bool,
+    /// How the figures look and which are drawn.
+    #[serde(default, skip_serializing_if = "FiguresSpec::is_default")]
+    pub figures: FiguresSpec,
 }
 
 impl Default for OutputSpec {
@@ -371,6 +376,7 @@ impl Case {
         }
         self.validate_names(file)?;
         self.validate_measurement_names(file)?;
+        self.output.figures.validate(file)?;
         for (i, an) in self.analysis.iter().enumerate() {
             an.validate(file, &format!("analysis[{i}]"), self)?;
         }

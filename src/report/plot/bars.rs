@@ -10,8 +10,8 @@ use super::axis::{fit_range, Axis};
 use super::legend::{Entry, Legend, Place, Swatch};
 use super::text::{self, eng, prefixable, si};
 use super::{
-    axis_texts, check_values, de, font, palette_color, plot_pixels, titled, x_label_height, y_label_width, BarChart,
-    DrawResult, Drawable, Marker, TICK_PX,
+    axis_texts, check_values, de, font, plot_pixels, titled, x_label_height, y_label_width, BarChart, DrawResult,
+    Drawable, Marker, TICK_PX,
 };
 use crate::error::{Error, Result};
 
@@ -24,7 +24,7 @@ impl BarChart {
             .filter(|(_, (name, _))| !name.is_empty())
             .map(|(g, (name, _))| Entry {
                 label: name.clone(),
-                color: palette_color(g),
+                color: self.bar_colour(g, usize::MAX),
                 swatch: Swatch::Bar,
                 marker: Marker::nth(0),
             })
@@ -44,6 +44,9 @@ impl BarChart {
 impl Drawable for BarChart {
     fn size(&self) -> (u32, u32) {
         self.size
+    }
+    fn linear(&self) -> Option<Self> {
+        self.log_y.then(|| BarChart { log_y: false, ..self.clone() })
     }
     fn validate(&self, file: &str) -> Result<()> {
         if self.categories.is_empty() || self.groups.is_empty() {
@@ -136,10 +139,9 @@ impl BarChart {
         let (xlo, xhi) = (-0.5, self.categories.len() as f64 - 0.5);
         let w = 0.8 / self.groups.len() as f64;
         for (g, (_, values)) in self.groups.iter().enumerate() {
-            let color = palette_color(g);
             let bars = values.iter().enumerate().map(|(i, &v)| {
                 let x0 = i as f64 - 0.4 + g as f64 * w;
-                Rectangle::new([(x0 + 0.02 * w, base), (x0 + 0.98 * w, v)], color.filled())
+                Rectangle::new([(x0 + 0.02 * w, base), (x0 + 0.98 * w, v)], self.bar_colour(g, i).filled())
             });
             c.draw_series(bars).map_err(de)?;
         }

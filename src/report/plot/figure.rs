@@ -88,6 +88,9 @@ impl Figure for super::MapGrid {
 /// Writes `dir/name.<ext>` in each figure format (PNG and SVG unless `--formats` says
 /// otherwise) and returns the paths; or keeps the drawing as `name` (no paths).
 pub fn save<'a>(fig: &dyn Figure, to: impl Into<Dest<'a>>, name: &str) -> Result<Vec<PathBuf>> {
+    if !super::wanted(name.trim_start_matches('_')) {
+        return Ok(Vec::new());
+    }
     let dir = match to.into() {
         Dest::Folder(dir) => dir,
         Dest::Keep(kept) => {

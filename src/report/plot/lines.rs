@@ -10,8 +10,8 @@ use plotters::prelude::*;
 use super::axis::{fit_range, symlog, Axis, Scale};
 use super::legend::{Entry, Legend, Place, Swatch};
 use super::{
-    axis_texts, check_range, check_values, de, font, palette_color, plot_pixels, titled, x_label_height, y_label_width,
-    DrawResult, Drawable, LinePlot, Marker, MultiPanel, Series, SeriesStyle, LINE_W, TICK_PX, TITLE_PX,
+    axis_texts, check_range, check_values, de, font, plot_pixels, titled, x_label_height, y_label_width, DrawResult,
+    Drawable, LinePlot, Marker, MultiPanel, Series, SeriesStyle, LINE_W, TICK_PX, TITLE_PX,
 };
 use crate::error::{Error, Result};
 
@@ -123,7 +123,7 @@ impl LinePlot {
             .filter(|(_, s)| !s.label.is_empty())
             .map(|(i, s)| Entry {
                 label: s.label.clone(),
-                color: palette_color(i),
+                color: s.colour_at(i),
                 marker: Marker::nth(i),
                 swatch: match s.style {
                     SeriesStyle::Line => Swatch::Line,
@@ -133,7 +133,12 @@ impl LinePlot {
                     SeriesStyle::Stems => Swatch::Stems,
                 },
             })
-            .collect();
+            .collect::<Vec<_>>();
+        let mut entries = entries;
+        if !self.shaded.is_empty() && !self.shaded_label.is_empty() {
+            let marker = Marker::nth(0);
+            entries.push(Entry { label: self.shaded_label.clone(), color: super::SHADE, swatch: Swatch::Bar, marker });
+        }
         Legend { entries, notes: self.notes.clone() }
     }
 
@@ -218,6 +223,12 @@ where
 {
     let fx = |v: &f64| ax.text(*v);
     let fy = |v: &f64| ay.text(*v);
+    // Bands first: behind the grid and the data.
+    let bands = p.shaded.iter().filter_map(|&(a, b)| {
+        let (lo, hi) = (a.max(bx.x.0), b.min(bx.x.1));
+        (lo < hi).then(|| Rectangle::new([(lo, bx.y.0), (hi, bx.y.1)], super::SHADE.filled()))
+    });
+    c.draw_series(bands).map_err(de)?;
     c.configure_mesh()
         .x_label_formatter(&fx)
         .y_label_formatter(&fy)
@@ -433,11 +444,13 @@ where
     let length = |y: f64| (bx.fwd((1.0, y)).1 - bx.fwd((1.0, base)).1).abs();
     lines.sort_by(|a, b| length(b.1).total_cmp(&length(a.1)));
     c.draw_series(
-        lines.iter().map(|&(x, y, i)| PathElement::new(vec![(x, base), (x, y)], palette_color(i).stroke_width(lw))),
+        lines
+            .iter()
+            .map(|&(x, y, i)| PathElement::new(vec![(x, base), (x, y)], series[i].colour_at(i).stroke_width(lw))),
     )
     .map_err(de)?;
     for (i, s) in series.iter().enumerate() {
-        let color = palette_color(i);
+        let color = s.colour_at(i);
         if matches!(s.style, SeriesStyle::Line | SeriesStyle::LineMarkers | SeriesStyle::Dashed) {
             // A decimated piece is a per-column envelope whose strokes reverse within a
             // pixel column; joins of a thick polyline at such turns spike far outside the
@@ -474,6 +487,9 @@ impl Drawable for LinePlot {
     fn size(&self) -> (u32, u32) {
         self.size
     }
+    fn linear(&self) -> Option<Self> {
+        (self.log_x || self.log_y || self.symlog_y.is_some()).then(|| self.linearised())
+    }
     fn validate(&self, file: &str) -> Result<()> {
         self.check(file, "")
     }
@@ -488,12 +504,23 @@ impl MultiPanel {
     }
 }
 
+impl LinePlot {
+    /// The same plot on linear axes.
+    fn linearised(&self) -> LinePlot {
+        LinePlot { log_x: false, log_y: false, symlog_y: None, ..self.clone() }
+    }
+}
+
 impl Drawable for MultiPanel {
     fn size(&self) -> (u32, u32) {
         let title = if self.title.is_empty() { 0 } else { TITLE_PX + 20 };
         let cols = self.columns.max(1) as u32;
         let width = if cols == 1 { 1000 } else { 700 * cols };
         self.size.unwrap_or((width, 320 * self.rows() as u32 + title))
+    }
+    fn linear(&self) -> Option<Self> {
+        let log = self.panels.iter().any(|p| p.log_x || p.log_y || p.symlog_y.is_some());
+        log.then(|| MultiPanel { panels: self.panels.iter().map(LinePlot::linearised).collect(), ..self.clone() })
     }
     fn validate(&self, file: &str) -> Result<()> {
         if self.panels.is_empty() {

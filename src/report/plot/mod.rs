@@ -108,9 +108,78 @@ fn font(px: u32) -> TextStyle<'static> {
     (FontFamily::SansSerif, px).into_text_style(&(0u32, 0u32))
 }
 
-/// The formats every figure is written in, one bit per [`Format::ALL`] entry: PNG and SVG
-/// unless the command line's `--formats` says otherwise.
-static FORMATS: AtomicU8 = AtomicU8::new(0b011);
+/// The formats every figure is written in, one bit per [`Format::ALL`] entry, as the
+/// command line's `--formats` set them; 0: not set (a case's, else PNG and SVG).
+static FORMATS: AtomicU8 = AtomicU8::new(0);
+
+/// Formats when neither the command line nor the case names any: PNG and SVG.
+const DEFAULT_FORMATS: u8 = 0b011;
+
+/// How one run's figures look and which are drawn (a case's `[output.figures]`), in force
+/// on this thread while a [`Scoped`] guard lives. The command line's `--formats` and
+/// `--dpi` take precedence.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Settings {
+    /// Every figure's width (px at 100 dpi), its height scaled with it.
+    pub width: Option<u32>,
+    /// Text and lines this many times their size against the figure.
+    pub font_scale: Option<f64>,
+    pub formats: Option<Vec<Format>>,
+    pub dpi: Option<u32>,
+    /// Every axis linear, also where the data span decades.
+    pub linear: bool,
+    /// Only figures whose names end in `_<one of these>`.
+    pub only: Vec<String>,
+}
+
+impl From<&crate::case::FiguresSpec> for Settings {
+    fn from(s: &crate::case::FiguresSpec) -> Self {
+        let formats = s
+            .formats
+            .as_ref()
+            .map(|names| Format::ALL.into_iter().filter(|f| names.iter().any(|n| n == f.ext())).collect::<Vec<_>>());
+        Settings {
+            width: s.width_px(),
+            font_scale: s.font_scale,
+            formats,
+            dpi: s.dpi,
+            linear: s.log_axes == Some(false),
+            only: s.only.clone(),
+        }
+    }
+}
+
+thread_local! {
+    static SETTINGS: std::cell::RefCell<Settings> = std::cell::RefCell::new(Settings::default());
+}
+
+/// The figure settings in force on this thread.
+fn settings() -> Settings {
+    SETTINGS.with(|s| s.borrow().clone())
+}
+
+/// Puts figure settings in force on this thread until it is dropped (then the previous
+/// ones again), so one run's settings never leak into the next.
+pub struct Scoped(Settings);
+
+impl Scoped {
+    pub fn new(s: Settings) -> Scoped {
+        Scoped(SETTINGS.with(|c| c.replace(s)))
+    }
+}
+
+impl Drop for Scoped {
+    fn drop(&mut self) {
+        let previous = std::mem::take(&mut self.0);
+        SETTINGS.with(|c| *c.borrow_mut() = previous);
+    }
+}
+
+/// Whether the figure named `name` is drawn under the settings in force.
+pub fn wanted(name: &str) -> bool {
+    let only = settings().only;
+    only.is_empty() || only.iter().any(|o| name == o || name.ends_with(&format!("_{o}")))
+}
 
 /// Sets the formats of every figure this process writes (`png`, `svg`, `pdf`): the command
 /// line's `--formats`. SVG is among them always: the HTML reports hold the SVG files.
@@ -132,12 +201,23 @@ pub fn set_figure_formats(names: &[String]) -> Result<()> {
 
 /// The formats figures are written in ([`set_figure_formats`]).
 pub fn figure_formats() -> Vec<Format> {
-    let mask = FORMATS.load(Ordering::Relaxed);
+    let cli = FORMATS.load(Ordering::Relaxed);
+    let case = settings().formats.map(|f| f.iter().fold(0u8, |m, f| m | 1 << *f as u8)).filter(|&m| m != 0);
+    let mask = if cli != 0 { cli } else { case.unwrap_or(DEFAULT_FORMATS) };
     Format::ALL.into_iter().filter(|f| mask & (1 << *f as u8) != 0).collect()
 }
 
-/// The resolution PNG files are drawn at (dots per inch; sizes are given at 100).
-static PNG_DPI: AtomicU32 = AtomicU32::new(100);
+/// The resolution PNG files are drawn at (dots per inch; sizes are given at 100) as the
+/// command line's `--dpi` set it; 0: not set (a case's, else 100).
+static PNG_DPI: AtomicU32 = AtomicU32::new(0);
+
+/// The resolution of PNG files under the command line and the settings in force.
+fn png_dpi() -> u32 {
+    match PNG_DPI.load(Ordering::Relaxed) {
+        0 => settings().dpi.unwrap_or(100),
+        d => d,
+    }
+}
 
 /// Sets the resolution of every PNG figure this process writes, like a printer setting:
 /// the command line's `--dpi`. SVG files do not depend on it.
@@ -246,12 +326,26 @@ pub struct Series {
     /// Indices i where the line starts anew: no line joins point i − 1 to point i (a gap
     /// in the data, e.g. candidates that could not be solved).
     pub breaks: Vec<usize>,
+    /// The series' own colour (a point's or an actuator's, [`crate::report::palette`]);
+    /// `None`: the plot's colour cycle by the series' place.
+    pub colour: Option<RGBColor>,
 }
 
 impl Series {
     /// A series drawn as a connected line.
     pub fn line(label: impl Into<String>, x: Vec<f64>, y: Vec<f64>) -> Self {
-        Series { label: label.into(), x, y, style: SeriesStyle::Line, wrap: None, breaks: Vec::new() }
+        Series { label: label.into(), x, y, style: SeriesStyle::Line, wrap: None, breaks: Vec::new(), colour: None }
+    }
+
+    /// The same series in `colour` (a point's or an actuator's, the same in every figure).
+    pub fn coloured(mut self, colour: RGBColor) -> Self {
+        self.colour = Some(colour);
+        self
+    }
+
+    /// The colour it is drawn in, being the `i`-th series of its plot.
+    fn colour_at(&self, i: usize) -> RGBColor {
+        self.colour.unwrap_or_else(|| palette_color(i))
     }
 
     /// The same series as an angle of `period` (y units): lines break where it wraps.
@@ -296,7 +390,14 @@ pub struct LinePlot {
     pub notes: Vec<String>,
     /// Figure size in pixels at 100 dpi (width, height); ignored inside a [`MultiPanel`].
     pub size: (u32, u32),
+    /// x intervals shaded as a light band behind the series (where an estimate is not to
+    /// be trusted), with their legend text.
+    pub shaded: Vec<(f64, f64)>,
+    pub shaded_label: String,
 }
+
+/// The fill of [`LinePlot::shaded`] bands: light, so every series stays readable on it.
+pub const SHADE: RGBColor = RGBColor(255, 226, 170);
 
 impl Default for LinePlot {
     fn default() -> Self {
@@ -313,6 +414,8 @@ impl Default for LinePlot {
             stem_base: 0.0,
             notes: Vec::new(),
             size: (1000, 600),
+            shaded: Vec::new(),
+            shaded_label: String::new(),
         }
     }
 }
@@ -386,6 +489,11 @@ pub struct BarChart {
     /// Lines of text under the legend.
     pub notes: Vec<String>,
     pub size: (u32, u32),
+    /// Each group's colour (groups that are actuators); missing: the colour cycle.
+    pub group_colours: Vec<RGBColor>,
+    /// Each category's colour, for every bar in it (categories that are points or
+    /// actuators); it takes precedence over the group's.
+    pub category_colours: Vec<RGBColor>,
 }
 
 impl BarChart {
@@ -400,7 +508,15 @@ impl BarChart {
             log_y: false,
             notes: Vec::new(),
             size: (1000, 600),
+            group_colours: Vec::new(),
+            category_colours: Vec::new(),
         }
+    }
+
+    /// The colour of group `g`'s bar in category `i`.
+    fn bar_colour(&self, g: usize, i: usize) -> RGBColor {
+        let group = || self.group_colours.get(g).copied().unwrap_or_else(|| palette_color(g));
+        self.category_colours.get(i).copied().unwrap_or_else(group)
     }
 
     /// Writes the figure to `path` (`.png` or `.svg`).
@@ -512,6 +628,13 @@ type DrawResult = std::result::Result<(), String>;
 /// any plotters backend (bitmap or SVG) so both formats share one code path.
 trait Drawable {
     fn size(&self) -> (u32, u32);
+    /// The figure with every axis linear, where it has a logarithmic one.
+    fn linear(&self) -> Option<Self>
+    where
+        Self: Sized,
+    {
+        None
+    }
     fn validate(&self, file: &str) -> Result<()>;
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult;
 }
@@ -529,7 +652,7 @@ fn render_figure<F: Drawable>(fig: &F, path: &Path) -> Result<()> {
     let svg = svg_string(fig, &file)?;
     match format {
         Format::Svg => crate::io::atomic::write_atomic_string(path, &svg),
-        Format::Png => write_atomic_bytes(path, &png_bytes(&svg, PNG_DPI.load(Ordering::Relaxed), &file)?),
+        Format::Png => write_atomic_bytes(path, &png_bytes(&svg, png_dpi(), &file)?),
         Format::Pdf => write_atomic_bytes(path, &pdf_bytes(&svg, &file)?),
     }
 }
@@ -556,13 +679,29 @@ impl Format {
     }
 }
 
-/// The figure as SVG text (`name` names it in messages), its text as outlines.
+/// The figure as SVG text (`name` names it in messages), its text as outlines, under the
+/// settings in force: every axis linear if asked; drawn on a canvas of its size over the
+/// font scale and shown at the width asked (the view box scales text and lines with it).
 fn svg_string<F: Drawable>(fig: &F, name: &str) -> Result<String> {
+    let s = settings();
+    if s.linear {
+        if let Some(lin) = fig.linear() {
+            return svg_string(&lin, name);
+        }
+    }
     fig.validate(name)?;
     ensure_font()?;
+    let (w, h) = fig.size();
+    let k = s.width.map_or(1.0, |width| width as f64 / w as f64);
+    let shown = ((w as f64 * k).round() as u32, (h as f64 * k).round() as u32);
+    let zoom = k / s.font_scale.unwrap_or(1.0);
+    let canvas = ((w as f64 * zoom).round().max(16.0) as u32, (h as f64 * zoom).round().max(16.0) as u32);
     let mut out = String::new();
-    draw_on(SVGBackend::with_string(&mut out, fig.size()).into_drawing_area(), fig)
-        .map_err(|m| drawing_error(name, m))?;
+    draw_on(SVGBackend::with_string(&mut out, canvas).into_drawing_area(), fig).map_err(|m| drawing_error(name, m))?;
+    if shown != canvas {
+        let from = format!("<svg width=\"{}\" height=\"{}\"", canvas.0, canvas.1);
+        out = out.replacen(&from, &format!("<svg width=\"{}\" height=\"{}\"", shown.0, shown.1), 1);
+    }
     Ok(outline::outline_text(&out, font_ref()?))
 }
 
