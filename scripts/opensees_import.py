@@ -117,7 +117,9 @@ def navier_hz(count):
 
 
 def matrix(m, c, k):
-    """The assembled m·M + c·C + k·K over OpenSees' equations."""
+    """The assembled m·M + c·C + k·K over OpenSees' equations. analyze(1) also tries to
+    solve with it, and OpenSees warns when that matrix is singular (a mass matrix without
+    rotary inertia); printA returns the matrix as assembled all the same."""
     ops.wipeAnalysis()
     ops.system("FullGeneral")
     ops.numberer("Plain")
