@@ -89,23 +89,31 @@ def legend(ax):
     ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False, fontsize=9)
 
 
+def dress(ax, title, xlabel, ylabel):
+    """Title, axis names with units, a light grid, and the legend right of the plot."""
+    ax.set(title=title, xlabel=xlabel, ylabel=ylabel)
+    ax.grid(alpha=0.3)
+    legend(ax)
+
+
+def figure(title, rows=2, cols=1, size=(10, 6.84)):
+    fig, axes = plt.subplots(rows, cols, figsize=size, layout="constrained")
+    fig.suptitle(title)
+    return fig, axes
+
+
 def fig08(s, out):
-    fig, (a, b) = plt.subplots(2, 1, figsize=(10, 6.84), layout="constrained")
-    fig.suptitle("Fig. 8 — transmitted forces on a rigid base, 48 V, 30 Hz")
+    fig, (a, b) = figure("Fig. 8 — transmitted forces on a rigid base, 48 V, 30 Hz")
     a.plot(s.ms, s["links/inertial_stack/transmitted"] * 1e3, color=COLOUR["inertial_stack"], label="stack foot")
-    a.set(title="inertial-type: $F_T$", xlabel="time (ms)", ylabel="transmitted force (mN)")
+    dress(a, "inertial-type: $F_T$", "time (ms)", "transmitted force (mN)")
     for link in FRAME:
         b.plot(s.ms, s[f"links/{link}/transmitted"], color=COLOUR[link], label=LABEL[link])
-    b.set(title="frame-type: $F_E$, $F_L$, $F_R$", xlabel="time (ms)", ylabel="transmitted force (N)")
-    for ax in (a, b):
-        ax.grid(alpha=0.3)
-        legend(ax)
+    dress(b, "frame-type: $F_E$, $F_L$, $F_R$", "time (ms)", "transmitted force (N)")
     finish(fig, out, "mpl-fig08.png")
 
 
 def fig09(s, out):
-    fig, axes = plt.subplots(2, 2, figsize=(14, 6.84), layout="constrained")
-    fig.suptitle("Fig. 9 — components of the stack-foot force and their sum")
+    fig, axes = figure("Fig. 9 — components of the stack-foot force and their sum", 2, 2, (14, 6.84))
     for col, (link, kind, name, scale, unit) in enumerate(
         [("inertial_stack", "inertial-type", "F_T", 1e3, "mN"), ("frame_stack", "frame-type", "F_E", 1.0, "N")]
     ):
@@ -114,25 +122,17 @@ def fig09(s, out):
         top.plot(s.ms, s[p + "f_stiffness"], color="#17becf", label=r"stiffness $k\,u$")
         top.plot(s.ms, s[p + "f_damping"], color="#bcbd22", ls="--", label=r"damping $c\,\dot u$")
         top.plot(s.ms, s[p + "f_pzt"], color="#e377c2", label=r"PZT $-F_p$")
-        top.set(title=f"{kind}: components of ${name}$", xlabel="time (ms)", ylabel="force (N)")
+        dress(top, f"{kind}: components of ${name}$", "time (ms)", "force (N)")
         total = s[p + "transmitted"]
         largest = max(np.max(np.abs(s[p + c])) for c in ("f_stiffness", "f_damping", "f_pzt"))
         share = np.max(np.abs(total)) / largest * 100
         bottom.plot(s.ms, total * scale, color=COLOUR[link], label=f"total ${name}$")
-        bottom.set(
-            title=f"{kind}: total ${name}$, {share:.2g} % of the largest component",
-            xlabel="time (ms)",
-            ylabel=f"force ({unit})",
-        )
-        for ax in (top, bottom):
-            ax.grid(alpha=0.3)
-            legend(ax)
+        dress(bottom, f"{kind}: total ${name}$, {share:.2g} % of the largest component", "time (ms)", f"force ({unit})")
     finish(fig, out, "mpl-fig09.png")
 
 
 def fig10(s, out):
-    fig, axes = plt.subplots(3, 1, figsize=(10, 10.04), layout="constrained")
-    fig.suptitle("Fig. 10 — top displacements on a rigid base")
+    fig, axes = figure("Fig. 10 — top displacements on a rigid base", 3, 1, (10, 10.04))
     panels = [
         ("inertial-type: top mass $z_t$", "bodies/inertial_z_t/q", "$z_t$", r"$z_t$ (µm)"),
         ("frame-type: top beam $y$", "bodies/frame_y/q", "$y$", r"$y$ (µm)"),
@@ -140,21 +140,16 @@ def fig10(s, out):
     ]
     for ax, (title, column, label, ylabel) in zip(axes, panels):
         ax.plot(s.ms, s[column] * 1e6, color="#1f77b4", label=label)
-        ax.set(title=title, xlabel="time (ms)", ylabel=ylabel)
-        ax.grid(alpha=0.3)
-        legend(ax)
+        dress(ax, title, "time (ms)", ylabel)
     finish(fig, out, "mpl-fig10.png")
 
 
 def fig11(folder, out):
-    fig, ax = plt.subplots(figsize=(10, 6), layout="constrained")
-    fig.suptitle("Fig. 11 — inertial-type $F_T$ against top mass (rigid base, 48 V, 30 Hz)")
+    fig, ax = figure("Fig. 11 — inertial-type $F_T$ against top mass (rigid base, 48 V, 30 Hz)", 1, 1, (10, 6))
     for m_t, colour in zip(["0.1", "0.3", "0.5", "1"], ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728"]):
         s = Series(table(folder, f"rigid-inertial-mt-{m_t}", 0, "transient_series"))
         ax.plot(s.ms, s["links/inertial_stack/transmitted"] * 1e3, color=colour, lw=1.2, label=f"$m_t$ = {m_t} kg")
-    ax.set(xlabel="time (ms)", ylabel="transmitted force $F_T$ (mN)")
-    ax.grid(alpha=0.3)
-    legend(ax)
+    dress(ax, None, "time (ms)", "transmitted force $F_T$ (mN)")
     finish(fig, out, "mpl-fig11.png")
 
 
@@ -166,8 +161,7 @@ def stems(ax, f, y, colour, marker, label, bottom):
 
 
 def fig12(sp, out):
-    fig, axes = plt.subplots(2, 1, figsize=(10, 6.84), layout="constrained")
-    fig.suptitle("Fig. 12 — transmitted-force spectra: the drive and its odd harmonics")
+    fig, axes = figure("Fig. 12 — transmitted-force spectra: the drive and its odd harmonics")
     panels = [
         ("inertial-type $F_T$", [("inertial_stack", "o", "$F_T$")]),
         ("frame-type", [("frame_stack", "o", "$F_E$"), ("frame_left_leg", "s", "$F_L$"), ("frame_right_leg", "^", "$F_R$")]),
@@ -182,28 +176,21 @@ def fig12(sp, out):
         for (link, marker, label), (f, level) in zip(links, levels):
             stems(ax, f, level, COLOUR[link], marker, label, bottom)
         ax.set_ylim(bottom=bottom)
-        ax.set(title=title, xlabel="frequency (Hz)", ylabel="force level (dB re 1 N)")
-        ax.grid(alpha=0.3)
-        legend(ax)
+        dress(ax, title, "frequency (Hz)", "force level (dB re 1 N)")
     finish(fig, out, "mpl-fig12.png")
 
 
 def fig13(s, out):
-    fig, (a, b) = plt.subplots(2, 1, figsize=(10, 6.84), layout="constrained")
-    fig.suptitle("Fig. 13 — inertial-type on the beam at 0.150 m, 12 V, 60 Hz")
+    fig, (a, b) = figure("Fig. 13 — inertial-type on the beam at 0.150 m, 12 V, 60 Hz")
     a.plot(s.ms, s["links/inertial_stack/interface"] * 1e3, color=COLOUR["inertial_stack"], label="$F_T$ at the interface")
-    a.set(title="interface force", xlabel="time (ms)", ylabel="force (mN)")
+    dress(a, "interface force", "time (ms)", "force (mN)")
     b.plot(s.ms, s["links/inertial_stack/base_acceleration"] * 1e3, color="#1f77b4", label=r"$\ddot w(x_E)$")
-    b.set(title="beam acceleration at the interface", xlabel="time (ms)", ylabel="acceleration (mm/s²)")
-    for ax in (a, b):
-        ax.grid(alpha=0.3)
-        legend(ax)
+    dress(b, "beam acceleration at the interface", "time (ms)", "acceleration (mm/s²)")
     finish(fig, out, "mpl-fig13.png")
 
 
 def fig14(sp, out):
-    fig, ax = plt.subplots(figsize=(10, 6), layout="constrained")
-    fig.suptitle("Fig. 14 — inertial-type: power-flow spectrum, 12 V, 60 Hz")
+    fig, ax = figure("Fig. 14 — inertial-type: power-flow spectrum, 12 V, 60 Hz", 1, 1, (10, 6))
     link = "inertial_stack"
     f = sp.column(link, "frequency [Hz]")
     p, pa = sp.column(link, "power [W]"), sp.column(link, "power_from_acceleration [W]")
@@ -215,18 +202,16 @@ def fig14(sp, out):
     ax.set_yscale("log")
     ax.set_ylim(bottom=bottom)
     ax.set_xlim(0, f.max() + 60)
-    ax.set(xlabel="frequency (Hz)", ylabel="power into the beam (W)")
+    dress(ax, None, "frequency (Hz)", "power into the beam (W)")
     ax.grid(alpha=0.3, which="both")
-    legend(ax)
     finish(fig, out, "mpl-fig14.png")
 
 
 def fig15(s, sp, out):
-    fig, (a, b) = plt.subplots(2, 1, figsize=(10, 6.84), layout="constrained")
-    fig.suptitle("Fig. 15 — frame-type on the beam: power at the stack foot and at both legs, 12 V, 60 Hz")
+    fig, (a, b) = figure("Fig. 15 — frame-type on the beam: power at the stack foot and at both legs, 12 V, 60 Hz")
     for link in FRAME:
         a.plot(s.ms, s[f"links/{link}/power"] * 1e3, color=COLOUR[link], label=LABEL[link])
-    a.set(title="instantaneous power", xlabel="time (ms)", ylabel="power (mW)")
+    dress(a, "instantaneous power", "time (ms)", "power (mW)")
     # Signed lines spanning six decades: a symmetric log axis, linear within ±1 pW.
     for link, marker in zip(FRAME, ["o", "s", "^"]):
         f, p = sp.column(link, "frequency [Hz]"), sp.column(link, "power [W]")
@@ -235,10 +220,7 @@ def fig15(s, sp, out):
     b.set_yscale("symlog", linthresh=1e-12)
     b.set_yticks([s * 10.0**e for s in (-1, 1) for e in (-5, -8, -11)] + [0])
     b.axhline(0, color="0.3", lw=0.8)
-    b.set(title="power per harmonic", xlabel="frequency (Hz)", ylabel="power into the beam (W)")
-    for ax in (a, b):
-        ax.grid(alpha=0.3)
-        legend(ax)
+    dress(b, "power per harmonic", "frequency (Hz)", "power into the beam (W)")
     finish(fig, out, "mpl-fig15.png")
 
 
@@ -253,8 +235,7 @@ def fig16(folder, out):
 
     runs = ["beam-inertial-12V-60Hz", "beam-frame-12V-60Hz"]
     nets, drives = [net(r) for r in runs], [at_drive(r) for r in runs]
-    fig, ax = plt.subplots(figsize=(10, 6), layout="constrained")
-    fig.suptitle("Fig. 16 — net power into the beam, 12 V, 60 Hz drive")
+    fig, ax = figure("Fig. 16 — net power into the beam, 12 V, 60 Hz drive", 1, 1, (10, 6))
     x = np.arange(2)
     for offset, values, colour, label in [
         (-0.2, nets, "#1f77b4", "net power (all harmonics)"),
