@@ -112,6 +112,11 @@ fi
 # One figure's SVG shot in the browser at the size of beamflow's PNG of it: text and lines in
 # the same places, and the PNG's line edges anti-aliased (scripts/figure_pixels.py says how
 # and with which thresholds); its self-test shows both checks fail on a spoiled PNG.
+if ! command -v python3 >/dev/null 2>&1; then
+    # shellcheck source=SCRIPTDIR/lib/apt-install.sh
+    source scripts/lib/apt-install.sh
+    apt_install "Python 3 (figure pixel checks)" python3
+fi
 figures=$tmp/figures
 if [ ! -s "$tmp/paper/fig08_transmitted_forces.svg" ]; then
     "$bin" --quiet paper --out "$figures" >/dev/null
