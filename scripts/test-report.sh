@@ -4,7 +4,8 @@
 # as ensure-hdf5.sh does for HDF5) offline, and fails on any console message (the pages
 # have no script, so any message is an error: a resource it could not load, a parse error)
 # or when a rendered page holds another number of <svg> figures than its run wrote figure
-# files. Keeps each DOM and a screenshot when KEEP_REPORT=<dir> is set.
+# files. Then shoots one figure's SVG standalone and compares it with beamflow's PNG of it
+# (scripts/figure_pixels.py). Keeps each DOM and a screenshot when KEEP_REPORT=<dir> is set.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -107,3 +108,35 @@ if [ "${REPORT_PAPER:-1}" != 0 ]; then
     "$bin" --quiet paper --out "$tmp/paper" >/dev/null
     check_report paper "$tmp/paper/report.html" "$(count "$tmp/paper" '*.svg')"
 fi
+
+# One figure's SVG shot in the browser at the size of beamflow's PNG of it: text and lines in
+# the same places, and the PNG's line edges anti-aliased (scripts/figure_pixels.py says how
+# and with which thresholds); its self-test shows both checks fail on a spoiled PNG.
+if ! command -v python3 >/dev/null 2>&1; then
+    # shellcheck source=SCRIPTDIR/lib/apt-install.sh
+    source scripts/lib/apt-install.sh
+    apt_install "Python 3 (figure pixel checks)" python3
+fi
+figures=$tmp/figures
+if [ ! -s "$tmp/paper/fig08_transmitted_forces.svg" ]; then
+    "$bin" --quiet paper --out "$figures" >/dev/null
+else
+    figures=$tmp/paper
+fi
+svg=$figures/fig08_transmitted_forces.svg png=${svg%.svg}.png
+read -r width height < <(python3 scripts/figure_pixels.py size "$png")
+{
+    printf '<!DOCTYPE html><html><head><style>'
+    printf 'html,body{margin:0;padding:0;overflow:hidden;background:#fff}svg{display:block}'
+    printf '</style></head><body>\n'
+    cat "$svg"
+    printf '</body></html>\n'
+} >"$tmp/figure.html"
+timeout 120 "$browser" "${flags[@]}" --hide-scrollbars --force-device-scale-factor=1 \
+    --window-size="$width,$height" --screenshot="$tmp/figure-shot.png" \
+    "file://$tmp/figure.html" >/dev/null 2>>"$tmp/figure-console.log" || true
+[ -s "$tmp/figure-shot.png" ] || { echo "test-report: no screenshot of $svg was taken" >&2; exit 1; }
+python3 scripts/figure_pixels.py same "$tmp/figure-shot.png" "$png"
+python3 scripts/figure_pixels.py antialiased "$png"
+python3 scripts/figure_pixels.py self-test "$tmp/figure-shot.png" "$png"
+[ -z "${KEEP_REPORT:-}" ] || cp "$tmp/figure-shot.png" "$png" "$KEEP_REPORT/"
