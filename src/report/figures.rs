@@ -85,9 +85,15 @@ fn percent(r: f64) -> String {
 /// A body DOF over time, in µm (or µrad).
 pub fn body_panel(title: &str, t: &[f64], b: &BodySeries) -> LinePlot {
     let x = ms_axis(t);
-    let (label, unit) = if b.dof == "phi" { ("rotation φ", "µrad") } else { (b.dof.as_str(), "µm") };
+    // A DOF name `z_t` is z with subscript t: the figures' markup for that is `z_{t}`.
+    let label = match b.dof.split_once('_') {
+        _ if b.dof == "phi" => "rotation φ".to_string(),
+        Some((name, sub)) if !sub.starts_with('{') => format!("{name}_{{{sub}}}"),
+        _ => b.dof.clone(),
+    };
+    let unit = if b.dof == "phi" { "µrad" } else { "µm" };
     let mut p = LinePlot::new(title, "time (ms)", format!("{label} ({unit})"));
-    p.series.push(Series::line(label, x, b.q.iter().map(|v| v * 1e6).collect()));
+    p.series.push(Series::line(&label, x, b.q.iter().map(|v| v * 1e6).collect()));
     p
 }
 
@@ -134,9 +140,10 @@ pub fn spectrum_panel(title: &str, spectra: &[ForceLines]) -> LinePlot {
 /// (`None`: the colour cycle).
 pub type PowerLines<'a> = (&'a str, &'a [f64], &'a [f64], Option<RGBColor>);
 
-/// Decades of power drawn on a logarithmic scale below the largest line; smaller lines
-/// fall in the linear band around zero of the symmetric-log axis.
-const POWER_DECADES: i32 = 6;
+/// Most decades of power drawn on a logarithmic scale below the largest line (the lines
+/// drawn reach 10⁻⁹ of it); below the smallest line drawn, the symmetric-log axis has its
+/// linear band around zero, so every line drawn shows its sign.
+const POWER_DECADES: i32 = 9;
 
 /// Power per harmonic. All into the beam: stems on a logarithmic axis. With lines of both
 /// signs: a symmetric-log axis, into the beam up, out of it down, each decade the same
@@ -164,7 +171,9 @@ pub fn power_spectrum_panel(title: &str, stems: &[PowerLines], markers: &[PowerL
     if p.series.iter().all(|s| s.y.iter().all(|&v| v > 0.0)) {
         p.log_y = true;
     } else if top > 0.0 {
-        p.symlog_y = Some(10f64.powi(top.log10().floor() as i32 - POWER_DECADES));
+        let smallest = p.series.iter().flat_map(|s| s.y.iter()).fold(top, |m, v| m.min(v.abs()));
+        let floor = top.log10().floor() as i32 - POWER_DECADES;
+        p.symlog_y = Some(10f64.powi((smallest.log10().floor() as i32).max(floor)));
     }
     if let Some((_, f, _, _)) = stems.first() {
         harmonic_axis(&mut p, f);
