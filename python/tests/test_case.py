@@ -23,9 +23,12 @@ def edited(text: str, pattern: str, repl: str) -> str:
 
 
 def without_case_text(results: beamflow.Results) -> dict:
+    """The results without what names the case text as written (its file, its text and
+    that text's hash); the resolved case stays."""
     c = tree_contents(results)
     del c["/case/toml"]
     del c["/@"]["case_file"]
+    del c["/model@"]["case_hash"]
     return c
 
 

@@ -75,7 +75,7 @@ def test_optimize_equals_the_cli(cli: Path, tmp_path: Path, text: str) -> None:
         cli_text = (tmp_path / "cli" / name).read_text(encoding="utf-8")
         assert (tmp_path / "py" / name).read_text(encoding="utf-8") == cli_text, name
         assert r.texts[name] == cli_text, name
-    assert sorted(p.name for p in r.files) == sorted(names + ["summary.json"])
+    assert sorted(p.name for p in r.files) == sorted(names + ["summary.json", "report.html"])
     cli_summary = json.loads((tmp_path / "cli" / "summary.json").read_text(encoding="utf-8"))
     for s in (cli_summary, r.summary):
         s.pop("seconds")
