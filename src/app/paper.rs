@@ -366,6 +366,7 @@ fn on_beam(bi_lc: &LoadedCase, bf_lc: &LoadedCase, out: &Path, w: &mut Written) 
     let s14 = &bit.spectra[0];
     let p14 = power_spectrum_panel(
         "Fig. 14 — inertial-type: power-flow spectrum, 12 V, 60 Hz",
+        "beam",
         &[("from F and v", &s14.frequency, &s14.power, Some(inertial))],
         &[("from F and a", &s14.frequency, &s14.power_from_acceleration, None)],
     );
@@ -387,7 +388,7 @@ fn on_beam(bi_lc: &LoadedCase, bf_lc: &LoadedCase, out: &Path, w: &mut Written) 
             (name.as_str(), bfs.spectra[l].frequency.as_slice(), bfs.spectra[l].power.as_slice(), Some(c))
         })
         .collect();
-    let b15 = power_spectrum_panel("power per harmonic", &lines, &[]);
+    let b15 = power_spectrum_panel("power per harmonic", "beam", &lines, &[]);
     written.extend(save(
         &MultiPanel::new(
             "Fig. 15 — frame-type on the beam: power at the stack foot and at both legs, 12 V, 60 Hz",

@@ -145,14 +145,25 @@ pub type PowerLines<'a> = (&'a str, &'a [f64], &'a [f64], Option<RGBColor>);
 /// linear band around zero, so every line drawn shows its sign.
 const POWER_DECADES: i32 = 9;
 
-/// Power per harmonic. All into the beam: stems on a logarithmic axis. With lines of both
+/// What power goes into, in labels: the beam, the plate, an imported model, or (actuators
+/// on a rigid base) the base.
+pub fn into_word(model: &crate::assembly::Model) -> &'static str {
+    match model.structure.as_ref().map(|s| s.kind()) {
+        None => "base",
+        Some("imported") => "model",
+        Some(kind) => kind,
+    }
+}
+
+/// Power per harmonic into `into` (the beam, the plate, …). All into it: stems on a
+/// logarithmic axis. With lines of both
 /// signs: a symmetric-log axis, into the beam up, out of it down, each decade the same
 /// height. `stems` stand at their harmonics (one colour and marker each: one legend entry
 /// per point, not per sign; the longest drawn first); `markers` are a second estimate of
 /// the same lines, in their own colours and shapes. Lines below 10⁻⁹ of the largest are
 /// left out: round-off, or unsettled transient (even harmonics of a symmetric drive).
-pub fn power_spectrum_panel(title: &str, stems: &[PowerLines], markers: &[PowerLines]) -> LinePlot {
-    let mut p = LinePlot::new(title, "frequency (Hz)", "power into the beam (W)");
+pub fn power_spectrum_panel(title: &str, into: &str, stems: &[PowerLines], markers: &[PowerLines]) -> LinePlot {
+    let mut p = LinePlot::new(title, "frequency (Hz)", format!("power into the {into} (W)"));
     let top =
         stems.iter().chain(markers).flat_map(|(_, _, pw, _)| pw.iter().skip(1)).fold(0.0f64, |m, x| m.max(x.abs()));
     let kept = |(_, f, pw, _): &PowerLines| -> (Vec<f64>, Vec<f64>) {
@@ -281,6 +292,9 @@ fn draw_run(dir: Dest, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
         match r {
             AnalysisResult::Modes(m) => match plate {
                 Some(p) => out.extend(super::plate::modes_figure(dir, &tag, p, m)?),
+                // An imported model's shapes have no line or plane to be drawn over (its
+                // frequencies are in the report's table and the results files).
+                None if run.model.structure.as_ref().is_some_and(|s| s.imported().is_some()) => {}
                 None => {
                     out.extend(save(&modes_figure(m), dir, &tag)?);
                     out.extend(super::coupled::modes_figure(dir, &tag, m)?);
@@ -309,14 +323,14 @@ fn draw_run(dir: Dest, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                         out.extend(record_figures(dir, &tag, time, &links, acts, rec, 1.2 * rec.band.1)?)
                     }
                 }
-                out.extend(load_figures(dir, &tag, time, &t.loads, &t.load_spectra)?);
+                out.extend(load_figures(dir, &tag, into_word(&run.model), time, &t.loads, &t.load_spectra)?);
                 if t.record.is_none() && t.t.len() > n {
                     out.extend(history_figures(dir, &tag, run, t)?);
                 }
             }
             AnalysisResult::SteadyState(s) => {
                 out.extend(periodic_figures(dir, &tag, run, &s.t, &s.links, &s.spectra, &s.mean_power, &s.drives)?);
-                out.extend(load_figures(dir, &tag, &s.t, &s.loads, &s.load_spectra)?);
+                out.extend(load_figures(dir, &tag, into_word(&run.model), &s.t, &s.loads, &s.load_spectra)?);
                 if let Some(m) = &s.modal {
                     out.extend(save(&modal_power_figure(m, run, s), dir, &format!("{tag}_power_by_mode"))?);
                 }
@@ -487,6 +501,7 @@ fn history_figures(
 fn load_figures(
     dir: Dest,
     tag: &str,
+    into: &str,
     t: &[f64],
     loads: &[crate::analysis::series::LoadSeries],
     spectra: &[crate::analysis::series::LoadSpectrum],
@@ -497,12 +512,12 @@ fn load_figures(
         let tail = |v: &[f64]| v[v.len() - t.len()..].to_vec();
         let mut force = LinePlot::new(format!("{}: force at x = {} m", l.name, l.x), "time (ms)", "force (N)");
         force.series.push(Series::line("F", x.clone(), tail(&l.force)));
-        let mut vel = LinePlot::new(format!("{}: beam velocity at the load", l.name), "time (ms)", "velocity (m/s)");
+        let mut vel = LinePlot::new(format!("{}: {into} velocity at the load", l.name), "time (ms)", "velocity (m/s)");
         vel.series.push(Series::line("v", x.clone(), tail(&l.v)));
         let mut panels = vec![force, vel];
         if let Some(sp) = spectra.get(j) {
             let title = format!("{}: power per harmonic, {} in total", l.name, si(sp.power_total, "W", 4));
-            panels.push(power_spectrum_panel(&title, &[("P_{k}", &sp.frequency, &sp.power, None)], &[]));
+            panels.push(power_spectrum_panel(&title, into, &[("P_{k}", &sp.frequency, &sp.power, None)], &[]));
         }
         out.extend(save(
             &MultiPanel::new(format!("point load {}", l.name), panels),
@@ -549,7 +564,9 @@ fn periodic_figures(
         ];
         if refs.iter().any(|l| l.foot_x.is_some()) {
             let x = ms_axis(t);
-            let mut pp = LinePlot::new(format!("{name}: instantaneous power into the beam"), "time (ms)", "power (W)");
+            let into = into_word(&run.model);
+            let mut pp =
+                LinePlot::new(format!("{name}: instantaneous power into the {into}"), "time (ms)", "power (W)");
             for l in &refs {
                 let s = Series::line(link_label(l), x.clone(), l.power.clone());
                 pp.series.push(s.coloured(palette::link(&run.model.actuators, l)));
@@ -581,12 +598,15 @@ fn periodic_figures(
                 .map(|(label, s, c)| (*label, s.frequency.as_slice(), s.power.as_slice(), Some(*c)))
                 .collect();
             out.extend(save(
-                &power_spectrum_panel(&format!("{name}: power per harmonic"), &lines, &[]),
+                &power_spectrum_panel(&format!("{name}: power per harmonic"), into_word(&run.model), &lines, &[]),
                 dir,
                 &format!("{tag}_{name}_power_spectrum"),
             )?);
-            let mut bar =
-                BarChart::new(format!("{name}: time-averaged power into the beam"), "interface point", "power (W)");
+            let mut bar = BarChart::new(
+                format!("{name}: time-averaged power into the {}", into_word(&run.model)),
+                "interface point",
+                "power (W)",
+            );
             bar.categories = labels.clone();
             bar.category_colours = colours.clone();
             bar.groups.push((String::new(), mine.iter().map(|&l| mean[l]).collect()));
@@ -628,10 +648,7 @@ pub fn modal_power_figure(m: &ModalDecomposition, run: &CaseRun, s: &SteadyState
         sources.push((load.name.clone(), p.clone(), sp.power_total));
     }
     let shown = modes_that_matter(sources.iter().map(|(_, p, _)| p.as_slice()));
-    let kind = match run.model.structure.as_ref().map(|s| s.kind()) {
-        Some("imported") => "model",
-        kind => kind.unwrap_or("beam"),
-    };
+    let kind = into_word(&run.model);
     let mut bar = BarChart::new(
         format!("Net power into the {kind} by mode"),
         format!("bare-{kind} mode (number, natural frequency)"),
