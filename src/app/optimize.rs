@@ -320,17 +320,22 @@ fn summary(spec: &Spec, r: &RunResult) -> serde_json::Value {
 
 /// The optima as an aligned text table.
 pub fn optima_table(spec: &Spec, rows: &[Evaluation]) -> String {
+    // Objectives in units that take SI prefixes read as `311.4 mW`; others (dB, ratios) as
+    // plain numbers under their unit.
+    let prefixed = |unit: &str| ["W", "J", "N", "m", "V"].contains(&unit);
     let mut s = format!("{:>4}", "rank");
     for o in &spec.objectives {
-        s += &format!("  {:>14}", format!("{} ({})", o.label, o.unit()));
+        let head = if prefixed(&o.unit()) { o.label.to_string() } else { format!("{} ({})", o.label, o.unit()) };
+        s += &format!("  {head:>14}");
     }
     for v in &spec.variables {
         s += &format!("  {:>14}", v.name);
     }
     for (i, e) in rows.iter().enumerate() {
         s += &format!("\n{:>4}", i + 1);
-        for v in &e.values {
-            s += &format!("  {:>14}", num(*v));
+        for (v, o) in e.values.iter().zip(&spec.objectives) {
+            let shown = if prefixed(&o.unit()) { crate::report::si(*v, &o.unit(), 4) } else { num(*v) };
+            s += &format!("  {shown:>14}");
         }
         for (v, &u) in spec.variables.iter().zip(&e.u) {
             let shown = match v.value(u) {

@@ -567,9 +567,9 @@ fn summary_md(s: &serde_json::Value, mass_amp: &[(f64, f64)]) -> String {
         md += &second_line_note(&s["inertial_second_line"]);
     }
     md += &format!("Worst energy-balance error over all runs: {:.2e}.\n\n", g("energy_balance_max_rel_error"));
-    md += "Inertial-type transmitted-force amplitude at 30 Hz against top mass (Fig. 11):\n\n| m<sub>t</sub> (kg) | F<sub>T</sub> amplitude (N) |\n|---|---|\n";
+    md += "Inertial-type transmitted-force amplitude at 30 Hz against top mass (Fig. 11):\n\n| m<sub>t</sub> (kg) | F<sub>T</sub> amplitude |\n|---|---|\n";
     for (m, f) in mass_amp {
-        md += &format!("| {m} | {f:.4e} |\n");
+        md += &format!("| {m} | {} |\n", crate::report::si(*f, "N", 5));
     }
     md
 }
