@@ -129,15 +129,14 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                     let structure = model.structure.as_ref().expect("checked");
                     for (j, f) in force.iter().enumerate() {
                         let at = f.location();
-                        if let Err(why) = structure.attach(&at) {
-                            return Err(Error::input(&lc.file, format!("{field}.force[{j}].{}", at.field()), why));
-                        }
-                        if structure.node_at(&at).is_none() {
-                            return Err(Error::input(
-                                &lc.file,
-                                format!("{field}.force[{j}].{}", at.field()),
-                                format!("{at} is not on a mesh node"),
-                            ));
+                        let refuse =
+                            |why| Err(Error::input(&lc.file, format!("{field}.force[{j}].{}", at.field()), why));
+                        match structure.attach(&at) {
+                            Err(why) => return refuse(why),
+                            Ok(a) if crate::structure::single_node(&a).is_none() => {
+                                return refuse(format!("{at} is not on a mesh node"))
+                            }
+                            Ok(_) => {}
                         }
                     }
                     Ok(())

@@ -36,8 +36,11 @@ pub struct Imported {
     row_of: HashMap<(usize, usize), usize>,
     /// What the model's check found (rigid-body modes, massless rows).
     pub report: check::Report,
-    /// How far back a skyline row reaches on average in the numbering assembly uses (the
-    /// nodes in reverse Cuthill–McKee order): what a profile factor of the model costs.
+    /// The nodes in reverse Cuthill–McKee order of their coupling: the order assembly
+    /// numbers them in ([`crate::structure::Structure::node_order`]), found once here.
+    pub node_order: Vec<usize>,
+    /// How far back a skyline row reaches on average in that numbering: what a profile
+    /// factor of the model costs.
     pub mean_band: usize,
 }
 
@@ -131,9 +134,11 @@ impl Imported {
             by_id: table.by_id,
             row_of,
             report: Default::default(),
+            node_order: Vec::new(),
             mean_band: 0,
         };
         model.report = check::check(&model, files)?;
+        model.node_order = crate::structure::ordering::reverse_cuthill_mckee(&model.node_graph());
         model.mean_band = model.profile_band();
         Ok(model)
     }
@@ -178,13 +183,11 @@ impl Imported {
         self.m.bilinear(&u, &u)
     }
 
-    /// The mean reach of a skyline row with the nodes in reverse Cuthill–McKee order (the
-    /// order [`crate::structure::Structure::node_order`] numbers them in), a node's rows
+    /// The mean reach of a skyline row with the nodes in `node_order`, a node's rows
     /// together: what a profile factor of the model costs.
     fn profile_band(&self) -> usize {
-        let order = crate::structure::ordering::reverse_cuthill_mckee(&self.node_graph());
         let mut first_row = vec![0usize; self.nodes.len()];
-        for (rank, &node) in order.iter().enumerate() {
+        for (rank, &node) in self.node_order.iter().enumerate() {
             first_row[node] = rank * COMPONENTS.len();
         }
         let pos: Vec<usize> = self.rows.iter().map(|&(node, c)| first_row[node] + c).collect();
@@ -197,7 +200,7 @@ impl Imported {
     }
 
     /// Node adjacency through K's and M's pattern (for the fill-reducing node order).
-    pub fn node_graph(&self) -> Vec<Vec<usize>> {
+    fn node_graph(&self) -> Vec<Vec<usize>> {
         let mut adj: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
         for a in [&self.k, &self.m] {
             for (i, j, _) in a.triplets() {

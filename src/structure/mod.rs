@@ -122,7 +122,7 @@ impl Structure {
                     (0..g.ny()).flat_map(|j| (0..g.nx()).map(move |i| g.element_nodes(i, j))).collect();
                 ordering::reverse_cuthill_mckee(&ordering::adjacency(g.n_nodes(), elements.iter().map(|e| &e[..])))
             }
-            Structure::Imported(m) => ordering::reverse_cuthill_mckee(&m.node_graph()),
+            Structure::Imported(m) => m.node_order.clone(),
         }
     }
 

@@ -42,16 +42,6 @@ pub struct SensorSpec {
     pub component: Option<String>,
 }
 
-impl SensorSpec {
-    pub fn location(&self) -> Location {
-        self.point().location().unwrap_or(Location::Beam { x: f64::NAN })
-    }
-
-    pub fn point(&self) -> PointSpec {
-        PointSpec { x: self.x, at: self.at, node: self.node, component: self.component.clone() }
-    }
-}
-
 /// A prescribed point force on the beam: F(t) (N, upward) at x (m), any signal the
 /// actuators' voltages can follow (values in N instead of V).
 #[derive(Clone, Debug, Deserialize, Serialize)]
@@ -77,14 +67,6 @@ pub struct LoadSpec {
 }
 
 impl LoadSpec {
-    pub fn location(&self) -> Location {
-        self.point().location().unwrap_or(Location::Beam { x: f64::NAN })
-    }
-
-    pub fn point(&self) -> PointSpec {
-        PointSpec { x: self.x, at: self.at, node: self.node, component: self.component.clone() }
-    }
-
     /// The name results use: as given, or `load<i+1>`.
     pub fn effective_name(&self, i: usize) -> String {
         self.name.clone().unwrap_or_else(|| format!("load{}", i + 1))
@@ -113,15 +95,25 @@ pub struct ForceSpec {
     pub phase: f64,
 }
 
-impl ForceSpec {
-    pub fn location(&self) -> Location {
-        self.point().location().unwrap_or(Location::Beam { x: f64::NAN })
-    }
+/// The point of a spec that writes one with the fields `x`, `at`, `node` and `component`
+/// (`serde(flatten)` cannot share them: it refuses `deny_unknown_fields`).
+macro_rules! written_point {
+    ($($spec:ty),*) => {$(
+        impl $spec {
+            /// Where the point is (a node without a valid component, which validation
+            /// refuses, reads as NaN).
+            pub fn location(&self) -> Location {
+                self.point().location().unwrap_or(Location::Beam { x: f64::NAN })
+            }
 
-    pub fn point(&self) -> PointSpec {
-        PointSpec { x: self.x, at: self.at, node: self.node, component: self.component.clone() }
-    }
+            pub fn point(&self) -> PointSpec {
+                PointSpec { x: self.x, at: self.at, node: self.node, component: self.component.clone() }
+            }
+        }
+    )*};
 }
+
+written_point!(SensorSpec, LoadSpec, ForceSpec);
 
 /// A point as written: `x` on a beam, `at = [x, y]` on a plate, or `node` and `component`
 /// on an imported model.
