@@ -161,7 +161,9 @@ pub fn watched<T: Send + 'static>(
     loop {
         match py.detach(|| rx.lock().unwrap_or_else(|p| p.into_inner()).recv_timeout(POLL)) {
             Ok(Ok(result)) => {
-                tell(py, callback, &report, &mut seen)?;
+                if interrupt.is_none() {
+                    tell(py, callback, &report, &mut seen)?;
+                }
                 return match (result, interrupt) {
                     (Err(beamflow::Error::Cancelled), Some(e)) => Err(e),
                     (result, interrupt) => Ok((result.map_err(to_py)?, interrupt)),
@@ -169,7 +171,13 @@ pub fn watched<T: Send + 'static>(
             }
             Ok(Err(payload)) => return Err(panicked(payload)),
             Err(RecvTimeoutError::Timeout) => {
-                if let Err(e) = py.check_signals().and_then(|()| tell(py, callback, &report, &mut seen)) {
+                // Once interrupted, the callback hears no more: a callback that raised to stop
+                // the work would raise again at the next report, and lose the rows kept.
+                let step = py.check_signals().and_then(|()| match interrupt {
+                    None => tell(py, callback, &report, &mut seen),
+                    Some(_) => Ok(()),
+                });
+                if let Err(e) = step {
                     cancel.cancel();
                     if on_interrupt == OnInterrupt::Drop || interrupt.is_some() {
                         return Err(e);
