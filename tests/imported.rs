@@ -316,3 +316,61 @@ fn a_case_on_an_imported_model_names_a_missing_node_and_a_bad_component() {
     let (up, down) = (power("node = 11\ncomponent = \"uz\""), power("node = 11\ncomponent = \"-uz\""));
     assert!(up > 0.0 && (up - down).abs() <= 1e-12 * up, "{up} against {down}");
 }
+
+/// A lattice of `nx` × `ny` masses m, each tied to its four neighbours (and the walls
+/// around it) by springs k, moving out of plane: M = m·I, K = k times the five-point
+/// Laplacian with fixed edges. Its modes are known in closed form,
+/// ω²_pq = (k/m)·[4 sin²(pπ/(2(nx+1))) + 4 sin²(qπ/(2(ny+1)))].
+fn lattice(nx: usize, ny: usize, m: f64, k: f64) -> Chain {
+    use std::fmt::Write;
+    let n = nx * ny;
+    let at = |i: usize, j: usize| j * nx + i + 1;
+    let (mut mass, mut stiff, mut map) = (String::new(), String::new(), String::new());
+    let mut entries = 0;
+    for j in 0..ny {
+        for i in 0..nx {
+            let r = at(i, j);
+            writeln!(mass, "{r} {r} {m}").unwrap();
+            writeln!(stiff, "{r} {r} {}", 4.0 * k).unwrap();
+            entries += 1;
+            if i > 0 {
+                writeln!(stiff, "{r} {} {}", at(i - 1, j), -k).unwrap();
+                entries += 1;
+            }
+            if j > 0 {
+                writeln!(stiff, "{r} {} {}", at(i, j - 1), -k).unwrap();
+                entries += 1;
+            }
+            writeln!(map, "{r},{r},{},{},0,uz", 0.01 * i as f64, 0.01 * j as f64).unwrap();
+        }
+    }
+    chain(
+        &format!("{SYM}{n} {n} {n}\n{mass}"),
+        &format!("{SYM}{n} {n} {entries}\n{stiff}"),
+        &format!("row,node,x_m,y_m,z_m,component\n{map}"),
+    )
+}
+
+/// About 10⁵ DOFs through the imported path: loaded and checked (two sparse LDLᵀ
+/// inertias), then its lowest 50 modes by shift-invert Lanczos on the sparse factor, each
+/// against the closed form.
+#[test]
+fn a_lattice_of_a_hundred_thousand_dofs_has_its_closed_form_modes() {
+    let (nx, ny, m, k) = (400, 250, 0.05, 2.0e4);
+    let c = lattice(nx, ny, m, k);
+    let model = std::sync::Arc::new(Imported::load(&c.files, 10_000_000, "case.toml").unwrap());
+    assert_eq!(model.report.rigid_body_modes, 0);
+    let s = beamflow::structure::Structure::Imported(model);
+    let count = 50;
+    let r = beamflow::analysis::modes::run(&s, count).unwrap();
+    let s2 = |p: usize, n: usize| (p as f64 * std::f64::consts::PI / (2.0 * (n + 1) as f64)).sin().powi(2);
+    let mut exact: Vec<f64> = (1..=20)
+        .flat_map(|p| (1..=20).map(move |q| (p, q)))
+        .map(|(p, q)| ((k / m) * 4.0 * (s2(p, nx) + s2(q, ny))).sqrt() / (2.0 * std::f64::consts::PI))
+        .collect();
+    exact.sort_by(f64::total_cmp);
+    assert_eq!(r.frequencies_hz.len(), count);
+    for (i, (f, e)) in r.frequencies_hz.iter().zip(&exact).enumerate() {
+        assert!((f - e).abs() <= 1e-8 * e, "mode {}: {f} Hz against {e} Hz", i + 1);
+    }
+}
