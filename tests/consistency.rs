@@ -154,9 +154,13 @@ fn the_model_group_holds_every_resolved_parameter() {
     let dir = tempfile::tempdir().unwrap();
     run_csv("beam-frame-12V-60Hz.toml", dir.path());
     let r = ResultsReader::open(dir.path().join("beam-frame-12V-60Hz.h5")).unwrap();
-    let text =
-        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml")).unwrap();
-    assert_eq!(r.attr_str("model", "case_hash").unwrap(), beamflow::io::hash::text_hash(&text));
+    // The hash `sha256sum` prints of the case file.
+    let case = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/beam-frame-12V-60Hz.toml");
+    let sum = std::process::Command::new("sha256sum").arg(&case).output().unwrap();
+    let sum = String::from_utf8(sum.stdout).unwrap();
+    let hex = sum.split_whitespace().next().unwrap();
+    assert_eq!(hex.len(), 64, "{sum}");
+    assert_eq!(r.attr_str("model", "case_hash").unwrap(), format!("sha256:{hex}"));
     assert_eq!(r.attr_str("model", "version").unwrap(), env!("CARGO_PKG_VERSION"));
     // Written in the case: as written.
     assert_eq!(r.attr_f64("model/parameters/actuator_0", "x_e").unwrap(), 0.150);

@@ -117,6 +117,14 @@ fn frame_round_trip(analyses: &str) -> (Value, Value) {
     .unwrap();
     let b = run(&imported, &dir.path().join("out2"));
     assert_eq!(b["structure"], "imported");
+    // The results say which files the model came from: the hashes `sha256sum` prints.
+    let h5 = beamflow::io::hdf5::ResultsReader::open(dir.path().join("out2/imported.h5")).unwrap();
+    for (role, name) in [("mass", "M.mtx"), ("stiffness", "K.mtx"), ("damping", "C.mtx"), ("dofs", "dofs.csv")] {
+        let path = out.join(format!("native_structure_{name}"));
+        let sum = std::process::Command::new("sha256sum").arg(&path).output().unwrap().stdout;
+        let hex = String::from_utf8(sum).unwrap().split_whitespace().next().unwrap().to_string();
+        assert_eq!(h5.attr_str("model", &format!("imported_{role}_hash")).unwrap(), format!("sha256:{hex}"), "{role}");
+    }
     (a, b)
 }
 

@@ -81,6 +81,16 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
 fn write_provenance<S: GroupSink>(m: &S, lc: &LoadedCase) -> Result<()> {
     m.attr_str("version", env!("CARGO_PKG_VERSION"))?;
     m.attr_str("case_hash", &super::hash::text_hash(&lc.text))?;
+    if let Some(spec) = &lc.case.imported {
+        let f = spec.files(&lc.dir);
+        let named = [("mass", Some(&f.mass)), ("stiffness", Some(&f.stiffness)), ("damping", f.damping.as_ref())];
+        for (role, path) in named.into_iter().chain([("dofs", Some(&f.dofs))]) {
+            if let Some(p) = path {
+                let h = super::hash::file_hash(p).map_err(|e| crate::error::Error::io(p, e))?;
+                m.attr_str(&format!("imported_{role}_hash"), &h)?;
+            }
+        }
+    }
     let resolved =
         toml::Value::try_from(&lc.case).map_err(|e| crate::error::Error::input(&lc.file, "case", e.to_string()))?;
     m.write_str("resolved_toml", &toml::to_string(&resolved).unwrap_or_default())?;
