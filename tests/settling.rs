@@ -19,7 +19,7 @@ fn run(lc: &LoadedCase, periods: Option<usize>) -> TransientResult {
     let built = calibrated_model(lc).unwrap();
     let sys = System::assemble(&built).unwrap();
     let spec = lc.case.analysis.iter().find(|a| matches!(a, AnalysisSpec::Transient { .. })).unwrap();
-    let mut s = beamflow::app::runner::transient_settings(spec, false).unwrap();
+    let mut s = beamflow::app::runner::transient_settings(spec, None).unwrap();
     s.periods = periods;
     s.max_periods = s.max_periods.max(2000);
     transient::run(&built, &sys, &TransientSettings { ..s }).unwrap()

@@ -261,8 +261,12 @@ pub fn transient(model: &Model, sys: &System, s: &TransientSettings, timing: &Dr
     } else {
         1
     };
+    // A thinned history keeps every step of its last periods and every k-th before them.
+    let whole = keep.min(count(s.record_periods));
+    let thinned = spp.div_ceil(count(s.history_every.max(1)));
+    let kept_samples = sum(&[product(&[whole, spp]), product(&[keep - whole, thinned])]);
     let (ch, rows) = channels(model, sys);
-    let kept = product(&[keep, spp, ch, 8, SERIES_COPIES]);
+    let kept = product(&[kept_samples.unwrap_or(u64::MAX), ch, 8, SERIES_COPIES]);
     let per_period = product(&[spp.saturating_add(1), 3 * rows + ch, 8, 2]);
     let bytes = sum(&[system_bytes(count(sys.n())), kept, per_period]);
     let stepped = product(&[periods, spp]);

@@ -46,9 +46,9 @@ fn harmonic_forces(force: &[crate::case::ForceSpec], model: &crate::assembly::Mo
         .collect()
 }
 
-/// The transient settings a case's analysis entry describes (`full_history`: the case's
-/// `[output] full_history`, every period kept rather than the last three).
-pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<TransientSettings> {
+/// The transient settings a case's analysis entry describes (`history`: the case's
+/// `[output] full_history` and `history_every`; None keeps the last three periods only).
+pub fn transient_settings(spec: &AnalysisSpec, history: Option<usize>) -> Option<TransientSettings> {
     if let AnalysisSpec::Transient {
         dt,
         steps_per_period,
@@ -83,7 +83,8 @@ pub fn transient_settings(spec: &AnalysisSpec, full_history: bool) -> Option<Tra
             harmonics: *harmonics,
             segment: *segment,
             record_periods: 3,
-            full_history,
+            full_history: history.is_some(),
+            history_every: history.unwrap_or(1),
         })
     } else {
         None
@@ -145,7 +146,7 @@ pub fn preflight(lc: &LoadedCase, model: &Model, system: &System, budget: &Budge
                     if model.loss_factor() > 0.0 {
                         return Err(Error::case_field("damping.kind", transient::HYSTERETIC_IN_TIME));
                     }
-                    let s = transient_settings(spec, false).expect("transient");
+                    let s = transient_settings(spec, None).expect("transient");
                     let timing =
                         DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
                     let stepping = cost::transient(model, system, &s, &timing);
@@ -265,7 +266,7 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
                 (r.map(AnalysisResult::Harmonic).map_err(|e| structure_only(s).locate(e, structure)), None)
             }
             AnalysisSpec::Transient { reduction, .. } => {
-                let s = transient_settings(spec, lc.case.output.full_history).expect("transient");
+                let s = transient_settings(spec, lc.case.output.history()).expect("transient");
                 let r = run.transient(&s, reduction.as_ref());
                 (r.map(|r| AnalysisResult::Transient(Box::new(r))), reduction.is_none().then_some(&system.dofs))
             }

@@ -491,6 +491,11 @@ fn history_figures(
             p.series.push(Series::line(link_label(l), x, y).coloured(palette::link(&run.model.actuators, l)));
         }
         p.notes = vec![format!("{} samples,", t.t.len()), format!("≤ {} buckets drawn", HISTORY_BUCKETS)];
+        // A thinned history (`history_every`) says so: its first step is k·Δt.
+        let every = t.t.get(1).map_or(1.0, |t1| ((t1 - t.t[0]) / t.dt).round());
+        if every > 1.0 {
+            p.notes.push(format!("every {every}th step before the last 3 periods"));
+        }
         out.extend(save(&p, dir, &format!("{tag}_{name}_history"))?);
     }
     Ok(out)

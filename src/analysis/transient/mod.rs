@@ -57,6 +57,9 @@ pub struct TransientSettings {
     pub record_periods: usize,
     /// Keep every period of the run for output instead (`[output] full_history`).
     pub full_history: bool,
+    /// With `full_history`, the periods before the last `record_periods` keep every this
+    /// many-th step only (`[output] history_every`; 1 keeps every step).
+    pub history_every: usize,
 }
 
 impl Default for TransientSettings {
@@ -74,6 +77,7 @@ impl Default for TransientSettings {
             segment: None,
             record_periods: 3,
             full_history: false,
+            history_every: 1,
         }
     }
 }
@@ -243,7 +247,8 @@ fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTi
     let f_p0 = stacks.initial_forces();
     start_at_rest(&mut nm, sys, &stacks.initial_weights())?;
     let plan = PeriodPlan::new(&timing, s);
-    let mut window = Window::new(plan.keep, timing.steps_per_period);
+    let thin = s.history_every.max(1);
+    let mut window = Window::new(plan.keep, timing.steps_per_period, (plan.min, thin));
     let mut ledger = EnergyLedger::new(sys, &nm);
     nm.set_observations(layout.rows());
     let mut stepper = Stepper::new(&nm, sys, &layout, &f_p0, &timing);
@@ -408,7 +413,7 @@ mod tests {
         let all: Vec<usize> = (0..sys.n()).collect();
         let omega_max = *crate::solve::eigen::modes(&sys.k, &sys.m, &all, sys.n()).unwrap().omega.last().unwrap();
         let limit = 2.0 * 3f64.sqrt() / omega_max;
-        let mut s = crate::app::runner::transient_settings(&lc.case.analysis[0], false).unwrap();
+        let mut s = crate::app::runner::transient_settings(&lc.case.analysis[0], None).unwrap();
         let steps = ((1.0 / 60.0) / (factor * limit)).round() as usize;
         s.steps_per_period = Some(steps);
         let timing = DriveTiming::stepped(&model, Step::of(None, Some(steps)), None, None).unwrap();

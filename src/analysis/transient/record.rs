@@ -103,6 +103,22 @@ impl PeriodRecord {
         }
     }
 
+    /// Keeps the samples whose step index in the run (`first` for this period's first) is a
+    /// multiple of `every`.
+    fn thin(&mut self, first: usize, every: usize) {
+        let kept = |v: &mut Vec<f64>| {
+            let mut i = 0;
+            v.retain(|_| {
+                i += 1;
+                (first + i - 1) % every == 0
+            });
+        };
+        kept(&mut self.t);
+        for ch in self.channels_mut() {
+            ch.iter_mut().for_each(kept);
+        }
+    }
+
     fn append(&mut self, o: &PeriodRecord) {
         self.t.extend(&o.t);
         for (a, b) in self.channels_mut().into_iter().zip(o.channels()) {
@@ -255,17 +271,23 @@ impl PeriodRecord {
 }
 
 /// The periods kept for output: the last `keep`, the oldest recycled (its buffers keep
-/// their capacity).
+/// their capacity). Behind the newest `whole` periods, a period keeps only the steps whose
+/// index in the run is a multiple of `every` (a long history thinned, its end whole).
 pub(super) struct Window {
     records: VecDeque<PeriodRecord>,
     keep: usize,
     samples: usize,
+    whole: usize,
+    every: usize,
+    /// Periods pushed so far (the run's period index of the next one).
+    pushed: usize,
 }
 
 impl Window {
-    /// A window of `keep` periods of `samples` samples.
-    pub fn new(keep: usize, samples: usize) -> Self {
-        Window { records: VecDeque::new(), keep, samples }
+    /// A window of `keep` periods of `samples` samples, the newest `whole` of them whole
+    /// and the older ones every `every`-th step.
+    pub fn new(keep: usize, samples: usize, (whole, every): (usize, usize)) -> Self {
+        Window { records: VecDeque::new(), keep, samples, whole, every: every.max(1), pushed: 0 }
     }
 
     /// An empty record for the next period: the oldest of a full window, or a new one.
@@ -281,6 +303,13 @@ impl Window {
 
     pub fn push(&mut self, rec: PeriodRecord) {
         self.records.push_back(rec);
+        self.pushed += 1;
+        // The period that has just left the whole tail is thinned, once.
+        if self.every > 1 && self.records.len() > self.whole {
+            let index = self.records.len() - 1 - self.whole;
+            let first = (self.pushed - 1 - self.whole) * self.samples;
+            self.records[index].thin(first, self.every);
+        }
     }
 
     /// The kept periods as one record.
