@@ -12,7 +12,9 @@ paper: deps
 # console message and show every figure, then an outside
 # HDF5 reader (h5dump) checks that a result file is standard HDF5, then the
 # model OpenSees exports is imported and checked against OpenSees' eigen and the native
-# beam (scripts/test-opensees-import.sh; openseespy from PyPI in a virtualenv), then the
+# beam (scripts/test-opensees-import.sh; openseespy from PyPI in a virtualenv), a Morley
+# plate scikit-fem assembles against scikit-fem's eigen, Navier's closed form and the native
+# plate (scripts/test-skfem-import.sh; scikit-fem from PyPI in a virtualenv), then the
 # Slurm job array of docs/sweeps.md runs on a one-node cluster on localhost (slurm-wlm and
 # munge are installed with apt-get if missing; needs root or passwordless sudo), the
 # Python package is built as a manylinux wheel with HDF5 inside, installed into a fresh
@@ -24,6 +26,7 @@ test: deps
 	bash scripts/test-report.sh
 	bash scripts/check-results-with-h5dump.sh
 	bash scripts/test-opensees-import.sh
+	bash scripts/test-skfem-import.sh
 	bash scripts/test-readme.sh
 	bash scripts/test-slurm.sh
 	bash scripts/test-python.sh

@@ -6,25 +6,16 @@
 # with the reason when it cannot: the test never passes without running.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+WHAT="OpenSees import"
 # shellcheck source=scripts/lib/apt-install.sh
 source scripts/lib/apt-install.sh
+# shellcheck source=scripts/lib/import-check.sh
+source scripts/lib/import-check.sh
 
-fail() {
-    echo "OpenSees import test FAILED: $*" >&2
-    exit 1
-}
-
-cargo build --release --quiet
-beamflow="$(pwd)/${CARGO_TARGET_DIR:-target}/release/beamflow"
-venv="${CARGO_TARGET_DIR:-target}/opensees-venv"
 if ! ldconfig -p | grep -q 'libblas.so.3' || ! ldconfig -p | grep -q 'liblapack.so.3'; then
     apt_install "BLAS and LAPACK (for openseespy)" libblas3 liblapack3 || fail "no system BLAS/LAPACK"
 fi
-if [ ! -x "$venv/bin/python" ]; then
-    python3 -m venv "$venv" || fail "cannot create a virtualenv (Debian: apt-get install python3-venv)"
-fi
-"$venv/bin/pip" install --quiet --disable-pip-version-check openseespy==3.7.1.2 numpy scipy ||
-    fail "cannot install openseespy, numpy and scipy from PyPI"
+import_venv opensees-venv openseespy==3.7.1.2 numpy scipy
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
-"$venv/bin/python" scripts/opensees_import.py "$beamflow" "$work" || fail "see the table above"
+"$python" scripts/opensees_import.py "$beamflow" "$work" || fail "see the table above"

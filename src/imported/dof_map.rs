@@ -11,8 +11,13 @@ pub const HEADER: &str = "row,node,x_m,y_m,z_m,component";
 
 /// The components a row may be: translations and rotations along the global axes, then
 /// beamflow's own DOF kinds (the beam's w, θ and the plate's w, ∂w/∂x, ∂w/∂y, ∂²w/∂x∂y),
-/// which its own matrix export writes, so that its files round-trip exactly.
-pub const COMPONENTS: [&str; 11] = ["ux", "uy", "uz", "rx", "ry", "rz", "w", "theta", "w_x", "w_y", "w_xy"];
+/// which its own matrix export writes, so that its files round-trip exactly, then the
+/// slope along an edge's normal of elements such as Morley's triangle ([`EDGE_SLOPE`]).
+pub const COMPONENTS: [&str; 12] = ["ux", "uy", "uz", "rx", "ry", "rz", "w", "theta", "w_x", "w_y", "w_xy", "w_n"];
+
+/// The slope ∂w/∂n along an edge's normal, at a node of the edge. Which way the normal
+/// points is the exporter's choice and the map does not say it, so nothing attaches there.
+pub const EDGE_SLOPE: &str = "w_n";
 
 /// A component as a case writes it, `uz`, `+uz` or `-uz` (the side an actuator stands on):
 /// its index into [`COMPONENTS`] and its sign.
@@ -22,8 +27,15 @@ pub fn parse_component(text: &str) -> std::result::Result<(u8, i8), String> {
         Some(rest) => (-1, rest),
         None => (1, t.strip_prefix('+').unwrap_or(t)),
     };
+    if name.trim().eq_ignore_ascii_case(EDGE_SLOPE) {
+        return Err(format!(
+            "{text:?} is the slope along an edge's normal, which points the way the exporter chose: \
+             nothing attaches to it; give a deflection (uz or w) at a vertex node"
+        ));
+    }
     COMPONENTS.iter().position(|c| c.eq_ignore_ascii_case(name.trim())).map(|i| (i as u8, sign)).ok_or_else(|| {
-        format!("{text:?} is not a component: give one of {} with an optional sign", COMPONENTS.join(", "))
+        let attachable: Vec<&str> = COMPONENTS.iter().copied().filter(|c| *c != EDGE_SLOPE).collect();
+        format!("{text:?} is not a component: give one of {} with an optional sign", attachable.join(", "))
     })
 }
 
@@ -117,6 +129,16 @@ mod tests {
     use super::*;
 
     #[test]
+    fn a_point_stands_on_a_deflection_or_rotation_never_on_an_edge_slope() {
+        assert_eq!(parse_component("-uz"), Ok((2, -1)));
+        for text in ["w_n", "-W_N"] {
+            let e = parse_component(text).unwrap_err();
+            assert!(e.contains("edge's normal") && e.contains("uz or w"), "{e}");
+        }
+        assert!(!parse_component("sideways").unwrap_err().contains("w_n"));
+    }
+
+    #[test]
     fn a_map_names_every_row_and_each_mistake_its_line() {
         let d = tempfile::tempdir().unwrap();
         let p = d.path().join("dofs.csv");
@@ -138,6 +160,8 @@ mod tests {
             let e = read(&p, n).unwrap_err().to_string();
             assert!(e.contains("dofs.csv") && e.contains(expect), "{e} (expected {expect})");
         }
+        std::fs::write(&p, format!("{HEADER}\n1,7,0,0,0,uz\n2,8,0.5,0,0,w_n\n")).unwrap();
+        assert_eq!(read(&p, 2).unwrap().rows, [(0, 2), (1, 11)]);
         std::fs::write(&p, "row,node,x,kind\n").unwrap();
         assert!(read(&p, 1).unwrap_err().to_string().contains("header"));
     }
