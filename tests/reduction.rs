@@ -249,3 +249,39 @@ fn reduction_field_survives_a_toml_round_trip() {
         assert!(spec(&lc.case).iter().all(Option::is_some));
     }
 }
+
+/// A plate above the dense eigensolver's limit reduces on its sparse factor: exactly the
+/// modes below the cut-off (as many as a modes analysis finds there, at the same
+/// frequencies) and the first above it, and the reduced steady state's point powers and
+/// sensor response agree with the full model's.
+#[test]
+fn a_large_plate_reduces_on_its_modes_below_the_cutoff() {
+    let text = std::fs::read_to_string(cases_dir().join("plate-inertial.toml")).unwrap();
+    let base = text.split("[[analysis]]").next().unwrap().replace("elements = [20, 16]", "elements = [30, 24]");
+    let cutoff = 2000.0;
+    let reduced = run_text(
+        &format!(
+            "{base}[[analysis]]\ntype = \"steady_state\"\nharmonics = 9\n\
+             reduction = {{ modes_up_to_hz = {cutoff}, error_estimate = false }}\n\
+             [[analysis]]\ntype = \"steady_state\"\nharmonics = 9\n[[analysis]]\ntype = \"modes\"\ncount = 60\n"
+        ),
+        "plate.toml",
+    );
+    let [AnalysisResult::SteadyState(r), AnalysisResult::SteadyState(f), AnalysisResult::Modes(m)] =
+        &reduced.results[..]
+    else {
+        panic!("two steady states and a modes analysis")
+    };
+    let report = r.reduction.as_ref().expect("a reduced run reports its basis");
+    assert!(report.full_dofs > beamflow::analysis::modes::DENSE_EIGEN_LIMIT, "{}", report.full_dofs);
+    let below: Vec<f64> = m.frequencies_hz.iter().copied().filter(|&f| f <= cutoff).collect();
+    assert!(below.len() < m.frequencies_hz.len(), "the modes analysis reaches past the cut-off");
+    assert_eq!(report.modes_kept, below.len());
+    for (a, b) in report.mode_frequencies_hz.iter().zip(&below) {
+        assert!((a - b).abs() <= 1e-9 * b, "{a} Hz against {b} Hz");
+    }
+    let next = report.first_discarded_mode_hz.expect("the first mode above the cut-off");
+    assert!((next - m.frequencies_hz[below.len()]).abs() <= 1e-9 * next, "{next}");
+    let d = max_rel(&r.mean_power, &f.mean_power);
+    assert!(d <= 1e-6, "reduced against full: {d:e}");
+}

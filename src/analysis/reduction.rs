@@ -115,7 +115,15 @@ pub fn reduce(
     if model.structure.is_none() {
         return Err(Error::analysis_setting("reduction", "a modal reduction needs a structure (base = \"beam\")"));
     }
-    let modes = red::beam_modes(full)?;
+    // A beam keeps its dense (or root) path, bit for bit; a large plate or imported model
+    // computes only the modes the cut-off keeps, on its sparse factor.
+    let large = full.dofs.structure_dofs().len() > crate::analysis::modes::DENSE_EIGEN_LIMIT;
+    let modes = match model.structure.as_ref().and_then(|s| s.beam()) {
+        None if large && cutoff_hz.is_finite() && cutoff_hz > 0.0 => {
+            red::structure_modes_to(full, 2.0 * PI * cutoff_hz)?
+        }
+        _ => red::beam_modes(full)?,
+    };
     let f1 = modes.omega.first().map_or(f64::INFINITY, |w| w / (2.0 * PI));
     if cutoff_hz.is_nan() || cutoff_hz < f1 {
         return Err(Error::analysis_setting(

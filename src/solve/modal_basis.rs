@@ -63,6 +63,7 @@
 
 use crate::assembly::{DofMap, LinkDofs, Projection, System};
 use crate::error::{Error, Result};
+use crate::linalg::sparse_ldlt::SparsePattern;
 use crate::linalg::{dot, Csr, Skyline};
 use crate::solve::eigen::{ratio_of, Modes};
 use faer::{Mat, MatRef, Side};
@@ -115,7 +116,36 @@ pub fn beam_modes(full: &System) -> Result<Modes> {
     crate::solve::eigen::modes(&full.k_beam, &full.m_beam, &full.dofs.structure_dofs(), usize::MAX)
 }
 
-/// Reduces an assembled system with the bare-beam `modes` (from [`beam_modes`]).
+/// The bare structure's modes up to `cutoff` (rad/s) and the first above it, for a
+/// reduction of a large plate or imported model: shift-invert Lanczos on the sparse LDLᵀ of
+/// the structure's K, the count read off the inertia of K − ω_c²·M (Sylvester: its
+/// negative pivots are the eigenvalues below ω_c²), so no mode below the cut-off is missed.
+/// A beam keeps [`beam_modes`], every mode from its dense (or root) path.
+pub fn structure_modes_to(full: &System, cutoff: f64) -> Result<Modes> {
+    let dofs = full.dofs.structure_dofs();
+    let (k, m) = (restrict(&full.k_beam, &dofs), restrict(&full.m_beam, &dofs));
+    let pattern = SparsePattern::analyse(&[&k, &m])?;
+    let below = pattern.factorize(&[(1.0, &k), (-cutoff * cutoff, &m)])?.negative_pivots();
+    drop(pattern);
+    let mut modes = crate::solve::lanczos::modes_sparse(&k, &m, (below + 1).min(dofs.len()), 0.0)?;
+    modes.dofs = dofs;
+    Ok(modes)
+}
+
+/// `a` on the rows and columns `dofs` only, renumbered in their order.
+fn restrict(a: &Csr, dofs: &[usize]) -> Csr {
+    let mut pos = vec![usize::MAX; a.dim()];
+    dofs.iter().enumerate().for_each(|(r, &d)| pos[d] = r);
+    let kept: Vec<(usize, usize, f64)> = a
+        .triplets()
+        .filter(|&(i, j, _)| pos[i] != usize::MAX && pos[j] != usize::MAX)
+        .map(|(i, j, v)| (pos[i], pos[j], v))
+        .collect();
+    Csr::from_triplets(dofs.len(), &kept)
+}
+
+/// Reduces an assembled system with the bare-beam `modes` (from [`beam_modes`] or
+/// [`structure_modes_to`]).
 pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<Reduction> {
     if full.projection.is_some() {
         return Err(Error::Numerical("the system is already reduced".into()));
