@@ -148,9 +148,12 @@ impl Variable {
         }
     }
 
-    /// The value at u as a number for tables (a choice: its index).
+    /// The value at u as a number for tables and figures (a choice of numbers, such as node
+    /// ids: the number; other choices: its index).
     pub fn number(&self, u: f64) -> f64 {
         match (&self.domain, self.value(u)) {
+            (Domain::Choice(_), toml::Value::Integer(i)) => i as f64,
+            (Domain::Choice(_), toml::Value::Float(f)) => f,
             (Domain::Choice(v), x) => v.iter().position(|y| *y == x).unwrap_or(0) as f64,
             (_, toml::Value::Integer(i)) => i as f64,
             (_, toml::Value::Float(f)) => f,

@@ -112,7 +112,7 @@ pub fn unit_of(path: &str) -> &'static str {
         "k_theta" => "N m/rad",
         "d_p" => "m/V",
         "beta" | "gamma" => "1/V",
-        "alpha" | "zeta" | "ratios" | "elements" | "modes" => "1",
+        "alpha" | "zeta" | "ratios" | "elements" | "modes" | "node" => "1",
         "youngs_modulus" => "Pa",
         "density" => "kg/m^3",
         "a0" => "1/s",
