@@ -224,3 +224,22 @@ fn a_box_of_nodes_is_refused_when_it_holds_none_or_names_no_node_field() {
     let e = Spec::from_str(&text, "box.opt.toml", m.dir.path()).map(|_| ()).unwrap_err().to_string();
     assert!(e.contains("box.opt.toml") && e.contains("variable[0]") && e.contains("not several"), "{e}");
 }
+
+#[test]
+fn the_shipped_portal_frame_puts_its_frame_on_girder_nodes() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("cases/portal-frame");
+    let lc = beamflow::case::LoadedCase::load(&dir.join("portal-frame.toml")).unwrap();
+    let model = beamflow::case::build_model(&lc).unwrap();
+    let beamflow::actuator::Actuator::Frame(f) = &model.actuators[0] else { panic!("a frame") };
+    let node = |l: &beamflow::structure::Location| match l {
+        beamflow::structure::Location::Node { node, .. } => *node,
+        other => panic!("{other} is no node"),
+    };
+    let legs = f.legs.unwrap();
+    assert_eq!([node(&f.at.unwrap()), node(&legs[0]), node(&legs[1])], [27, 26, 28]);
+    // The girder's 21 nodes but its two corners, where a leg would fall off it.
+    let sw =
+        Sweep::from_str(&std::fs::read_to_string(dir.join("girder.sweep.toml")).unwrap(), "girder.sweep.toml", &dir)
+            .unwrap();
+    assert_eq!(sw.parameters[0].values, (22..=40).map(f64::from).collect::<Vec<_>>());
+}

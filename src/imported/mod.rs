@@ -205,7 +205,10 @@ impl Imported {
                 let spacing = self.spacing(i);
                 (
                     NEAR_FRACTION * spacing,
-                    format!("the default, {NEAR_FRACTION} of the {spacing} m from node {id} to its nearest neighbour"),
+                    format!(
+                        "the default, {NEAR_FRACTION} of the {} m from node {id} to its nearest neighbour",
+                        m(spacing)
+                    ),
                 )
             }
         };
