@@ -18,6 +18,7 @@ Checks, each against an independent reference:
      inertial actuator on it whose run balances its energy.
 
     python3 scripts/opensees_import.py <beamflow binary> <work folder>
+    python3 scripts/opensees_import.py --portal cases/portal-frame   # the portal's files alone
 
 Needs openseespy (and the system BLAS/LAPACK its wheel links), numpy and scipy
 (scripts/test-opensees-import.sh installs them in a virtualenv).
@@ -169,7 +170,17 @@ def run(beamflow, case, out):
     return json.loads((out / f"{case.stem}.json").read_text())
 
 
+def export_portal(folder):
+    """Writes the portal frame's M, K and DOF map alone (the files cases/portal-frame/ ships)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    build_portal()
+    export(folder, "portal", ("ux", "uy", "rz"), MODES)
+
+
 def main():
+    if sys.argv[1] == "--portal":
+        export_portal(Path(sys.argv[2]))
+        return
     beamflow, folder = sys.argv[1], Path(sys.argv[2])
     folder.mkdir(parents=True, exist_ok=True)
     build()

@@ -140,8 +140,9 @@ pub fn build_structure(lc: &LoadedCase) -> Result<Structure> {
     }
 }
 
-/// Where a point of the case is on `structure` (an imported node's position filled in),
-/// refused naming `field` if it does not attach there.
+/// Where a point of the case is on `structure` (an imported node's position filled in, a
+/// point written by position resolved to its node), refused naming `field` if it does not
+/// attach there.
 fn resolved(
     file: &str,
     structure: Option<&Structure>,
@@ -149,7 +150,7 @@ fn resolved(
     field: impl Fn(&Location) -> String,
 ) -> Result<Location> {
     let Some(s) = structure else { return Ok(at) };
-    if let Location::Node { .. } = at {
+    if let Location::Node { .. } | Location::Near { .. } = at {
         s.attach(&at).map_err(|why| Error::input(file, field(&at), why))?;
     }
     Ok(s.resolve(at))
@@ -293,7 +294,7 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
         };
         let on = beam.as_ref();
         let f_field = |what: &'static str| move |_: &Location| format!("actuator[{i}].{what}");
-        let at = resolved(&lc.file, on, a.location(), f_field("node"))?;
+        let at = resolved(&lc.file, on, a.location(), |at| format!("actuator[{i}].{}", at.field()))?;
         let foot = match case.base {
             BaseKind::Beam => FootBase::On(at),
             BaseKind::Rigid => FootBase::Ground,
@@ -303,6 +304,23 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
                 let feet = a.feet();
                 let l = resolved(&lc.file, on, feet[1].1, f_field("legs"))?;
                 let r = resolved(&lc.file, on, feet[2].1, f_field("legs"))?;
+                frame_spacing(&lc.file, &format!("actuator[{i}]"), [at, l, r], fr.a, fr.e)?;
+                Some([l, r])
+            }
+            // On an imported model the legs stand on the nodes nearest x_c ∓ a·d from the
+            // stack's node, so that they move with it (a sweep or optimisation over nodes).
+            (BodySpec::Frame(fr), None) if matches!(at, Location::Node { .. }) => {
+                let [_, l, r] = crate::actuator::frame::feet(at, fr.e, fr.a, a.direction.to_radians())
+                    .map(|p| p.within(a.tolerance));
+                let leg = |p, side: &str| {
+                    resolved(&lc.file, on, p, |_| format!("actuator[{i}].direction")).map_err(|e| match e {
+                        Error::Input { file, field, reason } => {
+                            Error::Input { file, field, reason: format!("the {side} leg: {reason}") }
+                        }
+                        e => e,
+                    })
+                };
+                let (l, r) = (leg(l, "left")?, leg(r, "right")?);
                 frame_spacing(&lc.file, &format!("actuator[{i}]"), [at, l, r], fr.a, fr.e)?;
                 Some([l, r])
             }
@@ -328,13 +346,13 @@ pub fn build_model(lc: &LoadedCase) -> Result<Model> {
     }
     let mut sensors = Vec::with_capacity(case.sensor.len());
     for (i, s) in case.sensor.iter().enumerate() {
-        let at = resolved(&lc.file, beam.as_ref(), s.location(), |_| format!("sensor[{i}].node"))?;
+        let at = resolved(&lc.file, beam.as_ref(), s.location(), |at| format!("sensor[{i}].{}", at.field()))?;
         sensors.push(Sensor { name: s.name.clone(), at });
     }
     let mut loads = Vec::with_capacity(case.load.len());
     for (i, l) in case.load.iter().enumerate() {
         let force = l.force.build(&lc.dir, &lc.file, &format!("load[{i}].force"))?;
-        let at = resolved(&lc.file, beam.as_ref(), l.location(), |_| format!("load[{i}].node"))?;
+        let at = resolved(&lc.file, beam.as_ref(), l.location(), |at| format!("load[{i}].{}", at.field()))?;
         loads.push(PointLoad { name: l.effective_name(i), at, force });
     }
     let roundoff_tolerance = case.beam.mesh.roundoff_tolerance;

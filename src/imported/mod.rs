@@ -44,6 +44,15 @@ pub struct Imported {
     pub mean_band: usize,
 }
 
+/// What fraction of the local node spacing a point written by position may lie from its
+/// node when the case gives no `tolerance` ([`Imported::node_near`]).
+pub const NEAR_FRACTION: f64 = 0.01;
+
+/// The distance between two points (m).
+pub fn distance(p: &[f64; 3], q: &[f64; 3]) -> f64 {
+    p.iter().zip(q).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt()
+}
+
 /// Where an imported model's files are, resolved against the case's folder, and which rows
 /// its boundary conditions hold.
 #[derive(Clone, Debug)]
@@ -163,16 +172,76 @@ impl Imported {
         (0..COMPONENTS.len()).map(|c| self.row(node, c).is_none_or(|r| self.fixed[r])).collect()
     }
 
-    /// The node nearest `xyz` (m) and its distance.
-    pub fn nearest(&self, xyz: [f64; 3]) -> (usize, f64) {
-        let d = |p: &[f64; 3]| p.iter().zip(&xyz).map(|(a, b)| (a - b) * (a - b)).sum::<f64>().sqrt();
-        self.nodes.iter().enumerate().map(|(i, n)| (i, d(&n.xyz))).fold((0, f64::INFINITY), |a, b| {
-            if b.1 < a.1 {
-                b
-            } else {
-                a
+    /// The node a point written by position stands on (spec §15): the node nearest `xyz`
+    /// (m) among those with a `component` row, if it lies within `tolerance` (m) and no
+    /// other such node is as near. Without a tolerance the default is [`NEAR_FRACTION`] of
+    /// the distance from that node to its nearest neighbour: a point means a node only if
+    /// it is written at that node up to rounding, never if it lies out along an element.
+    /// The reason, naming the nearest node and its distance, if there is no such node.
+    pub fn node_near(
+        &self,
+        xyz: [f64; 3],
+        component: usize,
+        tolerance: Option<f64>,
+    ) -> std::result::Result<usize, String> {
+        let name = COMPONENTS[component];
+        let mut order: Vec<(f64, usize)> = (0..self.nodes.len())
+            .filter(|&i| self.row(i, component).is_some())
+            .map(|i| (distance(&self.nodes[i].xyz, &xyz), i))
+            .collect();
+        let at = format!("({}, {}, {}) m", xyz[0], xyz[1], xyz[2]);
+        // Distances to the nanometre: what a user compares with the coordinates written.
+        let m = |v: f64| (v * 1e9).round() / 1e9;
+        if order.len() > 2 {
+            order.select_nth_unstable_by(1, |a, b| a.0.total_cmp(&b.0));
+        }
+        order.truncate(2);
+        order.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let Some(&(d, i)) = order.first() else { return Err(format!("the model has no {name} DOF at any node")) };
+        let id = self.nodes[i].id;
+        let (tolerance, why) = match tolerance {
+            Some(t) => (t, "`tolerance`".to_string()),
+            None => {
+                let spacing = self.spacing(i);
+                (
+                    NEAR_FRACTION * spacing,
+                    format!(
+                        "the default, {NEAR_FRACTION} of the {} m from node {id} to its nearest neighbour",
+                        m(spacing)
+                    ),
+                )
             }
-        })
+        };
+        if !(d <= tolerance) {
+            return Err(format!(
+                "no node with a {name} DOF lies within {} m ({why}) of {at}: the nearest is node {id}, {} m away; \
+                 write its position, name it with `node = {id}`, or give a larger `tolerance` (m)",
+                m(tolerance),
+                m(d)
+            ));
+        }
+        if let Some(&(d2, j)) = order.get(1) {
+            if d2 - d <= 1e-9 * d2.max(tolerance) {
+                return Err(format!(
+                    "nodes {id} and {} are equally near {at} ({} m): name one with `node`",
+                    self.nodes[j].id,
+                    m(d)
+                ));
+            }
+        }
+        Ok(i)
+    }
+
+    /// The distance (m) from node `i` to the nearest node at another position (0 if every
+    /// node is there).
+    fn spacing(&self, i: usize) -> f64 {
+        let p = self.nodes[i].xyz;
+        let d = self.nodes.iter().map(|n| distance(&n.xyz, &p)).filter(|&d| d > 0.0).fold(f64::INFINITY, f64::min);
+        if d.is_finite() {
+            d
+        } else {
+            0.0
+        }
     }
 
     /// Total mass (kg): the translational mass along the first translation the model has,

@@ -118,7 +118,7 @@ impl Limits {
         let mut out = Vec::new();
         if let Some(p) = &case.plate {
             out.extend(self.plate_violations(case, p));
-        } else if case.base == BaseKind::Beam {
+        } else if case.base == BaseKind::Beam && case.imported.is_none() {
             let length = case.beam.length;
             let sup = supports(case);
             let c = self.support_clearance;

@@ -74,6 +74,8 @@ struct VariableFile {
     integer: bool,
     /// A categorical variable: one of these values (e.g. `["inertial", "frame"]`).
     values: Option<Vec<toml::Value>>,
+    /// A choice of the nodes of an imported model inside a box (a `node` field's values).
+    nodes_in: Option<crate::sweep::base::NodeBox>,
 }
 
 #[derive(Debug, Deserialize)]
@@ -146,9 +148,12 @@ impl Variable {
         }
     }
 
-    /// The value at u as a number for tables (a choice: its index).
+    /// The value at u as a number for tables and figures (a choice of numbers, such as node
+    /// ids: the number; other choices: its index).
     pub fn number(&self, u: f64) -> f64 {
         match (&self.domain, self.value(u)) {
+            (Domain::Choice(_), toml::Value::Integer(i)) => i as f64,
+            (Domain::Choice(_), toml::Value::Float(f)) => f,
             (Domain::Choice(v), x) => v.iter().position(|y| *y == x).unwrap_or(0) as f64,
             (_, toml::Value::Integer(i)) => i as f64,
             (_, toml::Value::Float(f)) => f,
@@ -398,7 +403,17 @@ fn variable(v: &VariableFile, base: &BaseCase, file: &str, name: &str) -> Result
         (Some(_), Some(_)) => return Err(Error::input(file, name, "give either `path` or `paths`, not both")),
         (None, None) => return Err(Error::input(file, format!("{name}.path"), "missing: which case field varies?")),
     };
-    let domain = match (&v.values, v.min, v.max) {
+    let nodes = match &v.nodes_in {
+        Some(_) if v.values.is_some() || v.min.is_some() || v.max.is_some() || v.integer => {
+            return Err(Error::input(file, name, "give either `nodes_in` or `values` or `min` and `max`, not several"))
+        }
+        Some(b) => {
+            let f = Field::parse(&paths[0]).map_err(|r| Error::input(file, format!("{name}.path"), r))?;
+            Some(base.nodes_in(&f, b, file, name)?.into_iter().map(toml::Value::Integer).collect())
+        }
+        None => v.values.clone(),
+    };
+    let domain = match (&nodes, v.min, v.max) {
         (Some(_), Some(_), _) | (Some(_), _, Some(_)) => {
             return Err(Error::input(file, name, "give either `values` (a choice) or `min` and `max`, not both"))
         }

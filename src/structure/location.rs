@@ -23,6 +23,16 @@ pub enum Location {
         sign: i8,
         xyz: [f64; 3],
     },
+    /// A point of an imported model given by position: the node nearest `xyz` (m) that
+    /// carries `component` (with `sign`), within `tolerance` (m; `None`: the model's default,
+    /// see [`crate::imported::Imported::node_near`]). Becomes a [`Location::Node`] when
+    /// resolved on the model, or is refused: never silently moved farther.
+    Near {
+        xyz: [f64; 3],
+        component: u8,
+        sign: i8,
+        tolerance: Option<f64>,
+    },
 }
 
 impl Location {
@@ -34,11 +44,19 @@ impl Location {
         Ok(Location::Node { node, component, sign, xyz: [f64::NAN; 3] })
     }
 
+    /// The node of an imported model nearest `xyz` (m) along `component`, within
+    /// `tolerance` (see [`Location::Near`]). Errors with the reason if the component is
+    /// not one.
+    pub fn near(xyz: [f64; 3], component: &str, tolerance: Option<f64>) -> std::result::Result<Location, String> {
+        let (component, sign) = crate::imported::dof_map::parse_component(component)?;
+        Ok(Location::Near { xyz, component, sign, tolerance })
+    }
+
     /// The x coordinate (m).
     pub fn x(&self) -> f64 {
         match *self {
             Location::Beam { x } | Location::Plate { x, .. } => x,
-            Location::Node { xyz, .. } => xyz[0],
+            Location::Node { xyz, .. } | Location::Near { xyz, .. } => xyz[0],
         }
     }
 
@@ -47,27 +65,43 @@ impl Location {
         match *self {
             Location::Beam { .. } => None,
             Location::Plate { y, .. } => Some(y),
-            Location::Node { xyz, .. } => Some(xyz[1]),
+            Location::Node { xyz, .. } | Location::Near { xyz, .. } => Some(xyz[1]),
         }
     }
 
     /// The point `along` (m) from this one in the in-plane direction `psi` (rad from +x; a
     /// beam has only ψ = 0). Written as (x + along) on a beam so that it reproduces the
-    /// beam's own arithmetic exactly.
+    /// beam's own arithmetic exactly. On an imported model the direction is
+    /// (cos ψ, sin ψ, 0) and the point there is the node nearest it (a [`Location::Near`]
+    /// along the same component; a node's own position must be resolved first).
     pub fn offset(&self, along: f64, psi: f64) -> Location {
+        let moved = |xyz: [f64; 3]| [xyz[0] + along * psi.cos(), xyz[1] + along * psi.sin(), xyz[2]];
         match *self {
             Location::Beam { x } => Location::Beam { x: x + along },
             Location::Plate { x, y } => Location::Plate { x: x + along * psi.cos(), y: y + along * psi.sin() },
-            node @ Location::Node { .. } => node,
+            Location::Node { component, sign, xyz, .. } => {
+                Location::Near { xyz: moved(xyz), component, sign, tolerance: None }
+            }
+            Location::Near { xyz, component, sign, tolerance } => {
+                Location::Near { xyz: moved(xyz), component, sign, tolerance }
+            }
+        }
+    }
+
+    /// The same point found within `tolerance` (m) if it is one found by position.
+    pub fn within(self, tolerance: Option<f64>) -> Location {
+        match self {
+            Location::Near { xyz, component, sign, .. } => Location::Near { xyz, component, sign, tolerance },
+            at => at,
         }
     }
 
     /// The case-file field that holds a point of this kind: `x` on a beam, `at` on a plate,
-    /// `node` on an imported model.
+    /// `node` (or `at`, by position) on an imported model.
     pub fn field(&self) -> &'static str {
         match self {
             Location::Beam { .. } => "x",
-            Location::Plate { .. } => "at",
+            Location::Plate { .. } | Location::Near { .. } => "at",
             Location::Node { .. } => "node",
         }
     }
@@ -81,6 +115,10 @@ impl fmt::Display for Location {
             Location::Node { node, component, sign, .. } => {
                 let c = crate::imported::COMPONENTS.get(component as usize).unwrap_or(&"?");
                 write!(f, "node {node} {}{c}", if sign < 0 { "−" } else { "" })
+            }
+            Location::Near { xyz: [x, y, z], component, sign, .. } => {
+                let c = crate::imported::COMPONENTS.get(component as usize).unwrap_or(&"?");
+                write!(f, "(x, y, z) = ({x}, {y}, {z}) m {}{c}", if sign < 0 { "−" } else { "" })
             }
         }
     }

@@ -253,19 +253,29 @@ impl Structure {
                     None => Err(format!("{at}: the model has no {} DOF at node {node}", COMPONENTS[c])),
                 }
             }
+            (Structure::Imported(m), Location::Near { xyz, component, tolerance, .. }) => {
+                let i = m.node_near(xyz, component as usize, tolerance)?;
+                self.attach(&self.resolve(*at)).map_err(|why| format!("{at} is node {}: {why}", m.nodes[i].id))
+            }
             (s, _) => Err(format!("{at} is not a point on a {}", s.kind())),
         }
     }
 
     /// The point with what the structure knows of it filled in: an imported model's node
-    /// gets its position. Other points, and nodes the model lacks (which [`Structure::attach`]
-    /// refuses), come back as they are.
+    /// gets its position, a point written by position becomes its node. Other points, and
+    /// nodes the model lacks (which [`Structure::attach`] refuses), come back as they are.
     pub fn resolve(&self, at: Location) -> Location {
         match (self, at) {
             (Structure::Imported(m), Location::Node { node, component, sign, .. }) => match m.node_index(node) {
                 Some(i) => Location::Node { node, component, sign, xyz: m.nodes[i].xyz },
                 None => at,
             },
+            (Structure::Imported(m), Location::Near { xyz, component, sign, tolerance }) => {
+                match m.node_near(xyz, component as usize, tolerance) {
+                    Ok(i) => Location::Node { node: m.nodes[i].id, component, sign, xyz: m.nodes[i].xyz },
+                    Err(_) => at,
+                }
+            }
             _ => at,
         }
     }

@@ -269,6 +269,92 @@ impl BaseCase {
     }
 }
 
+/// The nodes of an imported model inside a box, as a study writes a parameter's or
+/// variable's values: `nodes_in = { min = [x, y, z], max = [x, y, z], component = "uz" }`
+/// (m; the component defaults to the point's own in the base case).
+#[derive(Clone, Debug, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NodeBox {
+    pub min: [f64; 3],
+    pub max: [f64; 3],
+    pub component: Option<String>,
+}
+
+impl BaseCase {
+    /// The ids (ascending) of the base model's nodes inside `b` (faces included) where the
+    /// point `field` names (a `node` field, e.g. `actuator[0].node`) can stand: those with
+    /// an unfixed row of the component, and on which the case with the field set builds (a
+    /// frame whose leg would fall off the model is left out). Refused if there are none,
+    /// naming `study` and `name` (e.g. `parameter[0]`).
+    pub fn nodes_in(&self, field: &Field, b: &NodeBox, study: &str, name: &str) -> Result<Vec<i64>> {
+        let at = format!("{name}.nodes_in");
+        let bad = |sub: &str, why: String| Error::input(study, format!("{at}{sub}"), why);
+        if self.case.imported.is_none() {
+            return Err(bad("", "lists nodes of an imported model, and the base case has none".into()));
+        }
+        let Some((_, parent)) = field.segments.split_last().filter(|(l, _)| l.key == "node" && l.index.is_none())
+        else {
+            return Err(bad(
+                "",
+                format!("lists node ids: vary a `node` field (e.g. `actuator[0].node`), not `{}`", field.path),
+            ));
+        };
+        let sibling = [parent, &[Segment { key: "component".into(), index: None }]].concat();
+        let component = match (&b.component, get_path(&self.value, &sibling).and_then(|v| v.as_str())) {
+            (Some(c), _) => c.clone(),
+            (None, Some(c)) => c.to_string(),
+            (None, None) => return Err(bad(".component", "required: the base case gives this point none".into())),
+        };
+        let (c, _) = crate::imported::dof_map::parse_component(&component).map_err(|why| bad(".component", why))?;
+        for k in 0..3 {
+            if !(b.min[k].is_finite() && b.max[k].is_finite()) {
+                return Err(bad("", "the corners must be finite (m)".into()));
+            }
+            if b.min[k] > b.max[k] {
+                return Err(bad(".max", format!("max = {:?} is below min = {:?} along axis {k}", b.max, b.min)));
+            }
+        }
+        let lc =
+            LoadedCase { case: self.case.clone(), file: self.file.clone(), dir: self.dir.clone(), text: String::new() };
+        let structure = crate::case::build::build_structure(&lc)?;
+        let model = structure.imported().expect("an imported case builds an imported model");
+        let inside = |p: &[f64; 3]| (0..3).all(|k| (b.min[k]..=b.max[k]).contains(&p[k]));
+        let mut ids: Vec<i64> = (0..model.nodes.len())
+            .filter(|&i| inside(&model.nodes[i].xyz) && model.row(i, c as usize).is_some_and(|r| !model.fixed[r]))
+            .map(|i| model.nodes[i].id)
+            .collect();
+        ids.sort_unstable();
+        let stands = |id: i64| {
+            self.case_with([(field, toml::Value::Integer(id))], &self.file)
+                .is_ok_and(|lc| crate::case::build::build_model(&lc).is_ok())
+        };
+        let found = ids.len();
+        ids.retain(|&id| stands(id));
+        if ids.is_empty() {
+            let (lo, hi) = model.nodes.iter().fold(([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]), |(lo, hi), n| {
+                ([0, 1, 2].map(|k| lo[k].min(n.xyz[k])), [0, 1, 2].map(|k| hi[k].max(n.xyz[k])))
+            });
+            let name = crate::imported::COMPONENTS[c as usize];
+            return Err(bad(
+                "",
+                if found == 0 {
+                    format!(
+                        "no node with a free {name} DOF lies in the box {:?} to {:?} m (the model's nodes span {lo:?} \
+                         to {hi:?} m)",
+                        b.min, b.max
+                    )
+                } else {
+                    format!(
+                        "`{}` can stand on none of the {found} nodes in the box: check the base case at one of them",
+                        field.path
+                    )
+                },
+            ));
+        }
+        Ok(ids)
+    }
+}
+
 /// Actuator names (given, or `inertial`/`frame`, numbered when there are several) and
 /// their links' identifiers ([`link_id`]: `name_stack`, `name_left_leg`, `name_right_leg`).
 fn names(case: &Case) -> (Vec<String>, Vec<String>) {

@@ -37,7 +37,7 @@ pub fn parse_path(path: &str) -> std::result::Result<Vec<Segment>, String> {
 
 /// Sets `path` in a TOML document to `value`, creating missing tables on the way. Arrays
 /// (e.g. `actuator`) must exist and hold the index: a sweep varies cases, it does not add
-/// actuators.
+/// actuators. Setting a point's `node` drops its `at`: the point moves to that node.
 pub fn set_path(root: &mut toml::Value, path: &[Segment], value: toml::Value) -> std::result::Result<(), String> {
     let mut cur = root;
     let mut walked = String::new();
@@ -50,6 +50,10 @@ pub fn set_path(root: &mut toml::Value, path: &[Segment], value: toml::Value) ->
         walked.push_str(&seg.key);
         match seg.index {
             None if last => {
+                // A point moved to a node leaves the position the base case gave it.
+                if seg.key == "node" {
+                    table.remove("at");
+                }
                 table.insert(seg.key.clone(), value);
                 return Ok(());
             }
@@ -108,7 +112,7 @@ pub fn unit_of(path: &str) -> &'static str {
         "k_theta" => "N m/rad",
         "d_p" => "m/V",
         "beta" | "gamma" => "1/V",
-        "alpha" | "zeta" | "ratios" | "elements" | "modes" => "1",
+        "alpha" | "zeta" | "ratios" | "elements" | "modes" | "node" => "1",
         "youngs_modulus" => "Pa",
         "density" => "kg/m^3",
         "a0" => "1/s",

@@ -81,6 +81,8 @@ struct ParameterFile {
     stop: Option<f64>,
     count: Option<usize>,
     spacing: Option<Spacing>,
+    /// The nodes of an imported model inside a box (a `node` field's values).
+    nodes_in: Option<super::base::NodeBox>,
 }
 
 /// A varied field and its values.
@@ -176,7 +178,20 @@ impl Sweep {
                     format!("`{}` is already varied by parameter[{j}]", p.path),
                 ));
             }
-            let values = parameter_values(p, file, &name)?;
+            let values = match &p.nodes_in {
+                Some(b) => {
+                    let others = [p.values.is_some(), p.start.is_some(), p.stop.is_some(), p.count.is_some()];
+                    if others.contains(&true) || p.spacing.is_some() {
+                        return Err(Error::input(
+                            file,
+                            &name,
+                            "give either `nodes_in` or `values` or `start`, `stop`, `count`, not several",
+                        ));
+                    }
+                    base.nodes_in(&field, b, file, &name)?.into_iter().map(|id| id as f64).collect()
+                }
+                None => parameter_values(p, file, &name)?,
+            };
             parameters.push(Parameter { field, values });
         }
         if sf.combine == Combine::Zip {
@@ -380,7 +395,11 @@ fn parameter_values(p: &ParameterFile, file: &str, field: &str) -> Result<Vec<f6
             return Err(Error::input(file, field, "give either `values` or `start`, `stop`, `count`, not both"));
         }
         (None, false) => {
-            return Err(Error::input(file, field, "no values: give `values = [...]` or `start`, `stop`, `count`"));
+            return Err(Error::input(
+                file,
+                field,
+                "no values: give `values = [...]`, `start`, `stop`, `count`, or `nodes_in` (an imported model's nodes)",
+            ));
         }
         (Some(v), false) => {
             if p.spacing.is_some() {

@@ -1,8 +1,9 @@
 //! Actuators and their stacks as a case file writes them.
 
+use super::analysis::{at_length, PointSpec};
 use super::d_true;
 use super::signal::SignalSpec;
-use super::{non_negative, on_beam, positive, Extent};
+use super::{imported_tolerance, non_negative, on_beam, positive, Extent};
 use crate::actuator::bouc_wen::BoucWen;
 use crate::error::{Error, Result};
 use crate::structure::Location;
@@ -16,16 +17,21 @@ pub struct ActuatorSpec {
     pub name: Option<String>,
     /// Stack foot position on a beam x_E (m).
     pub x_e: f64,
-    /// Stack foot position (x, y) on a plate (m), in place of `x_e`.
-    pub at: Option<[f64; 2]>,
+    /// Stack foot position (x, y) on a plate, or (x, y, z) of its node on an imported model
+    /// (m), in place of `x_e`.
+    pub at: Option<Vec<f64>>,
     /// The stack foot's node on an imported model and the component the stack pushes along
     /// (`uz`, or `-uz` for an actuator on the other side), in place of `x_e`.
     pub node: Option<i64>,
     pub component: Option<String>,
+    /// How far (m) a foot found by position on an imported model (`at`, or a frame's legs
+    /// along `direction`) may lie from its node (default: 1 % of the node spacing).
+    pub tolerance: Option<f64>,
     /// A frame's left and right leg nodes on an imported model.
     pub legs: Option<[i64; 2]>,
-    /// A frame's in-plane direction on a plate ψ (degrees from +x): its legs stand on the
-    /// line through the stack foot along (cos ψ, sin ψ).
+    /// A frame's in-plane direction ψ (degrees from +x): its legs stand on the line through
+    /// the stack foot along (cos ψ, sin ψ) (on an imported model (cos ψ, sin ψ, 0), each on
+    /// the node nearest its position).
     pub direction: f64,
     pub body: BodySpec,
     pub stack: StackSpec,
@@ -112,11 +118,13 @@ struct ActuatorToml {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     x_e: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    at: Option<[f64; 2]>,
+    at: Option<Vec<f64>>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     node: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     component: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    tolerance: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     legs: Option<[i64; 2]>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -196,8 +204,13 @@ impl TryFrom<ActuatorToml> for ActuatorSpec {
         if t.at.is_some() && t.x_e.is_some() {
             return Err("give the stack foot as `x_e` on a beam or as `at = [x, y]` on a plate, not both".into());
         }
-        if t.direction.is_some() && t.at.is_none() {
-            return Err("`direction` turns a frame in a plate's plane; it needs `at = [x, y]`".into());
+        if t.direction.is_some() && t.at.is_none() && t.node.is_none() {
+            return Err("`direction` turns a frame about its stack foot: it needs `at` (plate) or `node` or `at` \
+                 (imported model)"
+                .into());
+        }
+        if t.direction.is_some() && t.legs.is_some() {
+            return Err("`direction` places a frame's legs and `legs` names their nodes: give one, not both".into());
         }
         if t.node.is_some() && (t.at.is_some() || t.x_e.is_some()) {
             return Err(
@@ -207,8 +220,10 @@ impl TryFrom<ActuatorToml> for ActuatorSpec {
         if t.legs.is_some() && !matches!(body, BodySpec::Frame(_)) {
             return Err("actuator field `legs` applies only to a frame actuator, and this one is inertial".into());
         }
-        if (t.legs.is_some() || t.component.is_some()) && t.node.is_none() {
-            return Err("`component` and `legs` go with `node`, the stack foot's node on an imported model".into());
+        if (t.legs.is_some() || t.component.is_some()) && t.node.is_none() && t.at.is_none() {
+            return Err(
+                "`component` and `legs` go with `node` or `at = [x, y, z]`, the stack foot on an imported model".into(),
+            );
         }
         Ok(ActuatorSpec {
             name: t.name,
@@ -216,6 +231,7 @@ impl TryFrom<ActuatorToml> for ActuatorSpec {
             at: t.at,
             node: t.node,
             component: t.component,
+            tolerance: t.tolerance,
             legs: t.legs,
             direction: t.direction.unwrap_or(0.0),
             body,
@@ -232,11 +248,15 @@ impl From<ActuatorSpec> for ActuatorToml {
             kind: ActuatorType::Inertial,
             name: a.name,
             x_e: (a.at.is_none() && a.node.is_none()).then_some(a.x_e),
+            direction: ((a.at.is_some() || a.node.is_some())
+                && a.legs.is_none()
+                && matches!(a.body, BodySpec::Frame(_)))
+            .then_some(a.direction),
             at: a.at,
             node: a.node,
             component: a.component,
+            tolerance: a.tolerance,
             legs: a.legs,
-            direction: (a.at.is_some() && matches!(a.body, BodySpec::Frame(_))).then_some(a.direction),
             m_t: None,
             m_b: None,
             j_b: None,
@@ -347,10 +367,17 @@ impl ActuatorSpec {
     /// Where the stack foot stands (on whichever structure the case has; a node without a
     /// valid component, which validation refuses, reads as NaN).
     pub fn location(&self) -> Location {
-        match (self.at, self.node) {
-            (Some([x, y]), _) => Location::Plate { x, y },
-            (None, Some(n)) => self.node_location(n).unwrap_or(Location::Beam { x: f64::NAN }),
-            (None, None) => Location::Beam { x: self.x_e },
+        self.point().location().unwrap_or(Location::Beam { x: f64::NAN })
+    }
+
+    /// The stack foot as a point is written.
+    pub fn point(&self) -> PointSpec {
+        PointSpec {
+            x: Some(self.x_e),
+            at: self.at.clone(),
+            node: self.node,
+            component: self.component.clone(),
+            tolerance: self.tolerance,
         }
     }
 
@@ -370,7 +397,9 @@ impl ActuatorSpec {
                 vec![("stack", stack), ("left leg", legs[0]), ("right leg", legs[1])]
             }
             BodySpec::Frame(fr) => {
-                let [stack, left, right] = crate::actuator::frame::feet(stack, fr.e, fr.a, self.direction.to_radians());
+                let [at, left, right] = crate::actuator::frame::feet(stack, fr.e, fr.a, self.direction.to_radians());
+                // A node stays the node named; a beam's or plate's foot is written from x_c.
+                let stack = if matches!(stack, Location::Node { .. } | Location::Near { .. }) { stack } else { at };
                 vec![("stack", stack), ("left leg", left), ("right leg", right)]
             }
         }
@@ -414,27 +443,41 @@ impl ActuatorSpec {
                 }
             }
         }
-        if let Extent::Imported = extent {
-            let Some(n) = self.node else {
+        let imported = extent == Extent::Imported;
+        let legs_by_position = matches!(self.body, BodySpec::Frame(_)) && self.legs.is_none();
+        imported_tolerance(
+            file,
+            f,
+            self.tolerance,
+            imported && (self.at.is_some() || legs_by_position),
+            "`at = [x, y, z]` or a frame's legs along `direction`",
+        )?;
+        if let Some(at) = &self.at {
+            at_length(at, extent).map_err(|why| Error::input(file, format!("{f}.at"), why))?;
+        }
+        if imported {
+            if self.node.is_none() && self.at.is_none() {
                 return Err(Error::input(
                     file,
                     format!("{f}.node"),
-                    "an imported model takes the stack foot as `node` and `component`",
+                    "an imported model takes the stack foot as `node` or `at = [x, y, z]`, with `component`",
                 ));
-            };
-            self.node_location(n).map_err(|why| Error::input(file, format!("{f}.component"), why))?;
-            if matches!(self.body, BodySpec::Frame(_)) && self.legs.is_none() {
-                return Err(Error::input(
-                    file,
-                    format!("{f}.legs"),
-                    "a frame on an imported model stands on three nodes: give `legs = [left, right]`",
-                ));
+            }
+            self.point().location().map_err(|why| Error::input(file, format!("{f}.component"), why))?;
+            if !self.direction.is_finite() {
+                return Err(Error::input(file, format!("{f}.direction"), "must be finite (degrees from +x)"));
             }
         } else if self.node.is_some() {
             return Err(Error::input(
                 file,
                 format!("{f}.node"),
                 "`node` names a point of an imported model, and this case has none",
+            ));
+        } else if self.component.is_some() {
+            return Err(Error::input(
+                file,
+                format!("{f}.component"),
+                "a component goes with `node` or `at = [x, y, z]` (an imported model)",
             ));
         }
         if let Extent::Plate { .. } = extent {

@@ -31,15 +31,18 @@ pub struct SensorSpec {
     /// Position on a beam (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x: Option<f64>,
-    /// Position (x, y) on a plate (m).
+    /// Position (x, y) on a plate, or (x, y, z) of a node of an imported model (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub at: Option<[f64; 2]>,
+    pub at: Option<Vec<f64>>,
     /// A node of an imported model (its id in the DOF map) and the `component` there
     /// (`uz`, `-uz`, …).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub node: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub component: Option<String>,
+    /// How far (m) `at = [x, y, z]` may lie from its node (default: 1 % of the node spacing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
 }
 
 /// A prescribed point force on the beam: F(t) (N, upward) at x (m), any signal the
@@ -53,15 +56,18 @@ pub struct LoadSpec {
     /// Position on a beam (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x: Option<f64>,
-    /// Position (x, y) on a plate (m).
+    /// Position (x, y) on a plate, or (x, y, z) of a node of an imported model (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub at: Option<[f64; 2]>,
+    pub at: Option<Vec<f64>>,
     /// A node of an imported model (its id in the DOF map) and the `component` there
     /// (`uz`, `-uz`, …).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub node: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub component: Option<String>,
+    /// How far (m) `at = [x, y, z]` may lie from its node (default: 1 % of the node spacing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
     /// The force's time history (N).
     pub force: SignalSpec,
 }
@@ -80,15 +86,18 @@ pub struct ForceSpec {
     /// Position on a beam (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub x: Option<f64>,
-    /// Position (x, y) on a plate (m).
+    /// Position (x, y) on a plate, or (x, y, z) of a node of an imported model (m).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub at: Option<[f64; 2]>,
+    pub at: Option<Vec<f64>>,
     /// A node of an imported model (its id in the DOF map) and the `component` there
     /// (`uz`, `-uz`, …).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub node: Option<i64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub component: Option<String>,
+    /// How far (m) `at = [x, y, z]` may lie from its node (default: 1 % of the node spacing).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
     #[serde(default = "d_one")]
     pub amplitude: f64,
     #[serde(default)]
@@ -107,7 +116,13 @@ macro_rules! written_point {
             }
 
             pub fn point(&self) -> PointSpec {
-                PointSpec { x: self.x, at: self.at, node: self.node, component: self.component.clone() }
+                PointSpec {
+                    x: self.x,
+                    at: self.at.clone(),
+                    node: self.node,
+                    component: self.component.clone(),
+                    tolerance: self.tolerance,
+                }
             }
         }
     )*};
@@ -115,14 +130,15 @@ macro_rules! written_point {
 
 written_point!(SensorSpec, LoadSpec, ForceSpec);
 
-/// A point as written: `x` on a beam, `at = [x, y]` on a plate, or `node` and `component`
-/// on an imported model.
+/// A point as written: `x` on a beam, `at = [x, y]` on a plate, or on an imported model
+/// `node` or `at = [x, y, z]` (its nearest node within `tolerance`) with `component`.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct PointSpec {
     pub x: Option<f64>,
-    pub at: Option<[f64; 2]>,
+    pub at: Option<Vec<f64>>,
     pub node: Option<i64>,
     pub component: Option<String>,
+    pub tolerance: Option<f64>,
 }
 
 impl PointSpec {
@@ -130,19 +146,38 @@ impl PointSpec {
     /// coordinate reads as NaN, which the validation refuses first). Errors with the reason
     /// if a node's component is missing or not one.
     pub fn location(&self) -> std::result::Result<Location, String> {
-        match (self.node, &self.component) {
-            (Some(n), Some(c)) => Location::node(n, c),
-            (Some(n), None) => Err(format!("node {n} needs a `component` (e.g. \"uz\")")),
-            (None, _) => Ok(location(self.x, self.at)),
+        let needs = |what: String| Err(format!("{what} needs a `component` (e.g. \"uz\")"));
+        match (self.node, self.at.as_deref(), &self.component) {
+            (Some(n), _, Some(c)) => Location::node(n, c),
+            (Some(n), _, None) => needs(format!("node {n}")),
+            (None, Some(&[x, y, z]), Some(c)) => Location::near([x, y, z], c, self.tolerance),
+            (None, Some(&[x, y, z]), None) => needs(format!("the position [{x}, {y}, {z}]")),
+            (None, at, _) => Ok(location(self.x, at)),
         }
     }
 }
 
-/// A point written as `x` on a beam or `at = [x, y]` on a plate (see [`PointSpec`]).
-pub fn location(x: Option<f64>, at: Option<[f64; 2]>) -> Location {
+/// A point written as `x` on a beam or `at = [x, y]` on a plate (see [`PointSpec`]); an
+/// `at` of another length reads as NaN, which validation refuses first ([`at_length`]).
+pub fn location(x: Option<f64>, at: Option<&[f64]>) -> Location {
     match (x, at) {
-        (_, Some([x, y])) => Location::Plate { x, y },
+        (_, Some(&[x, y])) => Location::Plate { x, y },
+        (_, Some(_)) => Location::Plate { x: f64::NAN, y: f64::NAN },
         (x, None) => Location::Beam { x: x.unwrap_or(f64::NAN) },
+    }
+}
+
+/// Checks that a point's `at` has the numbers its structure takes: [x, y] on a plate,
+/// [x, y, z] on an imported model; the reason if not.
+pub fn at_length(at: &[f64], extent: super::Extent) -> std::result::Result<(), String> {
+    let (want, form) = match extent {
+        super::Extent::Imported => (3, "[x, y, z] (m), the position of a node of the imported model"),
+        _ => (2, "[x, y] (m), the position on the plate"),
+    };
+    if at.len() == want {
+        Ok(())
+    } else {
+        Err(format!("{} numbers: give {form}", at.len()))
     }
 }
 

@@ -185,11 +185,14 @@ impl Extent {
                     Err(format!("{at} is outside the plate [0, {lx}] × [0, {ly}] m"))
                 }
             }
-            (Extent::Imported, Location::Node { .. }) => Ok(()),
+            (Extent::Imported, Location::Node { .. } | Location::Near { .. }) => Ok(()),
             (Extent::Imported, _) => {
-                Err("an imported model takes a point as `node` (its id) and `component` (e.g. \"uz\")".into())
+                Err("an imported model takes a point as `node` (its id) or `at = [x, y, z]` (m), \
+                 with `component` (e.g. \"uz\")"
+                    .into())
             }
             (_, Location::Node { .. }) => Err("`node` and `component` name a point of an imported model".into()),
+            (_, Location::Near { .. }) => Err("`at = [x, y, z]` names a point of an imported model".into()),
             (Extent::Rigid, _) => Err("the base is rigid: there is no structure to stand on".into()),
             (Extent::Beam { .. }, _) => Err("a beam takes a position as `x` (m)".into()),
             (Extent::Plate { .. }, _) => Err("a plate takes a position as `at = [x, y]` (m)".into()),
@@ -197,31 +200,56 @@ impl Extent {
     }
 }
 
-/// Checks a point written as `x` (beam), `at` (plate) or `node` and `component` (imported
-/// model) on the case's structure; `f` is the point's table, e.g. `sensor[0]`.
+/// Checks a point written as `x` (beam), `at` (plate) or `node` or `at = [x, y, z]` with
+/// `component` (imported model) on the case's structure; `f` is the point's table, e.g.
+/// `sensor[0]`.
 fn on_structure(file: &str, f: &str, p: &analysis::PointSpec, extent: Extent) -> Result<()> {
     let given = [p.x.is_some(), p.at.is_some(), p.node.is_some()].iter().filter(|&&g| g).count();
     if given > 1 {
         return Err(Error::input(
             file,
             f,
-            "give one of `x` (beam), `at = [x, y]` (plate) or `node` (imported model), not several",
+            "give one of `x` (beam), `at` (plate, or a position on an imported model) or `node` (imported model), \
+             not several",
         ));
     }
-    if p.component.is_some() && p.node.is_none() {
-        return Err(Error::input(file, format!("{f}.component"), "a component goes with `node` (an imported model)"));
+    let imported = extent == Extent::Imported;
+    if p.component.is_some() && !imported {
+        return Err(Error::input(
+            file,
+            format!("{f}.component"),
+            "a component goes with `node` or `at = [x, y, z]` (an imported model)",
+        ));
     }
+    imported_tolerance(file, f, p.tolerance, imported && p.at.is_some(), "`at = [x, y, z]`")?;
     // The field the structure takes its points in, and whether it is given.
     let (field, given) = match extent {
         Extent::Plate { .. } => (format!("{f}.at"), p.at.is_some()),
-        Extent::Imported => (format!("{f}.node"), p.node.is_some()),
+        Extent::Imported => (format!("{f}.node"), p.node.is_some() || p.at.is_some()),
         Extent::Beam { .. } | Extent::Rigid => (format!("{f}.x"), p.x.is_some()),
     };
     if !given {
         return Err(Error::input(file, field, "required: the point's position on the structure"));
     }
+    if let Some(at) = &p.at {
+        analysis::at_length(at, extent).map_err(|why| Error::input(file, format!("{f}.at"), why))?;
+    }
     let at = p.location().map_err(|why| Error::input(file, format!("{f}.component"), why))?;
     extent.holds(&at).map_err(|why| Error::input(file, field, why))
+}
+
+/// Checks a point's `tolerance` (m): zero or positive, and only where a point is found by
+/// position on an imported model (`by_position`, written as `what`).
+fn imported_tolerance(file: &str, f: &str, tolerance: Option<f64>, by_position: bool, what: &str) -> Result<()> {
+    let Some(t) = tolerance else { return Ok(()) };
+    if !by_position {
+        return Err(Error::input(
+            file,
+            format!("{f}.tolerance"),
+            format!("a tolerance goes with {what} on an imported model: how far its nearest node may lie"),
+        ));
+    }
+    non_negative(file, &format!("{f}.tolerance"), t)
 }
 
 fn on_beam(file: &str, field: &str, x: f64, length: f64) -> Result<()> {
