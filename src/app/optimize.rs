@@ -114,7 +114,14 @@ fn write(spec: &Spec, r: &RunResult, out: &Path, threads: Option<usize>, plots: 
         let [profiles_name, modes_name, pareto_name] = FIGURES;
         let objective = (o.label.as_str(), o.unit());
         let objective = (objective.0, objective.1.as_str());
-        written.extend(crate::report::optimize::plot_profiles(&dir, profiles_name, title, objective, &profiles)?);
+        written.extend(crate::report::optimize::plot_profiles(
+            &dir,
+            profiles_name,
+            title,
+            objective,
+            &profiles,
+            &spec.base.actuators,
+        )?);
         if !r.pareto.is_empty() {
             written.extend(plot_pareto(spec, r, &dir, pareto_name)?);
         }

@@ -6,25 +6,22 @@ use crate::optimize::explain::{ModalComparison, Profile};
 use crate::report::plot::{save, BarChart, LinePlot, MultiPanel, Series, SeriesStyle};
 use std::path::{Path, PathBuf};
 
-/// One panel per variable: the objective (`label`, `unit`) against the variable with the
-/// others held at the optimum, the optimum marked, the line broken where candidates are
-/// infeasible.
+/// One panel per variable: the objective (`label`, `unit`) against the variable (named in
+/// words as a sweep's axes are, `actuators` naming whose) with the others held at the
+/// optimum, the optimum marked, the line broken where candidates are infeasible.
 pub fn plot_profiles(
     dir: &Path,
     name: &str,
     title: &str,
     (label, unit): (&str, &str),
     profiles: &[Profile],
+    actuators: &[String],
 ) -> Result<Vec<PathBuf>> {
     let panels = profiles
         .iter()
         .map(|p| {
-            let xl = if p.unit == "1" || p.unit == "?" {
-                p.variable.clone()
-            } else {
-                format!("{} ({})", p.variable, p.unit)
-            };
-            let mut lp = LinePlot::new("", xl, format!("{label} ({unit})"));
+            let xl = crate::report::sweep::axis_text(&p.variable, &p.unit, actuators);
+            let mut lp = LinePlot::new("", xl, format!("{} ({unit})", label.replace('_', " ")));
             let line =
                 Series::line("other variables at the optimum", p.x.clone(), p.f.clone()).broken_at(p.gaps.clone());
             lp.series.push(line);

@@ -55,13 +55,14 @@ fn axis_label(t: &SweepTable, k: usize) -> String {
     axis_text(&t.parameters[k], &t.units[k], &t.actuators)
 }
 
-fn axis_text(path: &str, unit: &str, actuators: &[String]) -> String {
+pub(crate) fn axis_text(path: &str, unit: &str, actuators: &[String]) -> String {
     let field = path.rsplit('.').next().unwrap_or(path);
     let what = match field {
         "x_e" => "position x_{E}",
         "at[0]" => "position x",
         "at[1]" => "position y",
         "direction" => "direction ψ",
+        "node" => "stack-foot node",
         "frequency" => "drive frequency",
         "amplitude" => "drive amplitude",
         "offset" => "drive offset",
@@ -190,7 +191,7 @@ pub fn write_report(t: &SweepTable, out: &Path) -> Result<PathBuf> {
     let md = markdown(&markdown_report(t));
     p.push(md.split_once("</h2>\n").map_or(md.as_str(), |(_, rest)| rest));
     if let Some(f) = figure(t) {
-        p.section("figure", "Net power into the beam");
+        p.section("figure", &format!("Net power into the {}", t.into_word()));
         p.push(&format!("<figure>\n{}\n</figure>\n", f.svg(&path.display().to_string())?));
     }
     // The table names the file it came from (a merged shard may name any path): read it as
@@ -221,7 +222,7 @@ fn figure(t: &SweepTable) -> Option<Figure> {
         let signed = z.iter().any(|&v| v <= 0.0);
         let floor = if max > 0.0 { max * 1e-12 } else { 1e-30 };
         let mut h = HeatMap::new(
-            format!("{title}: net power into the structure"),
+            format!("{title}: net power into the {}", t.into_word()),
             axis_label(t, px),
             axis_label(t, py),
             if signed { "|net power| (W)" } else { "net power (W)" },
@@ -244,7 +245,8 @@ fn figure(t: &SweepTable) -> Option<Figure> {
     }
     if t.parameters.len() == 1 && !t.rows.is_empty() {
         let x: Vec<f64> = t.rows.iter().map(|r| r.inputs[0]).collect();
-        let mut p = LinePlot::new(format!("{title}: net power into the beam"), axis_label(t, 0), "net power (W)");
+        let into = t.into_word();
+        let mut p = LinePlot::new(format!("{title}: net power into the {into}"), axis_label(t, 0), "net power (W)");
         let style = if t.rows.len() <= 40 { SeriesStyle::LineMarkers } else { SeriesStyle::Line };
         let mut order: Vec<usize> = (0..x.len()).collect();
         order.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
@@ -328,7 +330,7 @@ pub fn best_table(t: &SweepTable, n: usize) -> String {
     for a in &t.actuators {
         s += &format!(" P {a} |");
     }
-    s += " beam dissipation | balance error |\n|---:|---:|";
+    s += &format!(" {} dissipation | balance error |\n|---:|---:|", t.into_word());
     s += &"---:|".repeat(t.parameters.len() + t.actuators.len() + 2);
     s.push('\n');
     for (rank, &j) in order.iter().take(n).enumerate() {
@@ -388,7 +390,7 @@ pub fn markdown_report(t: &SweepTable) -> String {
     use crate::report::html::{markdown_code, markdown_escape};
     let mut s = format!(
         "# Sweep results: {}\n\nSweep {} (id {}), {} of {} cases, analysis `{}` with {} harmonics. Ranked by the \
-         net power into the beam (sum over actuators).\n\n## {}\n\n{}",
+         net power into the {} (sum over actuators).\n\n## {}\n\n{}",
         if t.title.is_empty() { "(untitled)".to_string() } else { markdown_escape(&t.title) },
         markdown_code(&t.sweep_file),
         markdown_code(&t.hash),
@@ -396,6 +398,7 @@ pub fn markdown_report(t: &SweepTable) -> String {
         t.total_cases,
         t.analysis,
         t.harmonics,
+        t.into_word(),
         best_title(t),
         best_table(t, t.best)
     );
@@ -462,6 +465,20 @@ mod tests {
     }
 
     #[test]
+    fn the_report_names_what_the_power_goes_into() {
+        let mut t = two_peaks();
+        for (base, word) in [
+            ("[beam]\n", "beam"),
+            ("[plate]\nlength_x = 0.5\n", "plate"),
+            ("[imported]\nmass = \"m.mtx\"\n", "model"),
+            ("base = \"rigid\"\n", "base"),
+        ] {
+            t.base_text = base.into();
+            assert!(super::markdown_report(&t).contains(&format!("net power into the {word} (sum")), "{word}");
+        }
+    }
+
+    #[test]
     fn the_best_cases_of_a_grid_are_its_distinct_optima() {
         let t = two_peaks();
         let table = best_table(&t, t.best);
@@ -482,6 +499,7 @@ mod tests {
         assert_eq!(axis_text("actuator[0].voltage.frequency", "Hz", &acts), "drive frequency, frame (Hz)");
         assert_eq!(axis_text("actuator[0].x_e", "m", &acts), "position x_{E}, frame (m)");
         assert_eq!(axis_text("beam.mesh.elements", "1", &acts), "mesh elements");
+        assert_eq!(axis_text("actuator[0].node", "1", &acts), "stack-foot node, frame");
         assert_eq!(axis_text("beam.damping.zeta", "1", &acts), "beam.damping.zeta");
         assert_eq!(axis_text("actuator[3].m_t", "kg", &acts), "top mass m_{t}, actuator[3] (kg)");
     }

@@ -194,6 +194,21 @@ pub struct SweepTable {
 }
 
 impl SweepTable {
+    /// What the power goes into, in labels, from the base case the table keeps: `beam`,
+    /// `plate`, `model` (imported) or `base` (a rigid base).
+    pub fn into_word(&self) -> &'static str {
+        let Ok(case) = self.base_text.parse::<toml::Table>() else { return "structure" };
+        if case.contains_key("imported") {
+            "model"
+        } else if case.contains_key("plate") {
+            "plate"
+        } else if case.get("base").and_then(|b| b.as_str()) == Some("rigid") {
+            "base"
+        } else {
+            "beam"
+        }
+    }
+
     /// An empty table for (a shard of) a sweep.
     pub fn new(sweep: &Sweep, shard: Shard) -> SweepTable {
         SweepTable {
