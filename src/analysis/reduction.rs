@@ -118,18 +118,18 @@ pub fn reduce(
     // A beam keeps its dense (or root) path, bit for bit; a large plate or imported model
     // computes only the modes the cut-off keeps, on its sparse factor.
     let large = full.dofs.structure_dofs().len() > crate::analysis::modes::DENSE_EIGEN_LIMIT;
-    let modes = match model.structure.as_ref().and_then(|s| s.beam()) {
-        None if large && cutoff_hz.is_finite() && cutoff_hz > 0.0 => {
-            red::structure_modes_to(full, 2.0 * PI * cutoff_hz)?
-        }
-        _ => red::beam_modes(full)?,
+    let is_beam = model.structure.as_ref().and_then(|s| s.beam()).is_some();
+    let sparse = large && !is_beam && cutoff_hz.is_finite() && cutoff_hz > 0.0;
+    let modes = match sparse {
+        true => red::structure_modes_to(full, 2.0 * PI * cutoff_hz)?,
+        false => red::beam_modes(full)?,
     };
     let f1 = modes.omega.first().map_or(f64::INFINITY, |w| w / (2.0 * PI));
     if cutoff_hz.is_nan() || cutoff_hz < f1 {
         return Err(Error::analysis_setting(
             field,
             format!(
-                "the cut-off {cutoff_hz:.1} Hz is below the beam's first natural frequency {f1:.2} Hz, so no mode \
+                "the cut-off {cutoff_hz:.1} Hz is below the structure's first natural frequency {f1:.2} Hz, so no mode \
                  would be kept; raise it (\"auto\" keeps the modes up to 5× the highest analysed harmonic)"
             ),
         ));
@@ -138,6 +138,7 @@ pub fn reduce(
         cutoff: 2.0 * PI * cutoff_hz,
         static_correction: settings.static_correction,
         modal_damping: settings.modal_damping.clone(),
+        sparse_factor: sparse,
     };
     let r = red::reduce(full, &modes, &opts)?;
     let hz = |w: &f64| w / (2.0 * PI);
@@ -180,7 +181,11 @@ pub fn complete_modal_basis(full: &System, ratios: &[f64]) -> Result<System> {
         ));
     }
     let modes = red::beam_modes(full)?;
-    let opts =
-        ReductionOptions { cutoff: f64::INFINITY, static_correction: false, modal_damping: Some(ratios.to_vec()) };
+    let opts = ReductionOptions {
+        cutoff: f64::INFINITY,
+        static_correction: false,
+        modal_damping: Some(ratios.to_vec()),
+        sparse_factor: false,
+    };
     Ok(red::reduce(full, &modes, &opts)?.system)
 }

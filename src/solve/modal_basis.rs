@@ -86,6 +86,9 @@ pub struct ReductionOptions {
     /// Modal damping ratios ζ_r per bare-beam mode (the last repeats), added to the beam's
     /// damping as 2ζ_r·ω_r on the diagonal of the reduced coordinates; see [`reduce`].
     pub modal_damping: Option<Vec<f64>>,
+    /// Factor K for the static correction with the sparse LDLᵀ (a large plate or imported
+    /// model, whose profile is wide) rather than the profile of the system's envelope.
+    pub sparse_factor: bool,
 }
 
 /// A reduced system and what went into it.
@@ -175,7 +178,7 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     // (a difference of large numbers at every node away from the feet).
     let Residual { vectors: residual, omega: residual_omega, dropped } = if opts.static_correction && !attach.is_empty()
     {
-        residual_vectors(full, &bodies, &attach, &phi, &mode_omega)?
+        residual_vectors(full, &bodies, &attach, &phi, &mode_omega, opts.sparse_factor)?
     } else {
         Residual { vectors: Vec::new(), omega: Vec::new(), dropped: 0 }
     };
@@ -286,26 +289,10 @@ fn residual_vectors(
     attach: &[usize],
     phi: &[Vec<f64>],
     mode_omega: &[f64],
+    sparse: bool,
 ) -> Result<Residual> {
     let n = full.n();
-    // Static shapes S = K_beam⁻¹·E. K_beam is zero on the body rows: put 1 on their
-    // diagonal to factorise it.
-    let mut ks = Skyline::<f64>::zeros(full.envelope.clone());
-    full.k_beam.add_into_skyline(1.0, &mut ks);
-    for &b in bodies {
-        ks.add(b, b, 1.0);
-    }
-    let kf = ks.factorize()?;
-    let shapes: Vec<Vec<f64>> = attach
-        .iter()
-        .map(|&j| {
-            let mut x = vec![0.0; n];
-            x[j] = 1.0;
-            kf.solve_in_place(&mut x);
-            bodies.iter().for_each(|&b| x[b] = 0.0);
-            x
-        })
-        .collect();
+    let shapes = static_shapes(full, bodies, attach, sparse)?;
     // Residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ), at the feet.
     let p = attach.len();
     let g = |a: usize, b: usize| {
@@ -354,6 +341,49 @@ fn residual_vectors(
         })
         .collect();
     Ok(Residual { vectors, omega, dropped })
+}
+
+/// The static shapes S = K_beam⁻¹·e_j at the attachment DOFs `attach`, zero on the bodies.
+/// K_beam is zero on the body rows: 1 on their diagonal makes it factorisable.
+fn static_shapes(full: &System, bodies: &[usize], attach: &[usize], sparse: bool) -> Result<Vec<Vec<f64>>> {
+    let n = full.n();
+    let unit = |j: usize| {
+        let mut x = vec![0.0; n];
+        x[j] = 1.0;
+        x
+    };
+    let clean = |mut x: Vec<f64>| {
+        bodies.iter().for_each(|&b| x[b] = 0.0);
+        x
+    };
+    if sparse {
+        let ones = Csr::from_triplets(n, &bodies.iter().map(|&b| (b, b, 1.0)).collect::<Vec<_>>());
+        let kb = Csr::combine(&[(1.0, &full.k_beam), (1.0, &ones)]);
+        let pattern = SparsePattern::analyse(&[&kb])?;
+        let kf = pattern.factorize(&[(1.0, &kb)])?;
+        return Ok(attach
+            .iter()
+            .map(|&j| unit(j))
+            .map(|mut x| {
+                kf.solve_in_place(&mut x);
+                clean(x)
+            })
+            .collect());
+    }
+    let mut ks = Skyline::<f64>::zeros(full.envelope.clone());
+    full.k_beam.add_into_skyline(1.0, &mut ks);
+    for &b in bodies {
+        ks.add(b, b, 1.0);
+    }
+    let kf = ks.factorize()?;
+    Ok(attach
+        .iter()
+        .map(|&j| unit(j))
+        .map(|mut x| {
+            kf.solve_in_place(&mut x);
+            clean(x)
+        })
+        .collect())
 }
 
 /// The reduction basis T (row-major n × nr) and what it does to matrices and DOF
