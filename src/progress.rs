@@ -127,34 +127,36 @@ impl Task {
     }
 }
 
+/// An observer that writes down what it sees, a line each: `start <label> <total> <unit>`,
+/// `<label> <position> <message>`, `end <label>` (a transcript, for tests and logs).
+#[derive(Clone, Default)]
+pub struct Log(pub Rc<RefCell<Vec<String>>>);
+
+struct LogBar(Rc<RefCell<Vec<String>>>, String);
+
+impl Observer for Log {
+    fn start(&self, label: &str, total: Option<u64>, unit: &str) -> Box<dyn Bar> {
+        self.0.borrow_mut().push(format!("start {label} {total:?} {unit}"));
+        Box::new(LogBar(self.0.clone(), label.to_string()))
+    }
+}
+
+impl Bar for LogBar {
+    fn update(&self, position: u64, message: &str) {
+        self.0.borrow_mut().push(format!("{} {position} {message}", self.1));
+    }
+}
+
+impl Drop for LogBar {
+    fn drop(&mut self) {
+        self.0.borrow_mut().push(format!("end {}", self.1));
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::cell::RefCell;
-
-    #[derive(Default)]
-    struct Log(Rc<RefCell<Vec<String>>>);
-
-    struct LogBar(Rc<RefCell<Vec<String>>>, String);
-
-    impl Observer for Log {
-        fn start(&self, label: &str, total: Option<u64>, unit: &str) -> Box<dyn Bar> {
-            self.0.borrow_mut().push(format!("start {label} {total:?} {unit}"));
-            Box::new(LogBar(self.0.clone(), label.to_string()))
-        }
-    }
-
-    impl Bar for LogBar {
-        fn update(&self, position: u64, message: &str) {
-            self.0.borrow_mut().push(format!("{} {position} {message}", self.1));
-        }
-    }
-
-    impl Drop for LogBar {
-        fn drop(&mut self) {
-            self.0.borrow_mut().push(format!("end {}", self.1));
-        }
-    }
 
     #[test]
     fn tasks_reach_the_observer_of_their_thread_only() {

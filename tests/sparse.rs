@@ -215,3 +215,23 @@ fn cancellation_stops_the_sparse_lanczos_run() {
     let got = cancellable(cancel, || modes_sparse(&sys.k, &sys.m, 4, 0.0));
     assert!(matches!(got, Err(beamflow::error::Error::Cancelled)), "{got:?}");
 }
+
+/// A factorisation long enough to notice shows on the progress bars: begun, then done,
+/// before the Lanczos vectors; a small one does not.
+#[test]
+fn a_large_factorisation_reports_its_progress() {
+    use beamflow::progress::{observe, Log};
+    for (nx, ny, shown) in [(60, 50, true), (12, 10, false)] {
+        let sys = plate("simply_supported", nx, ny);
+        let log = Log::default();
+        observe(std::rc::Rc::new(log.clone()), || modes_sparse(&sys.k, &sys.m, 4, 0.0)).unwrap();
+        let lines = log.0.borrow();
+        let factor = lines.iter().position(|l| l.starts_with("start LDLᵀ of"));
+        assert_eq!(factor.is_some(), shown, "{nx} × {ny}: {lines:?}");
+        if let Some(i) = factor {
+            assert!(lines[i + 1].starts_with("LDLᵀ of") && lines[i + 1].ends_with(" 1 "), "{lines:?}");
+            let lanczos = lines.iter().position(|l| l.contains("Lanczos vectors")).expect("the Lanczos bar");
+            assert!(lanczos > i + 1, "{lines:?}");
+        }
+    }
+}

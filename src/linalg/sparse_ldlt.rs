@@ -36,6 +36,9 @@ pub struct SparsePattern {
     symbolic: SymbolicCholesky<usize>,
 }
 
+/// Factor entries above which a factorisation shows progress (about 0.05 s of work).
+const SHOWN_ABOVE: usize = 1_000_000;
+
 impl SparsePattern {
     /// Orders and analyses the union of the patterns of `matrices` (symmetric, of one
     /// dimension; only the upper triangle of each row is read).
@@ -90,6 +93,12 @@ impl SparsePattern {
     /// Factorises Σ cᵢ·Aᵢ (each Aᵢ's pattern within the analysed one) as L·D·Lᵀ. Fails,
     /// naming the DOF, on a zero, tiny or non-finite pivot.
     pub fn factorize(&self, terms: &[(f64, &Csr)]) -> Result<SparseLdlt<'_>> {
+        // A factorisation long enough to notice gets a bar (faer reports nothing inside
+        // one, so it shows the factorisation begun and done, and lets Ctrl-C stop after it).
+        let task = (self.factor_entries() > SHOWN_ABOVE).then(|| {
+            let label = format!("LDLᵀ of {} DOFs, {} factor entries", self.dim(), self.factor_entries());
+            crate::progress::Task::start(&label, Some(1), "factorisations")
+        });
         let a = self.values(terms)?;
         let lower = SymbolicSparseColMatRef::new_checked(self.dim(), self.dim(), &self.col_ptr, None, &self.row_idx);
         let mut l = vec![0.0; self.factor_entries()];
@@ -113,6 +122,9 @@ impl SparsePattern {
             if !d.is_finite() || d.abs() <= TINY_PIVOT * scale {
                 return Err(self.singular(k, d, &a));
             }
+        }
+        if let Some(t) = task {
+            t.set(1)?;
         }
         Ok(SparseLdlt { pattern: self, negative: pivots.iter().filter(|&&d| d < 0.0).count(), values: l })
     }
