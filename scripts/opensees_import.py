@@ -23,9 +23,7 @@ Checks, each against an independent reference:
 Needs openseespy (and the system BLAS/LAPACK its wheel links), numpy and scipy
 (scripts/test-opensees-import.sh installs them in a virtualenv).
 """
-import json
 import math
-import subprocess
 import sys
 from pathlib import Path
 
@@ -33,6 +31,9 @@ import numpy as np
 import openseespy.opensees as ops
 import scipy.io
 import scipy.sparse
+
+sys.path.insert(0, str(Path(__file__).resolve().parent / "lib"))
+from import_checks import PE, PH, PNU, PRHO, PX, PY, Checks, navier_hz, run  # noqa: E402
 
 L, B, H, E, RHO = 0.730, 0.050, 0.005, 210e9, 7850.0
 NE = 100
@@ -57,8 +58,7 @@ def build():
         ops.element("elasticBeamColumn", e + 1, e + 1, e + 2, area, E, inertia, 1, "-mass", RHO * area, "-cMass")
 
 
-# The shell plate: 0.5 x 0.4 x 3 mm aluminium, 20 x 16 MITC4 elements, simply supported.
-PX, PY, PH, PE, PNU, PRHO = 0.5, 0.4, 0.003, 70e9, 0.33, 2700.0
+# The shell plate: the example plate (import_checks), 20 x 16 MITC4 elements, simply supported.
 NX, NY = 20, 16
 PLATE_MODES = 6
 
@@ -111,12 +111,6 @@ def build_portal():
     return lambda frac: node(PORTAL_W * frac, PORTAL_H)
 
 
-def navier_hz(count):
-    d = PE * PH**3 / (12 * (1 - PNU**2))
-    w = sorted(math.pi**2 * ((m / PX) ** 2 + (n / PY) ** 2) * math.sqrt(d / (PRHO * PH)) for m in range(1, 8) for n in range(1, 8))
-    return [x / (2 * math.pi) for x in w[:count]]
-
-
 def matrix(m, c, k):
     """The assembled m·M + c·C + k·K over OpenSees' equations. analyze(1) also tries to
     solve with it, and OpenSees warns when that matrix is singular (a mass matrix without
@@ -165,11 +159,6 @@ count = {modes}
 """
 
 
-def run(beamflow, case, out):
-    subprocess.run([beamflow, "run", str(case), "--out", str(out), "--quiet"], check=True)
-    return json.loads((out / f"{case.stem}.json").read_text())
-
-
 def export_portal(folder):
     """Writes the portal frame's M, K and DOF map alone (the files cases/portal-frame/ ships)."""
     folder.mkdir(parents=True, exist_ok=True)
@@ -216,13 +205,8 @@ def main():
         p = folder / f"{name}.toml"
         p.write_text(text)
         res[name] = run(beamflow, p, folder / f"out_{name}")
-    failures = []
-
-    def close(what, a, b, tol):
-        err = abs(a - b) / max(abs(a), abs(b))
-        print(f"{what:<44} {a: .12e} {b: .12e} {err:.1e}")
-        if not err <= tol:
-            failures.append(f"{what}: {a} against {b} ({err:.1e} > {tol})")
+    checks = Checks(44)
+    close = checks.close
 
     modes = next(a for a in res["imported"]["analyses"] if a["type"] == "modes")
     # The imported model also has axial modes; OpenSees' lowest eight are all bending.
@@ -239,7 +223,7 @@ def main():
         balance = steady[name]["energy_balance_rel_error"]
         print(f"{name + ' steady state: energy balance':<44} {balance:.1e}")
         if not balance <= 1e-8:
-            failures.append(f"{name} steady state: energy balance {balance}")
+            checks.fail(f"{name} steady state: energy balance {balance}")
     shell = next(a for a in res["shell"]["analyses"] if a["type"] == "modes")["frequencies_hz"]
     for i, (f, g, n) in enumerate(zip(shell, f_shell, navier_hz(PLATE_MODES))):
         close(f"shell mode {i + 1} (Hz): imported vs OpenSees eigen", f, g, 1e-8)
@@ -247,11 +231,8 @@ def main():
     balance = steady["shell"]["energy_balance_rel_error"]
     print(f"{'shell steady state: energy balance':<44} {balance:.1e}")
     if not balance <= 1e-8:
-        failures.append(f"shell steady state: energy balance {balance}")
-    if failures:
-        print("\n".join(["FAILED:"] + failures))
-        sys.exit(1)
-    print("imported OpenSees beam: all checks hold")
+        checks.fail(f"shell steady state: energy balance {balance}")
+    checks.finish("imported OpenSees beam")
 
 
 if __name__ == "__main__":

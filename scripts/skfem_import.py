@@ -29,9 +29,7 @@ Checks, each against an independent reference:
 Needs scikit-fem, numpy and scipy (scripts/test-skfem-import.sh installs them in a
 virtualenv).
 """
-import json
 import math
-import subprocess
 import sys
 from pathlib import Path
 
@@ -41,7 +39,9 @@ import scipy.sparse.linalg
 from skfem import Basis, BilinearForm, ElementTriMorley, MeshTri, asm, condense
 from skfem.helpers import dd, ddot, trace
 
-PX, PY, PH, PE, PNU, PRHO = 0.5, 0.4, 0.003, 70e9, 0.33, 2700.0
+sys.path.insert(0, str(Path(__file__).resolve().parent / "lib"))
+from import_checks import PE, PH, PNU, PRHO, PX, PY, Checks, navier_hz, rigidity, run  # noqa: E402
+
 MESHES = ((20, 16), (40, 32))  # a mesh and the one twice as fine
 # A difference that is O(h²) shrinks 4x on the mesh twice as fine; the convergence study of
 # the first six eigenfrequencies (10 x 8 to 80 x 64) gives 3.0-3.8x from 10 x 8, 3.66-3.94x
@@ -51,10 +51,6 @@ SHRINK = (3.5, 4.5)
 MODES = 6
 DRIVE_AT = (0.15, 0.25)  # a vertex of both meshes, off the nodal lines of modes 2 and 3
 DRIVE_HZ = 83.0  # between the first (75.2 Hz) and second (163.3 Hz) modes
-
-
-def rigidity():
-    return PE * PH**3 / (12 * (1 - PNU**2))
 
 
 @BilinearForm
@@ -99,15 +95,6 @@ def export(folder, stem, nx, ny):
     return [math.sqrt(v) / (2 * math.pi) for v in sorted(lam)], vertex + 1
 
 
-def navier_hz(count):
-    w = sorted(
-        math.pi**2 * ((m / PX) ** 2 + (n / PY) ** 2) * math.sqrt(rigidity() / (PRHO * PH))
-        for m in range(1, 8)
-        for n in range(1, 8)
-    )
-    return [x / (2 * math.pi) for x in w[:count]]
-
-
 SHAKER = f"""[damping]
 kind = "rayleigh_ratio"
 zeta = 0.01
@@ -140,12 +127,10 @@ def native():
     )
 
 
-def run(beamflow, folder, name, text):
+def run_shaker(beamflow, folder, name, text):
     case = folder / f"{name}.toml"
     case.write_text(text)
-    out = folder / f"out_{name}"
-    subprocess.run([beamflow, "run", str(case), "--out", str(out), "--quiet"], check=True)
-    res = json.loads((out / f"{name}.json").read_text())
+    res = run(beamflow, case, folder / f"out_{name}")
     get = lambda kind: next(a for a in res["analyses"] if a["type"] == kind)
     return get("modes")["frequencies_hz"], get("steady_state")["mean_power_w"]["shaker_stack"]
 
@@ -153,23 +138,17 @@ def run(beamflow, folder, name, text):
 def main():
     beamflow, folder = sys.argv[1], Path(sys.argv[2])
     folder.mkdir(parents=True, exist_ok=True)
-    failures = []
-
-    def close(what, a, b, tol):
-        err = abs(a - b) / max(abs(a), abs(b))
-        print(f"{what:<48} {a: .12e} {b: .12e} {err:.1e}")
-        if not err <= tol:
-            failures.append(f"{what}: {a} against {b} ({err:.1e} > {tol})")
+    checks = Checks(48)
 
     def shrinks(what, coarse, fine):
         ratio = coarse / fine
         print(f"{what:<72} shrinks {ratio:.2f}x")
         if not SHRINK[0] <= ratio <= SHRINK[1]:
-            failures.append(f"{what}: shrinks {ratio:.2f}x on the finer mesh, not ~4x")
+            checks.fail(f"{what}: shrinks {ratio:.2f}x on the finer mesh, not ~4x")
         return ratio
 
     navier = navier_hz(MODES)
-    f_native, p_native = run(beamflow, folder, "native", native())
+    f_native, p_native = run_shaker(beamflow, folder, "native", native())
     r = min(range(MODES), key=lambda i: abs(f_native[i] - DRIVE_HZ))  # the nearest mode
     freq, power = [], []
     for nx, ny in MESHES:
@@ -177,9 +156,9 @@ def main():
         f_skfem, vertex = export(folder, stem, nx, ny)
         point = f'node = {vertex}\ncomponent = "uz"'
         imported = f'[imported]\nmass = "{stem}_M.mtx"\nstiffness = "{stem}_K.mtx"\ndofs = "{stem}_dofs.csv"\n'
-        f, p = run(beamflow, folder, stem, imported + SHAKER.format(point=point))
+        f, p = run_shaker(beamflow, folder, stem, imported + SHAKER.format(point=point))
         for i, (a, b) in enumerate(zip(f, f_skfem)):
-            close(f"{stem} mode {i + 1} (Hz): imported vs eigsh", a, b, 1e-8)
+            checks.close(f"{stem} mode {i + 1} (Hz): imported vs eigsh", a, b, 1e-8)
         freq.append(f)
         power.append(p)
     # Navier's closed form: Morley's difference is O(h²).
@@ -197,11 +176,8 @@ def main():
     ratio_f = df[0] / df[1]
     print(f"{'... against the nearest eigenfrequency difference':<72} shrinks {ratio_f:.2f}x")
     if not abs(ratio_p / ratio_f - 1) <= SHRINK[1] / 4 - 1:
-        failures.append(f"the power difference shrinks {ratio_p:.2f}x, the eigenfrequency difference {ratio_f:.2f}x")
-    if failures:
-        print("\n".join(["FAILED:"] + failures))
-        sys.exit(1)
-    print("imported scikit-fem plate: all checks hold")
+        checks.fail(f"the power difference shrinks {ratio_p:.2f}x, the eigenfrequency difference {ratio_f:.2f}x")
+    checks.finish("imported scikit-fem plate")
 
 
 if __name__ == "__main__":
