@@ -89,34 +89,38 @@ const BOUNDS: [&str; 9] = [
     "title",
 ];
 
+/// A case solved natively, `{structure}{native}{drive}` with `[output] matrices = true`,
+/// and as the imported model exported from it, its actuator `imported(dofs)` (named by
+/// nodes of the exported map `dofs`): both results, the folder, and where the export is.
+fn round_trip(
+    structure: &str,
+    native: &str,
+    imported: impl Fn(&Path) -> String,
+    drive: &str,
+) -> (Value, Value, tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let native_case = dir.path().join("native.toml");
+    std::fs::write(&native_case, format!("{structure}{native}{drive}[output]\nmatrices = true\n")).unwrap();
+    let out = dir.path().join("out");
+    let a = run(&native_case, &out);
+    let actuator = imported(&out.join("native_structure_dofs.csv"));
+    let imported_case = dir.path().join("imported.toml");
+    std::fs::write(&imported_case, format!("{}{actuator}{drive}", imported_table(&out, "native"))).unwrap();
+    let b = run(&imported_case, &dir.path().join("out2"));
+    assert_eq!(b["structure"], "imported");
+    (a, b, dir, out)
+}
+
 /// The paper beam with a frame actuator at 60 Hz, solved natively and as an imported model
 /// exported from it (M, K, C and the map), both with `analyses`: the two results.
 fn frame_round_trip(analyses: &str) -> (Value, Value) {
-    let dir = tempfile::tempdir().unwrap();
     let drive = format!("[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n{analyses}");
-    let native = dir.path().join("native.toml");
-    std::fs::write(
-        &native,
-        format!(
-            "[beam]\n[[actuator]]\ntype = \"frame\"\nname = \"frame\"\nx_e = 0.150\n{drive}[output]\nmatrices = true\n"
-        ),
-    )
-    .unwrap();
-    let out = dir.path().join("out");
-    let a = run(&native, &out);
-    let dofs = out.join("native_structure_dofs.csv");
-    let [s, l, r] = [0.150, 0.109, 0.189].map(|x| node_at(&dofs, x, 0.0));
-    let imported = dir.path().join("imported.toml");
-    std::fs::write(
-        &imported,
-        format!(
-            "{}[[actuator]]\ntype = \"frame\"\nname = \"frame\"\nnode = {s}\ncomponent = \"w\"\nlegs = [{l}, {r}]\n{drive}",
-            imported_table(&out, "native")
-        ),
-    )
-    .unwrap();
-    let b = run(&imported, &dir.path().join("out2"));
-    assert_eq!(b["structure"], "imported");
+    let frame = "[[actuator]]\ntype = \"frame\"\nname = \"frame\"\n";
+    let on_nodes = |dofs: &Path| {
+        let [s, l, r] = [0.150, 0.109, 0.189].map(|x| node_at(dofs, x, 0.0));
+        format!("{frame}node = {s}\ncomponent = \"w\"\nlegs = [{l}, {r}]\n")
+    };
+    let (a, b, dir, out) = round_trip("[beam]\n", &format!("{frame}x_e = 0.150\n"), on_nodes, &drive);
     // The results say which files the model came from: the hashes `sha256sum` prints.
     let h5 = beamflow::io::hdf5::ResultsReader::open(dir.path().join("out2/imported.h5")).unwrap();
     for (role, name) in [("mass", "M.mtx"), ("stiffness", "K.mtx"), ("damping", "C.mtx"), ("dofs", "dofs.csv")] {
@@ -168,31 +172,14 @@ fn a_frame_on_the_beam_exported_and_imported_settles_to_the_same_transient() {
 
 #[test]
 fn an_inertial_actuator_on_the_plate_exported_and_imported_puts_in_the_same_power() {
-    let dir = tempfile::tempdir().unwrap();
     let plate = "[plate]\nlength_x = 0.5\nlength_y = 0.4\nthickness = 0.003\nyoungs_modulus = 70e9\n\
                  poisson_ratio = 0.33\ndensity = 2700.0\n[plate.mesh]\nelements = [10, 8]\n\
                  [plate.edges]\nx0 = \"clamped\"\nx1 = \"simply_supported\"\ny0 = \"free\"\ny1 = \"simply_supported\"\n";
     let drive = "[actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 83.0\n\
                  [[analysis]]\ntype = \"steady_state\"\n[[analysis]]\ntype = \"modes\"\ncount = 8\n";
-    let native = dir.path().join("native.toml");
-    std::fs::write(
-        &native,
-        format!("{plate}[[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\nat = [0.15, 0.2]\n{drive}[output]\nmatrices = true\n"),
-    )
-    .unwrap();
-    let out = dir.path().join("out");
-    let a = run(&native, &out);
-    let node = node_at(&out.join("native_structure_dofs.csv"), 0.15, 0.2);
-    let imported = dir.path().join("imported.toml");
-    std::fs::write(
-        &imported,
-        format!(
-            "{}[[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\nnode = {node}\ncomponent = \"w\"\n{drive}",
-            imported_table(&out, "native")
-        ),
-    )
-    .unwrap();
-    let b = run(&imported, &dir.path().join("out2"));
+    let shaker = "[[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\n";
+    let on_node = |dofs: &Path| format!("{shaker}node = {}\ncomponent = \"w\"\n", node_at(dofs, 0.15, 0.2));
+    let (a, b, _dir, _) = round_trip(plate, &format!("{shaker}at = [0.15, 0.2]\n"), on_node, drive);
     let (d, at) = largest_difference(&a, &b, &BOUNDS, "");
     assert!(d <= 1e-8, "largest relative difference {d:e} at {at}");
 }

@@ -51,7 +51,7 @@ pub fn check(model: &Imported, files: &Files) -> Result<Report> {
     if m_max == 0.0 {
         return Err(Error::input(&mfile, "entries", "the mass matrix is zero on every free row"));
     }
-    let (k, m) = (restrict(&model.k, &free), restrict(&model.m, &free));
+    let (k, m) = (model.k.restricted(&free), model.m.restricted(&free));
     let pattern = SparsePattern::analyse(&[&k, &m])?;
     if pattern.factor_bytes() > crate::analysis::budget::machine_memory() / 2 {
         return Ok(report);
@@ -68,13 +68,7 @@ pub fn check(model: &Imported, files: &Files) -> Result<Report> {
         .factorize(&[(1.0, &m), (RIGID_FRACTION * m_max, &identity)])
         .map_err(|e| Error::input(&mfile, row_of(e), "the mass matrix is singular beyond its massless rows"))?
         .negative_pivots();
-    if negative > 0 {
-        return Err(Error::input(
-            &mfile,
-            "entries",
-            format!("the mass matrix has {negative} negative eigenvalue(s): it must be positive semi-definite"),
-        ));
-    }
+    semi_definite(&mfile, "mass", negative)?;
     // K ⪰ 0 relative to M, and no motion without mass and stiffness: K + σM is regular
     // with no negative pivot; K − σM's negative pivots count the rigid-body modes.
     let sigma = RIGID_FRACTION * k_max / m_max;
@@ -90,13 +84,7 @@ pub fn check(model: &Imported, files: &Files) -> Result<Report> {
             )
         })?
         .negative_pivots();
-    if negative > 0 {
-        return Err(Error::input(
-            &kfile,
-            "entries",
-            format!("the stiffness matrix has {negative} negative eigenvalue(s): it must be positive semi-definite"),
-        ));
-    }
+    semi_definite(&kfile, "stiffness", negative)?;
     // K − σM singular means σ hit an eigenvalue: count at a slightly larger shift.
     let below = |s: f64| pattern.factorize(&[(1.0, &k), (-s, &m)]).map(|f| f.negative_pivots());
     report.rigid_body_modes = below(sigma).or_else(|_| below(2.0 * sigma)).unwrap_or(0);
@@ -104,16 +92,15 @@ pub fn check(model: &Imported, files: &Files) -> Result<Report> {
     Ok(report)
 }
 
-/// `a` on the rows and columns `keep`, renumbered 0..keep.len().
-fn restrict(a: &Csr, keep: &[usize]) -> Csr {
-    let mut local = vec![usize::MAX; a.dim()];
-    for (i, &r) in keep.iter().enumerate() {
-        local[r] = i;
+/// An error naming `file` if its matrix (`what`: mass, stiffness) has `negative`
+/// negative eigenvalues.
+fn semi_definite(file: &str, what: &str, negative: usize) -> Result<()> {
+    if negative > 0 {
+        return Err(Error::input(
+            file,
+            "entries",
+            format!("the {what} matrix has {negative} negative eigenvalue(s): it must be positive semi-definite"),
+        ));
     }
-    let t: Vec<_> = a
-        .triplets()
-        .filter(|t| local[t.0] != usize::MAX && local[t.1] != usize::MAX)
-        .map(|(i, j, v)| (local[i], local[j], v))
-        .collect();
-    Csr::from_triplets(keep.len(), &t)
+    Ok(())
 }

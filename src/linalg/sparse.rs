@@ -195,6 +195,20 @@ impl Csr {
         }
         Csr::from_triplets(n, &trip)
     }
+
+    /// The matrix on the rows and columns `keep` only, renumbered 0..keep.len() in their order.
+    pub fn restricted(&self, keep: &[usize]) -> Csr {
+        let mut local = vec![usize::MAX; self.dim()];
+        for (i, &r) in keep.iter().enumerate() {
+            local[r] = i;
+        }
+        let t: Vec<_> = self
+            .triplets()
+            .filter(|t| local[t.0] != usize::MAX && local[t.1] != usize::MAX)
+            .map(|(i, j, v)| (local[i], local[j], v))
+            .collect();
+        Csr::from_triplets(keep.len(), &t)
+    }
 }
 
 #[cfg(test)]

@@ -126,25 +126,13 @@ pub fn beam_modes(full: &System) -> Result<Modes> {
 /// A beam keeps [`beam_modes`], every mode from its dense (or root) path.
 pub fn structure_modes_to(full: &System, cutoff: f64) -> Result<Modes> {
     let dofs = full.dofs.structure_dofs();
-    let (k, m) = (restrict(&full.k_beam, &dofs), restrict(&full.m_beam, &dofs));
+    let (k, m) = (full.k_beam.restricted(&dofs), full.m_beam.restricted(&dofs));
     let pattern = SparsePattern::analyse(&[&k, &m])?;
     let below = pattern.factorize(&[(1.0, &k), (-cutoff * cutoff, &m)])?.negative_pivots();
     drop(pattern);
     let mut modes = crate::solve::lanczos::modes_sparse(&k, &m, (below + 1).min(dofs.len()), 0.0)?;
     modes.dofs = dofs;
     Ok(modes)
-}
-
-/// `a` on the rows and columns `dofs` only, renumbered in their order.
-fn restrict(a: &Csr, dofs: &[usize]) -> Csr {
-    let mut pos = vec![usize::MAX; a.dim()];
-    dofs.iter().enumerate().for_each(|(r, &d)| pos[d] = r);
-    let kept: Vec<(usize, usize, f64)> = a
-        .triplets()
-        .filter(|&(i, j, _)| pos[i] != usize::MAX && pos[j] != usize::MAX)
-        .map(|(i, j, v)| (pos[i], pos[j], v))
-        .collect();
-    Csr::from_triplets(dofs.len(), &kept)
 }
 
 /// Reduces an assembled system with the bare-beam `modes` (from [`beam_modes`] or
