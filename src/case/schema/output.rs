@@ -1,8 +1,76 @@
-//! `[output.figures]`: how a run's figures look and which are drawn.
+//! `[output]`: what a run writes, and `[output.figures]`: how its figures look and which
+//! are drawn.
 
+use super::d_true;
 use crate::case::ranges::within;
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
+
+/// What to write.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// One HDF5 file per run.
+    #[serde(default = "d_true")]
+    pub hdf5: bool,
+    /// PNG/SVG figures.
+    #[serde(default = "d_true")]
+    pub plots: bool,
+    /// K, M, C in Matrix Market format.
+    #[serde(default)]
+    pub matrices: bool,
+    /// Keep whole time histories in the HDF5 file (else the last periods only).
+    #[serde(default)]
+    pub full_history: bool,
+    /// With `full_history`: keep every this-many-th step of the periods before the last
+    /// three (which stay whole, for spectra and powers), so a long start-up fits in memory.
+    #[serde(default = "d_one", skip_serializing_if = "is_one")]
+    pub history_every: usize,
+    /// How the figures look and which are drawn.
+    #[serde(default, skip_serializing_if = "FiguresSpec::is_default")]
+    pub figures: FiguresSpec,
+}
+
+impl OutputSpec {
+    /// What a transient keeps of its history: None, the last periods only; Some(k), every
+    /// period, those before the last three every k-th step.
+    pub fn history(&self) -> Option<usize> {
+        self.full_history.then_some(self.history_every)
+    }
+
+    /// Checks the history settings and the figures', naming the field.
+    pub fn validate(&self, file: &str) -> Result<()> {
+        if self.history_every == 0 {
+            return Err(Error::input(
+                file,
+                "output.history_every",
+                "0 keeps no step: give 1 (every step) or more (every k-th step of the early periods)",
+            ));
+        }
+        if self.history_every > 1 && !self.full_history {
+            return Err(Error::input(
+                file,
+                "output.history_every",
+                "thins the whole history `full_history = true` keeps; without it only the last periods are kept, whole",
+            ));
+        }
+        self.figures.validate(file)
+    }
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        toml::from_str("").expect("defaults")
+    }
+}
+
+fn d_one() -> usize {
+    1
+}
+
+fn is_one(n: &usize) -> bool {
+    *n == 1
+}
 
 /// The figure formats a case may ask for.
 pub const FIGURE_FORMATS: [&str; 3] = ["png", "svg", "pdf"];
