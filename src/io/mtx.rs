@@ -60,15 +60,11 @@ pub fn write_structure(
     let Some(structure) = &model.structure else { return Ok(Vec::new()) };
     let dofs = &sys.dofs;
     let rows = dofs.structure_dofs();
-    let mut local = vec![usize::MAX; sys.n()];
-    for (r, &d) in rows.iter().enumerate() {
-        local[d] = r;
-    }
     let mut written = Vec::new();
     for (name, a) in [("M", &sys.m_beam), ("K", &sys.k_beam), ("C", &sys.c_beam)] {
         let mut t = sprs::TriMat::new((rows.len(), rows.len()));
-        for (i, j, v) in a.triplets().filter(|t| local[t.0] != usize::MAX && local[t.1] != usize::MAX) {
-            t.add_triplet(local[i], local[j], v);
+        for (i, j, v) in a.restricted(&rows).triplets() {
+            t.add_triplet(i, j, v);
         }
         let p = dir.join(format!("{stem}_structure_{name}.mtx"));
         write_system_matrix(&p, &t.to_csr())?;
