@@ -44,7 +44,13 @@ pub fn modes_sparse(k: &Csr, m: &Csr, count: usize, sigma: f64) -> Result<Modes>
     if k.dim() != m.dim() {
         return Err(Error::Numerical(format!("K has {} DOFs, M {}", k.dim(), m.dim())));
     }
-    let pattern = SparsePattern::analyse(&[k, m])?;
+    modes_on_pattern(&SparsePattern::analyse(&[k, m])?, k, m, count, sigma)
+}
+
+/// [`modes_sparse`] on a `pattern` already analysed from K and M (a caller that factorises
+/// them at another shift too orders them once).
+pub fn modes_on_pattern(pattern: &SparsePattern, k: &Csr, m: &Csr, count: usize, sigma: f64) -> Result<Modes> {
+    check_sizes(m, count)?;
     let fac = pattern.factorize(&[(1.0, k), (-sigma, m)])?;
     run(m, count, sigma, &|x| fac.solve_in_place(x), Start::Purified, false)
 }

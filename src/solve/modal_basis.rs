@@ -129,8 +129,8 @@ pub fn structure_modes_to(full: &System, cutoff: f64) -> Result<Modes> {
     let (k, m) = (full.k_beam.restricted(&dofs), full.m_beam.restricted(&dofs));
     let pattern = SparsePattern::analyse(&[&k, &m])?;
     let below = pattern.factorize(&[(1.0, &k), (-cutoff * cutoff, &m)])?.negative_pivots();
-    drop(pattern);
-    let mut modes = crate::solve::lanczos::modes_sparse(&k, &m, (below + 1).min(dofs.len()), 0.0)?;
+    let wanted = (below + 1).min(dofs.len());
+    let mut modes = crate::solve::lanczos::modes_on_pattern(&pattern, &k, &m, wanted, 0.0)?;
     modes.dofs = dofs;
     Ok(modes)
 }
@@ -340,23 +340,21 @@ fn static_shapes(full: &System, bodies: &[usize], attach: &[usize], sparse: bool
         x[j] = 1.0;
         x
     };
-    let clean = |mut x: Vec<f64>| {
-        bodies.iter().for_each(|&b| x[b] = 0.0);
-        x
+    let shapes = |solve: &dyn Fn(&mut [f64])| -> Vec<Vec<f64>> {
+        let shape = |j: usize| {
+            let mut x = unit(j);
+            solve(&mut x);
+            bodies.iter().for_each(|&b| x[b] = 0.0);
+            x
+        };
+        attach.iter().map(|&j| shape(j)).collect()
     };
     if sparse {
         let ones = Csr::from_triplets(n, &bodies.iter().map(|&b| (b, b, 1.0)).collect::<Vec<_>>());
         let kb = Csr::combine(&[(1.0, &full.k_beam), (1.0, &ones)]);
         let pattern = SparsePattern::analyse(&[&kb])?;
         let kf = pattern.factorize(&[(1.0, &kb)])?;
-        return Ok(attach
-            .iter()
-            .map(|&j| unit(j))
-            .map(|mut x| {
-                kf.solve_in_place(&mut x);
-                clean(x)
-            })
-            .collect());
+        return Ok(shapes(&|x| kf.solve_in_place(x)));
     }
     let mut ks = Skyline::<f64>::zeros(full.envelope.clone());
     full.k_beam.add_into_skyline(1.0, &mut ks);
@@ -364,14 +362,7 @@ fn static_shapes(full: &System, bodies: &[usize], attach: &[usize], sparse: bool
         ks.add(b, b, 1.0);
     }
     let kf = ks.factorize()?;
-    Ok(attach
-        .iter()
-        .map(|&j| unit(j))
-        .map(|mut x| {
-            kf.solve_in_place(&mut x);
-            clean(x)
-        })
-        .collect())
+    Ok(shapes(&|x| kf.solve_in_place(x)))
 }
 
 /// The reduction basis T (row-major n × nr) and what it does to matrices and DOF
