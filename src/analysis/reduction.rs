@@ -12,7 +12,9 @@
 use super::drive::common_period;
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
+use crate::solve::eigen::Modes;
 use crate::solve::modal_basis::{self as red, ReductionOptions};
+use crate::solve::shared_basis::SharedBasis;
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -40,6 +42,22 @@ pub struct ReductionSettings {
     pub modal_damping: Option<Vec<f64>>,
 }
 
+impl ReductionSettings {
+    /// The solver-side settings of a case's `reduction` entry, for a case with the given
+    /// modal damping ratios (None: Rayleigh or no damping).
+    pub fn of_spec(spec: &crate::case::ReductionSpec, modal_damping: Option<&[f64]>) -> Self {
+        ReductionSettings {
+            cutoff: match (spec.modes_up_to_hz, spec.factor) {
+                (Some(f), _) => Cutoff::Hz(f),
+                (None, k) => Cutoff::HarmonicFactor(k.unwrap_or(AUTO_FACTOR)),
+            },
+            static_correction: spec.static_correction,
+            error_estimate: spec.error_estimate,
+            modal_damping: modal_damping.map(<[f64]>::to_vec),
+        }
+    }
+}
+
 /// The difference between reduced and full model, from the frequency-domain steady state.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct ReductionError {
@@ -55,6 +73,37 @@ pub struct ReductionError {
     pub max_relative_error: f64,
     /// Net power per actuator, relative difference.
     pub net_power_relative_error: Vec<f64>,
+}
+
+impl ReductionError {
+    /// The difference of the point powers (W, per link) and net powers (W, per actuator)
+    /// of a reduced model from the full model's, at `harmonics` harmonics.
+    pub fn between(harmonics: usize, full: (&[f64], &[f64]), reduced: (&[f64], &[f64])) -> Self {
+        let rel = |a: f64, b: f64, floor: f64| {
+            let d = b.abs().max(floor);
+            if d > 0.0 {
+                (a - b).abs() / d
+            } else {
+                (a - b).abs()
+            }
+        };
+        let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, p| a.max(p.abs()));
+        let (scale, net_scale) = (largest(full.0), largest(full.1));
+        let relative_error: Vec<f64> = reduced.0.iter().zip(full.0).map(|(&r, &f)| rel(r, f, 1e-6 * scale)).collect();
+        ReductionError {
+            harmonics,
+            full_mean_power: full.0.to_vec(),
+            reduced_mean_power: reduced.0.to_vec(),
+            max_relative_error: relative_error.iter().fold(0.0f64, |a, &b| a.max(b)),
+            relative_error,
+            net_power_relative_error: reduced
+                .1
+                .iter()
+                .zip(full.1)
+                .map(|(&r, &f)| rel(r, f, 1e-6 * net_scale))
+                .collect(),
+        }
+    }
 }
 
 /// What a reduced run reports with its result.
@@ -101,13 +150,30 @@ pub fn cutoff_hz(model: &Model, settings: &ReductionSettings, harmonics: usize) 
 
 /// Builds the reduced system of `full` for a cut-off of `cutoff_hz`. Errors (against the
 /// field `analysis.reduction…`, which the runner relabels with the file and entry) if
-/// the cut-off keeps no mode.
+/// the cut-off keeps no mode. A plate or an imported model is reduced as a placement
+/// study reduces each of its cases ([`SharedReduction`]), so that a case run alone gives
+/// the study's numbers; a beam keeps its own path, bit for bit.
 pub fn reduce(
     model: &Model,
     full: &System,
     settings: &ReductionSettings,
     cutoff_hz: f64,
 ) -> Result<(System, ReductionReport)> {
+    if model.beam().is_none() && model.structure.is_some() {
+        return SharedReduction::new(model, settings, cutoff_hz)?.system(model);
+    }
+    let (modes, sparse) = modes_to(model, full, settings, cutoff_hz)?;
+    let opts = options(settings, cutoff_hz, sparse);
+    let r = red::reduce(full, &modes, &opts)?;
+    let report = report_of(&r, settings, cutoff_hz, full.n());
+    Ok((r.system, report))
+}
+
+/// The bare structure's modes a reduction of `full` at `cutoff_hz` keeps (and the first
+/// above), and whether they came from the sparse path. A beam keeps its dense (or root)
+/// path, bit for bit; a large plate or imported model computes only the modes the
+/// cut-off keeps, on its sparse factor. Errors if the cut-off keeps no mode.
+fn modes_to(model: &Model, full: &System, settings: &ReductionSettings, cutoff_hz: f64) -> Result<(Modes, bool)> {
     let field = match settings.cutoff {
         Cutoff::Hz(_) => "reduction.modes_up_to_hz",
         Cutoff::HarmonicFactor(_) => "reduction.factor",
@@ -115,8 +181,6 @@ pub fn reduce(
     if model.structure.is_none() {
         return Err(Error::analysis_setting("reduction", "a modal reduction needs a structure (base = \"beam\")"));
     }
-    // A beam keeps its dense (or root) path, bit for bit; a large plate or imported model
-    // computes only the modes the cut-off keeps, on its sparse factor.
     let large = full.dofs.structure_dofs().len() > crate::analysis::modes::DENSE_EIGEN_LIMIT;
     let is_beam = model.structure.as_ref().and_then(|s| s.beam()).is_some();
     let sparse = large && !is_beam && cutoff_hz.is_finite() && cutoff_hz > 0.0;
@@ -134,15 +198,22 @@ pub fn reduce(
             ),
         ));
     }
-    let opts = ReductionOptions {
+    Ok((modes, sparse))
+}
+
+fn options(settings: &ReductionSettings, cutoff_hz: f64, sparse: bool) -> ReductionOptions {
+    ReductionOptions {
         cutoff: 2.0 * PI * cutoff_hz,
         static_correction: settings.static_correction,
         modal_damping: settings.modal_damping.clone(),
         sparse_factor: sparse,
-    };
-    let r = red::reduce(full, &modes, &opts)?;
+    }
+}
+
+/// What a reduction `r` of a `full_dofs` system reports.
+fn report_of(r: &red::Reduction, settings: &ReductionSettings, cutoff_hz: f64, full_dofs: usize) -> ReductionReport {
     let hz = |w: &f64| w / (2.0 * PI);
-    let report = ReductionReport {
+    ReductionReport {
         cutoff_hz,
         static_correction: settings.static_correction,
         modes_kept: r.mode_omega.len(),
@@ -150,11 +221,63 @@ pub fn reduce(
         first_discarded_mode_hz: r.first_discarded_omega.as_ref().map(hz),
         residual_vectors: r.residual_omega.len(),
         residual_frequencies_hz: r.residual_omega.iter().map(hz).collect(),
-        full_dofs: full.n(),
+        full_dofs,
         reduced_dofs: r.system.n(),
         error: None,
-    };
-    Ok((r.system, report))
+    }
+}
+
+/// A reduction shared by the cases of a placement study on one structure
+/// ([`SharedBasis`]): the bare structure's modes up to the cut-off, computed once; each
+/// case's static correction and actuators added per case.
+#[derive(Debug)]
+pub struct SharedReduction {
+    basis: SharedBasis,
+    settings: ReductionSettings,
+    cutoff_hz: f64,
+}
+
+impl SharedReduction {
+    /// The shared reduction of the structure (and its damping) of `model`, keeping the
+    /// modes up to `cutoff_hz`. Refuses hysteretic damping, as a case's reduction does.
+    pub fn new(model: &Model, settings: &ReductionSettings, cutoff_hz: f64) -> Result<Self> {
+        if model.loss_factor() > 0.0 {
+            return Err(Error::analysis_setting(
+                "reduction",
+                "a modal reduction is not available with hysteretic damping: run the full model",
+            ));
+        }
+        let bare = Model {
+            structure: model.structure.clone(),
+            damping: model.damping.clone(),
+            actuators: Vec::new(),
+            sensors: Vec::new(),
+            loads: Vec::new(),
+            roundoff_tolerance: model.roundoff_tolerance,
+        };
+        let bare_sys = System::assemble(&bare)?;
+        let (modes, sparse) = modes_to(&bare, &bare_sys, settings, cutoff_hz)?;
+        let basis = SharedBasis::new(&bare_sys, &modes, &options(settings, cutoff_hz, sparse))?;
+        Ok(SharedReduction { basis, settings: settings.clone(), cutoff_hz })
+    }
+
+    /// The cut-off (Hz).
+    pub fn cutoff_hz(&self) -> f64 {
+        self.cutoff_hz
+    }
+
+    /// The structure's modes kept.
+    pub fn modes_kept(&self) -> usize {
+        self.basis.modes()
+    }
+
+    /// The reduced system of `model` (a case on the same structure) and its report.
+    pub fn system(&self, model: &Model) -> Result<(System, ReductionReport)> {
+        let attached = System::assemble_attachments(model)?;
+        let r = self.basis.reduce(&attached)?;
+        let report = report_of(&r, &self.settings, self.cutoff_hz, attached.n());
+        Ok((r.system, report))
+    }
 }
 
 /// Beam DOFs up to which [`complete_modal_basis`] computes every mode. The paper beam

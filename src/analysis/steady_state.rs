@@ -658,31 +658,11 @@ impl<'s> HarmonicSolver<'s> {
 
 /// Compares two steady states of the same model (point and net powers).
 pub fn reduction_error(full: &SteadyStateResult, reduced: &SteadyStateResult) -> ReductionError {
-    let scale = full.mean_power.iter().fold(0.0f64, |a, p| a.max(p.abs()));
-    let rel = |a: f64, b: f64, floor: f64| {
-        let d = b.abs().max(floor);
-        if d > 0.0 {
-            (a - b).abs() / d
-        } else {
-            (a - b).abs()
-        }
-    };
-    let relative_error: Vec<f64> =
-        reduced.mean_power.iter().zip(&full.mean_power).map(|(&r, &f)| rel(r, f, 1e-6 * scale)).collect();
-    let net_scale = full.net_power.iter().fold(0.0f64, |a, p| a.max(p.abs()));
-    ReductionError {
-        harmonics: full.harmonics,
-        full_mean_power: full.mean_power.clone(),
-        reduced_mean_power: reduced.mean_power.clone(),
-        max_relative_error: relative_error.iter().fold(0.0f64, |a, &b| a.max(b)),
-        relative_error,
-        net_power_relative_error: reduced
-            .net_power
-            .iter()
-            .zip(&full.net_power)
-            .map(|(&r, &f)| rel(r, f, 1e-6 * net_scale))
-            .collect(),
-    }
+    ReductionError::between(
+        full.harmonics,
+        (&full.mean_power, &full.net_power),
+        (&reduced.mean_power, &reduced.net_power),
+    )
 }
 
 /// Runs the frequency-domain steady state of both models at `harmonics` harmonics and

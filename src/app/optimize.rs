@@ -180,6 +180,9 @@ fn report_page(spec: &Spec, r: &RunResult, files: &[PathBuf]) -> Result<String> 
     let header: Vec<&str> = header.iter().map(String::as_str).collect();
     p.section("best", "Best case");
     p.para(&format!("{} evaluations in {:.1} s, seed {}.", r.evaluations, r.seconds, spec.search.seed));
+    if let Some(c) = &r.reduction {
+        p.para(&crate::report::sweep::reduction_text(c));
+    }
     p.push(&table(&header, &rows(std::slice::from_ref(&r.best))));
     p.section("optima", "Distinct local optima");
     p.push(&table(&header, &rows(&r.optima)));
@@ -235,6 +238,15 @@ fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
              candidate was solved",
             d.zeta, d.modes
         ));
+    }
+    if spec.base.shared_structure && t.contains_key("plate") {
+        // The study meshed the plate once, uniformly, for its shared reduction.
+        let mesh = t["plate"]
+            .as_table_mut()
+            .and_then(|p| p.entry("mesh").or_insert_with(|| toml::Value::Table(Default::default())).as_table_mut());
+        if let Some(m) = mesh {
+            m.insert("through_points".into(), toml::Value::Boolean(false));
+        }
     }
     if !t.contains_key("analysis") {
         let a: toml::Value =
@@ -322,6 +334,11 @@ fn summary(spec: &Spec, r: &RunResult) -> serde_json::Value {
         "harmonics": spec.harmonics,
         "optima": r.optima.iter().map(|e| candidate_json(spec, e)).collect::<Vec<_>>(),
         "pareto": r.pareto.iter().map(|e| candidate_json(spec, e)).collect::<Vec<_>>(),
+        "reduction": r.reduction.as_ref().map(|c| serde_json::json!({
+            "cutoff_hz": c.cutoff_hz,
+            "modes_kept": c.modes_kept,
+            "max_relative_error_at_optimum": c.max_relative_error,
+        })),
     })
 }
 

@@ -7,7 +7,7 @@ use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
 use crate::analysis::modes;
 use crate::analysis::plan;
-use crate::analysis::reduction::{self, Cutoff, ReductionReport, ReductionSettings};
+use crate::analysis::reduction::{self, ReductionReport, ReductionSettings};
 use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{DofMap, Model, System};
@@ -405,7 +405,7 @@ impl Runner<'_> {
     ) -> Result<transient::TransientResult> {
         let model = self.model;
         let Some(rs) = reduction else { return transient::run(model, self.system, s) };
-        let rs = reduction_settings(rs, model.modal_ratios());
+        let rs = ReductionSettings::of_spec(rs, model.modal_ratios());
         let timing = DriveTiming::stepped(model, Step::of(s.dt, s.steps_per_period), s.duration, s.harmonics)?;
         let h = timing.analysed_harmonics(s.harmonics);
         let (red, mut report) = self.reduced.get(model, self.system, &rs, h)?;
@@ -443,7 +443,7 @@ impl Runner<'_> {
             HarmonicCount::Fixed(h) => h,
             HarmonicCount::Tolerance(_) => crate::case::DEFAULT_HARMONICS,
         };
-        let rs = reduction_settings(rs, model.modal_ratios());
+        let rs = ReductionSettings::of_spec(rs, model.modal_ratios());
         let (red, mut report) = self.reduced.get(model, self.system, &rs, h)?;
         let mut r = steady_state::run_counted(model, &red, HarmonicCount::Fixed(h), samples)?;
         if rs.error_estimate {
@@ -457,20 +457,6 @@ impl Runner<'_> {
 
 /// Samples per period of the frequency-domain runs behind a reduction's error estimate.
 const ESTIMATE_SAMPLES: usize = 1024;
-
-/// The solver-side settings of a case's `reduction` entry, for a case with the given modal
-/// damping ratios (None: Rayleigh or no damping).
-pub fn reduction_settings(spec: &ReductionSpec, modal_damping: Option<&[f64]>) -> ReductionSettings {
-    ReductionSettings {
-        cutoff: match (spec.modes_up_to_hz, spec.factor) {
-            (Some(f), _) => Cutoff::Hz(f),
-            (None, k) => Cutoff::HarmonicFactor(k.unwrap_or(reduction::AUTO_FACTOR)),
-        },
-        static_correction: spec.static_correction,
-        error_estimate: spec.error_estimate,
-        modal_damping: modal_damping.map(<[f64]>::to_vec),
-    }
-}
 
 /// Reduced systems built so far in a case run, so that analyses asking for the same basis
 /// share it.

@@ -167,11 +167,24 @@ impl System {
     /// Assembles a model. Errors if an actuator foot is not on a mesh node or the damping is
     /// still a ratio (see [`crate::analysis::plan::calibrate`]).
     pub fn assemble(model: &Model) -> Result<System> {
+        Self::assemble_parts(model, true)
+    }
+
+    /// The model's actuators and loads alone on its structure, for a reduction basis that
+    /// supplies the structure ([`crate::solve::shared_basis`]): the structure's DOFs
+    /// numbered as in the bare structure's assembly, every body after them, and no
+    /// structure matrices (`m_beam`, `c_beam`, `k_beam` zero; `m`, `c`, `k` the actuators').
+    pub fn assemble_attachments(model: &Model) -> Result<System> {
+        Self::assemble_parts(model, false)
+    }
+
+    fn assemble_parts(model: &Model, with_structure: bool) -> Result<System> {
         model.damping.require_calibrated()?;
         let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
         let structure = model.structure.as_ref();
         let feet = feet_attachments(&comps, structure)?;
-        // Each actuator's bodies are numbered after the last node its feet reach.
+        // Each actuator's bodies are numbered after the last node its feet reach (keeping
+        // the profile narrow), or all after the structure when it is not assembled here.
         let order = structure.map(Structure::node_order).unwrap_or_default();
         let mut rank = vec![0; order.len()];
         for (r, &node) in order.iter().enumerate() {
@@ -180,11 +193,15 @@ impl System {
         let anchors: Vec<Option<usize>> = feet
             .iter()
             .map(|links| links.iter().flatten().flat_map(|a| a.iter().map(|t| t.0)).max_by_key(|&n| rank[n]))
+            .map(|anchor| anchor.filter(|_| with_structure))
             .collect();
         let sizes: Vec<usize> = comps.iter().map(|c| c.dof_names.len()).collect();
         let dofs = DofMap::number_in(structure, &order, &anchors, &sizes);
         let n = dofs.n;
-        let [m_beam, c_beam, k_beam] = structure_matrices(structure, &dofs, model.rayleigh());
+        let [m_beam, c_beam, k_beam] = match with_structure {
+            true => structure_matrices(structure, &dofs, model.rayleigh()),
+            false => [Csr::zeros(n), Csr::zeros(n), Csr::zeros(n)],
+        };
         let actuators = actuator_matrices(&comps, &feet, structure, &dofs);
         let m = Csr::combine(&[(1.0, &m_beam), (1.0, &Csr::from_triplets(n, &actuators.m))]);
         let k = Csr::combine(&[(1.0, &k_beam), (1.0, &Csr::from_triplets(n, &actuators.k))]);
@@ -193,7 +210,7 @@ impl System {
             n,
             m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
         );
-        let k_loss = (model.loss_factor() > 0.0).then(|| k_beam.scaled(model.loss_factor()));
+        let k_loss = (with_structure && model.loss_factor() > 0.0).then(|| k_beam.scaled(model.loss_factor()));
         let loads = load_patterns(model, &dofs)?;
         let ActuatorMatrices { links, drives, .. } = actuators;
         Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, k_loss, links, drives, loads, envelope, projection: None })

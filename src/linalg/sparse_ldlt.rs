@@ -227,13 +227,43 @@ impl SparseLdlt<'_> {
 
     /// Solves A·x = b in place (`x` holds b on entry).
     pub fn solve_in_place(&self, x: &mut [f64]) {
-        let n = self.dim();
-        assert_eq!(x.len(), n);
-        let symbolic = &self.pattern.symbolic;
-        let mut buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-        let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
-        LdltRef::new(symbolic, &self.values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(&mut buf));
+        solve_with(self.pattern, &self.values, x);
     }
+}
+
+/// A factor that owns its pattern, kept for many solves (a study's static shapes).
+#[derive(Debug)]
+pub struct OwnedLdlt {
+    pattern: SparsePattern,
+    values: Vec<f64>,
+}
+
+impl OwnedLdlt {
+    /// Analyses and factors one symmetric matrix `a`.
+    pub fn of(a: &Csr) -> Result<Self> {
+        let pattern = SparsePattern::analyse(&[a])?;
+        let values = pattern.factorize(&[(1.0, a)])?.values;
+        Ok(OwnedLdlt { pattern, values })
+    }
+
+    pub fn dim(&self) -> usize {
+        self.pattern.dim()
+    }
+
+    /// Solves A·x = b in place (`x` holds b on entry).
+    pub fn solve_in_place(&self, x: &mut [f64]) {
+        solve_with(&self.pattern, &self.values, x);
+    }
+}
+
+/// Solves with the factor `values` on `pattern`, in place.
+fn solve_with(pattern: &SparsePattern, values: &[f64], x: &mut [f64]) {
+    let n = pattern.dim();
+    assert_eq!(x.len(), n);
+    let symbolic = &pattern.symbolic;
+    let mut buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
+    let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
+    LdltRef::new(symbolic, values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(&mut buf));
 }
 
 #[cfg(test)]

@@ -11,6 +11,7 @@ use crate::analysis::steady_state::{self, Detail, HarmonicSolver};
 use crate::case::LoadedCase;
 use crate::power::modal::{decompose, ModalDamping};
 use crate::power::point::net_power;
+use crate::sweep::reduced::StudySystems;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
@@ -75,16 +76,48 @@ pub struct Evaluator<'s> {
     forces: StackForceCache,
     /// Bare-beam modes to decompose the power into (0: none).
     modes: usize,
+    /// The systems candidates are solved on: the base case's reduction, or (with modes to
+    /// decompose into, which need the structure's own DOFs) the full system.
+    systems: StudySystems,
 }
 
 impl<'s> Evaluator<'s> {
     pub fn new(spec: &'s Spec) -> Self {
-        Evaluator { spec, forces: StackForceCache::default(), modes: spec.modes }
+        Self::with_modes(spec, 0)
     }
 
     /// The same, decomposing the power into at least `modes` bare-beam modes (figures).
     pub fn with_modes(spec: &'s Spec, modes: usize) -> Self {
-        Evaluator { spec, forces: StackForceCache::default(), modes: modes.max(spec.modes) }
+        let modes = modes.max(spec.modes);
+        let systems = match modes {
+            0 => StudySystems::new(&spec.file, &spec.base, spec.harmonics, spec.extremes()),
+            _ => StudySystems::full(spec.harmonics),
+        };
+        Evaluator { spec, forces: StackForceCache::default(), modes, systems }
+    }
+
+    /// A reduced optimisation's check of its reduction: candidate `e` (the optimum) solved
+    /// again on the full model, its net powers and dissipation compared with the reduced
+    /// ones. None without a reduction (or an outcome to compare).
+    pub fn check_reduction(&self, e: &Evaluation) -> Option<crate::sweep::ReductionCheck> {
+        let reduced = e.outcome.as_ref()?;
+        let shared = self.systems.shared()?;
+        let full = Evaluator { systems: StudySystems::full(self.spec.harmonics), ..Evaluator::new(self.spec) };
+        let f = full.evaluate(&e.u).outcome?;
+        let rel = |r: f64, x: f64, floor: f64| (r - x).abs() / x.abs().max(floor).max(f64::MIN_POSITIVE);
+        let floor = 1e-6 * f.net_power.iter().fold(f.dissipation.abs(), |a, p| a.max(p.abs()));
+        let error = reduced
+            .net_power
+            .iter()
+            .zip(&f.net_power)
+            .map(|(&r, &x)| rel(r, x, floor))
+            .fold(rel(reduced.dissipation, f.dissipation, floor), f64::max);
+        Some(crate::sweep::ReductionCheck {
+            cutoff_hz: shared.cutoff_hz(),
+            modes_kept: shared.modes_kept(),
+            case: None,
+            max_relative_error: error,
+        })
     }
 
     /// Evaluates candidate `u`.
@@ -132,9 +165,7 @@ impl<'s> Evaluator<'s> {
         let lc = LoadedCase::from_case(case, &format!("{} [candidate]", spec.base.file), spec.base.dir.clone())
             .map_err(s)?;
         let model = &calibrated_model(&lc).map_err(s)?;
-        let sys =
-            crate::sweep::exec::frequency_domain_system(model, &lc.file, crate::sweep::SweepAnalysis::SteadyState)
-                .map_err(s)?;
+        let sys = self.systems.system(model, &lc.file).map_err(s)?.0;
         let mut solver = HarmonicSolver::new(&sys);
         let r = steady_state::run_with(
             model,
@@ -155,7 +186,7 @@ impl<'s> Evaluator<'s> {
         let net_power_harmonic = (0..n_act).map(|a| per_harmonic.iter().map(|p| p[a]).collect()).collect();
         let omega0 = 2.0 * PI / r.period;
         let mut sensors = Vec::new();
-        for se in model.sensors.iter().filter(|_| sys.projection.is_none()) {
+        for se in &model.sensors {
             let pattern = sys.w_at(model, &se.at, "sensor.x").map_err(s)?;
             let w: Vec<Complex64> = solver.q.iter().map(|qk| pattern.iter().map(|&(d, c)| qk[d] * c).sum()).collect();
             sensors.push((se.name.clone(), w));

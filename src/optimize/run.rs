@@ -54,6 +54,8 @@ pub struct RunResult {
     /// Evaluations by the global search and by the polish.
     pub evaluations: usize,
     pub seconds: f64,
+    /// A reduced optimisation's check of its reduction at the optimum.
+    pub reduction: Option<crate::sweep::ReductionCheck>,
 }
 
 /// The scalar a search minimises: one objective, or the weighted Chebyshev distance of the
@@ -214,7 +216,9 @@ pub fn run(spec: &Spec, opts: &RunOptions) -> Result<RunResult> {
     stopped()?;
     let evaluations = session.evaluations;
     bar.finish_and_clear();
-    Ok(RunResult { best, optima, history, pareto, evaluations, seconds: t0.elapsed().as_secs_f64() })
+    let seconds = t0.elapsed().as_secs_f64();
+    let reduction = pool.install(|| ev.check_reduction(&best));
+    Ok(RunResult { best, optima, history, pareto, evaluations, seconds, reduction })
 }
 
 /// What a run's searches share: the evaluator, the pool, the progress bar and the count.

@@ -280,6 +280,7 @@ impl Spec {
             variables.push(var);
         }
         let fields: Vec<&Field> = variables.iter().flat_map(|v| &v.fields).collect();
+        base.share_structure(&fields);
         base.cache_damping(&fields)?;
 
         let objectives = match of.objective.len() {
@@ -342,6 +343,12 @@ impl Spec {
     /// bounds (or each of its values), and the steady state on the largest case
     /// ([`BaseCase::admit_cases`]).
     pub fn admit(&self, budget: &crate::analysis::budget::Budget) -> Result<()> {
+        let counts = (self.harmonics, self.samples_per_period);
+        self.base.admit_cases(&self.file, &self.extremes(), crate::sweep::SweepAnalysis::SteadyState, counts, budget)
+    }
+
+    /// Each variable at its bounds (or each of its values): `(name, field, value)`.
+    pub fn extremes(&self) -> Vec<(String, &Field, toml::Value)> {
         let mut extremes = Vec::new();
         for (i, v) in self.variables.iter().enumerate() {
             let values = match &v.domain {
@@ -352,8 +359,7 @@ impl Spec {
                 extremes.extend(values.iter().map(|x| (format!("variable[{i}]"), f, x.clone())));
             }
         }
-        let counts = (self.harmonics, self.samples_per_period);
-        self.base.admit_cases(&self.file, &extremes, crate::sweep::SweepAnalysis::SteadyState, counts, budget)
+        extremes
     }
 
     /// The fields and values of the candidate u (one u per variable, in [0, 1]).

@@ -385,6 +385,19 @@ pub fn best_positions(t: &SweepTable) -> Option<String> {
     Some(s)
 }
 
+/// What a reduced sweep says of its reduction.
+pub fn reduction_text(c: &crate::sweep::ReductionCheck) -> String {
+    format!(
+        "Solved on a modal reduction shared by every case ({} modes to {:.1} Hz, a static correction per case). \
+         Checked on the full model at {}: {} within {:.1e} of it.",
+        c.modes_kept,
+        c.cutoff_hz,
+        c.case.map_or("the optimum".to_string(), |i| format!("the best case ({i})")),
+        if c.case.is_some() { "point and net powers" } else { "net powers and dissipation" },
+        c.max_relative_error
+    )
+}
+
 /// The whole Markdown report (best cases, and best positions where it applies).
 pub fn markdown_report(t: &SweepTable) -> String {
     use crate::report::html::{markdown_code, markdown_escape};
@@ -402,6 +415,9 @@ pub fn markdown_report(t: &SweepTable) -> String {
         best_title(t),
         best_table(t, t.best)
     );
+    if let Some(c) = &t.reduction {
+        s += &format!("\n{}\n", reduction_text(c));
+    }
     if let Some(b) = best_positions(t) {
         let py = 1 - position_param(t).unwrap_or(0);
         s += &format!("\n## Best and worst position for each {}\n\n{b}", t.parameters[py]);
@@ -455,6 +471,7 @@ mod tests {
             harmonics: 1,
             samples_per_period: 64,
             damping: None,
+            reduction: None,
             best: 8,
             parameters: vec!["actuator[0].x_e".into(), "actuator[0].voltage.frequency".into()],
             units: vec!["m".into(), "Hz".into()],

@@ -8,3 +8,4 @@ pub mod lanczos;
 pub mod modal_basis;
 pub mod newmark;
 pub mod refine;
+pub mod shared_basis;

@@ -70,7 +70,7 @@ use faer::{Mat, MatRef, Side};
 use std::sync::Arc;
 
 /// Relative size below which a projected entry counts as round-off.
-const DROP: f64 = 1e-12;
+pub(super) const DROP: f64 = 1e-12;
 
 /// A residual vector whose residual flexibility ψᵀ·K·ψ is below this fraction of the
 /// flexibility at its foot is round-off (that difference cancels to ε of the total).
@@ -166,7 +166,9 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     // (a difference of large numbers at every node away from the feet).
     let Residual { vectors: residual, omega: residual_omega, dropped } = if opts.static_correction && !attach.is_empty()
     {
-        residual_vectors(full, &bodies, &attach, &phi, &mode_omega, opts.sparse_factor)?
+        let shapes = static_shapes(full, &bodies, &attach, opts.sparse_factor)?;
+        let unit: Vec<Vec<(usize, f64)>> = attach.iter().map(|&j| vec![(j, 1.0)]).collect();
+        residual_vectors(&full.m_beam, &unit, shapes, (&phi, None), &mode_omega)?
     } else {
         Residual { vectors: Vec::new(), omega: Vec::new(), dropped: 0 }
     };
@@ -208,6 +210,17 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     let k_links = basis.project(&Csr::combine(&[(1.0, &full.k), (-1.0, &full.k_beam)]));
     let k = Csr::combine(&[(1.0, &k_beam), (1.0, &k_links)]);
 
+    let system = reduced_system(full, &basis, [m, c, k, m_beam, c_beam, k_beam], nm + np);
+    Ok(Reduction { system, mode_omega, first_discarded_omega, residual_omega, dropped })
+}
+
+/// The reduced system of `full` on `basis` with its matrices `[m, c, k, m_beam, c_beam,
+/// k_beam]`: `full`'s links, drives and loads on the reduced coordinates, its bodies
+/// numbered after the `first_body` structure coordinates. A reduced basis is for viscous
+/// damping: hysteretic damping is refused before.
+pub(super) fn reduced_system(full: &System, basis: &Basis, matrices: [Csr; 6], first_body: usize) -> System {
+    let [m, c, k, m_beam, c_beam, k_beam] = matrices;
+    let nr = basis.nr;
     let links: Vec<LinkDofs> = full
         .links
         .iter()
@@ -218,27 +231,24 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
             ..l.clone()
         })
         .collect();
-    let drives: Vec<Vec<(usize, f64)>> = full.drives.iter().map(|b| basis.row_combination(b)).collect();
-    let loads: Vec<Vec<(usize, f64)>> = full.loads.iter().map(|b| basis.row_combination(b)).collect();
+    let combine = |bs: &[Vec<(usize, f64)>]| bs.iter().map(|b| basis.row_combination(b)).collect();
     let envelope =
         Skyline::<f64>::envelope_of(nr, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
-    let system = System {
-        dofs: reduced_dofs(full, nm + np, nr),
+    System {
+        dofs: reduced_dofs(full, first_body, nr),
         m,
         c,
         k,
         m_beam,
         c_beam,
         k_beam,
-        // A reduced basis is for viscous damping; hysteretic damping is refused before.
         k_loss: None,
         links,
-        drives,
-        loads,
+        drives: combine(&full.drives),
+        loads: combine(&full.loads),
         envelope,
-        projection: Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr })),
-    };
-    Ok(Reduction { system, mode_omega, first_discarded_omega, residual_omega, dropped })
+        projection: Some(Arc::new(Projection { full: full.dofs.clone(), t: basis.t.to_vec(), n_reduced: nr })),
+    }
 }
 
 /// Beam DOFs the actuators and loads touch, ascending.
@@ -262,50 +272,59 @@ fn attachment_dofs(full: &System, beam_dofs: &[usize]) -> Vec<usize> {
 
 /// The static correction's residual vectors over the full DOFs, their pseudo-frequencies
 /// ω̃ (rad/s) and how many attachment DOFs gave none.
-struct Residual {
-    vectors: Vec<Vec<f64>>,
-    omega: Vec<f64>,
-    dropped: usize,
+pub(super) struct Residual {
+    pub(super) vectors: Vec<Vec<f64>>,
+    pub(super) omega: Vec<f64>,
+    pub(super) dropped: usize,
 }
 
-/// Residual vectors for the attachment DOFs `attach`: the static shapes minus what the
-/// retained modes `phi` (at `mode_omega`) carry of them, M-orthogonal to the modes and
-/// diagonalising the residual flexibility.
-fn residual_vectors(
-    full: &System,
-    bodies: &[usize],
-    attach: &[usize],
-    phi: &[Vec<f64>],
+/// The value bᵀ·v of an attachment pattern b (a DOF combination) on a vector.
+pub(super) fn at(pattern: &[(usize, f64)], v: &[f64]) -> f64 {
+    pattern.iter().fold(0.0, |s, &(d, c)| s + c * v[d])
+}
+
+/// Residual vectors for the attachment patterns `patterns` (b_j: a DOF, or a point's
+/// shape functions) with static shapes `shapes` (K⁻¹·b_j): the static shapes minus what
+/// the retained modes `phi` (at `mode_omega`) carry of them, M-orthogonal (`m`) to the
+/// modes and diagonalising the residual flexibility. `m_phi` may hold M·φ_r for every
+/// mode (a basis kept for many reductions), saving a product with M per pass.
+pub(super) fn residual_vectors(
+    m: &Csr,
+    patterns: &[Vec<(usize, f64)>],
+    shapes: Vec<Vec<f64>>,
+    (phi, m_phi): (&[Vec<f64>], Option<&[Vec<f64>]>),
     mode_omega: &[f64],
-    sparse: bool,
 ) -> Result<Residual> {
-    let n = full.n();
-    let shapes = static_shapes(full, bodies, attach, sparse)?;
+    let n = shapes.first().map_or(0, Vec::len);
     // Residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ), at the feet.
-    let p = attach.len();
+    let p = patterns.len();
     let g = |a: usize, b: usize| {
-        let sf = 0.5 * (shapes[a][attach[b]] + shapes[b][attach[a]]);
-        sf - phi.iter().zip(mode_omega).map(|(v, w)| v[attach[a]] * v[attach[b]] / (w * w)).sum::<f64>()
+        let sf = 0.5 * (at(&patterns[b], &shapes[a]) + at(&patterns[a], &shapes[b]));
+        sf - phi.iter().zip(mode_omega).map(|(v, w)| at(&patterns[a], v) * at(&patterns[b], v) / (w * w)).sum::<f64>()
     };
     // A foot whose residual flexibility cancels to round-off is already spanned by the
     // retained modes (a cut-off above most of the mesh's modes); keeping it would make
     // T singular.
-    let live: Vec<usize> = (0..p).filter(|&a| g(a, a) > RESIDUAL_FLOOR * shapes[a][attach[a]]).collect();
+    let live: Vec<usize> = (0..p).filter(|&a| g(a, a) > RESIDUAL_FLOOR * at(&patterns[a], &shapes[a])).collect();
     let mut dropped = p - live.len();
     // ψ_j = S_j − Φ·Ω⁻²·Φ_f,j, then M-orthogonalised against Φ (twice) for round-off.
     let psi: Vec<Vec<f64>> = live
         .iter()
         .map(|&a| {
-            let j = attach[a];
             let mut x = shapes[a].clone();
             for (v, w) in phi.iter().zip(mode_omega) {
-                let c = v[j] / (w * w);
+                let c = at(&patterns[a], v) / (w * w);
                 x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
             }
             for _ in 0..2 {
-                let mx = mul(&full.m_beam, &x);
-                for v in phi {
-                    let c = dot(v, &mx);
+                let coefficients: Vec<f64> = match m_phi {
+                    Some(mv) => mv.iter().map(|mv| dot(mv, &x)).collect(),
+                    None => {
+                        let mx = mul(m, &x);
+                        phi.iter().map(|v| dot(v, &mx)).collect()
+                    }
+                };
+                for (v, c) in phi.iter().zip(coefficients) {
                     x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
                 }
             }
@@ -314,7 +333,7 @@ fn residual_vectors(
         .collect();
     let q = live.len();
     let kg = Mat::<f64>::from_fn(q, q, |a, b| g(live[a], live[b]));
-    let mp: Vec<Vec<f64>> = psi.iter().map(|v| mul(&full.m_beam, v)).collect();
+    let mp: Vec<Vec<f64>> = psi.iter().map(|v| mul(m, v)).collect();
     let mg = Mat::<f64>::from_fn(q, q, |a, b| 0.5 * (dot(&psi[a], &mp[b]) + dot(&psi[b], &mp[a])));
     let (y, omega) = pencil_basis(&kg, &mg)?;
     dropped += q - omega.len();
@@ -367,10 +386,10 @@ fn static_shapes(full: &System, bodies: &[usize], attach: &[usize], sparse: bool
 
 /// The reduction basis T (row-major n × nr) and what it does to matrices and DOF
 /// combinations.
-struct Basis<'t> {
-    t: &'t [f64],
-    n: usize,
-    nr: usize,
+pub(super) struct Basis<'t> {
+    pub(super) t: &'t [f64],
+    pub(super) n: usize,
+    pub(super) nr: usize,
 }
 
 impl Basis<'_> {
@@ -396,21 +415,43 @@ impl Basis<'_> {
                 r[b * nr + a] = s;
             }
         }
-        let mut trip = Vec::new();
-        for a in 0..nr {
-            for b in 0..nr {
-                let v = r[a * nr + b];
-                let scale = (r[a * nr + a].abs() * r[b * nr + b].abs()).sqrt();
-                if v != 0.0 && (a == b || v.abs() > DROP * scale) {
-                    trip.push((a, b, v));
-                }
+        sparse_of_dense(&r, nr)
+    }
+
+    /// Tᵀ·A·T for an A whose entries lie on few rows (an actuator's springs, dampers and
+    /// masses), dense (row-major nr × nr, symmetrised): only those rows of T enter, so the
+    /// cost is that of the rows, not of n.
+    pub(super) fn project_rows(&self, a: &Csr) -> Vec<f64> {
+        let nr = self.nr;
+        let mut rows: Vec<usize> = a.triplets().map(|(i, _, _)| i).collect();
+        rows.sort_unstable();
+        rows.dedup();
+        let row_t = |i: usize| &self.t[i * nr..(i + 1) * nr];
+        // (A·T) restricted to those rows, then Tᵀ·(A·T) from them.
+        let mut at = vec![0.0; rows.len() * nr];
+        let mut r = vec![0.0; nr * nr];
+        for (i, j, v) in a.triplets() {
+            let k = rows.binary_search(&i).expect("a row of A");
+            at[k * nr..(k + 1) * nr].iter_mut().zip(row_t(j)).for_each(|(x, t)| *x += v * t);
+        }
+        for (k, &i) in rows.iter().enumerate() {
+            let (ti, ai) = (row_t(i), &at[k * nr..(k + 1) * nr]);
+            for (a_, &tia) in ti.iter().enumerate().filter(|(_, t)| **t != 0.0) {
+                r[a_ * nr..(a_ + 1) * nr].iter_mut().zip(ai).for_each(|(x, y)| *x += tia * y);
             }
         }
-        Csr::from_triplets(nr, &trip)
+        for a_ in 0..nr {
+            for b in 0..a_ {
+                let s = 0.5 * (r[a_ * nr + b] + r[b * nr + a_]);
+                r[a_ * nr + b] = s;
+                r[b * nr + a_] = s;
+            }
+        }
+        r
     }
 
     /// A combination Σ coeff·q[dof] of full DOFs as one of the reduced coordinates.
-    fn row_combination(&self, g: &[(usize, f64)]) -> Vec<(usize, f64)> {
+    pub(super) fn row_combination(&self, g: &[(usize, f64)]) -> Vec<(usize, f64)> {
         let nr = self.nr;
         let mut r = vec![0.0; nr];
         for &(d, coef) in g {
@@ -422,9 +463,25 @@ impl Basis<'_> {
     }
 }
 
+/// A symmetric dense matrix (row-major nr × nr) as a sparse one, without the entries below
+/// round-off of their diagonal pair (the orthogonality relations' rounding).
+pub(super) fn sparse_of_dense(r: &[f64], nr: usize) -> Csr {
+    let mut trip = Vec::new();
+    for a in 0..nr {
+        for b in 0..nr {
+            let v = r[a * nr + b];
+            let scale = (r[a * nr + a].abs() * r[b * nr + b].abs()).sqrt();
+            if v != 0.0 && (a == b || v.abs() > DROP * scale) {
+                trip.push((a, b, v));
+            }
+        }
+    }
+    Csr::from_triplets(nr, &trip)
+}
+
 /// The reduced system's DOF map: no beam DOFs, the bodies numbered after the `first_body`
 /// beam coordinates.
-fn reduced_dofs(full: &System, first_body: usize, nr: usize) -> DofMap {
+pub(super) fn reduced_dofs(full: &System, first_body: usize, nr: usize) -> DofMap {
     let mut next = first_body;
     DofMap {
         n: nr,
@@ -447,7 +504,7 @@ fn reduced_dofs(full: &System, first_body: usize, nr: usize) -> DofMap {
     }
 }
 
-fn mul(a: &Csr, x: &[f64]) -> Vec<f64> {
+pub(super) fn mul(a: &Csr, x: &[f64]) -> Vec<f64> {
     let mut y = vec![0.0; x.len()];
     a.mul_vec(x, &mut y);
     y

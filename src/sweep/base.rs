@@ -10,10 +10,15 @@ use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::{cost, plan, transient::TransientSettings};
 use crate::assembly::Rayleigh;
 use crate::case::signal::SignalSpec;
-use crate::case::{AnalysisSpec, BaseKind, BodySpec, Case, DampingKind, LoadedCase, DEFAULT_HARMONICS};
+use crate::case::{AnalysisSpec, BaseKind, BodySpec, Case, DampingKind, LoadedCase, ReductionSpec, DEFAULT_HARMONICS};
 use crate::error::{Error, Result};
 use crate::signal::voltage::VoltageInput;
 use std::path::{Path, PathBuf};
+
+/// Whether a varied field can change the structure or its damping.
+fn touches_structure(varied: &[&Field]) -> bool {
+    varied.iter().any(|f| matches!(f.segments[0].key.as_str(), "beam" | "plate" | "imported" | "damping" | "base"))
+}
 
 /// A study's base case.
 #[derive(Clone, Debug)]
@@ -32,6 +37,12 @@ pub struct BaseCase {
     /// Rayleigh coefficients computed once from the base case and used by every case
     /// ([`BaseCase::cache_damping`]).
     pub cached_damping: Option<Rayleigh>,
+    /// The modal reduction the base case's steady state asks for, if any: a study solves
+    /// its cases' steady states on it (`sweep::reduced`).
+    pub reduction: Option<ReductionSpec>,
+    /// Whether every case of the study has the base's structure, so that one reduction basis
+    /// serves them all ([`BaseCase::share_structure`]).
+    pub shared_structure: bool,
     /// Actuator and link names of the base model, in model order.
     pub actuators: Vec<String>,
     pub links: Vec<String>,
@@ -63,6 +74,10 @@ impl BaseCase {
         if let Some(t) = value.as_table_mut() {
             t.remove("analysis");
         }
+        let reduction = lc.case.analysis.iter().find_map(|a| match a {
+            AnalysisSpec::SteadyState { reduction, .. } => reduction.clone(),
+            _ => None,
+        });
         let (harmonics, samples_per_period) = lc
             .case
             .analysis
@@ -87,6 +102,8 @@ impl BaseCase {
             harmonics,
             samples_per_period,
             cached_damping: None,
+            reduction,
+            shared_structure: false,
             actuators,
             links,
             value,
@@ -147,12 +164,37 @@ impl BaseCase {
         })
     }
 
-    /// Computes the beam's Rayleigh damping once and puts it in the base, when none of
-    /// `varied` can change it (they leave `beam`, `damping` and `base` alone) and the base
-    /// asks for Rayleigh damping by ratio on a beam.
+    /// Prepares a study whose base case's steady state asks for a modal reduction to share
+    /// one reduction basis between its cases, when they all have the base's structure: a
+    /// plate or an imported model that no field of `varied` changes (nor its damping). A
+    /// plate is then meshed once, as the uniform grid of its `elements`, and every case's
+    /// points attach through the elements' shape functions (`through_points = false`,
+    /// exact for that mesh); otherwise each case's grid would follow its points. A beam
+    /// study solves every case on its own mesh (which follows the feet) as before.
+    pub fn share_structure(&mut self, varied: &[&Field]) {
+        let kind_shares = self.case.plate.is_some() || self.case.imported.is_some();
+        if self.reduction.is_none() || !kind_shares || touches_structure(varied) {
+            return;
+        }
+        if self.case.plate.is_some() {
+            let doc = self.value.as_table_mut().expect("a case is a table");
+            let plate = doc.get_mut("plate").and_then(toml::Value::as_table_mut).expect("a plate case has [plate]");
+            let mesh = plate.entry("mesh").or_insert_with(|| toml::Value::Table(Default::default()));
+            if let Some(m) = mesh.as_table_mut() {
+                m.insert("through_points".into(), toml::Value::Boolean(false));
+            }
+        }
+        self.shared_structure = true;
+    }
+
+    /// Computes the structure's Rayleigh damping once and puts it in the base, when none of
+    /// `varied` can change it (they leave the structure, `damping` and `base` alone), the
+    /// base asks for Rayleigh damping by ratio, and every case has the base's structure (a
+    /// beam's mesh moves with the feet by less than its discretisation error; a plate's
+    /// only when the study shares one mesh, [`BaseCase::share_structure`]).
     pub fn cache_damping(&mut self, varied: &[&Field]) -> Result<()> {
-        let touches_beam = varied.iter().any(|f| matches!(f.segments[0].key.as_str(), "beam" | "damping" | "base"));
-        if touches_beam || self.case.base != BaseKind::Beam || self.case.damping.kind != DampingKind::RayleighRatio {
+        let same_structure = self.case.base == BaseKind::Beam || self.shared_structure;
+        if touches_structure(varied) || !same_structure || self.case.damping.kind != DampingKind::RayleighRatio {
             return Ok(());
         }
         let stripped: Case = self.value.clone().try_into().map_err(|e: toml::de::Error| Error::Parse {
@@ -160,10 +202,10 @@ impl BaseCase {
             message: e.message().trim_end().to_string(),
         })?;
         let lc = LoadedCase { case: stripped, file: self.file.clone(), dir: self.dir.clone(), text: String::new() };
-        let beam = crate::case::build::build_structure(&lc)?;
+        let structure = crate::case::build::build_structure(&lc)?;
         let d = &lc.case.damping;
-        let r =
-            crate::analysis::plan::rayleigh_from_ratio(&beam, d.zeta, d.modes).map_err(|e| e.in_file(&self.file))?;
+        let r = crate::analysis::plan::rayleigh_from_ratio(&structure, d.zeta, d.modes)
+            .map_err(|e| e.in_file(&self.file))?;
         let mut t = toml::map::Map::new();
         t.insert("kind".into(), toml::Value::String("rayleigh".into()));
         t.insert("a0".into(), toml::Value::Float(r.a0));

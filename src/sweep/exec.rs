@@ -1,12 +1,13 @@
 //! Running a sweep: one case evaluated, the shard's cases in parallel on a local rayon
 //! pool, checkpoints for resuming (batches of rows), and the output file.
 
+use super::reduced::StudySystems;
 use super::spec::{Sweep, SweepAnalysis};
-use super::table::{decode_part, encode_part, Row, Shard, SweepTable};
+use super::table::{decode_part, encode_part, ReductionCheck, Row, Shard, SweepTable};
 use crate::analysis::budget::Budget;
 use crate::analysis::drive::StackForceCache;
 use crate::analysis::plan::{self, calibrated_model};
-use crate::analysis::reduction::complete_modal_basis;
+use crate::analysis::reduction::{complete_modal_basis, ReductionError};
 use crate::analysis::steady_state::{self, Detail, HarmonicSolver, SteadyStateResult};
 use crate::analysis::transient::{self, TransientResult};
 use crate::assembly::{Model, System};
@@ -66,6 +67,8 @@ pub struct Evaluator<'a> {
     /// Use the full `steady_state::run` (with its period in time, no force cache) instead
     /// of its headline mode: for checks and timing.
     pub reference: bool,
+    /// The systems the steady states are solved on (full, or the base case's reduction).
+    pub systems: StudySystems,
 }
 
 /// The headline numbers of a case, as a sweep tabulates them.
@@ -118,7 +121,8 @@ fn in_case(sweep: &Sweep, i: usize) -> impl Fn(Error) -> Error + '_ {
 
 impl<'a> Evaluator<'a> {
     pub fn new(sweep: &'a Sweep, reference: bool) -> Self {
-        Evaluator { sweep, forces: StackForceCache::default(), reference }
+        let systems = StudySystems::new(&sweep.file, &sweep.base, sweep.harmonics, sweep.extremes());
+        Evaluator { sweep, forces: StackForceCache::default(), reference, systems }
     }
 
     /// Evaluates case `i`: builds its model (the mesh follows the actuator) and solves the
@@ -128,7 +132,7 @@ impl<'a> Evaluator<'a> {
         let lc = sweep.case(i)?;
         let wrap = in_case(sweep, i);
         let model = calibrated_model(&lc).map_err(&wrap)?;
-        let sys = frequency_domain_system(&model, &lc.file, sweep.analysis).map_err(&wrap)?;
+        let sys = self.system(&model, &lc.file).map_err(&wrap)?;
         let head = match (sweep.analysis, self.reference) {
             (SweepAnalysis::SteadyState, false) => self.steady_state(&model, &mut HarmonicSolver::new(&sys)),
             (SweepAnalysis::SteadyState, true) => {
@@ -141,6 +145,15 @@ impl<'a> Evaluator<'a> {
             }
         };
         self.row(i, head.map_err(&wrap)?)
+    }
+
+    /// The system a case is solved on: a steady state's from [`StudySystems`] (the full
+    /// system or the base case's reduction), a transient's assembled.
+    fn system(&self, model: &Model, file: &str) -> Result<System> {
+        match self.sweep.analysis {
+            SweepAnalysis::SteadyState => Ok(self.systems.system(model, file)?.0),
+            SweepAnalysis::Transient => frequency_domain_system(model, file, SweepAnalysis::Transient),
+        }
     }
 
     /// The steady state of `model` in its headline mode, against `solver`'s system (the
@@ -185,7 +198,7 @@ impl<'a> Evaluator<'a> {
         debug_assert!(indices.iter().all(|&i| sweep.model_key(i) == sweep.model_key(first)));
         let lc = sweep.case(first)?;
         let mut model = calibrated_model(&lc).map_err(wrap(first))?;
-        let sys = frequency_domain_system(&model, &lc.file, sweep.analysis).map_err(wrap(first))?;
+        let sys = self.system(&model, &lc.file).map_err(wrap(first))?;
         let mut solver = HarmonicSolver::new(&sys);
         let driven = sweep.driven_actuators();
         for &i in indices {
@@ -205,6 +218,34 @@ impl<'a> Evaluator<'a> {
             sink(self.row(i, head)?)?;
         }
         Ok(())
+    }
+
+    /// A reduced steady-state sweep's check of its reduction: the case of `rows` with the
+    /// largest total net power solved again on the full model, its point and net powers
+    /// compared (None for a sweep on the full model, or without rows).
+    pub fn check_reduction(&self, rows: &[Row]) -> Result<Option<ReductionCheck>> {
+        let sweep = self.sweep;
+        let total = |r: &Row| r.net_power.iter().sum::<f64>();
+        let best = rows.iter().filter(|r| total(r).is_finite()).max_by(|a, b| total(a).total_cmp(&total(b)));
+        let (Some(best), true) = (best, self.systems.reduced() && self.shares_systems()) else { return Ok(None) };
+        let wrap = in_case(sweep, best.index);
+        let lc = sweep.case(best.index)?;
+        let model = calibrated_model(&lc).map_err(&wrap)?;
+        let (_, report) = self.systems.system(&model, &lc.file).map_err(&wrap)?;
+        let full = frequency_domain_system(&model, &lc.file, SweepAnalysis::SteadyState).map_err(&wrap)?;
+        let head = self.steady_state(&model, &mut HarmonicSolver::new(&full)).map_err(&wrap)?;
+        let e = ReductionError::between(
+            sweep.harmonics,
+            (&head.mean_power, &head.net_power),
+            (&best.mean_power, &best.net_power),
+        );
+        let net = e.net_power_relative_error.iter().fold(0.0f64, |a, &b| a.max(b));
+        Ok(report.map(|r| ReductionCheck {
+            cutoff_hz: r.cutoff_hz,
+            modes_kept: r.modes_kept,
+            case: Some(best.index),
+            max_relative_error: e.max_relative_error.max(net),
+        }))
     }
 
     fn row(&self, i: usize, head: Headline) -> Result<Row> {
@@ -459,6 +500,9 @@ pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
     done.extend(new);
     done.sort_by_key(|r| r.index);
     table.rows = done;
+    if !cancelled() {
+        table.reduction = ev.check_reduction(&table.rows)?;
+    }
     Ok(table)
 }
 

@@ -29,6 +29,7 @@
 pub mod base;
 pub mod exec;
 pub mod field;
+pub mod reduced;
 pub mod spec;
 pub mod table;
 
@@ -36,4 +37,4 @@ pub use base::BaseCase;
 pub use exec::{evaluate, execute, group_cases, parts_dir, run, Evaluator, Execution, OnEvaluated, RunOptions};
 pub use field::Field;
 pub use spec::{load, Combine, Parameter, Sweep, SweepAnalysis};
-pub use table::{encode_part, merge, merge_files, Row, Shard, SweepTable};
+pub use table::{encode_part, merge, merge_files, ReductionCheck, Row, Shard, SweepTable};

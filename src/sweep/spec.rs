@@ -225,8 +225,12 @@ impl Sweep {
         for (i, p) in parameters.iter_mut().enumerate() {
             base.check_field(&mut p.field, &p.values, file, &format!("parameter[{i}]"))?;
         }
+        let varied: Vec<&Field> = parameters.iter().map(|p| &p.field).collect();
+        if sf.analysis == SweepAnalysis::SteadyState {
+            base.share_structure(&varied);
+        }
         if sf.cache_damping {
-            base.cache_damping(&parameters.iter().map(|p| &p.field).collect::<Vec<_>>())?;
+            base.cache_damping(&varied)?;
         }
 
         let version = env!("CARGO_PKG_VERSION");
@@ -288,6 +292,12 @@ impl Sweep {
     /// least and greatest value, and the analysis on the largest case
     /// ([`BaseCase::admit_cases`]).
     pub fn admit(&self, budget: &crate::analysis::budget::Budget) -> Result<()> {
+        let counts = (self.harmonics, self.samples_per_period);
+        self.base.admit_cases(&self.file, &self.extremes(), self.analysis, counts, budget)
+    }
+
+    /// Each parameter at its least and greatest value: `(name, field, value)`.
+    pub fn extremes(&self) -> Vec<(String, &Field, toml::Value)> {
         let mut extremes = Vec::new();
         for (i, p) in self.parameters.iter().enumerate() {
             let (lo, hi) = p.values.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| (l.min(v), h.max(v)));
@@ -295,8 +305,7 @@ impl Sweep {
                 extremes.push((format!("parameter[{i}]"), &p.field, p.field.toml(v)));
             }
         }
-        let counts = (self.harmonics, self.samples_per_period);
-        self.base.admit_cases(&self.file, &extremes, self.analysis, counts, budget)
+        extremes
     }
 
     /// Parameter paths, in file order.

@@ -184,6 +184,8 @@ pub struct SweepTable {
     pub samples_per_period: usize,
     /// Rayleigh (a₀, a₁) computed once for all cases, if cached.
     pub damping: Option<(f64, f64)>,
+    /// A reduced sweep's check of its reduction against the full model.
+    pub reduction: Option<ReductionCheck>,
     pub best: usize,
     pub parameters: Vec<String>,
     pub units: Vec<String>,
@@ -191,6 +193,30 @@ pub struct SweepTable {
     pub links: Vec<String>,
     /// Rows sorted by case index.
     pub rows: Vec<Row>,
+}
+
+/// A reduced study's check of its reduction: its best case (largest total net power) solved
+/// on the full model as well.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReductionCheck {
+    /// Cut-off (Hz) and modes kept by the reduction.
+    pub cutoff_hz: f64,
+    pub modes_kept: usize,
+    /// The case checked (None: an optimisation's optimum), and the largest relative
+    /// difference of its point and net powers from the full model's (each against its own
+    /// size, or 1e-6 of the largest where smaller).
+    pub case: Option<usize>,
+    pub max_relative_error: f64,
+}
+
+impl ReductionCheck {
+    /// The worse of two checks (shards merged).
+    fn worse(a: Option<Self>, b: Option<Self>) -> Option<Self> {
+        match (a, b) {
+            (Some(a), Some(b)) => Some(if b.max_relative_error > a.max_relative_error { b } else { a }),
+            (a, b) => a.or(b),
+        }
+    }
 }
 
 impl SweepTable {
@@ -223,6 +249,7 @@ impl SweepTable {
             harmonics: sweep.harmonics,
             samples_per_period: sweep.samples_per_period,
             damping: sweep.base.cached_damping.map(|r| (r.a0, r.a1)),
+            reduction: None,
             best: sweep.best,
             parameters: sweep.parameter_names(),
             units: sweep.parameters.iter().map(|p| p.field.unit.to_string()).collect(),
@@ -282,6 +309,12 @@ impl SweepTable {
         if let Some((a0, a1)) = self.damping {
             f.set_attr_f64("cached_rayleigh_a0", a0)?;
             f.set_attr_f64("cached_rayleigh_a1", a1)?;
+        }
+        if let Some(c) = &self.reduction {
+            f.set_attr_f64("reduction_cutoff_hz", c.cutoff_hz)?;
+            f.set_attr_i64("reduction_modes", c.modes_kept as i64)?;
+            f.set_attr_i64("reduction_checked_case", c.case.map_or(-1, |i| i as i64))?;
+            f.set_attr_f64("reduction_max_relative_error", c.max_relative_error)?;
         }
         {
             let s = f.group("sweep")?;
@@ -430,6 +463,15 @@ impl SweepTable {
             (Ok(a0), Ok(a1)) => Some((a0, a1)),
             _ => None,
         };
+        let reduction = match r.attr_f64("/", "reduction_cutoff_hz") {
+            Ok(cutoff_hz) => Some(ReductionCheck {
+                cutoff_hz,
+                modes_kept: r.attr_i64("/", "reduction_modes")? as usize,
+                case: usize::try_from(r.attr_i64("/", "reduction_checked_case")?).ok(),
+                max_relative_error: r.attr_f64("/", "reduction_max_relative_error")?,
+            }),
+            Err(_) => None,
+        };
         Ok(SweepTable {
             title: r.attr_str("/", "title")?,
             sweep_file: r.attr_str("/", "sweep_file")?,
@@ -442,6 +484,7 @@ impl SweepTable {
             harmonics: r.attr_i64("/", "harmonics")? as usize,
             samples_per_period: r.attr_i64("/", "samples_per_period")? as usize,
             damping,
+            reduction,
             best: r.attr_i64("/", "best")? as usize,
             parameters,
             units,
@@ -514,6 +557,7 @@ pub fn merge(shards: &[(String, SweepTable)]) -> Result<SweepTable> {
     }
     let mut out = first.clone();
     out.shard = Shard::ALL;
+    out.reduction = shards.iter().fold(None, |w, (_, t)| ReductionCheck::worse(w, t.reduction.clone()));
     out.rows = by_index.into_values().map(|(_, r)| r.clone()).collect();
     Ok(out)
 }

@@ -43,6 +43,9 @@ pub fn optimize(args: &OptimizeArgs) -> Result<()> {
             spec.harmonics, o.balance_error
         ));
     }
+    if let Some(c) = &r.reduction {
+        crate::app::console::note_line(format_args!("{}", crate::report::sweep::reduction_text(c)));
+    }
     for p in &files {
         crate::say!("wrote {}", p.display());
     }

@@ -82,6 +82,9 @@ pub fn sweep(args: &SweepArgs) -> Result<()> {
         if dt > 0.0 { ex.computed as f64 / dt } else { 0.0 },
         ex.reused
     ));
+    if let Some(c) = &ex.table.reduction {
+        crate::app::console::note_line(format_args!("{}", report::reduction_text(c)));
+    }
     crate::say!("wrote {}", args.out.display());
     report_files(&ex.table, &files, !args.no_plots);
     Ok(())
@@ -100,6 +103,11 @@ fn report_files(t: &SweepTable, files: &[PathBuf], plots: bool) {
         crate::say!("wrote {}", p.display());
     }
     if plots {
-        crate::say!("\n{} by net power into the beam:\n{}", report::best_title(t), report::best_table(t, t.best));
+        crate::say!(
+            "\n{} by net power into the {}:\n{}",
+            report::best_title(t),
+            t.into_word(),
+            report::best_table(t, t.best)
+        );
     }
 }
