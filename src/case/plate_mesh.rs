@@ -93,35 +93,28 @@ pub fn read(path: &Path, p: &PlateSpec) -> Result<PlateMesh> {
 /// [`read`] on text already in memory; `file` names it in messages.
 pub fn parse(text: &str, file: &str, p: &PlateSpec) -> Result<PlateMesh> {
     let raw: MeshFile = crate::toml_input::parse(text, file, crate::toml_input::Kind::PlateMesh)?;
-    let at = |field: String, line: Option<usize>, reason: String| {
-        let reason = match line {
-            Some(l) => format!("line {l}: {reason}"),
-            None => reason,
-        };
-        Error::input(file, field, reason)
-    };
     if raw.format != FORMAT {
         let reason = format!("unknown plate mesh format `{}`; expected `{FORMAT}`", raw.format);
-        return Err(at("format".into(), key_line(text, "format"), reason));
+        return Err(with_line(Error::input(file, "format", reason), key_line(text, "format")));
     }
     for (name, lines, length) in [("x", &raw.x, p.length_x), ("y", &raw.y, p.length_y)] {
         grid_lines(file, name, lines, length).map_err(|e| with_line(e, key_line(text, name)))?;
     }
     if raw.material.len() > MAX_REGIONS || raw.region.len() > MAX_REGIONS {
         let reason = format!("more than {MAX_REGIONS} materials or regions; merge regions of the same sheet");
-        return Err(at("region".into(), None, reason));
+        return Err(Error::input(file, "region", reason));
     }
+    // Lines are looked up only for a message: a scan of the text each.
     for (i, m) in raw.material.iter().enumerate() {
         let f = |name: &str| format!("material[{i}].{name}");
-        let line = header_line(text, "material", i);
         let check = || -> Result<()> {
             ranges::within(file, &f("youngs_modulus"), m.youngs_modulus, YOUNGS_MODULUS, "Pa")?;
             ranges::poisson_ratio(file, &f("poisson_ratio"), m.poisson_ratio)?;
             ranges::within(file, &f("density"), m.density, DENSITY, "kg/m³")
         };
-        check().map_err(|e| with_line(e, line))?;
+        check().map_err(|e| with_line(e, header_line(text, "material", i)))?;
     }
-    let grid = Grid::from_lines(raw.x.clone(), raw.y.clone());
+    let grid = Grid::from_lines(raw.x, raw.y);
     let own = Sheet {
         thickness: p.thickness,
         youngs_modulus: p.youngs_modulus,
@@ -131,8 +124,8 @@ pub fn parse(text: &str, file: &str, p: &PlateSpec) -> Result<PlateMesh> {
     let mut sheets: Vec<Sheet> = Vec::new();
     let mut element_sheet = Vec::new();
     for (i, r) in raw.region.iter().enumerate() {
-        let line = header_line(text, "region", i);
-        let (sheet, boxed) = region(file, i, r, &raw.material, &grid, own).map_err(|e| with_line(e, line))?;
+        let (sheet, boxed) =
+            region(file, i, r, &raw.material, &grid, own).map_err(|e| with_line(e, header_line(text, "region", i)))?;
         // Index 0 is the plate's own sheet; a region's equal to it stays uniform.
         let k = match sheets.iter().position(|s| *s == sheet) {
             _ if sheet == own => 0,
