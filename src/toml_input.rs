@@ -17,6 +17,7 @@ pub enum Kind {
     Sweep,
     Optimization,
     Mesh,
+    PlateMesh,
 }
 
 impl Kind {
@@ -27,6 +28,7 @@ impl Kind {
             Kind::Sweep => "this is a sweep file: use `beamflow sweep` on it",
             Kind::Optimization => "this is an optimisation file: use `beamflow optimize` on it",
             Kind::Mesh => "this is a mesh file: name it in a case as `[beam.mesh] file = \"…\"`",
+            Kind::PlateMesh => "this is a plate's mesh file: name it in a case as `[plate.mesh] file = \"…\"`",
         }
     }
 
@@ -39,12 +41,45 @@ impl Kind {
             Some(Kind::Optimization)
         } else if doc.contains_key("nodes") && doc.contains_key("format") {
             Some(Kind::Mesh)
+        } else if has(&["x", "y"]) && doc.contains_key("format") {
+            Some(Kind::PlateMesh)
         } else if has(&["beam", "actuator", "analysis", "sensor", "load", "damping", "measurement"]) {
             Some(Kind::Case)
         } else {
             None
         }
     }
+}
+
+/// At least how many values the top-level array `key` of a TOML text holds, counted from
+/// its commas without parsing the text: a mesh too fine for an analysis is refused before
+/// the parser's document (about twenty bytes per byte of text) is built. Commas in
+/// comments are skipped; the count is exact for a well-formed array of numbers. Only lines
+/// before the first table header are searched for the key (a table's `x` is not the
+/// document's).
+pub fn values_at_least(text: &str, key: &str) -> usize {
+    let mut lines = text.lines().take_while(|l| !l.trim_start().starts_with('['));
+    let Some(start) = lines.position(|l| {
+        let l = l.trim_start();
+        l.strip_prefix(key).is_some_and(|r| r.trim_start().starts_with('='))
+    }) else {
+        return 0;
+    };
+    // Values: one per comma, plus one if a value follows the last comma.
+    let (mut commas, mut pending, mut in_array) = (0usize, false, false);
+    for line in text.lines().skip(start) {
+        let code = line.split('#').next().unwrap_or("");
+        for c in code.chars() {
+            match c {
+                '[' => in_array = true,
+                ',' if in_array => (commas, pending) = (commas + 1, false),
+                ']' if in_array => return commas + usize::from(pending),
+                c if in_array && !c.is_whitespace() => pending = true,
+                _ => {}
+            }
+        }
+    }
+    commas + usize::from(pending)
 }
 
 /// `text` (the file `file`, of kind `kind`) read into `T`.
@@ -277,6 +312,15 @@ mod tests {
         let doc: toml::Table = "[[actuator]]\nx_e = 0.1\n[actuator.voltage]\namplitud = 3.0\n".parse().unwrap();
         let e = from_value::<Doc>(doc, "<dict>", Kind::Case).unwrap_err().to_string();
         assert!(e.contains("`actuator[0].voltage.amplitud`") && !e.contains("line"), "{e}");
+    }
+
+    #[test]
+    fn array_values_are_counted_before_the_first_table() {
+        let text = "format = \"m\"\n# a, b, c\nx = [0.0, 0.1, # p, q\n 0.2,\n 0.3]\n[[region]]\ny = [1, 2, 3]\n";
+        assert_eq!(values_at_least(text, "x"), 4);
+        assert_eq!(values_at_least(text, "y"), 0, "a table's key is not the document's");
+        assert_eq!(values_at_least("x = [0.0, 0.1, 0.2,]\n", "x"), 3, "a trailing comma adds no value");
+        assert_eq!(values_at_least("xs = [0.0, 0.1]\n", "x"), 0);
     }
 
     #[test]

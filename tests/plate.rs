@@ -11,20 +11,9 @@ mod common;
 use beamflow::analysis::modes;
 use beamflow::case::build::build_structure;
 use beamflow::plate::navier;
+use common::example_plate::*;
 use common::*;
 use std::f64::consts::PI;
-
-/// The example plate of spec §16: aluminium 0.500 × 0.400 × 0.003 m.
-const LX: f64 = 0.5;
-const LY: f64 = 0.4;
-const H: f64 = 0.003;
-const E: f64 = 70e9;
-const NU: f64 = 0.33;
-const RHO: f64 = 2700.0;
-
-fn d() -> f64 {
-    E * H * H * H / (12.0 * (1.0 - NU * NU))
-}
 
 fn rho_h() -> f64 {
     RHO * H

@@ -27,7 +27,7 @@ fn clamp(case: &mut Case) {
     case.beam.mesh.elements = case.beam.mesh.elements.min(ELEMENTS);
     if let Some(p) = &mut case.plate {
         // A plate's DOFs grow as the product of its sides' elements.
-        p.mesh.elements = p.mesh.elements.map(|n| n.min(8));
+        p.mesh.elements = p.mesh.elements.map(|e| e.map(|n| n.min(8)));
     }
     for a in &mut case.analysis {
         match a {

@@ -101,17 +101,31 @@ fn dofs(nodes: u64, bodies: u64) -> Option<u64> {
 }
 
 /// The mesh a case asks for, before it is built: a uniform mesh's elements (plus the nodes
-/// inserted at the case's points) make its DOFs. A mesh file is sized once read (its size
-/// is bounded by the reader), by [`model`].
+/// inserted at the case's points) make its DOFs. A mesh file is sized from its text, by
+/// [`mesh_file`].
 pub fn mesh(lc: &LoadedCase) -> Option<Cost> {
     let case = &lc.case;
+    if case.mesh_file().is_some() {
+        return None;
+    }
     if let Some(p) = &case.plate {
         return Some(plate_mesh(lc, p));
     }
-    if case.base == crate::case::BaseKind::Rigid || case.beam.mesh.file.is_some() {
+    if case.base == crate::case::BaseKind::Rigid {
         return None;
     }
     Some(mesh_of(lc, case.beam.mesh.elements))
+}
+
+/// The mesh a case's mesh file (`text`) describes, counted from the text before it is
+/// parsed: a beam's nodes, a plate's grid lines.
+pub fn mesh_file(lc: &LoadedCase, text: &str) -> Option<Cost> {
+    let (field, file) = lc.case.mesh_file()?;
+    if lc.case.plate.is_none() {
+        return Some(mesh_of(lc, crate::beam::Mesh::elements_at_least(text)));
+    }
+    let [nx, ny] = crate::case::plate_mesh::lines_at_least(text).map(count);
+    Some(plate_grid(nx, ny).of_case_field(field, format!("use fewer grid lines in the mesh file {file}")))
 }
 
 /// A plate's grid before it is built: its grid lines (about `elements` per side plus one
@@ -128,7 +142,12 @@ fn plate_mesh(lc: &LoadedCase, p: &crate::case::PlateSpec) -> Cost {
             + p.spring.len()
             + 2,
     );
-    let [nx, ny] = p.mesh.elements.map(|n| count(n).saturating_add(1).saturating_add(points));
+    let [nx, ny] = p.mesh.elements().map(|n| count(n).saturating_add(1).saturating_add(points));
+    plate_grid(nx, ny).of_case_field("plate.mesh.elements", "use fewer elements")
+}
+
+/// A plate grid of `nx` × `ny` lines: four DOFs a node, numbered across the shorter side.
+fn plate_grid(nx: u64, ny: u64) -> Cost {
     let n = product(&[nx, ny, 4]);
     let band = plate_band(nx.min(ny));
     cost(
@@ -138,7 +157,6 @@ fn plate_mesh(lc: &LoadedCase, p: &crate::case::PlateSpec) -> Cost {
         "the plate's mesh".into(),
         format!("{nx} × {ny} grid lines, ≈ {} DOFs", n.map_or("> 2⁶⁴".into(), |n| n.to_string())),
     )
-    .of_case_field("plate.mesh.elements", "use fewer elements")
 }
 
 /// The memory of a mesh of `elements` elements for `lc`'s attachments: what [`mesh`]

@@ -34,12 +34,13 @@ pub fn model_and_system_within(lc: &LoadedCase, budget: &Budget) -> Result<(Mode
     if let Some(c) = cost::mesh(lc) {
         budget.admit(&c).map_err(|e| e.in_file(&lc.file))?;
     }
-    if let (crate::case::BaseKind::Beam, Some(file)) = (lc.case.base, &lc.case.beam.mesh.file) {
+    if let (crate::case::BaseKind::Beam, Some((_, file))) = (lc.case.base, lc.case.mesh_file()) {
         // Counted from the text before it is parsed; unreadable files are left to the
         // build, which names the field.
         if let Ok(text) = crate::input_file::read_text(&lc.dir.join(file)) {
-            let elements = crate::beam::Mesh::elements_at_least(&text);
-            budget.admit(&cost::mesh_of(lc, elements)).map_err(|e| e.in_file(&lc.file))?;
+            if let Some(c) = cost::mesh_file(lc, &text) {
+                budget.admit(&c).map_err(|e| e.in_file(&lc.file))?;
+            }
         }
     }
     let mut model = build_model(lc)?;

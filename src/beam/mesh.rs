@@ -141,32 +141,10 @@ impl Mesh {
         Mesh::parse(&text, &path.display().to_string(), section, material)
     }
 
-    /// At least how many elements a mesh file's text describes, counted from the commas of
-    /// its `nodes` array without parsing it: a mesh too fine for an analysis is refused
-    /// before the parser's document (about twenty bytes per byte of text) is built. Commas
-    /// in comments are skipped; the count is exact for a well-formed array.
+    /// At least how many elements a mesh file's text describes, counted from its `nodes`
+    /// array without parsing it ([`crate::toml_input::values_at_least`]).
     pub fn elements_at_least(text: &str) -> usize {
-        let Some(start) = text.lines().position(|l| {
-            let l = l.trim_start();
-            l.strip_prefix("nodes").is_some_and(|r| r.trim_start().starts_with('='))
-        }) else {
-            return 0;
-        };
-        // Values: one per comma, plus one if a value follows the last comma.
-        let (mut commas, mut pending, mut in_array) = (0usize, false, false);
-        for line in text.lines().skip(start) {
-            let code = line.split('#').next().unwrap_or("");
-            for c in code.chars() {
-                match c {
-                    '[' => in_array = true,
-                    ',' if in_array => (commas, pending) = (commas + 1, false),
-                    ']' if in_array => return (commas + usize::from(pending)).saturating_sub(1),
-                    c if in_array && !c.is_whitespace() => pending = true,
-                    _ => {}
-                }
-            }
-        }
-        (commas + usize::from(pending)).saturating_sub(1)
+        crate::toml_input::values_at_least(text, "nodes").saturating_sub(1)
     }
 
     /// [`Mesh::read`] on text already in memory; `file` names it in messages.

@@ -1,5 +1,6 @@
 //! From a validated case to the physical model.
 
+use super::plate_mesh::PlateMesh;
 use super::schema::*;
 use super::LoadedCase;
 use crate::actuator::{Actuator, FootBase, Frame, Inertial, Leg, Stack};
@@ -72,13 +73,28 @@ pub fn plate_points(case: &Case, p: &PlateSpec) -> Vec<(f64, f64)> {
     xy
 }
 
-/// Builds the plate alone: its grid (lines through every attachment point unless the mesh
-/// says otherwise), edges, point supports, masses and springs.
-pub fn build_plate(lc: &LoadedCase, p: &PlateSpec) -> Result<Plate> {
+/// The plate's grid and its elements' sheets: a mesh file's, or the generated grid (lines
+/// through every attachment point unless the mesh says otherwise) of the plate's own sheet.
+fn plate_mesh(lc: &LoadedCase, p: &PlateSpec) -> Result<PlateMesh> {
+    if let Some(f) = &p.mesh.file {
+        // A mesh that cannot be read at all is the case's `plate.mesh.file` pointing at the
+        // wrong file; its contents' mistakes are the mesh file's.
+        return super::plate_mesh::read(&lc.dir.join(f), p).map_err(|e| match e {
+            Error::Io { .. } | Error::Parse { .. } => Error::input(&lc.file, "plate.mesh.file", e.to_string()),
+            e => e,
+        });
+    }
     let pts = plate_points(&lc.case, p);
-    let through: &[(f64, f64)] = if p.mesh.through_points { &pts } else { &[] };
-    let [nx, ny] = p.mesh.elements;
+    let through: &[(f64, f64)] = if p.mesh.through_points() { &pts } else { &[] };
+    let [nx, ny] = p.mesh.elements();
     let grid = Grid::through(p.length_x, p.length_y, nx, ny, through);
+    Ok(PlateMesh { grid, sheets: Vec::new(), element_sheet: Vec::new() })
+}
+
+/// Builds the plate alone: its grid and sheets ([`plate_mesh`]), edges, point supports,
+/// masses and springs.
+pub fn build_plate(lc: &LoadedCase, p: &PlateSpec) -> Result<Plate> {
+    let PlateMesh { grid, sheets, element_sheet } = plate_mesh(lc, p)?;
     let edge = |e: EdgeSpec| match e {
         EdgeSpec::Clamped => Edge::Clamped,
         EdgeSpec::SimplySupported => Edge::SimplySupported,
@@ -91,24 +107,22 @@ pub fn build_plate(lc: &LoadedCase, p: &PlateSpec) -> Result<Plate> {
         youngs_modulus: p.youngs_modulus,
         poisson_ratio: p.poisson_ratio,
         density: p.density,
+        sheets,
+        element_sheet,
         edges: Edges { x0: edge(e.x0), x1: edge(e.x1), y0: edge(e.y0), y1: edge(e.y1) },
         supports: Vec::new(),
         point_masses: Vec::new(),
         springs: Vec::new(),
     };
     // Point supports, masses and springs act on one node each: with grid lines through
-    // the points they are nodes; on a uniform grid they must already be.
+    // the points they are nodes; on a uniform grid or a mesh file's they must already be.
+    let why = match &p.mesh.file {
+        Some(f) => format!("the mesh file {f} has no grid line through it in x or y; add one"),
+        None => "plate.mesh.through_points = false puts no grid line through it".to_string(),
+    };
     let node = |at: [f64; 2], field: String| {
         plate.grid.node_at(at[0], at[1]).ok_or_else(|| {
-            Error::input(
-                &lc.file,
-                field,
-                format!(
-                    "(x, y) = ({}, {}) m is not a grid node (plate.mesh.through_points = false puts no grid line \
-                     through it)",
-                    at[0], at[1]
-                ),
-            )
+            Error::input(&lc.file, field, format!("(x, y) = ({}, {}) m is not a grid node ({why})", at[0], at[1]))
         })
     };
     for (i, s) in p.support.iter().enumerate() {
@@ -200,7 +214,7 @@ pub fn build_beam(lc: &LoadedCase) -> Result<Beam> {
                 e => e,
             })?;
             let mfile = path.display().to_string();
-            super::ranges::mesh_nodes(&mfile, &mesh.x)?;
+            super::ranges::mesh_lines(&mfile, "nodes", &mesh.x)?;
             if (mesh.length() - b.length).abs() > 1e-9 * b.length {
                 return Err(Error::input(
                     &mfile,

@@ -7,6 +7,7 @@
 
 pub mod build;
 pub mod measured;
+pub mod plate_mesh;
 pub mod plausible;
 pub mod ranges;
 pub mod schema;
@@ -72,13 +73,22 @@ impl LoadedCase {
 }
 
 impl Case {
+    /// The mesh file the case's structure reads, if any: the field naming it
+    /// (`beam.mesh.file`, `plate.mesh.file`) and the path as written.
+    pub fn mesh_file(&self) -> Option<(&'static str, &str)> {
+        match &self.plate {
+            Some(p) => p.mesh.file.as_deref().map(|f| ("plate.mesh.file", f)),
+            None => self.beam.mesh.file.as_deref().map(|f| ("beam.mesh.file", f)),
+        }
+    }
+
     /// The files besides itself a case (`file`) reads, relative paths resolved against
     /// `dir`, each with what it is: its mesh file and the CSV files of tabulated drives and
     /// loads.
     pub fn data_files(&self, dir: &Path, file: &str) -> Vec<(PathBuf, String)> {
         let mut files = Vec::new();
-        if let Some(m) = &self.beam.mesh.file {
-            files.push((dir.join(m), format!("the mesh file of {file} (beam.mesh.file)")));
+        if let Some((field, m)) = self.mesh_file() {
+            files.push((dir.join(m), format!("the mesh file of {file} ({field})")));
         }
         let drives = self.actuator.iter().enumerate().map(|(i, a)| (format!("actuator[{i}].voltage"), &a.voltage));
         let loads = self.load.iter().enumerate().map(|(i, l)| (format!("load[{i}].force"), &l.force));

@@ -16,7 +16,9 @@ use crate::error::{Error, Result};
 pub const YOUNGS_MODULUS: (f64, f64) = (1e3, 1e13);
 /// Density (kg/m³): foams to beyond osmium.
 pub const DENSITY: (f64, f64) = (1.0, 1e5);
-/// Beam length, width and thickness (m).
+/// Poisson's ratio of an isotropic solid, bounds excluded (–).
+pub const POISSON_RATIO: (f64, f64) = (-1.0, 0.5);
+/// Beam length, width and thickness, plate thickness (m).
 pub const DIMENSION: (f64, f64) = (1e-6, 1e3);
 /// Drive and analysis frequencies (Hz): below, a drive is quasi-static and the power it
 /// puts in is below the round-off of its own balance; above, Euler–Bernoulli theory and
@@ -205,9 +207,19 @@ fn attachments(case: &Case, file: &str) -> Result<()> {
     Ok(())
 }
 
-/// Checks a mesh file's nodes (`x`, m): no element shorter than [`ELEMENT_FRACTION`] of
-/// the mean element length, naming the node that ends it.
-pub fn mesh_nodes(file: &str, x: &[f64]) -> Result<()> {
+/// Refuses a Poisson's ratio outside [`POISSON_RATIO`] (bounds excluded), naming `field`.
+pub fn poisson_ratio(file: &str, field: &str, nu: f64) -> Result<()> {
+    let (lo, hi) = POISSON_RATIO;
+    if nu > lo && nu < hi {
+        return Ok(());
+    }
+    Err(Error::input(file, field, format!("{nu}: an isotropic solid has −1 < ν < 0.5")))
+}
+
+/// Checks a mesh file's node coordinates or grid lines (`x`, m, the array `field`): no
+/// element shorter than [`ELEMENT_FRACTION`] of the mean element length, naming the
+/// entry that ends it.
+pub fn mesh_lines(file: &str, field: &str, x: &[f64]) -> Result<()> {
     let n = x.len().saturating_sub(1);
     if n == 0 {
         return Ok(());
@@ -218,16 +230,17 @@ pub fn mesh_nodes(file: &str, x: &[f64]) -> Result<()> {
         None => Ok(()),
         Some(i) => Err(Error::input(
             file,
-            format!("nodes[{}]", i + 1),
+            format!("{field}[{}]", i + 1),
             format!(
-                "x = {} m is {} from the node before it; elements shorter than {} of the mean element length \
+                "{} m is {} from the one before it; elements shorter than {} of the mean element length \
                  ({}), i.e. {}, are more than 1e9 times as stiff as their neighbours and the solve loses the \
-                 beam's motion to round-off: merge or move the node",
+                 structure's motion to round-off: merge or move the {}",
                 x[i + 1],
                 num(rounded(x[i + 1] - x[i]), "m"),
                 num(ELEMENT_FRACTION, ""),
                 num(rounded(mean), "m"),
-                num(rounded(min), "m")
+                num(rounded(min), "m"),
+                if field == "nodes" { "node" } else { "line" }
             ),
         )),
     }
@@ -350,9 +363,9 @@ mod tests {
 
     #[test]
     fn mesh_elements_far_shorter_than_the_mean_are_refused() {
-        assert!(mesh_nodes("m.toml", &[0.0, 0.5, 1.0]).is_ok());
-        assert!(mesh_nodes("m.toml", &[0.0, 0.0006, 1.0]).is_ok(), "just above 1e-3 of the mean 0.5 m");
-        let e = mesh_nodes("m.toml", &[0.0, 0.5, 0.5 + 1e-15, 1.0]).unwrap_err().to_string();
+        assert!(mesh_lines("m.toml", "nodes", &[0.0, 0.5, 1.0]).is_ok());
+        assert!(mesh_lines("m.toml", "nodes", &[0.0, 0.0006, 1.0]).is_ok(), "just above 1e-3 of the mean 0.5 m");
+        let e = mesh_lines("m.toml", "nodes", &[0.0, 0.5, 0.5 + 1e-15, 1.0]).unwrap_err().to_string();
         assert!(e.contains("nodes[2]") && e.contains("m.toml") && e.contains("3.333e-4 m"), "{e}");
     }
 

@@ -74,13 +74,18 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
     Ok(())
 }
 
-/// What the run was made from: the program version, the case text's hash, and every
+/// What the run was made from: the program version, the hashes of the case text and of
+/// the files it reads (a mesh file, an imported model's), and every
 /// parameter of the case as resolved (defaults filled in), under `parameters/` — the
 /// structure, each actuator's stack, body and drive, the damping, the analyses — so that
 /// the file alone says what was computed.
 fn write_provenance<S: GroupSink>(m: &S, lc: &LoadedCase) -> Result<()> {
     m.attr_str("version", env!("CARGO_PKG_VERSION"))?;
     m.attr_str("case_hash", &super::hash::text_hash(&lc.text))?;
+    if let Some((_, file)) = lc.case.mesh_file() {
+        let p = lc.dir.join(file);
+        m.attr_str("mesh_hash", &super::hash::file_hash(&p).map_err(|e| crate::error::Error::io(&p, e))?)?;
+    }
     if let Some(spec) = &lc.case.imported {
         let f = spec.files(&lc.dir);
         let named = [("mass", Some(&f.mass)), ("stiffness", Some(&f.stiffness)), ("damping", f.damping.as_ref())];

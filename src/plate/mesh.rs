@@ -36,6 +36,25 @@ impl Grid {
         Grid { x, y, dx, dy }
     }
 
+    /// A grid on the given lines (strictly increasing from 0, as a mesh file's are checked
+    /// to be); each element's side is the difference of its lines, or, where a side's lines
+    /// are evenly spaced to within rounding (1e-12), the nominal length L/n of all its
+    /// elements, as [`Grid::through`] gives them (a uniform file is the generated grid, and
+    /// its rows of M, C, K are bitwise periodic).
+    pub fn from_lines(x: Vec<f64>, y: Vec<f64>) -> Grid {
+        let sides = |v: &[f64]| -> Vec<f64> {
+            let d: Vec<f64> = v.windows(2).map(|w| w[1] - w[0]).collect();
+            let h = v[v.len() - 1] / d.len() as f64;
+            if d.iter().all(|s| (s - h).abs() <= 1e-12 * h) {
+                vec![h; d.len()]
+            } else {
+                d
+            }
+        };
+        let (dx, dy) = (sides(&x), sides(&y));
+        Grid { x, y, dx, dy }
+    }
+
     pub fn nx(&self) -> usize {
         self.dx.len()
     }

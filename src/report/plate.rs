@@ -116,7 +116,9 @@ pub fn layout_figure(dir: Dest, stem: &str, plate: &Plate, run: &CaseRun) -> Res
         Edge::Free => "free",
     };
     let e = plate.edges;
-    let title = format!("The plate, {lx} × {ly} × {} m, its edges, actuator feet and sensors", plate.thickness);
+    let regions = if plate.is_uniform() { "" } else { " (regions of other sheets)" };
+    let title =
+        format!("The plate, {lx} × {ly} × {} m{regions}, its edges, actuator feet and sensors", plate.thickness);
     let mut h = plate_map(plate, title, "", 900);
     // A blank field over the whole plate: the figure is the drawing on top of it.
     (h.x, h.y, h.z) = (vec![0.25 * lx, 0.75 * lx], vec![0.25 * ly, 0.75 * ly], vec![0.0; 4]);
@@ -175,6 +177,8 @@ mod tests {
             youngs_modulus: 70e9,
             poisson_ratio: 0.33,
             density: 2700.0,
+            sheets: vec![],
+            element_sheet: vec![],
             edges: Edges { x0: ss, x1: ss, y0: ss, y1: ss },
             supports: vec![],
             point_masses: vec![],

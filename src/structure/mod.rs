@@ -12,7 +12,12 @@ pub use location::Location;
 use crate::beam::{element_mass, element_stiffness, Beam, SupportKind};
 use crate::imported::{Imported, COMPONENTS};
 use crate::plate::{element as bfs, Plate, PointSupportKind};
+use std::collections::HashMap;
 use std::sync::Arc;
+
+/// Most distinct plate element matrices [`Structure::for_each_element`] keeps at once
+/// (two of 2 kB each).
+const PLATE_CACHE: usize = 1024;
 
 /// A structure of any kind.
 #[derive(Clone, Debug)]
@@ -139,19 +144,24 @@ impl Structure {
             }
             Structure::Plate(p) => {
                 let g = &p.grid;
-                let mut cache: Vec<((u64, u64), (bfs::ElementMatrix, bfs::ElementMatrix))> = Vec::new();
+                // Grid segments repeat element sizes and regions their sheet: compute each
+                // (size, sheet) once, up to PLATE_CACHE of them (a graded grid's sizes are
+                // all different: those beyond are computed where they are visited).
+                let mut cache: HashMap<(u64, u64, u32), (bfs::ElementMatrix, bfs::ElementMatrix)> = HashMap::new();
                 for j in 0..g.ny() {
                     for i in 0..g.nx() {
-                        // Grid segments repeat element sizes: compute each size once.
-                        let key = (g.dx[i].to_bits(), g.dy[j].to_bits());
-                        let at = match cache.iter().position(|(k, _)| *k == key) {
-                            Some(at) => at,
+                        let key = (g.dx[i].to_bits(), g.dy[j].to_bits(), p.sheet_index(i, j));
+                        if cache.len() < PLATE_CACHE && !cache.contains_key(&key) {
+                            cache.insert(key, p.element_matrices(i, j));
+                        }
+                        let fresh;
+                        let (ke, me) = match cache.get(&key) {
+                            Some(m) => m,
                             None => {
-                                cache.push((key, p.element_matrices(i, j)));
-                                cache.len() - 1
+                                fresh = p.element_matrices(i, j);
+                                &fresh
                             }
                         };
-                        let (ke, me) = &cache[at].1;
                         let nodes = g.element_nodes(i, j);
                         visit(ElementView { nodes: &nodes, stiffness: &|r, c| ke[r][c], mass: &|r, c| me[r][c] });
                     }

@@ -102,3 +102,18 @@ pub fn csv_header_convention(file: &str, text: &str) -> Result<(), String> {
     }
     Ok(())
 }
+
+/// The example plate of spec §16: aluminium 0.500 × 0.400 × 0.003 m.
+pub mod example_plate {
+    pub const LX: f64 = 0.5;
+    pub const LY: f64 = 0.4;
+    pub const H: f64 = 0.003;
+    pub const E: f64 = 70e9;
+    pub const NU: f64 = 0.33;
+    pub const RHO: f64 = 2700.0;
+
+    /// Its bending stiffness D = E·h³/(12(1 − ν²)) (N·m).
+    pub fn d() -> f64 {
+        E * H * H * H / (12.0 * (1.0 - NU * NU))
+    }
+}

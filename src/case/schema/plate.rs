@@ -16,7 +16,7 @@ pub struct PlateSpec {
     pub youngs_modulus: f64,
     pub poisson_ratio: f64,
     pub density: f64,
-    #[serde(default)]
+    #[serde(default, serialize_with = "resolved_mesh")]
     pub mesh: PlateMeshSpec,
     pub edges: EdgesSpec,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -27,30 +27,45 @@ pub struct PlateSpec {
     pub spring: Vec<PlateSpringSpec>,
 }
 
-/// The generated grid: about `elements = [n_x, n_y]` Bogner–Fox–Schmit elements, with grid
-/// lines through every attachment point (or, with `through_points = false`, a uniform grid
-/// on which points between nodes attach through the element's shape functions).
-#[derive(Clone, Debug, Deserialize, Serialize)]
+/// Either the generated grid: about `elements = [n_x, n_y]` Bogner–Fox–Schmit elements,
+/// with grid lines through every attachment point (or, with `through_points = false`, a
+/// uniform grid on which points between nodes attach through the element's shape
+/// functions); or a mesh file (`file`, relative to the case file: its grid lines and
+/// regions of other thickness or material, see [`crate::case::plate_mesh`]).
+#[derive(Clone, Debug, Default, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct PlateMeshSpec {
-    #[serde(default = "d_elements")]
-    pub elements: [usize; 2],
-    #[serde(default = "d_true")]
-    pub through_points: bool,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elements: Option<[usize; 2]>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub through_points: Option<bool>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub file: Option<String>,
 }
 
-fn d_elements() -> [usize; 2] {
-    [20, 16]
-}
+/// The generated grid's elements when none are given.
+pub const DEFAULT_PLATE_ELEMENTS: [usize; 2] = [20, 16];
 
-fn d_true() -> bool {
-    true
-}
-
-impl Default for PlateMeshSpec {
-    fn default() -> Self {
-        PlateMeshSpec { elements: d_elements(), through_points: true }
+impl PlateMeshSpec {
+    /// The generated grid's elements along x and y.
+    pub fn elements(&self) -> [usize; 2] {
+        self.elements.unwrap_or(DEFAULT_PLATE_ELEMENTS)
     }
+
+    /// Whether the generated grid has lines through every attachment point (default).
+    pub fn through_points(&self) -> bool {
+        self.through_points.unwrap_or(true)
+    }
+}
+
+/// The mesh as a results file and a sweep see it: a generated grid with its defaults
+/// filled in, a mesh file as written.
+fn resolved_mesh<S: serde::Serializer>(m: &PlateMeshSpec, s: S) -> std::result::Result<S::Ok, S::Error> {
+    let resolved = match m.file {
+        Some(_) => m.clone(),
+        None => PlateMeshSpec { elements: Some(m.elements()), through_points: Some(m.through_points()), file: None },
+    };
+    resolved.serialize(s)
 }
 
 #[derive(Clone, Copy, Debug, Deserialize, Serialize, PartialEq, Eq)]
@@ -113,6 +128,22 @@ pub struct PlateSpringSpec {
 /// Most elements a generated plate grid may have along a side.
 pub const MAX_SIDE_ELEMENTS: usize = 2000;
 
+/// Refuses a `thickness` (m, the field `field`) that is not thin beside the sides `lx` ×
+/// `ly`: Kirchhoff theory needs h below a tenth of the shorter side.
+pub fn thin(file: &str, field: &str, thickness: f64, lx: f64, ly: f64) -> Result<()> {
+    if thickness < 0.1 * lx.min(ly) {
+        return Ok(());
+    }
+    Err(Error::input(
+        file,
+        field,
+        format!(
+            "{thickness} m is not thin beside the sides {lx} × {ly} m: Kirchhoff theory (spec §16) needs h below a \
+             tenth of the shorter side"
+        ),
+    ))
+}
+
 impl PlateSpec {
     pub fn extent(&self) -> Extent {
         Extent::Plate { lx: self.length_x, ly: self.length_y }
@@ -125,25 +156,27 @@ impl PlateSpec {
         positive(file, "plate.thickness", p.thickness)?;
         positive(file, "plate.youngs_modulus", p.youngs_modulus)?;
         positive(file, "plate.density", p.density)?;
-        if !(p.poisson_ratio > -1.0 && p.poisson_ratio < 0.5) {
-            return Err(Error::input(
-                file,
-                "plate.poisson_ratio",
-                format!("{}: an isotropic solid has −1 < ν < 0.5", p.poisson_ratio),
-            ));
+        crate::case::ranges::poisson_ratio(file, "plate.poisson_ratio", p.poisson_ratio)?;
+        thin(file, "plate.thickness", p.thickness, p.length_x, p.length_y)?;
+        match (&p.mesh.file, p.mesh.elements, p.mesh.through_points) {
+            (Some(_), Some(_), _) => {
+                return Err(Error::input(
+                    file,
+                    "plate.mesh.elements",
+                    "give `elements` (a generated grid) or `file` (a mesh file), not both",
+                ))
+            }
+            (Some(_), None, Some(_)) => {
+                return Err(Error::input(
+                    file,
+                    "plate.mesh.through_points",
+                    "a mesh file's grid lines are as written: points between them attach through the elements' \
+                     shape functions; drop `through_points`",
+                ))
+            }
+            _ => {}
         }
-        if p.thickness >= 0.1 * p.length_x.min(p.length_y) {
-            return Err(Error::input(
-                file,
-                "plate.thickness",
-                format!(
-                    "{} m is not thin beside the sides {} × {} m: Kirchhoff theory (spec §16) needs h below a \
-                     tenth of the shorter side",
-                    p.thickness, p.length_x, p.length_y
-                ),
-            ));
-        }
-        for (k, n) in ["x", "y"].iter().zip(p.mesh.elements) {
+        for (k, n) in ["x", "y"].iter().zip(p.mesh.elements()) {
             if !(1..=MAX_SIDE_ELEMENTS).contains(&n) {
                 return Err(Error::input(
                     file,
