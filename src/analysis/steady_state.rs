@@ -18,12 +18,12 @@ use super::roundoff::{self, MeshRefinement};
 use super::series::{
     body_dofs, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
 };
-use crate::assembly::{Model, System};
+use crate::assembly::{LinkDofs, Model, System};
 use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
 use crate::power::link::{link_harmonic, link_power_error};
 use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
-use crate::power::point::{beam_dissipation, mean_power_error, net_power, own_scales};
+use crate::power::point::{beam_dissipation, mean_power, mean_power_error, net_power, own_scales};
 use crate::power::spectra::harmonics;
 use crate::signal::sampling::resolved_harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
@@ -331,26 +331,56 @@ fn load_spectra(
 /// The largest relative round-off bound of the links' and loads' mean powers (sums over
 /// harmonics, each harmonic's error bounded from its DOF error bounds `error[k]`).
 fn roundoff_bound(sys: &System, res: &SteadyStateResult, error: &[Refined], w0: f64) -> f64 {
-    let at = |k: usize| (k as f64 * w0, &error[k]);
     let links = sys.links.iter().zip(&res.spectra).map(|(lk, s)| {
-        let bound: f64 = (0..error.len())
-            .map(|k| {
-                let (w, e) = at(k);
-                link_power_error(lk, e.bound(&lk.stretch), e.bound(&lk.foot), w, s.interface[k], s.velocity[k])
-            })
+        let bound: f64 = error
+            .iter()
+            .enumerate()
+            .map(|(k, e)| link_error(lk, e, k as f64 * w0, s.interface[k], s.velocity[k]))
             .sum();
         roundoff::relative(bound, s.power_total)
     });
     let loads = sys.loads.iter().zip(&res.load_spectra).map(|(pattern, s)| {
-        let bound: f64 = (0..error.len())
-            .map(|k| {
-                let (w, e) = at(k);
-                mean_power_error(s.force[k], 0.0, s.velocity[k], w * e.bound(pattern))
-            })
+        let bound: f64 = error
+            .iter()
+            .enumerate()
+            .map(|(k, e)| load_error(pattern, e, k as f64 * w0, s.force[k], s.velocity[k]))
             .sum();
         roundoff::relative(bound, s.power_total)
     });
     links.chain(loads).fold(0.0, f64::max)
+}
+
+/// A bound (W) of a link's mean power at one harmonic ω (rad/s), from the estimate `e` of
+/// the DOFs' error, its interface force `fi` and foot velocity `v`.
+fn link_error(lk: &LinkDofs, e: &Refined, w: f64, fi: Complex64, v: Complex64) -> f64 {
+    link_power_error(lk, e.bound(&lk.stretch), e.bound(&lk.foot), w, fi, v)
+}
+
+/// A bound (W) of a point load's mean power at one harmonic ω (rad/s), from the estimate
+/// `e` of the DOFs' error, its force `f` and the velocity `v` at its point.
+fn load_error(pattern: &[(usize, f64)], e: &Refined, w: f64, f: Complex64, v: Complex64) -> f64 {
+    mean_power_error(f, 0.0, v, w * e.bound(pattern))
+}
+
+/// Each point's mean power (W) at one harmonic ω (rad/s) of amplitudes `q`, and the bound
+/// of its error from `e`: each link's, then each point load's. `forcing` holds the
+/// harmonic's stack forces, then its point loads' forces.
+fn harmonic_points<'a>(
+    sys: &'a System,
+    q: &'a [Complex64],
+    w: f64,
+    forcing: &'a [Complex64],
+    e: &'a Refined,
+) -> impl Iterator<Item = (f64, f64)> + 'a {
+    let links = sys.links.iter().map(move |lk| {
+        let h = link_harmonic(lk, q, w, forcing);
+        (h.power, link_error(lk, e, w, h.interface, h.velocity))
+    });
+    let loads = sys.loads.iter().zip(&forcing[sys.drives.len()..]).map(move |(pattern, &f)| {
+        let v = Complex64::new(0.0, w) * pattern.iter().map(|&(d, c)| q[d] * c).sum::<Complex64>();
+        (mean_power(f, v), load_error(pattern, e, w, f, v))
+    });
+    links.chain(loads)
 }
 
 /// Each link's spectrum from the solved amplitudes `q[k]` and the stack forces `f_p[a][k]`.
@@ -623,6 +653,10 @@ impl<'s> HarmonicSolver<'s> {
         if self.refinement.is_some() {
             self.rhs.clone_from(&self.q);
         }
+        // Each point's power from the harmonics solved so far, against which a harmonic's
+        // share of the tolerance is judged (see the refinement below).
+        let mut so_far = vec![0.0f64; sys.links.len() + sys.loads.len()];
+        let share = roundoff::REFINE_FRACTION / active.len().max(1) as f64;
         let task = crate::progress::Task::start("steady state", Some(active.len() as u64), "harmonics solved");
         for (done, pair) in active.chunks(2).enumerate() {
             task.set(2 * done as u64)?;
@@ -638,9 +672,26 @@ impl<'s> HarmonicSolver<'s> {
                 }
                 _ => unreachable!("chunks of 1 or 2"),
             }
+            // A harmonic is refined unless its first estimate already keeps the bound of
+            // every point's power within its share of the tolerance: REFINE_FRACTION/(the
+            // harmonics solved) of the power the point has from the harmonics before it
+            // (the lower ones, which carry most of it; the first has none, and is refined).
+            // The shares sum to REFINE_FRACTION of the tolerance wherever the power so far
+            // is the point's power; the bound stated is computed afterwards from every
+            // harmonic's estimate, whatever was refined, so the choice can cost accuracy
+            // but never the bound's validity.
             if let Some(r) = &self.refinement {
                 for (lane, &k) in pair.iter().enumerate() {
-                    self.error[k] = r.refine(&self.dk, lane, &self.rhs[k], &mut self.q[k]);
+                    let w = k as f64 * w0;
+                    let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
+                    let budget: Vec<f64> = so_far.iter().map(|p| share * r.tolerance() * p.abs()).collect();
+                    let e = r.refine_unless(&self.dk, lane, &self.rhs[k], &mut self.q[k], |q, e| {
+                        harmonic_points(sys, q, w, &forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
+                    });
+                    for (p, (power, _)) in so_far.iter_mut().zip(harmonic_points(sys, &self.q[k], w, &forcing, &e)) {
+                        *p += power;
+                    }
+                    self.error[k] = e;
                 }
             }
         }
