@@ -118,8 +118,8 @@ pub enum HarmonicCount {
 /// ([`Truncation`]): every point is held to the tolerance on its own power.
 pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: usize) -> Result<SteadyStateResult> {
     let all = resolved_harmonics(samples.max(4));
-    let full = run(model, sys, all, samples)?;
-    let truncation = Truncation::of(&full, aliasing(model, sys, &full, samples)?);
+    let (full, doubled) = with_doubled_samples(model, sys, all, samples)?;
+    let truncation = Truncation::of(&full, aliasing(&full, &doubled));
     let n_harm = match count {
         HarmonicCount::Fixed(n) => n.min(all),
         HarmonicCount::Tolerance(tol) => (1..=all).find(|&k| truncation.estimate(k) <= tol).ok_or_else(|| {
@@ -202,15 +202,42 @@ fn point_spectra(r: &SteadyStateResult) -> impl Iterator<Item = &Vec<f64>> {
 /// A bound of each point's power error (W) that sampling the forces with `samples` per
 /// period brings into the harmonics of `full`: their Fourier coefficients carry the
 /// harmonics beyond the Nyquist one folded back onto them. The same steady state from
-/// twice the samples folds back only the harmonics beyond twice the Nyquist one; with
-/// force harmonics falling at least as 1/k its folding is at most half that of `samples`,
-/// e_2N ≤ e_N/2, so e_N ≤ |P_N − P_2N| + e_N/2, and e_N ≤ 2·|P_N − P_2N|, harmonic by
-/// harmonic: the bound is 2·Σ_k |P_k(N) − P_k(2N)|.
-fn aliasing(model: &Model, sys: &System, full: &SteadyStateResult, samples: usize) -> Result<Vec<f64>> {
-    let cache = StackForceCache::default();
-    let fine = run_with(model, &mut HarmonicSolver::new(sys), full.harmonics, 2 * samples, Detail::Headline(&cache))?;
+/// twice the samples (`doubled`) folds back only the harmonics beyond twice the Nyquist
+/// one; with force harmonics falling at least as 1/k its folding is at most half that of
+/// `samples`, e_2N ≤ e_N/2, so e_N ≤ |P_N − P_2N| + e_N/2, and e_N ≤ 2·|P_N − P_2N|,
+/// harmonic by harmonic: the bound is 2·Σ_k |P_k(N) − P_k(2N)|.
+fn aliasing(full: &SteadyStateResult, doubled: &SteadyStateResult) -> Vec<f64> {
     let folded = |(a, b): (&Vec<f64>, &Vec<f64>)| 2.0 * a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f64>();
-    Ok(point_spectra(full).zip(point_spectra(&fine)).map(folded).collect())
+    point_spectra(full).zip(point_spectra(doubled)).map(folded).collect()
+}
+
+/// The steady state with `all` harmonics from `samples` per period, and its headline from
+/// twice the samples ([`aliasing`]). Where the solves are refined (a fine mesh, where the
+/// two take seconds) they run side by side on two threads, each with its own solver and
+/// numbers bit for bit those of one after the other; elsewhere one after the other.
+fn with_doubled_samples(
+    model: &Model,
+    sys: &System,
+    all: usize,
+    samples: usize,
+) -> Result<(SteadyStateResult, SteadyStateResult)> {
+    let doubled = || {
+        let cache = StackForceCache::default();
+        run_with(model, &mut HarmonicSolver::new(sys), all, 2 * samples, Detail::Headline(&cache))
+    };
+    if roundoff::coarse_bound(model).is_some() {
+        return Ok((run(model, sys, all, samples)?, doubled()?));
+    }
+    let cancel = crate::progress::current_cancel();
+    std::thread::scope(|scope| {
+        let side = scope.spawn(|| match cancel {
+            Some(c) => crate::progress::cancellable(c, doubled),
+            None => doubled(),
+        });
+        let full = run(model, sys, all, samples);
+        let doubled = side.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+        Ok((full?, doubled?))
+    })
 }
 
 /// [`run`] against a solver kept between cases (the cases of a sweep that differ only in
