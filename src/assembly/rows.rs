@@ -190,7 +190,8 @@ impl StiffnessRows {
         let modulus = |z: Complex64| z.norm_sqr().sqrt();
         let ax: Vec<f64> = x.iter().map(|&z| modulus(z)).collect();
         let k_abs = k_el.norm();
-        let mut out = vec![0.0; self.n];
+        // The first part's magnitudes, signed in place at the end.
+        let mut out = vec![Complex64::default(); self.n];
         let mut rows = vec![Complex64::default(); self.n];
         for r in &self.rows {
             let (d, g) = (&r.dofs[..r.len], &r.values[..r.len]);
@@ -198,22 +199,23 @@ impl StiffnessRows {
             let y_abs = modulus(y);
             let dy = sign() * gamma * k_abs * d.iter().zip(g).map(|(&i, &v)| ax[i] * v.abs()).sum::<f64>();
             for (&i, &v) in d.iter().zip(g) {
-                out[i] += y_abs * v.abs();
+                out[i].re += y_abs * v.abs();
                 rows[i] += dy * v;
             }
         }
         for &(i, k, c) in &self.grounded {
-            out[i] += ax[i] * (k_g * k + c_c * c).norm();
+            out[i].re += ax[i] * (k_g * k + c_c * c).norm();
         }
         for (a, coef) in
             [(&self.m_el, m_el), (&self.m_act, c_m), (&self.k_act, Complex64::new(1.0, 0.0)), (&self.c_act, c_c)]
         {
             let c_abs = coef.norm();
             for (i, j, v) in a.triplets() {
-                out[i] += c_abs * v.abs() * ax[j];
+                out[i].re += c_abs * v.abs() * ax[j];
             }
         }
-        [out.iter().map(|&v| Complex64::new(sign() * gamma * v, 0.0)).collect(), rows]
+        out.iter_mut().for_each(|v| v.re *= sign() * gamma);
+        [out, rows]
     }
 }
 

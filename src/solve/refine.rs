@@ -66,8 +66,9 @@ impl Refined {
     /// Adds the floor at `x`, the solution kept: the residual's rounding there carried
     /// through the solve, F⁻¹Σ_jρ_j.
     pub fn with_floor(mut self, op: &impl Refinable, x: &[Complex64]) -> Self {
-        let mut floor = vec![Complex64::default(); x.len()];
-        for v in op.rounding(x) {
+        let mut parts = op.rounding(x).into_iter();
+        let mut floor = parts.next().unwrap_or_else(|| vec![Complex64::default(); x.len()]);
+        for v in parts {
             floor.iter_mut().zip(&v).for_each(|(f, v)| *f += v);
         }
         op.precondition(&mut floor);
@@ -101,7 +102,8 @@ pub fn estimate(op: &impl Refinable, b: &[Complex64], x: &[Complex64]) -> Refine
     let mut r = vec![Complex64::default(); x.len()];
     residual(op, b, x, &mut r);
     op.precondition(&mut r);
-    Refined { correction: r.iter().map(|d| 2.0 * d).collect(), ..Default::default() }
+    r.iter_mut().for_each(|d| *d *= 2.0);
+    Refined { correction: r, ..Default::default() }
 }
 
 /// Refines `x` (F⁻¹b on entry) until the correction falls below `step_tolerance`·|x|
