@@ -706,14 +706,18 @@ impl<'s> HarmonicSolver<'s> {
             // The shares sum to REFINE_FRACTION of the tolerance wherever the power so far
             // is the point's power; the bound stated is computed afterwards from every
             // harmonic's estimate, whatever was refined, so the choice can cost accuracy
-            // but never the bound's validity.
+            // but never the bound's validity. The mean (k = 0) carries no power but the
+            // static shape, where the factor is worst: it is held to the tolerance as a
+            // whole. A harmonic left so has a small share of the motion too (its apparent
+            // power is small beside every point's), so the displacements it adds to the
+            // time series are off by as little.
             if let Some(r) = &self.refinement {
                 for (lane, &k) in pair.iter().enumerate() {
                     let w = k as f64 * w0;
                     let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
                     let budget: Vec<f64> = so_far.iter().map(|p| share * r.tolerance() * p.abs()).collect();
                     let e = r.refine_unless(&self.dk, lane, &self.rhs[k], &mut self.q[k], |q, e| {
-                        harmonic_points(sys, q, w, &forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
+                        k > 0 && harmonic_points(sys, q, w, &forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
                     });
                     for (p, (power, _)) in so_far.iter_mut().zip(harmonic_points(sys, &self.q[k], w, &forcing, &e)) {
                         *p += power;
