@@ -132,7 +132,7 @@ impl MeshRefinement {
     /// refines it if its error estimate exceeds [`REFINE_FRACTION`] of the tolerance, and
     /// returns the estimate of the error left.
     pub fn refine(&self, dk: &DynamicStiffness, lane: usize, b: &[Complex64], x: &mut [Complex64]) -> Refined {
-        self.refine_unless(dk, lane, b, x, |_, _| false)
+        self.refine_unless(dk, lane, b, x, |_, _| false, true)
     }
 
     /// [`MeshRefinement::refine`], refining whatever the first estimate when `always` (a
@@ -159,7 +159,8 @@ impl MeshRefinement {
     /// accepts its first estimate (without the floor, which refinement cannot shrink): the
     /// caller's judgement of what the quantities it forms from `x` need (a harmonic whose
     /// share of every point power is small needs far less of the solution than the
-    /// tolerance asks of the whole).
+    /// tolerance asks of the whole). Without `floor` the estimate is the correction alone:
+    /// enough to judge x by, not to state a bound with.
     pub fn refine_unless(
         &self,
         dk: &DynamicStiffness,
@@ -167,13 +168,18 @@ impl MeshRefinement {
         b: &[Complex64],
         x: &mut [Complex64],
         enough: impl Fn(&[Complex64], &Refined) -> bool,
+        floor: bool,
     ) -> Refined {
         let Some(rows) = &self.rows else { return Refined::default() };
         let op = Lane::of(rows, dk, lane);
         let first = estimate(&op, b, x);
         let held = norm(&first.correction) <= REFINE_FRACTION * self.tolerance * norm(x);
         let kept = if held || enough(x, &first) { first } else { refine(&op, b, x, STEP_FRACTION * self.tolerance) };
-        kept.with_floor(&op, x)
+        if floor {
+            kept.with_floor(&op, x)
+        } else {
+            kept
+        }
     }
 
     /// Whether a solve can be refined (a beam's element rows are there).

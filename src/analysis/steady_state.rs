@@ -49,7 +49,8 @@ pub struct SteadyStateResult {
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
     /// Bound on the relative round-off of every link's and load's mean power, the largest
-    /// over them ([`crate::analysis::roundoff`]).
+    /// over them ([`crate::analysis::roundoff`]; NaN where not stated: the runs behind a
+    /// fine mesh's truncation estimate).
     pub mesh_roundoff: f64,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
     pub frequency: Vec<f64>,
@@ -134,7 +135,8 @@ pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: u
             )
         })?,
     };
-    let mut r = if n_harm == all { full } else { run(model, sys, n_harm, samples)? };
+    // The full run states no round-off bound on a fine mesh (see `with_doubled_samples`).
+    let mut r = if n_harm == all && !full.mesh_roundoff.is_nan() { full } else { run(model, sys, n_harm, samples)? };
     r.truncation_estimate = truncation.estimate(n_harm);
     Ok(r)
 }
@@ -214,19 +216,25 @@ fn aliasing(full: &SteadyStateResult, doubled: &SteadyStateResult) -> Vec<f64> {
 /// The steady state with `all` harmonics from `samples` per period, and its headline from
 /// twice the samples ([`aliasing`]). Where the solves are refined (a fine mesh, where the
 /// two take seconds) they run side by side on two threads, each with its own solver and
-/// numbers bit for bit those of one after the other; elsewhere one after the other.
+/// numbers bit for bit those of one after the other, and neither states a round-off bound
+/// (`mesh_roundoff` NaN): their harmonics serve the truncation estimate, and the harmonics
+/// kept are solved again with their bound ([`run_counted`]). Elsewhere one after the
+/// other, as [`run`] solves.
 fn with_doubled_samples(
     model: &Model,
     sys: &System,
     all: usize,
     samples: usize,
 ) -> Result<(SteadyStateResult, SteadyStateResult)> {
+    let fine = roundoff::coarse_bound(model).is_none();
+    let solver = || HarmonicSolver { floors: !fine, ..HarmonicSolver::new(sys) };
     let doubled = || {
         let cache = StackForceCache::default();
-        run_with(model, &mut HarmonicSolver::new(sys), all, 2 * samples, Detail::Headline(&cache))
+        run_with(model, &mut solver(), all, 2 * samples, Detail::Headline(&cache))
     };
-    if roundoff::coarse_bound(model).is_some() {
-        return Ok((run(model, sys, all, samples)?, doubled()?));
+    let full = || run_with(model, &mut solver(), all, samples, Detail::Full);
+    if !fine {
+        return Ok((full()?, doubled()?));
     }
     let cancel = crate::progress::current_cancel();
     std::thread::scope(|scope| {
@@ -234,7 +242,7 @@ fn with_doubled_samples(
             Some(c) => crate::progress::cancellable(c, doubled),
             None => doubled(),
         });
-        let full = run(model, sys, all, samples);
+        let full = full();
         let doubled = side.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
         Ok((full?, doubled?))
     })
@@ -284,7 +292,10 @@ pub fn run_with(
     res.net_power = net_power(&sys.links, &res.mean_power, model.actuators.len());
     res.load_spectra = load_spectra(model, sys, &solver.q, load_h, &timing);
     let coarse = roundoff::coarse_bound(model).unwrap_or(0.0);
-    res.mesh_roundoff = roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period).max(coarse);
+    res.mesh_roundoff = match &solver.refinement {
+        Some(_) if !solver.floors => f64::NAN,
+        _ => roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period).max(coarse),
+    };
     let load_power: f64 = res.load_spectra.iter().map(|s| s.power_total).sum();
     res.balance_error = balance_error(res.mean_power.iter().sum::<f64>() + load_power, res.beam_dissipation);
     if let Detail::Full = detail {
@@ -609,6 +620,9 @@ pub struct HarmonicSolver<'s> {
     pub error: Vec<Refined>,
     /// The right-hand side of each harmonic, kept for its refinement.
     rhs: Vec<Vec<Complex64>>,
+    /// Whether the refined solves' estimates get their rounding floor, as a stated bound
+    /// needs (without, [`SteadyStateResult::mesh_roundoff`] is NaN).
+    floors: bool,
     /// Beam dissipation per harmonic (W) of the last solve.
     pub diss: Vec<f64>,
 }
@@ -622,6 +636,7 @@ impl<'s> HarmonicSolver<'s> {
             q: Vec::new(),
             error: Vec::new(),
             rhs: Vec::new(),
+            floors: true,
             diss: Vec::new(),
         }
     }
@@ -716,9 +731,16 @@ impl<'s> HarmonicSolver<'s> {
                     let w = k as f64 * w0;
                     let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
                     let budget: Vec<f64> = so_far.iter().map(|p| share * r.tolerance() * p.abs()).collect();
-                    let e = r.refine_unless(&self.dk, lane, &self.rhs[k], &mut self.q[k], |q, e| {
-                        k > 0 && harmonic_points(sys, q, w, &forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
-                    });
+                    let e = r.refine_unless(
+                        &self.dk,
+                        lane,
+                        &self.rhs[k],
+                        &mut self.q[k],
+                        |q, e| {
+                            k > 0 && harmonic_points(sys, q, w, &forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
+                        },
+                        self.floors,
+                    );
                     for (p, (power, _)) in so_far.iter_mut().zip(harmonic_points(sys, &self.q[k], w, &forcing, &e)) {
                         *p += power;
                     }
