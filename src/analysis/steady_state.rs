@@ -618,7 +618,8 @@ pub struct HarmonicSolver<'s> {
     pub q: Vec<Vec<Complex64>>,
     /// Per harmonic, the estimate of Q_k's error (empty where not estimated).
     pub error: Vec<Refined>,
-    /// The right-hand side of each harmonic, kept for its refinement.
+    /// The right-hand sides of the pair of harmonics being solved, kept for their
+    /// refinement (one per factorisation lane: all of them would be as large as Q).
     rhs: Vec<Vec<Complex64>>,
     /// Whether the refined solves' estimates get their rounding floor, as a stated bound
     /// needs (without, [`SteadyStateResult::mesh_roundoff`] is NaN).
@@ -692,9 +693,7 @@ impl<'s> HarmonicSolver<'s> {
         // at a time, in less time.
         self.error.clear();
         self.error.resize_with(n_harm + 1, Refined::default);
-        if self.refinement.is_some() {
-            self.rhs.clone_from(&self.q);
-        }
+        self.rhs.resize_with(2, Vec::new);
         // Each point's power from the harmonics solved so far, against which a harmonic's
         // share of the tolerance is judged (see the refinement below).
         let mut so_far = vec![0.0f64; sys.links.len() + sys.loads.len()];
@@ -702,6 +701,11 @@ impl<'s> HarmonicSolver<'s> {
         let task = crate::progress::Task::start("steady state", Some(active.len() as u64), "harmonics solved");
         for (done, pair) in active.chunks(2).enumerate() {
             task.set(2 * done as u64)?;
+            if self.refinement.is_some() {
+                for (rhs, &k) in self.rhs.iter_mut().zip(pair) {
+                    rhs.clone_from(&self.q[k]);
+                }
+            }
             match *pair {
                 [ka, kb] => {
                     self.dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?;
@@ -734,7 +738,7 @@ impl<'s> HarmonicSolver<'s> {
                     let e = r.refine_unless(
                         &self.dk,
                         lane,
-                        &self.rhs[k],
+                        &self.rhs[lane],
                         &mut self.q[k],
                         |q, e| {
                             k > 0 && harmonic_points(sys, q, w, &forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
