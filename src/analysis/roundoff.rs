@@ -18,7 +18,11 @@
 //!
 //! Refinement runs only where that first estimate exceeds a hundredth of the tolerance
 //! (relative, Euclidean over the DOFs): on ordinary meshes the factor's solution is kept
-//! bit for bit, and only the bound is new.
+//! bit for bit, and only the bound is new. A steady state's harmonic is also kept where
+//! its estimate takes no more than its share of every point power's tolerance
+//! ([`MeshRefinement::refine_unless`]; the shares in
+//! `steady_state::HarmonicSolver::solve`): the higher harmonics, whose part of the power
+//! is small, need far less of their solution than the tolerance asks of the whole.
 //!
 //! The stated bound is per point power, cancellation included: a power P = ½Re Σ_k F̄_k·v_k
 //! with errors |δF_k|, |δv_k| from the DOF errors is off by at most
@@ -35,7 +39,7 @@ use crate::assembly::rows::StiffnessRows;
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::solve::dynamic_stiffness::DynamicStiffness;
-use crate::solve::refine::{refine, Refinable, Refined};
+use crate::solve::refine::{estimate, refine, Refinable, Refined};
 use num_complex::Complex64;
 
 /// The default relative tolerance of point powers and mobilities.
@@ -43,7 +47,7 @@ pub const DEFAULT_TOLERANCE: f64 = 1e-6;
 
 /// Refinement starts where the factor's own error estimate exceeds this fraction of the
 /// tolerance, and stops when a correction falls below [`STEP_FRACTION`] of it.
-const REFINE_FRACTION: f64 = 1e-2;
+pub const REFINE_FRACTION: f64 = 1e-2;
 const STEP_FRACTION: f64 = 1e-4;
 
 /// The measured envelope of the unrefined solves' round-off: 1.5e-5·(N/1000)⁴ for N
@@ -96,6 +100,13 @@ struct Lane<'a> {
     c_c: Complex64,
 }
 
+impl<'a> Lane<'a> {
+    fn of(rows: &'a StiffnessRows, dk: &'a DynamicStiffness, lane: usize) -> Self {
+        let (c_m, c_c) = dk.coefficients(lane);
+        Lane { rows, dk, lane, c_m, c_c }
+    }
+}
+
 impl Refinable for Lane<'_> {
     fn apply(&self, x: &[Complex64], y: &mut [Complex64]) {
         self.rows.apply(self.c_m, self.c_c, x, y);
@@ -108,8 +119,9 @@ impl Refinable for Lane<'_> {
     }
 }
 
-fn norm(x: impl Iterator<Item = f64>) -> f64 {
-    x.map(|v| v * v).sum::<f64>().sqrt()
+/// The Euclidean norm.
+fn norm(x: &[Complex64]) -> f64 {
+    x.iter().map(|z| z.norm_sqr()).sum::<f64>().sqrt()
 }
 
 impl MeshRefinement {
@@ -124,7 +136,7 @@ impl MeshRefinement {
     /// refines it if its error estimate exceeds [`REFINE_FRACTION`] of the tolerance, and
     /// returns the estimate of the error left.
     pub fn refine(&self, dk: &DynamicStiffness, lane: usize, b: &[Complex64], x: &mut [Complex64]) -> Refined {
-        self.refine_if(dk, lane, b, x, false)
+        self.refine_unless(dk, lane, b, x, |_, _| false, true)
     }
 
     /// [`MeshRefinement::refine`], refining whatever the first estimate when `always` (a
@@ -138,15 +150,40 @@ impl MeshRefinement {
         x: &mut [Complex64],
         always: bool,
     ) -> Refined {
-        let Some(rows) = &self.rows else { return Refined::default() };
-        let (c_m, c_c) = dk.coefficients(lane);
-        let op = Lane { rows, dk, lane, c_m, c_c };
-        let first = refine(&op, b, x, false, 0.0);
-        let size = norm(x.iter().map(|z| z.norm()));
-        if !always && norm(first.correction.iter().map(|z| z.norm())) <= REFINE_FRACTION * self.tolerance * size {
-            return first;
+        match (&self.rows, always) {
+            (Some(rows), true) => {
+                let op = Lane::of(rows, dk, lane);
+                refine(&op, b, x, STEP_FRACTION * self.tolerance).with_floor(&op, x)
+            }
+            _ => self.refine(dk, lane, b, x),
         }
-        refine(&op, b, x, true, STEP_FRACTION * self.tolerance)
+    }
+
+    /// [`MeshRefinement::refine`], leaving `x` as the factor gave it also where `enough`
+    /// accepts its first estimate (without the floor, which refinement cannot shrink): the
+    /// caller's judgement of what the quantities it forms from `x` need (a harmonic whose
+    /// share of every point power is small needs far less of the solution than the
+    /// tolerance asks of the whole). Without `floor` the estimate is the correction alone:
+    /// enough to judge x by, not to state a bound with.
+    pub fn refine_unless(
+        &self,
+        dk: &DynamicStiffness,
+        lane: usize,
+        b: &[Complex64],
+        x: &mut [Complex64],
+        enough: impl Fn(&[Complex64], &Refined) -> bool,
+        floor: bool,
+    ) -> Refined {
+        let Some(rows) = &self.rows else { return Refined::default() };
+        let op = Lane::of(rows, dk, lane);
+        let first = estimate(&op, b, x);
+        let held = norm(&first.correction) <= REFINE_FRACTION * self.tolerance * norm(x);
+        let kept = if held || enough(x, &first) { first } else { refine(&op, b, x, STEP_FRACTION * self.tolerance) };
+        if floor {
+            kept.with_floor(&op, x)
+        } else {
+            kept
+        }
     }
 
     /// Whether a solve can be refined (a beam's element rows are there).

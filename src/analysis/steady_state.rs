@@ -18,12 +18,12 @@ use super::roundoff::{self, MeshRefinement};
 use super::series::{
     body_dofs, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
 };
-use crate::assembly::{Model, System};
+use crate::assembly::{LinkDofs, Model, System};
 use crate::error::{Error, Result};
 use crate::power::balance::balance_error;
 use crate::power::link::{link_harmonic, link_power_error};
 use crate::power::modal::{decompose, ModalDamping, ModalDecomposition};
-use crate::power::point::{beam_dissipation, mean_power_error, net_power, own_scales};
+use crate::power::point::{beam_dissipation, mean_power, mean_power_error, net_power, own_scales};
 use crate::power::spectra::harmonics;
 use crate::signal::sampling::resolved_harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
@@ -49,7 +49,8 @@ pub struct SteadyStateResult {
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
     /// Bound on the relative round-off of every link's and load's mean power, the largest
-    /// over them ([`crate::analysis::roundoff`]).
+    /// over them ([`crate::analysis::roundoff`]; NaN where not stated: the runs behind a
+    /// fine mesh's truncation estimate).
     pub mesh_roundoff: f64,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
     pub frequency: Vec<f64>,
@@ -118,8 +119,8 @@ pub enum HarmonicCount {
 /// ([`Truncation`]): every point is held to the tolerance on its own power.
 pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: usize) -> Result<SteadyStateResult> {
     let all = resolved_harmonics(samples.max(4));
-    let full = run(model, sys, all, samples)?;
-    let truncation = Truncation::of(&full, aliasing(model, sys, &full, samples)?);
+    let (full, doubled) = with_doubled_samples(model, sys, all, samples)?;
+    let truncation = Truncation::of(&full, aliasing(&full, &doubled));
     let n_harm = match count {
         HarmonicCount::Fixed(n) => n.min(all),
         HarmonicCount::Tolerance(tol) => (1..=all).find(|&k| truncation.estimate(k) <= tol).ok_or_else(|| {
@@ -134,7 +135,8 @@ pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: u
             )
         })?,
     };
-    let mut r = if n_harm == all { full } else { run(model, sys, n_harm, samples)? };
+    // The full run states no round-off bound on a fine mesh (see `with_doubled_samples`).
+    let mut r = if n_harm == all && !full.mesh_roundoff.is_nan() { full } else { run(model, sys, n_harm, samples)? };
     r.truncation_estimate = truncation.estimate(n_harm);
     Ok(r)
 }
@@ -202,15 +204,48 @@ fn point_spectra(r: &SteadyStateResult) -> impl Iterator<Item = &Vec<f64>> {
 /// A bound of each point's power error (W) that sampling the forces with `samples` per
 /// period brings into the harmonics of `full`: their Fourier coefficients carry the
 /// harmonics beyond the Nyquist one folded back onto them. The same steady state from
-/// twice the samples folds back only the harmonics beyond twice the Nyquist one; with
-/// force harmonics falling at least as 1/k its folding is at most half that of `samples`,
-/// e_2N ≤ e_N/2, so e_N ≤ |P_N − P_2N| + e_N/2, and e_N ≤ 2·|P_N − P_2N|, harmonic by
-/// harmonic: the bound is 2·Σ_k |P_k(N) − P_k(2N)|.
-fn aliasing(model: &Model, sys: &System, full: &SteadyStateResult, samples: usize) -> Result<Vec<f64>> {
-    let cache = StackForceCache::default();
-    let fine = run_with(model, &mut HarmonicSolver::new(sys), full.harmonics, 2 * samples, Detail::Headline(&cache))?;
+/// twice the samples (`doubled`) folds back only the harmonics beyond twice the Nyquist
+/// one; with force harmonics falling at least as 1/k its folding is at most half that of
+/// `samples`, e_2N ≤ e_N/2, so e_N ≤ |P_N − P_2N| + e_N/2, and e_N ≤ 2·|P_N − P_2N|,
+/// harmonic by harmonic: the bound is 2·Σ_k |P_k(N) − P_k(2N)|.
+fn aliasing(full: &SteadyStateResult, doubled: &SteadyStateResult) -> Vec<f64> {
     let folded = |(a, b): (&Vec<f64>, &Vec<f64>)| 2.0 * a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f64>();
-    Ok(point_spectra(full).zip(point_spectra(&fine)).map(folded).collect())
+    point_spectra(full).zip(point_spectra(doubled)).map(folded).collect()
+}
+
+/// The steady state with `all` harmonics from `samples` per period, and its headline from
+/// twice the samples ([`aliasing`]). Where the solves are refined (a fine mesh, where the
+/// two take seconds) they run side by side on two threads, each with its own solver and
+/// numbers bit for bit those of one after the other, and neither states a round-off bound
+/// (`mesh_roundoff` NaN): their harmonics serve the truncation estimate, and the harmonics
+/// kept are solved again with their bound ([`run_counted`]). Elsewhere one after the
+/// other, as [`run`] solves.
+fn with_doubled_samples(
+    model: &Model,
+    sys: &System,
+    all: usize,
+    samples: usize,
+) -> Result<(SteadyStateResult, SteadyStateResult)> {
+    let fine = roundoff::coarse_bound(model).is_none();
+    let solver = || HarmonicSolver { floors: !fine, ..HarmonicSolver::new(sys) };
+    let doubled = || {
+        let cache = StackForceCache::default();
+        run_with(model, &mut solver(), all, 2 * samples, Detail::Headline(&cache))
+    };
+    let full = || run_with(model, &mut solver(), all, samples, Detail::Full);
+    if !fine {
+        return Ok((full()?, doubled()?));
+    }
+    let cancel = crate::progress::current_cancel();
+    std::thread::scope(|scope| {
+        let side = scope.spawn(|| match cancel {
+            Some(c) => crate::progress::cancellable(c, doubled),
+            None => doubled(),
+        });
+        let full = full();
+        let doubled = side.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
+        Ok((full?, doubled?))
+    })
 }
 
 /// [`run`] against a solver kept between cases (the cases of a sweep that differ only in
@@ -257,7 +292,10 @@ pub fn run_with(
     res.net_power = net_power(&sys.links, &res.mean_power, model.actuators.len());
     res.load_spectra = load_spectra(model, sys, &solver.q, load_h, &timing);
     let coarse = roundoff::coarse_bound(model).unwrap_or(0.0);
-    res.mesh_roundoff = roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period).max(coarse);
+    res.mesh_roundoff = match &solver.refinement {
+        Some(_) if !solver.floors => f64::NAN,
+        _ => roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period).max(coarse),
+    };
     let load_power: f64 = res.load_spectra.iter().map(|s| s.power_total).sum();
     res.balance_error = balance_error(res.mean_power.iter().sum::<f64>() + load_power, res.beam_dissipation);
     if let Detail::Full = detail {
@@ -331,26 +369,56 @@ fn load_spectra(
 /// The largest relative round-off bound of the links' and loads' mean powers (sums over
 /// harmonics, each harmonic's error bounded from its DOF error bounds `error[k]`).
 fn roundoff_bound(sys: &System, res: &SteadyStateResult, error: &[Refined], w0: f64) -> f64 {
-    let at = |k: usize| (k as f64 * w0, &error[k]);
     let links = sys.links.iter().zip(&res.spectra).map(|(lk, s)| {
-        let bound: f64 = (0..error.len())
-            .map(|k| {
-                let (w, e) = at(k);
-                link_power_error(lk, e.bound(&lk.stretch), e.bound(&lk.foot), w, s.interface[k], s.velocity[k])
-            })
+        let bound: f64 = error
+            .iter()
+            .enumerate()
+            .map(|(k, e)| link_error(lk, e, k as f64 * w0, s.interface[k], s.velocity[k]))
             .sum();
         roundoff::relative(bound, s.power_total)
     });
     let loads = sys.loads.iter().zip(&res.load_spectra).map(|(pattern, s)| {
-        let bound: f64 = (0..error.len())
-            .map(|k| {
-                let (w, e) = at(k);
-                mean_power_error(s.force[k], 0.0, s.velocity[k], w * e.bound(pattern))
-            })
+        let bound: f64 = error
+            .iter()
+            .enumerate()
+            .map(|(k, e)| load_error(pattern, e, k as f64 * w0, s.force[k], s.velocity[k]))
             .sum();
         roundoff::relative(bound, s.power_total)
     });
     links.chain(loads).fold(0.0, f64::max)
+}
+
+/// A bound (W) of a link's mean power at one harmonic ω (rad/s), from the estimate `e` of
+/// the DOFs' error, its interface force `fi` and foot velocity `v`.
+fn link_error(lk: &LinkDofs, e: &Refined, w: f64, fi: Complex64, v: Complex64) -> f64 {
+    link_power_error(lk, e.bound(&lk.stretch), e.bound(&lk.foot), w, fi, v)
+}
+
+/// A bound (W) of a point load's mean power at one harmonic ω (rad/s), from the estimate
+/// `e` of the DOFs' error, its force `f` and the velocity `v` at its point.
+fn load_error(pattern: &[(usize, f64)], e: &Refined, w: f64, f: Complex64, v: Complex64) -> f64 {
+    mean_power_error(f, 0.0, v, w * e.bound(pattern))
+}
+
+/// Each point's mean power (W) at one harmonic ω (rad/s) of amplitudes `q`, and the bound
+/// of its error from `e`: each link's, then each point load's. `forcing` holds the
+/// harmonic's stack forces, then its point loads' forces.
+fn harmonic_points<'a>(
+    sys: &'a System,
+    q: &'a [Complex64],
+    w: f64,
+    forcing: &'a [Complex64],
+    e: &'a Refined,
+) -> impl Iterator<Item = (f64, f64)> + 'a {
+    let links = sys.links.iter().map(move |lk| {
+        let h = link_harmonic(lk, q, w, forcing);
+        (h.power, link_error(lk, e, w, h.interface, h.velocity))
+    });
+    let loads = sys.loads.iter().zip(&forcing[sys.drives.len()..]).map(move |(pattern, &f)| {
+        let v = Complex64::new(0.0, w) * pattern.iter().map(|&(d, c)| q[d] * c).sum::<Complex64>();
+        (mean_power(f, v), load_error(pattern, e, w, f, v))
+    });
+    links.chain(loads)
 }
 
 /// Each link's spectrum from the solved amplitudes `q[k]` and the stack forces `f_p[a][k]`.
@@ -550,8 +618,12 @@ pub struct HarmonicSolver<'s> {
     pub q: Vec<Vec<Complex64>>,
     /// Per harmonic, the estimate of Q_k's error (empty where not estimated).
     pub error: Vec<Refined>,
-    /// The right-hand side of each harmonic, kept for its refinement.
+    /// The right-hand sides of the pair of harmonics being solved, kept for their
+    /// refinement (one per factorisation lane: all of them would be as large as Q).
     rhs: Vec<Vec<Complex64>>,
+    /// Whether the refined solves' estimates get their rounding floor, as a stated bound
+    /// needs (without, [`SteadyStateResult::mesh_roundoff`] is NaN).
+    floors: bool,
     /// Beam dissipation per harmonic (W) of the last solve.
     pub diss: Vec<f64>,
 }
@@ -565,6 +637,7 @@ impl<'s> HarmonicSolver<'s> {
             q: Vec::new(),
             error: Vec::new(),
             rhs: Vec::new(),
+            floors: true,
             diss: Vec::new(),
         }
     }
@@ -620,12 +693,19 @@ impl<'s> HarmonicSolver<'s> {
         // at a time, in less time.
         self.error.clear();
         self.error.resize_with(n_harm + 1, Refined::default);
-        if self.refinement.is_some() {
-            self.rhs.clone_from(&self.q);
-        }
+        self.rhs.resize_with(2, Vec::new);
+        // Each point's power from the harmonics solved so far, against which a harmonic's
+        // share of the tolerance is judged (see the refinement below).
+        let mut so_far = vec![0.0f64; sys.links.len() + sys.loads.len()];
+        let share = roundoff::REFINE_FRACTION / active.len().max(1) as f64;
         let task = crate::progress::Task::start("steady state", Some(active.len() as u64), "harmonics solved");
         for (done, pair) in active.chunks(2).enumerate() {
             task.set(2 * done as u64)?;
+            if self.refinement.is_some() {
+                for (rhs, &k) in self.rhs.iter_mut().zip(pair) {
+                    rhs.clone_from(&self.q[k]);
+                }
+            }
             match *pair {
                 [ka, kb] => {
                     self.dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?;
@@ -638,9 +718,37 @@ impl<'s> HarmonicSolver<'s> {
                 }
                 _ => unreachable!("chunks of 1 or 2"),
             }
+            // A harmonic is refined unless its first estimate already keeps the bound of
+            // every point's power within its share of the tolerance: REFINE_FRACTION/(the
+            // harmonics solved) of the power the point has from the harmonics before it
+            // (the lower ones, which carry most of it; the first has none, and is refined).
+            // The shares sum to REFINE_FRACTION of the tolerance wherever the power so far
+            // is the point's power; the bound stated is computed afterwards from every
+            // harmonic's estimate, whatever was refined, so the choice can cost accuracy
+            // but never the bound's validity. The mean (k = 0) carries no power but the
+            // static shape, where the factor is worst: it is held to the tolerance as a
+            // whole. A harmonic left so has a small share of the motion too (its apparent
+            // power is small beside every point's), so the displacements it adds to the
+            // time series are off by as little.
             if let Some(r) = &self.refinement {
                 for (lane, &k) in pair.iter().enumerate() {
-                    self.error[k] = r.refine(&self.dk, lane, &self.rhs[k], &mut self.q[k]);
+                    let w = k as f64 * w0;
+                    let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
+                    let budget: Vec<f64> = so_far.iter().map(|p| share * r.tolerance() * p.abs()).collect();
+                    let e = r.refine_unless(
+                        &self.dk,
+                        lane,
+                        &self.rhs[lane],
+                        &mut self.q[k],
+                        |q, e| {
+                            k > 0 && harmonic_points(sys, q, w, &forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
+                        },
+                        self.floors,
+                    );
+                    for (p, (power, _)) in so_far.iter_mut().zip(harmonic_points(sys, &self.q[k], w, &forcing, &e)) {
+                        *p += power;
+                    }
+                    self.error[k] = e;
                 }
             }
         }

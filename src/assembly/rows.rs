@@ -150,13 +150,11 @@ impl StiffnessRows {
         for &(i, k, c) in &self.grounded {
             y[i] += x[i] * (k_g * k + c_c * c);
         }
-        let mut t = vec![Complex64::default(); self.n];
         for (a, coef) in
             [(&self.m_el, m_el), (&self.m_act, c_m), (&self.k_act, Complex64::new(1.0, 0.0)), (&self.c_act, c_c)]
         {
             if a.nnz() > 0 && coef != Complex64::default() {
-                a.mul_vec(x, &mut t);
-                y.iter_mut().zip(&t).for_each(|(y, t)| *y += coef * t);
+                a.mul_vec_add(coef, x, y);
             }
         }
     }
@@ -186,34 +184,38 @@ impl StiffnessRows {
                 -1.0
             }
         };
-        // Moduli taken once per entry or row (|c·v| = |c|·|v| for real v): this runs beside
-        // every solve of a sweep, and a modulus is a hypot.
-        let ax: Vec<f64> = x.iter().map(|z| z.norm()).collect();
+        // Moduli taken once per entry or row (|c·v| = |c|·|v| for real v), as √(re² + im²):
+        // this runs beside every refined solve, and `norm` is a hypot (whose guard against
+        // overflow displacements and forces of a structure never need).
+        let modulus = |z: Complex64| z.norm_sqr().sqrt();
+        let ax: Vec<f64> = x.iter().map(|&z| modulus(z)).collect();
         let k_abs = k_el.norm();
-        let mut out = vec![0.0; self.n];
+        // The first part's magnitudes, signed in place at the end.
+        let mut out = vec![Complex64::default(); self.n];
         let mut rows = vec![Complex64::default(); self.n];
         for r in &self.rows {
             let (d, g) = (&r.dofs[..r.len], &r.values[..r.len]);
             let y: Complex64 = d.iter().zip(g).map(|(&i, &v)| x[i] * v).sum::<Complex64>() * k_el;
-            let y_abs = y.norm();
+            let y_abs = modulus(y);
             let dy = sign() * gamma * k_abs * d.iter().zip(g).map(|(&i, &v)| ax[i] * v.abs()).sum::<f64>();
             for (&i, &v) in d.iter().zip(g) {
-                out[i] += y_abs * v.abs();
+                out[i].re += y_abs * v.abs();
                 rows[i] += dy * v;
             }
         }
         for &(i, k, c) in &self.grounded {
-            out[i] += ax[i] * (k_g * k + c_c * c).norm();
+            out[i].re += ax[i] * (k_g * k + c_c * c).norm();
         }
         for (a, coef) in
             [(&self.m_el, m_el), (&self.m_act, c_m), (&self.k_act, Complex64::new(1.0, 0.0)), (&self.c_act, c_c)]
         {
             let c_abs = coef.norm();
             for (i, j, v) in a.triplets() {
-                out[i] += c_abs * v.abs() * ax[j];
+                out[i].re += c_abs * v.abs() * ax[j];
             }
         }
-        [out.iter().map(|&v| Complex64::new(sign() * gamma * v, 0.0)).collect(), rows]
+        out.iter_mut().for_each(|v| v.re *= sign() * gamma);
+        [out, rows]
     }
 }
 

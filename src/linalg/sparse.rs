@@ -114,15 +114,15 @@ impl Csr {
 
     /// y += α·A·x. No allocation.
     #[inline]
-    pub fn mul_vec_add(&self, alpha: f64, x: &[f64], y: &mut [f64]) {
+    pub fn mul_vec_add<T: Scalar>(&self, alpha: T, x: &[T], y: &mut [T]) {
         let ip = self.mat.indptr();
         let ip = ip.raw_storage();
         let idx = self.mat.indices();
         let val = self.mat.data();
         for i in 0..self.dim() {
-            let mut s = 0.0;
+            let mut s = T::zero();
             for k in ip[i]..ip[i + 1] {
-                s += val[k] * x[idx[k]];
+                s += T::from_real(val[k]) * x[idx[k]];
             }
             y[i] += alpha * s;
         }

@@ -12,12 +12,14 @@
 //! (x_{k+1} = x_k + d with d ≈ the error of x_k; GMRES solves for it to
 //! [`GMRES_REDUCTION`] and the steps stop on stagnation, so x_{k+1} keeps well under d of
 //! it), plus the
-//! residual's own rounding carried through the solve, Σ|F⁻¹ρ_j| over the vectors ρ_j the
+//! residual's own rounding carried through the solve, F⁻¹Σρ_j over the vectors ρ_j the
 //! operator gives for it ([`Refinable::rounding`]: roundings with independent signs, whose
 //! image is the random walk they make; a factor [`FLOOR_MARGIN`] covers the walk's spread
-//! and F⁻¹ against A⁻¹), plus ε·|x|. Without refinement (the factor already holds the
-//! tolerance) the estimate is 2·|F⁻¹r| — the first-order error of x — plus the same floor,
-//! and x is left bit for bit as the factor gave it.
+//! and F⁻¹ against A⁻¹; F⁻¹ is linear, so the sum takes one back-substitution). Without
+//! refinement ([`estimate`]: the factor already holds the tolerance) the estimate is
+//! 2·F⁻¹r — the first-order error of x — plus the same floor, and x is left bit for bit as
+//! the factor gave it. Refinement shrinks the correction, never the floor, so the floor is
+//! added once, at the x finally kept ([`Refined::with_floor`]).
 
 use num_complex::Complex64;
 
@@ -50,13 +52,28 @@ pub struct Refined {
 
 impl Refined {
     /// The bound on the error of Σ c·x[dof] over `functional`'s (dof, c):
-    /// |Σ c·correction| + [`FLOOR_MARGIN`]·|Σ c·floor|.
+    /// |Σ c·correction| + [`FLOOR_MARGIN`]·|Σ c·floor| (the first term alone while the floor
+    /// is not yet added).
     pub fn bound(&self, functional: &[(usize, f64)]) -> f64 {
-        if self.correction.is_empty() {
-            return 0.0;
-        }
         let at = |v: &[Complex64]| functional.iter().map(|&(d, c)| v[d] * c).sum::<Complex64>().norm();
-        at(&self.correction) + FLOOR_MARGIN * at(&self.floor)
+        match (self.correction.is_empty(), self.floor.is_empty()) {
+            (true, _) => 0.0,
+            (false, true) => at(&self.correction),
+            (false, false) => at(&self.correction) + FLOOR_MARGIN * at(&self.floor),
+        }
+    }
+
+    /// Adds the floor at `x`, the solution kept: the residual's rounding there carried
+    /// through the solve, F⁻¹Σ_jρ_j.
+    pub fn with_floor(mut self, op: &impl Refinable, x: &[Complex64]) -> Self {
+        let mut parts = op.rounding(x).into_iter();
+        let mut floor = parts.next().unwrap_or_else(|| vec![Complex64::default(); x.len()]);
+        for v in parts {
+            floor.iter_mut().zip(&v).for_each(|(f, v)| *f += v);
+        }
+        op.precondition(&mut floor);
+        self.floor = floor;
+        self
     }
 }
 
@@ -79,42 +96,36 @@ fn residual(op: &impl Refinable, b: &[Complex64], x: &[Complex64], r: &mut [Comp
     r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
 }
 
+/// The first-order error estimate of `x` (F⁻¹b) without refining it: 2·F⁻¹r, r = b − A·x
+/// (no floor yet: [`Refined::with_floor`]).
+pub fn estimate(op: &impl Refinable, b: &[Complex64], x: &[Complex64]) -> Refined {
+    let mut r = vec![Complex64::default(); x.len()];
+    residual(op, b, x, &mut r);
+    op.precondition(&mut r);
+    r.iter_mut().for_each(|d| *d *= 2.0);
+    Refined { correction: r, ..Default::default() }
+}
+
 /// Refines `x` (F⁻¹b on entry) until the correction falls below `step_tolerance`·|x|
-/// (relative, Euclidean), or stagnates; with `refine` false only estimates its error.
-pub fn refine(op: &impl Refinable, b: &[Complex64], x: &mut [Complex64], refine: bool, step_tolerance: f64) -> Refined {
-    let n = x.len();
-    let mut r = vec![Complex64::default(); n];
+/// (relative, Euclidean), or stagnates; the estimate is twice the last correction (no floor
+/// yet: [`Refined::with_floor`]).
+pub fn refine(op: &impl Refinable, b: &[Complex64], x: &mut [Complex64], step_tolerance: f64) -> Refined {
+    let mut r = vec![Complex64::default(); x.len()];
     let mut out = Refined::default();
-    let mut d;
-    if refine {
-        let mut last = f64::INFINITY;
-        loop {
-            residual(op, b, x, &mut r);
-            let (dk, its) = gmres(op, &r);
-            d = dk;
-            out.iterations += its;
-            out.steps += 1;
-            x.iter_mut().zip(&d).for_each(|(x, d)| *x += d);
-            let size = norm(&d);
-            if size <= step_tolerance * norm(x) || size > 0.5 * last || out.steps == STEPS {
-                break;
-            }
-            last = size;
-        }
-    } else {
+    let mut last = f64::INFINITY;
+    loop {
         residual(op, b, x, &mut r);
-        op.precondition(&mut r);
-        d = r.clone();
+        let (d, its) = gmres(op, &r);
+        out.iterations += its;
+        out.steps += 1;
+        x.iter_mut().zip(&d).for_each(|(x, d)| *x += d);
+        let size = norm(&d);
+        if size <= step_tolerance * norm(x) || size > 0.5 * last || out.steps == STEPS {
+            out.correction = d.iter().map(|d| 2.0 * d).collect();
+            return out;
+        }
+        last = size;
     }
-    // The floor: the residual's rounding at x, carried through the solve.
-    let mut floor = vec![Complex64::default(); n];
-    for mut v in op.rounding(x) {
-        op.precondition(&mut v);
-        floor.iter_mut().zip(&v).for_each(|(f, v)| *f += v);
-    }
-    out.correction = d.iter().map(|d| 2.0 * d).collect();
-    out.floor = floor;
-    out
 }
 
 /// Solves A·d = r approximately: restarted GMRES on F⁻¹A·d = F⁻¹r from d = 0, until the
@@ -231,12 +242,13 @@ mod tests {
         let exact: Vec<Complex64> = b.iter().zip(&a).map(|(b, a)| b / a).collect();
         let mut x = b.clone();
         op.precondition(&mut x);
-        let first = refine(&op, &b, &mut x.clone(), false, 0.0);
+        let first = estimate(&op, &b, &x).with_floor(&op, &x);
         for i in 0..3 {
             // Unrefined, the estimate sees the wrong directions.
             assert!(first.bound(&[(i, 1.0)]) > 0.1 * exact[i].norm());
         }
-        let out = refine(&op, &b, &mut x, true, 1e-14);
+        let out = refine(&op, &b, &mut x, 1e-14);
+        let out = out.with_floor(&op, &x);
         assert!(out.steps >= 1 && out.iterations <= 30, "{out:?}");
         for i in 0..n {
             let (err, bound) = ((x[i] - exact[i]).norm(), out.bound(&[(i, 1.0)]));
