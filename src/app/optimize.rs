@@ -244,7 +244,7 @@ fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
         let mesh = t["plate"]
             .as_table_mut()
             .and_then(|p| p.entry("mesh").or_insert_with(|| toml::Value::Table(Default::default())).as_table_mut());
-        if let Some(m) = mesh {
+        if let Some(m) = mesh.filter(|m| !m.contains_key("file")) {
             m.insert("through_points".into(), toml::Value::Boolean(false));
         }
     }

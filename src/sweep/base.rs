@@ -167,10 +167,11 @@ impl BaseCase {
     /// Prepares a study whose base case's steady state asks for a modal reduction to share
     /// one reduction basis between its cases, when they all have the base's structure: a
     /// plate or an imported model that no field of `varied` changes (nor its damping). A
-    /// plate is then meshed once, as the uniform grid of its `elements`, and every case's
-    /// points attach through the elements' shape functions (`through_points = false`,
-    /// exact for that mesh); otherwise each case's grid would follow its points. A beam
-    /// study solves every case on its own mesh (which follows the feet) as before.
+    /// plate is then meshed once, as the uniform grid of its `elements` (or its mesh file's
+    /// grid), and every case's points attach through the elements' shape functions
+    /// (`through_points = false`, exact for that mesh); otherwise each case's grid would
+    /// follow its points. A beam study solves every case on its own mesh (which follows
+    /// the feet) as before.
     pub fn share_structure(&mut self, varied: &[&Field]) {
         let kind_shares = self.case.plate.is_some() || self.case.imported.is_some();
         if self.reduction.is_none() || !kind_shares || touches_structure(varied) {
@@ -180,7 +181,8 @@ impl BaseCase {
             let doc = self.value.as_table_mut().expect("a case is a table");
             let plate = doc.get_mut("plate").and_then(toml::Value::as_table_mut).expect("a plate case has [plate]");
             let mesh = plate.entry("mesh").or_insert_with(|| toml::Value::Table(Default::default()));
-            if let Some(m) = mesh.as_table_mut() {
+            // A mesh file's grid is fixed already.
+            if let Some(m) = mesh.as_table_mut().filter(|m| !m.contains_key("file")) {
                 m.insert("through_points".into(), toml::Value::Boolean(false));
             }
         }
