@@ -107,11 +107,6 @@ impl SharedBasis {
         self.phi.len()
     }
 
-    /// The structure's DOFs.
-    pub fn structure_dofs(&self) -> usize {
-        self.dofs.n
-    }
-
     /// The reduced system of a placement: `attached` holds the case's actuators and loads
     /// on the structure ([`System::assemble_attachments`]: the structure numbered as the
     /// bare one, the bodies after it, no structure matrices).
