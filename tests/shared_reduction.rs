@@ -195,3 +195,53 @@ fn a_reduced_sweep_over_an_imported_models_nodes_matches_the_full_model() {
     }
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// A sweep over the positions of `POSITIONS` on the plate case `text` (in a scratch folder).
+fn position_sweep(name: &str, text: &str) -> sweep::SweepTable {
+    let d = scratch(name);
+    write(&d, "base.toml", text);
+    let s = sweep::Sweep::from_str(&format!("base = \"base.toml\"\nharmonics = 9\n{POSITIONS}"), "s.toml", &d).unwrap();
+    let t = sweep::run(&s, &sweep::RunOptions { threads: Some(2), ..Default::default() }).unwrap();
+    std::fs::remove_dir_all(&d).ok();
+    t
+}
+
+#[test]
+fn modal_damping_on_the_shared_basis_matches_the_full_plate() {
+    // Modal damping is a matrix only in the bare modes: the full model's sweep solves each
+    // case in the complete modal basis, the shared reduction adds 2ζ_r·ω_r to its modes.
+    let modal = |text: String| {
+        text.replace(
+            "kind = \"rayleigh_ratio\"\nzeta = 0.01\nmodes = [1, 3]\n",
+            "kind = \"modal\"\nratios = [0.01, 0.02, 0.015]\n",
+        )
+    };
+    // The residual vectors stand in for the discarded modes and take the last ratio at
+    // their pseudo-frequencies, not each discarded mode's damping: a modelling difference
+    // of the reduction (per mille here), which its check against the full model states.
+    let reduced = position_sweep("modal-red", &modal(plate_case([0.2, 0.2], "reduction = \"auto\"")));
+    let full = position_sweep("modal-full", &modal(plate_case([0.2, 0.2], "")));
+    let check = reduced.reduction.clone().unwrap();
+    let mut worst: f64 = 0.0;
+    for (r, f) in reduced.rows.iter().zip(&full.rows) {
+        let e = max_rel(&r.mean_power, &f.mean_power).max(max_rel(&r.net_power, &f.net_power));
+        assert!(e < 1e-2, "case {}: {e:e}", r.index);
+        worst = worst.max(e);
+        if Some(r.index) == check.case {
+            assert!((e - check.max_relative_error).abs() <= 1e-6 * e, "check {check:?} against {e:e}");
+        }
+    }
+    assert!(worst > 1e-6, "modal damping's substitution shows: {worst:e}");
+}
+
+#[test]
+fn a_plate_whose_point_supports_need_grid_lines_is_swept_on_its_full_model() {
+    // On the uniform grid the support at (0.123, 0.2) would fall between nodes: the sweep
+    // keeps each case's own grid and solves it in full, stating no reduction check.
+    let text = plate_case([0.2, 0.2], "reduction = \"auto\"")
+        .replace("through_points = false\n", "")
+        .replace("[damping]", "[[plate.support]]\nat = [0.123, 0.2]\nkind = \"pinned\"\n[damping]");
+    let t = position_sweep("support", &text);
+    assert!(t.reduction.is_none());
+    assert!(t.rows.iter().all(|r| r.net_power[0].is_finite() && r.net_power[0] > 0.0));
+}

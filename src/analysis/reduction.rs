@@ -106,6 +106,13 @@ impl ReductionError {
     }
 }
 
+impl ReductionError {
+    /// The largest relative difference, point or net power.
+    pub fn largest(&self) -> f64 {
+        self.net_power_relative_error.iter().fold(self.max_relative_error, |a, &b| a.max(b))
+    }
+}
+
 /// What a reduced run reports with its result.
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct ReductionReport {

@@ -76,7 +76,7 @@ pub fn run_into(
 /// the Pareto front (two objectives) and the JSON summary.
 pub fn text_outputs(spec: &Spec, r: &RunResult) -> Result<Vec<(&'static str, String)>> {
     let mut files = vec![
-        ("best.toml", best_case(spec, &r.best)?),
+        ("best.toml", best_case(spec, r)?),
         ("history.csv", history_csv(spec, &r.history)),
         ("optima.csv", table_csv(spec, &r.optima)),
     ];
@@ -215,7 +215,8 @@ fn report_page(spec: &Spec, r: &RunResult, files: &[PathBuf]) -> Result<String> 
 
 /// The base case as written (analyses and comments of values aside) with the best values
 /// set, and a steady-state analysis if it has none: a case `beamflow run` takes as it is.
-fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
+fn best_case(spec: &Spec, r: &RunResult) -> Result<String> {
+    let best = &r.best;
     let mut doc: toml::Value = toml::from_str(&spec.base.text)
         .map_err(|e| Error::Parse { file: spec.base.file.clone(), message: e.to_string() })?;
     for (f, v) in spec.assignment(&best.u) {
@@ -247,6 +248,11 @@ fn best_case(spec: &Spec, best: &Evaluation) -> Result<String> {
         if let Some(m) = mesh.filter(|m| !m.contains_key("file")) {
             m.insert("through_points".into(), toml::Value::Boolean(false));
         }
+    }
+    if let Some(c) = &r.reduction {
+        // The study's shared modes reach the cut-off its variables' bounds asked for; the
+        // case alone would take its own, lower one.
+        shared_cutoff(t, c.cutoff_hz);
     }
     if !t.contains_key("analysis") {
         let a: toml::Value =
@@ -340,6 +346,24 @@ fn summary(spec: &Spec, r: &RunResult) -> serde_json::Value {
             "max_relative_error_at_optimum": c.max_relative_error,
         })),
     })
+}
+
+/// Sets the steady-state analyses' `reduction` of the case table `t` to the explicit
+/// cut-off `hz`, keeping their other reduction settings.
+fn shared_cutoff(t: &mut toml::Table, hz: f64) {
+    let steady = |a: &&mut toml::Value| a.get("type").and_then(toml::Value::as_str) == Some("steady_state");
+    let Some(analyses) = t.get_mut("analysis").and_then(toml::Value::as_array_mut) else { return };
+    for a in analyses.iter_mut().filter(steady) {
+        let Some(table) = a.as_table_mut() else { continue };
+        let mut r = match table.get("reduction") {
+            Some(toml::Value::Table(r)) => r.clone(),
+            Some(_) => toml::Table::new(),
+            None => continue,
+        };
+        r.remove("factor");
+        r.insert("modes_up_to_hz".into(), toml::Value::Float(hz));
+        table.insert("reduction".into(), toml::Value::Table(r));
+    }
 }
 
 /// The optima as an aligned text table.

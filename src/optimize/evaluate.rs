@@ -96,27 +96,25 @@ impl<'s> Evaluator<'s> {
         Evaluator { spec, forces: StackForceCache::default(), modes, systems }
     }
 
-    /// A reduced optimisation's check of its reduction: candidate `e` (the optimum) solved
+    /// An optimisation on a shared reduction checks it: candidate `e` (the optimum) solved
     /// again on the full model, its net powers and dissipation compared with the reduced
-    /// ones. None without a reduction (or an outcome to compare).
+    /// ones (as point powers are in a sweep's check). None without a shared reduction, or
+    /// where the full model cannot be solved.
     pub fn check_reduction(&self, e: &Evaluation) -> Option<crate::sweep::ReductionCheck> {
         let reduced = e.outcome.as_ref()?;
         let shared = self.systems.shared()?;
         let full = Evaluator { systems: StudySystems::full(self.spec.harmonics), ..Evaluator::new(self.spec) };
         let f = full.evaluate(&e.u).outcome?;
-        let rel = |r: f64, x: f64, floor: f64| (r - x).abs() / x.abs().max(floor).max(f64::MIN_POSITIVE);
-        let floor = 1e-6 * f.net_power.iter().fold(f.dissipation.abs(), |a, p| a.max(p.abs()));
-        let error = reduced
-            .net_power
-            .iter()
-            .zip(&f.net_power)
-            .map(|(&r, &x)| rel(r, x, floor))
-            .fold(rel(reduced.dissipation, f.dissipation, floor), f64::max);
+        let error = crate::analysis::reduction::ReductionError::between(
+            self.spec.harmonics,
+            (&[f.dissipation], &f.net_power),
+            (&[reduced.dissipation], &reduced.net_power),
+        );
         Some(crate::sweep::ReductionCheck {
             cutoff_hz: shared.cutoff_hz(),
             modes_kept: shared.modes_kept(),
             case: None,
-            max_relative_error: error,
+            max_relative_error: error.largest(),
         })
     }
 

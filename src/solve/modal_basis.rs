@@ -70,7 +70,7 @@ use faer::{Mat, MatRef, Side};
 use std::sync::Arc;
 
 /// Relative size below which a projected entry counts as round-off.
-pub(super) const DROP: f64 = 1e-12;
+const DROP: f64 = 1e-12;
 
 /// A residual vector whose residual flexibility ψᵀ·K·ψ is below this fraction of the
 /// flexibility at its foot is round-off (that difference cancels to ε of the total).
@@ -210,7 +210,7 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     let k_links = basis.project(&Csr::combine(&[(1.0, &full.k), (-1.0, &full.k_beam)]));
     let k = Csr::combine(&[(1.0, &k_beam), (1.0, &k_links)]);
 
-    let system = reduced_system(full, &basis, [m, c, k, m_beam, c_beam, k_beam], nm + np);
+    let system = reduced_system(full, t, nr, [m, c, k, m_beam, c_beam, k_beam], nm + np);
     Ok(Reduction { system, mode_omega, first_discarded_omega, residual_omega, dropped })
 }
 
@@ -218,9 +218,9 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
 /// k_beam]`: `full`'s links, drives and loads on the reduced coordinates, its bodies
 /// numbered after the `first_body` structure coordinates. A reduced basis is for viscous
 /// damping: hysteretic damping is refused before.
-pub(super) fn reduced_system(full: &System, basis: &Basis, matrices: [Csr; 6], first_body: usize) -> System {
+pub(super) fn reduced_system(full: &System, t: Vec<f64>, nr: usize, matrices: [Csr; 6], first_body: usize) -> System {
     let [m, c, k, m_beam, c_beam, k_beam] = matrices;
-    let nr = basis.nr;
+    let basis = Basis { t: &t, n: full.n(), nr };
     let links: Vec<LinkDofs> = full
         .links
         .iter()
@@ -234,7 +234,7 @@ pub(super) fn reduced_system(full: &System, basis: &Basis, matrices: [Csr; 6], f
     let combine = |bs: &[Vec<(usize, f64)>]| bs.iter().map(|b| basis.row_combination(b)).collect();
     let envelope =
         Skyline::<f64>::envelope_of(nr, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
-    System {
+    let mut system = System {
         dofs: reduced_dofs(full, first_body, nr),
         m,
         c,
@@ -247,8 +247,10 @@ pub(super) fn reduced_system(full: &System, basis: &Basis, matrices: [Csr; 6], f
         drives: combine(&full.drives),
         loads: combine(&full.loads),
         envelope,
-        projection: Some(Arc::new(Projection { full: full.dofs.clone(), t: basis.t.to_vec(), n_reduced: nr })),
-    }
+        projection: None,
+    };
+    system.projection = Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr }));
+    system
 }
 
 /// Beam DOFs the actuators and loads touch, ascending.
@@ -481,7 +483,7 @@ pub(super) fn sparse_of_dense(r: &[f64], nr: usize) -> Csr {
 
 /// The reduced system's DOF map: no beam DOFs, the bodies numbered after the `first_body`
 /// beam coordinates.
-pub(super) fn reduced_dofs(full: &System, first_body: usize, nr: usize) -> DofMap {
+fn reduced_dofs(full: &System, first_body: usize, nr: usize) -> DofMap {
     let mut next = first_body;
     DofMap {
         n: nr,

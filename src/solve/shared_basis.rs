@@ -132,7 +132,7 @@ impl SharedBasis {
         let t = self.basis_rows(&psi, &bodies, n, nr);
         let basis = Basis { t: &t, n, nr };
 
-        let mut m_beam = self.structure_block((&self.phi_m, &self.m_phi), &self.m, &psi, nr);
+        let m_beam = self.structure_block((&self.phi_m, &self.m_phi), &self.m, &psi, nr);
         let mut c_beam = self.structure_block((&self.phi_c, &self.c_phi), &self.c, &psi, nr);
         let k_diag: Vec<f64> = self.omega.iter().chain(&residual_omega).map(|w| w * w).collect();
         if let Some(ratios) = &self.modal_damping {
@@ -149,8 +149,8 @@ impl SharedBasis {
             r.iter_mut().zip(s).for_each(|(x, y)| *x += y);
             sparse_of_dense(&r, nr)
         });
-        let [m_beam, c_beam, k_beam] = [&mut m_beam, &mut c_beam, &mut k_beam].map(|r| sparse_of_dense(r, nr));
-        let system = reduced_system(attached, &basis, [m, c, k, m_beam, c_beam, k_beam], nm + np);
+        let [m_beam, c_beam, k_beam] = [&m_beam, &c_beam, &k_beam].map(|r| sparse_of_dense(r, nr));
+        let system = reduced_system(attached, t, nr, [m, c, k, m_beam, c_beam, k_beam], nm + np);
         Ok(Reduction {
             system,
             mode_omega: self.omega.clone(),

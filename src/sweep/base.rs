@@ -173,8 +173,15 @@ impl BaseCase {
     /// follow its points. A beam study solves every case on its own mesh (which follows
     /// the feet) as before.
     pub fn share_structure(&mut self, varied: &[&Field]) {
+        // A plate's point supports, masses and springs stand on grid lines drawn through
+        // them; on the uniform grid they could fall between nodes, so such a plate shares
+        // its structure only if it already asks for the uniform grid (or a mesh file).
+        let plate_fixed = self.case.plate.as_ref().is_none_or(|p| {
+            let points = !p.support.is_empty() || !p.point_mass.is_empty() || !p.spring.is_empty();
+            !points || p.mesh.file.is_some() || !p.mesh.through_points()
+        });
         let kind_shares = self.case.plate.is_some() || self.case.imported.is_some();
-        if self.reduction.is_none() || !kind_shares || touches_structure(varied) {
+        if self.reduction.is_none() || !kind_shares || !plate_fixed || touches_structure(varied) {
             return;
         }
         if self.case.plate.is_some() {

@@ -220,32 +220,31 @@ impl<'a> Evaluator<'a> {
         Ok(())
     }
 
-    /// A reduced steady-state sweep's check of its reduction: the case of `rows` with the
-    /// largest total net power solved again on the full model, its point and net powers
-    /// compared (None for a sweep on the full model, or without rows).
-    pub fn check_reduction(&self, rows: &[Row]) -> Result<Option<ReductionCheck>> {
+    /// A sweep on a shared reduction checks it: the case of `rows` with the largest total
+    /// net power solved again on the full model, its point and net powers compared. None
+    /// for a sweep on the full model, without rows, or where the full model of that case
+    /// cannot be solved (the table is kept either way).
+    pub fn check_reduction(&self, rows: &[Row]) -> Option<ReductionCheck> {
         let sweep = self.sweep;
         let total = |r: &Row| r.net_power.iter().sum::<f64>();
-        let best = rows.iter().filter(|r| total(r).is_finite()).max_by(|a, b| total(a).total_cmp(&total(b)));
-        let (Some(best), true) = (best, self.systems.reduced() && self.shares_systems()) else { return Ok(None) };
-        let wrap = in_case(sweep, best.index);
-        let lc = sweep.case(best.index)?;
-        let model = calibrated_model(&lc).map_err(&wrap)?;
-        let (_, report) = self.systems.system(&model, &lc.file).map_err(&wrap)?;
-        let full = frequency_domain_system(&model, &lc.file, SweepAnalysis::SteadyState).map_err(&wrap)?;
-        let head = self.steady_state(&model, &mut HarmonicSolver::new(&full)).map_err(&wrap)?;
+        let best = rows.iter().filter(|r| total(r).is_finite()).max_by(|a, b| total(a).total_cmp(&total(b)))?;
+        let shared =
+            self.systems.shared().filter(|_| !self.reference && sweep.analysis == SweepAnalysis::SteadyState)?;
+        let lc = sweep.case(best.index).ok()?;
+        let model = calibrated_model(&lc).ok()?;
+        let full = frequency_domain_system(&model, &lc.file, SweepAnalysis::SteadyState).ok()?;
+        let head = self.steady_state(&model, &mut HarmonicSolver::new(&full)).ok()?;
         let e = ReductionError::between(
             sweep.harmonics,
             (&head.mean_power, &head.net_power),
             (&best.mean_power, &best.net_power),
         );
-        let net = e.net_power_relative_error.iter().fold(0.0f64, |a, &b| a.max(b));
-        Ok(report.map(|r| ReductionCheck {
-            cutoff_hz: r.cutoff_hz,
-            modes_kept: r.modes_kept,
+        Some(ReductionCheck {
+            cutoff_hz: shared.cutoff_hz(),
+            modes_kept: shared.modes_kept(),
             case: Some(best.index),
-            max_relative_error: e.max_relative_error.max(net),
-        }))
+            max_relative_error: e.largest(),
+        })
     }
 
     fn row(&self, i: usize, head: Headline) -> Result<Row> {
@@ -501,7 +500,7 @@ pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
     done.sort_by_key(|r| r.index);
     table.rows = done;
     if !cancelled() {
-        table.reduction = ev.check_reduction(&table.rows)?;
+        table.reduction = ev.check_reduction(&table.rows);
     }
     Ok(table)
 }

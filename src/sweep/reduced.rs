@@ -1,16 +1,17 @@
 //! The system a study (a sweep or an optimisation) solves a case's steady state on: the
 //! case's assembled system, or — when the base case's steady state asks for a modal
-//! `reduction` — a reduction of it.
+//! `reduction` and every case has the base's structure — one reduction shared by them all.
 //!
-//! Where every case has the base's structure (a plate or an imported model that the study
-//! does not vary, [`BaseCase::share_structure`]), one [`SharedReduction`] serves them all:
-//! the bare structure's modes are computed once, for the first case that needs them, and
-//! each case adds its own static correction and actuators. Its cut-off covers every case:
-//! an explicit `modes_up_to_hz`, or the `factor` times the highest analysed harmonic over
-//! the base case and the study's extremes (each varied field at its least and greatest
-//! value); a case whose own cut-off would lie above it is refused, naming the setting to
-//! give. Otherwise (a beam, whose mesh follows the feet, or a varied structure) each case
-//! is reduced on its own, as its own run would.
+//! Every case has the base's structure when it is a plate or an imported model that the
+//! study does not vary ([`BaseCase::share_structure`]). Then one [`SharedReduction`] serves
+//! all of them: the bare structure's modes are computed once, for the first case that needs
+//! them, and each case adds its own static correction and actuators. Its cut-off covers
+//! every case: an explicit `modes_up_to_hz`, or the `factor` times the highest analysed
+//! harmonic over the base case and the study's extremes (each varied field at its least and
+//! greatest value); a case whose own cut-off would lie above it is refused, naming the
+//! setting to give. Otherwise (a beam, whose mesh follows the feet and whose banded solve
+//! is faster than any reduction, or a varied structure) every case is solved on its full
+//! system, as before.
 
 use super::base::BaseCase;
 use super::field::Field;
@@ -18,22 +19,22 @@ use crate::analysis::reduction::{self, ReductionReport, ReductionSettings, Share
 use crate::assembly::{Model, System};
 use crate::case::ReductionSpec;
 use crate::error::{Error, Result};
-use std::sync::{Arc, OnceLock};
+use std::sync::{Arc, Mutex};
 
 /// How a study's cases get their systems.
 #[derive(Debug)]
 pub struct StudySystems {
-    /// The reduction the base case asks for (None: the full system).
-    spec: Option<ReductionSpec>,
     harmonics: usize,
-    /// What the shared basis is built from: the base case and the study's extremes
-    /// (None: each case is reduced on its own).
+    /// What the shared reduction is built from (None: every case on its full system).
     shared_from: Option<SharedFrom>,
-    shared: OnceLock<std::result::Result<Arc<SharedReduction>, String>>,
+    /// The shared reduction, built by the first case that needs it (a failed build, e.g. a
+    /// cancelled one, is not kept: its error goes to that case as it is).
+    shared: Mutex<Option<Arc<SharedReduction>>>,
 }
 
 #[derive(Debug)]
 struct SharedFrom {
+    spec: ReductionSpec,
     study: String,
     base: BaseCase,
     extremes: Vec<(String, Field, toml::Value)>,
@@ -44,49 +45,46 @@ impl StudySystems {
     /// `harmonics` harmonics; `extremes` are its varied fields at their least and greatest
     /// values.
     pub fn new(study: &str, base: &BaseCase, harmonics: usize, extremes: Vec<(String, &Field, toml::Value)>) -> Self {
-        let spec = base.reduction.clone();
-        let shared_from = (spec.is_some() && base.shared_structure).then(|| SharedFrom {
+        let shared_from = base.reduction.clone().filter(|_| base.shared_structure).map(|spec| SharedFrom {
+            spec,
             study: study.to_string(),
             base: base.clone(),
             extremes: extremes.into_iter().map(|(n, f, v)| (n, f.clone(), v)).collect(),
         });
-        StudySystems { spec, harmonics, shared_from, shared: OnceLock::new() }
+        StudySystems { harmonics, shared_from, shared: Mutex::new(None) }
     }
 
     /// Every case on its full assembled system, whatever the base case asks (a study's
     /// figures that decompose the power into the structure's modes, which need its DOFs).
     pub fn full(harmonics: usize) -> Self {
-        StudySystems { spec: None, harmonics, shared_from: None, shared: OnceLock::new() }
+        StudySystems { harmonics, shared_from: None, shared: Mutex::new(None) }
     }
 
-    /// Whether the cases are solved on a reduction.
+    /// Whether the cases are solved on a shared reduction.
     pub fn reduced(&self) -> bool {
-        self.spec.is_some()
+        self.shared_from.is_some()
     }
 
     /// The shared reduction, once built (None before the first case, or without one).
-    pub fn shared(&self) -> Option<&SharedReduction> {
-        self.shared.get().and_then(|r| r.as_ref().ok()).map(Arc::as_ref)
+    pub fn shared(&self) -> Option<Arc<SharedReduction>> {
+        self.shared.lock().ok().and_then(|s| s.clone())
     }
 
     /// The system of the case `model` (read from `file`), and its reduction's report.
     pub fn system(&self, model: &Model, file: &str) -> Result<(System, Option<ReductionReport>)> {
-        let Some(spec) = &self.spec else {
+        let Some(from) = &self.shared_from else {
             let sys = super::exec::frequency_domain_system(model, file, super::SweepAnalysis::SteadyState)?;
             return Ok((sys, None));
         };
-        let settings = &ReductionSettings::of_spec(spec, model.modal_ratios());
+        let settings = &ReductionSettings::of_spec(&from.spec, model.modal_ratios());
         let case_cutoff = reduction::cutoff_hz(model, settings, self.harmonics).map_err(|e| e.in_file(file))?;
-        let Some(from) = &self.shared_from else {
-            let full = System::assemble(model).map_err(|e| e.in_file(file))?;
-            let (sys, report) = reduction::reduce(model, &full, settings, case_cutoff).map_err(|e| e.in_file(file))?;
-            return Ok((sys, Some(report)));
+        let shared = {
+            let mut slot = self.shared.lock().map_err(|_| Error::Numerical("a study thread panicked".into()))?;
+            match slot.as_ref() {
+                Some(s) => Arc::clone(s),
+                None => Arc::clone(slot.insert(Arc::new(from.build(settings, self.harmonics)?))),
+            }
         };
-        let shared = self
-            .shared
-            .get_or_init(|| from.build(settings, self.harmonics).map(Arc::new).map_err(|e| e.to_string()))
-            .as_ref()
-            .map_err(|e| Error::Numerical(e.clone()))?;
         if case_cutoff > shared.cutoff_hz() * (1.0 + 1e-12) {
             return Err(Error::input(
                 file,
