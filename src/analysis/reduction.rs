@@ -104,9 +104,7 @@ impl ReductionError {
                 .collect(),
         }
     }
-}
 
-impl ReductionError {
     /// The largest relative difference, point or net power.
     pub fn largest(&self) -> f64 {
         self.net_power_relative_error.iter().fold(self.max_relative_error, |a, &b| a.max(b))
@@ -254,13 +252,13 @@ impl SharedReduction {
                 "a modal reduction is not available with hysteretic damping: run the full model",
             ));
         }
+        let Some(structure) = model.structure.clone() else {
+            return Err(Error::analysis_setting("reduction", "a modal reduction needs a structure (base = \"beam\")"));
+        };
         let bare = Model {
-            structure: model.structure.clone(),
             damping: model.damping.clone(),
-            actuators: Vec::new(),
-            sensors: Vec::new(),
-            loads: Vec::new(),
             roundoff_tolerance: model.roundoff_tolerance,
+            ..Model::bare(structure)
         };
         let bare_sys = System::assemble(&bare)?;
         let (modes, sparse) = modes_to(&bare, &bare_sys, settings, cutoff_hz)?;

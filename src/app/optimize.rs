@@ -240,14 +240,9 @@ fn best_case(spec: &Spec, r: &RunResult) -> Result<String> {
             d.zeta, d.modes
         ));
     }
-    if spec.base.shared_structure && t.contains_key("plate") {
-        // The study meshed the plate once, uniformly, for its shared reduction.
-        let mesh = t["plate"]
-            .as_table_mut()
-            .and_then(|p| p.entry("mesh").or_insert_with(|| toml::Value::Table(Default::default())).as_table_mut());
-        if let Some(m) = mesh.filter(|m| !m.contains_key("file")) {
-            m.insert("through_points".into(), toml::Value::Boolean(false));
-        }
+    if spec.base.shared_structure {
+        // The study meshed a plate once, uniformly, for its shared reduction.
+        crate::sweep::base::uniform_plate_mesh(t);
     }
     if let Some(c) = &r.reduction {
         // The study's shared modes reach the cut-off its variables' bounds asked for; the

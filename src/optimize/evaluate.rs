@@ -103,7 +103,12 @@ impl<'s> Evaluator<'s> {
     pub fn check_reduction(&self, e: &Evaluation) -> Option<crate::sweep::ReductionCheck> {
         let reduced = e.outcome.as_ref()?;
         let shared = self.systems.shared()?;
-        let full = Evaluator { systems: StudySystems::full(self.spec.harmonics), ..Evaluator::new(self.spec) };
+        let full = Evaluator {
+            spec: self.spec,
+            forces: StackForceCache::default(),
+            modes: 0,
+            systems: StudySystems::full(self.spec.harmonics),
+        };
         let f = full.evaluate(&e.u).outcome?;
         let error = crate::analysis::reduction::ReductionError::between(
             self.spec.harmonics,

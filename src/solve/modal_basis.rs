@@ -231,10 +231,11 @@ pub(super) fn reduced_system(full: &System, t: Vec<f64>, nr: usize, matrices: [C
             ..l.clone()
         })
         .collect();
-    let combine = |bs: &[Vec<(usize, f64)>]| bs.iter().map(|b| basis.row_combination(b)).collect();
+    let combine = |bs: &[Vec<(usize, f64)>]| -> Vec<_> { bs.iter().map(|b| basis.row_combination(b)).collect() };
+    let (drives, loads) = (combine(&full.drives), combine(&full.loads));
     let envelope =
         Skyline::<f64>::envelope_of(nr, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
-    let mut system = System {
+    System {
         dofs: reduced_dofs(full, first_body, nr),
         m,
         c,
@@ -244,13 +245,11 @@ pub(super) fn reduced_system(full: &System, t: Vec<f64>, nr: usize, matrices: [C
         k_beam,
         k_loss: None,
         links,
-        drives: combine(&full.drives),
-        loads: combine(&full.loads),
+        drives,
+        loads,
         envelope,
-        projection: None,
-    };
-    system.projection = Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr }));
-    system
+        projection: Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr })),
+    }
 }
 
 /// Beam DOFs the actuators and loads touch, ascending.

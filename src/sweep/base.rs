@@ -7,6 +7,7 @@ use super::spec::SweepAnalysis;
 use crate::actuator::{link_id, Frame, Inertial};
 use crate::analysis::budget::Budget;
 use crate::analysis::drive::{DriveTiming, Step};
+use crate::analysis::reduction::SharedReduction;
 use crate::analysis::{cost, plan, transient::TransientSettings};
 use crate::assembly::Rayleigh;
 use crate::case::signal::SignalSpec;
@@ -14,6 +15,17 @@ use crate::case::{AnalysisSpec, BaseKind, BodySpec, Case, DampingKind, LoadedCas
 use crate::error::{Error, Result};
 use crate::signal::voltage::VoltageInput;
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+/// Sets `through_points = false` on the plate of the case document `doc` (if it has one and
+/// no mesh file, whose grid is fixed already): the grid a shared reduction was built on.
+pub fn uniform_plate_mesh(doc: &mut toml::Table) {
+    let Some(plate) = doc.get_mut("plate").and_then(toml::Value::as_table_mut) else { return };
+    let mesh = plate.entry("mesh").or_insert_with(|| toml::Value::Table(Default::default()));
+    if let Some(m) = mesh.as_table_mut().filter(|m| !m.contains_key("file")) {
+        m.insert("through_points".into(), toml::Value::Boolean(false));
+    }
+}
 
 /// Whether a varied field can change the structure or its damping.
 fn touches_structure(varied: &[&Field]) -> bool {
@@ -43,6 +55,9 @@ pub struct BaseCase {
     /// Whether every case of the study has the base's structure, so that one reduction basis
     /// serves them all ([`BaseCase::share_structure`]).
     pub shared_structure: bool,
+    /// That reduction once a case has built it, for every evaluator of the study (the
+    /// search's and the figures' alike): clones of the base share it.
+    pub shared_reduction: Arc<Mutex<Option<Arc<SharedReduction>>>>,
     /// Actuator and link names of the base model, in model order.
     pub actuators: Vec<String>,
     pub links: Vec<String>,
@@ -104,6 +119,7 @@ impl BaseCase {
             cached_damping: None,
             reduction,
             shared_structure: false,
+            shared_reduction: Arc::default(),
             actuators,
             links,
             value,
@@ -184,15 +200,7 @@ impl BaseCase {
         if self.reduction.is_none() || !kind_shares || !plate_fixed || touches_structure(varied) {
             return;
         }
-        if self.case.plate.is_some() {
-            let doc = self.value.as_table_mut().expect("a case is a table");
-            let plate = doc.get_mut("plate").and_then(toml::Value::as_table_mut).expect("a plate case has [plate]");
-            let mesh = plate.entry("mesh").or_insert_with(|| toml::Value::Table(Default::default()));
-            // A mesh file's grid is fixed already.
-            if let Some(m) = mesh.as_table_mut().filter(|m| !m.contains_key("file")) {
-                m.insert("through_points".into(), toml::Value::Boolean(false));
-            }
-        }
+        uniform_plate_mesh(self.value.as_table_mut().expect("a case is a table"));
         self.shared_structure = true;
     }
 

@@ -19,17 +19,17 @@ use crate::analysis::reduction::{self, ReductionReport, ReductionSettings, Share
 use crate::assembly::{Model, System};
 use crate::case::ReductionSpec;
 use crate::error::{Error, Result};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 
 /// How a study's cases get their systems.
 #[derive(Debug)]
 pub struct StudySystems {
     harmonics: usize,
-    /// What the shared reduction is built from (None: every case on its full system).
+    /// What the shared reduction is built from (None: every case on its full system). It
+    /// is built by the first case that needs it and kept in the base's
+    /// [`BaseCase::shared_reduction`]; a failed build, e.g. a cancelled one, is not kept:
+    /// its error goes to that case as it is.
     shared_from: Option<SharedFrom>,
-    /// The shared reduction, built by the first case that needs it (a failed build, e.g. a
-    /// cancelled one, is not kept: its error goes to that case as it is).
-    shared: Mutex<Option<Arc<SharedReduction>>>,
 }
 
 #[derive(Debug)]
@@ -51,23 +51,18 @@ impl StudySystems {
             base: base.clone(),
             extremes: extremes.into_iter().map(|(n, f, v)| (n, f.clone(), v)).collect(),
         });
-        StudySystems { harmonics, shared_from, shared: Mutex::new(None) }
+        StudySystems { harmonics, shared_from }
     }
 
     /// Every case on its full assembled system, whatever the base case asks (a study's
     /// figures that decompose the power into the structure's modes, which need its DOFs).
     pub fn full(harmonics: usize) -> Self {
-        StudySystems { harmonics, shared_from: None, shared: Mutex::new(None) }
-    }
-
-    /// Whether the cases are solved on a shared reduction.
-    pub fn reduced(&self) -> bool {
-        self.shared_from.is_some()
+        StudySystems { harmonics, shared_from: None }
     }
 
     /// The shared reduction, once built (None before the first case, or without one).
     pub fn shared(&self) -> Option<Arc<SharedReduction>> {
-        self.shared.lock().ok().and_then(|s| s.clone())
+        self.shared_from.as_ref()?.base.shared_reduction.lock().ok()?.clone()
     }
 
     /// The system of the case `model` (read from `file`), and its reduction's report.
@@ -79,7 +74,8 @@ impl StudySystems {
         let settings = &ReductionSettings::of_spec(&from.spec, model.modal_ratios());
         let case_cutoff = reduction::cutoff_hz(model, settings, self.harmonics).map_err(|e| e.in_file(file))?;
         let shared = {
-            let mut slot = self.shared.lock().map_err(|_| Error::Numerical("a study thread panicked".into()))?;
+            let cell = &from.base.shared_reduction;
+            let mut slot = cell.lock().map_err(|_| Error::Numerical("a study thread panicked".into()))?;
             match slot.as_ref() {
                 Some(s) => Arc::clone(s),
                 None => Arc::clone(slot.insert(Arc::new(from.build(settings, self.harmonics)?))),
