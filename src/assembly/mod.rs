@@ -8,9 +8,11 @@
 
 pub mod damping;
 pub mod dofs;
+pub mod projection;
 pub mod rows;
 pub mod system;
 
 pub use damping::{Damping, Rayleigh};
 pub use dofs::DofMap;
-pub use system::{dof_rows, DofRow, LinkDofs, Model, PointLoad, Projection, System};
+pub use projection::Projection;
+pub use system::{dof_rows, DofRow, LinkDofs, Model, PointLoad, System};

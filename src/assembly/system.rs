@@ -2,13 +2,13 @@
 
 use super::damping::Damping;
 use super::dofs::DofMap;
+use super::projection::Projection;
 use crate::actuator::{Actuator, Component, FootBase};
 use crate::beam::{element_stiffness_rows, Beam, SupportKind};
 use crate::error::{Error, Result};
 use crate::linalg::{BandedR, Csr, Skyline};
 use crate::signal::voltage::VoltageInput;
 use crate::structure::{single_node, Location, Structure};
-use num_complex::Complex64;
 use std::sync::Arc;
 
 /// A point where the structure's motion (its w) is recorded.
@@ -133,30 +133,6 @@ pub struct System {
     /// For a reduced system, how its coordinates map to the full model's; None for the
     /// assembled (full) system.
     pub projection: Option<Arc<Projection>>,
-}
-
-/// The basis of a reduced system: full-model DOFs q_full = T·q_reduced.
-#[derive(Clone, Debug)]
-pub struct Projection {
-    /// The full model's DOF map (structure DOFs per node; actuator bodies).
-    pub full: DofMap,
-    /// T, `full.n` rows × `n_reduced` columns, row-major.
-    pub t: Vec<f64>,
-    pub n_reduced: usize,
-}
-
-impl Projection {
-    /// Row `i` of T (full DOF i in reduced coordinates), without exact zeros.
-    pub fn row(&self, i: usize) -> Vec<(usize, f64)> {
-        let r = &self.t[i * self.n_reduced..(i + 1) * self.n_reduced];
-        r.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(j, &v)| (j, v)).collect()
-    }
-
-    /// Full-model amplitudes T·q of reduced ones (complex, e.g. one harmonic's Q_k).
-    pub fn expand(&self, q: &[Complex64]) -> Vec<Complex64> {
-        assert_eq!(q.len(), self.n_reduced, "reduced vector length");
-        self.t.chunks_exact(self.n_reduced).map(|row| row.iter().zip(q).map(|(&t, &x)| x * t).sum()).collect()
-    }
 }
 
 impl System {

@@ -74,7 +74,7 @@ const DROP: f64 = 1e-12;
 
 /// A residual vector whose residual flexibility ψᵀ·K·ψ is below this fraction of the
 /// flexibility at its foot is round-off (that difference cancels to ε of the total).
-const RESIDUAL_FLOOR: f64 = 1e-10;
+pub(super) const RESIDUAL_FLOOR: f64 = 1e-10;
 
 /// What to keep.
 #[derive(Clone, Debug, PartialEq)]
@@ -210,7 +210,8 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     let k_links = basis.project(&Csr::combine(&[(1.0, &full.k), (-1.0, &full.k_beam)]));
     let k = Csr::combine(&[(1.0, &k_beam), (1.0, &k_links)]);
 
-    let system = reduced_system(full, t, nr, [m, c, k, m_beam, c_beam, k_beam], nm + np);
+    let projection = Projection::dense(full.dofs.clone(), t, nr);
+    let system = reduced_system(full, projection, [m, c, k, m_beam, c_beam, k_beam], nm + np);
     Ok(Reduction { system, mode_omega, first_discarded_omega, residual_omega, dropped })
 }
 
@@ -218,9 +219,9 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
 /// k_beam]`: `full`'s links, drives and loads on the reduced coordinates, its bodies
 /// numbered after the `first_body` structure coordinates. A reduced basis is for viscous
 /// damping: hysteretic damping is refused before.
-pub(super) fn reduced_system(full: &System, t: Vec<f64>, nr: usize, matrices: [Csr; 6], first_body: usize) -> System {
+pub(super) fn reduced_system(full: &System, basis: Projection, matrices: [Csr; 6], first_body: usize) -> System {
     let [m, c, k, m_beam, c_beam, k_beam] = matrices;
-    let basis = Basis { t: &t, n: full.n(), nr };
+    let nr = basis.n_reduced;
     let links: Vec<LinkDofs> = full
         .links
         .iter()
@@ -248,7 +249,7 @@ pub(super) fn reduced_system(full: &System, t: Vec<f64>, nr: usize, matrices: [C
         drives,
         loads,
         envelope,
-        projection: Some(Arc::new(Projection { full: full.dofs.clone(), t, n_reduced: nr })),
+        projection: Some(Arc::new(basis)),
     }
 }
 
@@ -385,12 +386,11 @@ fn static_shapes(full: &System, bodies: &[usize], attach: &[usize], sparse: bool
     Ok(shapes(&|x| kf.solve_in_place(x)))
 }
 
-/// The reduction basis T (row-major n × nr) and what it does to matrices and DOF
-/// combinations.
-pub(super) struct Basis<'t> {
-    pub(super) t: &'t [f64],
-    pub(super) n: usize,
-    pub(super) nr: usize,
+/// A dense reduction basis T (row-major n × nr) and what it does to a whole matrix.
+struct Basis<'t> {
+    t: &'t [f64],
+    n: usize,
+    nr: usize,
 }
 
 impl Basis<'_> {
@@ -417,50 +417,6 @@ impl Basis<'_> {
             }
         }
         sparse_of_dense(&r, nr)
-    }
-
-    /// Tᵀ·A·T for an A whose entries lie on few rows (an actuator's springs, dampers and
-    /// masses), dense (row-major nr × nr, symmetrised): only those rows of T enter, so the
-    /// cost is that of the rows, not of n.
-    pub(super) fn project_rows(&self, a: &Csr) -> Vec<f64> {
-        let nr = self.nr;
-        let mut rows: Vec<usize> = a.triplets().map(|(i, _, _)| i).collect();
-        rows.sort_unstable();
-        rows.dedup();
-        let row_t = |i: usize| &self.t[i * nr..(i + 1) * nr];
-        // (A·T) restricted to those rows, then Tᵀ·(A·T) from them.
-        let mut at = vec![0.0; rows.len() * nr];
-        let mut r = vec![0.0; nr * nr];
-        for (i, j, v) in a.triplets() {
-            let k = rows.binary_search(&i).expect("a row of A");
-            at[k * nr..(k + 1) * nr].iter_mut().zip(row_t(j)).for_each(|(x, t)| *x += v * t);
-        }
-        for (k, &i) in rows.iter().enumerate() {
-            let (ti, ai) = (row_t(i), &at[k * nr..(k + 1) * nr]);
-            for (a_, &tia) in ti.iter().enumerate().filter(|(_, t)| **t != 0.0) {
-                r[a_ * nr..(a_ + 1) * nr].iter_mut().zip(ai).for_each(|(x, y)| *x += tia * y);
-            }
-        }
-        for a_ in 0..nr {
-            for b in 0..a_ {
-                let s = 0.5 * (r[a_ * nr + b] + r[b * nr + a_]);
-                r[a_ * nr + b] = s;
-                r[b * nr + a_] = s;
-            }
-        }
-        r
-    }
-
-    /// A combination Σ coeff·q[dof] of full DOFs as one of the reduced coordinates.
-    pub(super) fn row_combination(&self, g: &[(usize, f64)]) -> Vec<(usize, f64)> {
-        let nr = self.nr;
-        let mut r = vec![0.0; nr];
-        for &(d, coef) in g {
-            for (x, tv) in r.iter_mut().zip(&self.t[d * nr..(d + 1) * nr]) {
-                *x += coef * tv;
-            }
-        }
-        r.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect()
     }
 }
 
@@ -516,7 +472,7 @@ pub(super) fn mul(a: &Csr, x: &[f64]) -> Vec<f64> {
 /// in ω) and ω = √(yᵀ·K·y). Directions with less than 1e-10 of the largest K-norm² (after
 /// scaling each vector to unit K-norm) are dropped as dependent: the energy norm is the
 /// one that decides whether a direction matters for the static correction.
-fn pencil_basis(kg: &Mat<f64>, mg: &Mat<f64>) -> Result<(Mat<f64>, Vec<f64>)> {
+pub(super) fn pencil_basis(kg: &Mat<f64>, mg: &Mat<f64>) -> Result<(Mat<f64>, Vec<f64>)> {
     let q = kg.nrows();
     if q == 0 {
         return Ok((Mat::zeros(0, 0), Vec::new()));

@@ -8,15 +8,21 @@
 //! retained modes Φ, the structure's M and C and their projections ΦᵀMΦ and ΦᵀCΦ, and the
 //! factor of its K — and per placement adds what depends on it:
 //!
-//! * the static shapes K⁻¹·b_j of the case's attachment patterns b_j (a foot's w: one DOF
-//!   at a node, the element's shape functions between nodes; a point load's likewise), one
-//!   solve each, turned into residual vectors exactly as a single system's reduction does
-//!   (`modal_basis::residual_vectors`: M-orthogonal to Φ, diagonalising the residual
-//!   flexibility);
-//! * the structure blocks that involve them (Φᵀ·M·ψ, ψᵀ·M·ψ, and C's), from one product
-//!   with M and one with C per residual vector;
+//! * the static shapes x_j = K⁻¹·b_j of the case's attachment patterns b_j (a foot's w: one
+//!   DOF at a node, the element's shape functions between nodes; a point load's likewise),
+//!   one solve each, turned into residual vectors ψ_j = x_j − Φ·α_j as a single system's
+//!   reduction does (`modal_basis::residual_vectors`: M-orthogonal to Φ, diagonalising the
+//!   residual flexibility);
+//! * the structure blocks that involve them (Φᵀ·M·ψ, ψᵀ·M·ψ, and C's);
 //! * the actuators' bodies, springs, dampers and foot masses projected on the rows of the
-//!   basis at their feet (`Basis::project_rows`).
+//!   basis at their feet (`Projection::project_rows`).
+//!
+//! None of these forms ψ_j. What the modes carry of a static shape, Φᵀ·M·x_j, is
+//! (K⁻¹·M·Φ)ᵀ·b_j, read off at the pattern's few DOFs from K⁻¹·M·Φ, solved once for the
+//! study (and K⁻¹·C·Φ likewise for C); the Gram matrices ψᵀ·M·ψ and ψᵀ·C·ψ follow from
+//! x_iᵀ·M·x_j and those coefficients; and T keeps ψ factored as X·Y − Φ·B
+//! ([`Factored`]). A placement so costs its few sparse solves and products with M and C,
+//! not O(modes × structure DOFs) per residual vector.
 //!
 //! The reduced system is the one `modal_basis::reduce` builds from the case's assembled
 //! system, except that its static correction is spanned by the attachment patterns b_j
@@ -26,13 +32,16 @@
 //! structure's matrices is assembled per placement.
 
 use super::modal_basis::{
-    at, mul, reduced_system, residual_vectors, sparse_of_dense, Basis, Reduction, ReductionOptions, Residual,
+    at, mul, pencil_basis, reduced_system, sparse_of_dense, Reduction, ReductionOptions, RESIDUAL_FLOOR,
 };
-use crate::assembly::{DofMap, System};
+use crate::assembly::projection::Factored;
+use crate::assembly::{DofMap, Projection, System};
 use crate::error::{Error, Result};
 use crate::linalg::sparse_ldlt::OwnedLdlt;
 use crate::linalg::{dot, Csr};
 use crate::solve::eigen::{ratio_of, Modes};
+use faer::Mat;
+use std::sync::Arc;
 
 /// The bare structure's part of a reduction, shared by the placements of a study.
 #[derive(Debug)]
@@ -40,22 +49,80 @@ pub struct SharedBasis {
     /// The bare structure's DOF numbering (no actuators): a placement's system must number
     /// the structure the same way.
     dofs: DofMap,
-    /// Retained modes over the structure's DOFs (mass-normalised) and their ω (rad/s).
-    phi: Vec<Vec<f64>>,
+    /// Retained modes (mass-normalised), row-major `structure DOFs × modes`, and their ω
+    /// (rad/s).
+    phi: Arc<Vec<f64>>,
     omega: Vec<f64>,
     first_discarded: Option<f64>,
-    /// The structure's M and C, M·φ_r and C·φ_r per mode, and Φᵀ·M·Φ, Φᵀ·C·Φ (row-major
-    /// nm × nm, symmetrised).
+    /// The structure's M and C, and Φᵀ·M·Φ, Φᵀ·C·Φ (row-major nm × nm, symmetrised).
     m: Csr,
     c: Csr,
-    m_phi: Vec<Vec<f64>>,
-    c_phi: Vec<Vec<f64>>,
     phi_m: Vec<f64>,
     phi_c: Vec<f64>,
-    /// The factor of the structure's K for the static shapes (None without the static
-    /// correction).
-    k: Option<OwnedLdlt>,
+    /// What the static correction needs (None without it).
+    statics: Option<Statics>,
     modal_damping: Option<Vec<f64>>,
+}
+
+/// The factor of the structure's K, and K⁻¹·M·Φ and K⁻¹·C·Φ (row-major `structure DOFs ×
+/// modes`): b_jᵀ·K⁻¹·M·φ_r is what mode r carries of the static shape K⁻¹·b_j.
+#[derive(Debug)]
+struct Statics {
+    k: OwnedLdlt,
+    k_inv_m_phi: Vec<f64>,
+    k_inv_c_phi: Vec<f64>,
+}
+
+/// A placement's residual vectors ψ̃_c = Σ_a Y_ac·(x_a − Φ·α_a), with what the reduced
+/// structure matrices need of them.
+struct PlacementResidual {
+    shapes: Vec<Vec<f64>>,
+    /// Y (shapes × columns), B = [α_a]·Y (modes × columns), row-major.
+    y: Vec<f64>,
+    b: Vec<f64>,
+    omega: Vec<f64>,
+    dropped: usize,
+    /// Φᵀ·A·ψ̃ (modes × columns) and ψ̃ᵀ·A·ψ̃ (columns × columns) for A = M and A = C.
+    m_blocks: (Vec<f64>, Vec<f64>),
+    c_blocks: (Vec<f64>, Vec<f64>),
+}
+
+impl PlacementResidual {
+    fn none() -> Self {
+        PlacementResidual {
+            shapes: Vec::new(),
+            y: Vec::new(),
+            b: Vec::new(),
+            omega: Vec::new(),
+            dropped: 0,
+            m_blocks: (Vec::new(), Vec::new()),
+            c_blocks: (Vec::new(), Vec::new()),
+        }
+    }
+}
+
+/// Row-major `rows × cols` of column vectors.
+fn row_major(columns: &[Vec<f64>], rows: usize) -> Vec<f64> {
+    let cols = columns.len();
+    let mut r = vec![0.0; rows * cols];
+    for (c, v) in columns.iter().enumerate() {
+        v.iter().enumerate().for_each(|(i, &x)| r[i * cols + c] = x);
+    }
+    r
+}
+
+/// Vᵀ·A·V of column vectors V given A·V, symmetrised (row-major).
+fn gram(v: &[Vec<f64>], av: &[Vec<f64>]) -> Vec<f64> {
+    let n = v.len();
+    let mut r = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..=i {
+            let s = 0.5 * (dot(&v[i], &av[j]) + dot(&v[j], &av[i]));
+            r[i * n + j] = s;
+            r[j * n + i] = s;
+        }
+    }
+    r
 }
 
 impl SharedBasis {
@@ -68,138 +135,238 @@ impl SharedBasis {
         }
         let kept: Vec<usize> = (0..modes.count()).filter(|&r| modes.omega[r] <= opts.cutoff).collect();
         let phi: Vec<Vec<f64>> = kept.iter().map(|&r| modes.shape_global(r, ns)).collect();
-        let times_phi = |a: &Csr| -> Vec<Vec<f64>> { phi.iter().map(|v| mul(a, v)).collect() };
-        let project = |ap: &[Vec<f64>]| {
-            let nm = phi.len();
-            let mut r = vec![0.0; nm * nm];
-            for i in 0..nm {
-                for j in 0..=i {
-                    let s = 0.5 * (dot(&phi[i], &ap[j]) + dot(&phi[j], &ap[i]));
-                    r[i * nm + j] = s;
-                    r[j * nm + i] = s;
-                }
+        let times = |a: &Csr, vs: &[Vec<f64>]| -> Vec<Vec<f64>> { vs.iter().map(|v| mul(a, v)).collect() };
+        let (m_phi, c_phi) = (times(&bare.m_beam, &phi), times(&bare.c_beam, &phi));
+        let statics = match opts.static_correction {
+            true => {
+                let k = OwnedLdlt::of(&bare.k_beam)?;
+                let solved = |vs: &[Vec<f64>]| -> Vec<Vec<f64>> {
+                    vs.iter()
+                        .map(|v| {
+                            let mut x = v.clone();
+                            k.solve_in_place(&mut x);
+                            x
+                        })
+                        .collect()
+                };
+                let (k_inv_m_phi, k_inv_c_phi) = (row_major(&solved(&m_phi), ns), row_major(&solved(&c_phi), ns));
+                Some(Statics { k, k_inv_m_phi, k_inv_c_phi })
             }
-            r
-        };
-        let (m_phi, c_phi) = (times_phi(&bare.m_beam), times_phi(&bare.c_beam));
-        let k = match opts.static_correction {
-            true => Some(OwnedLdlt::of(&bare.k_beam)?),
             false => None,
         };
         Ok(SharedBasis {
             dofs: bare.dofs.clone(),
             omega: kept.iter().map(|&r| modes.omega[r]).collect(),
             first_discarded: modes.omega.get(kept.len()).copied(),
-            phi_m: project(&m_phi),
-            phi_c: project(&c_phi),
-            m_phi,
-            c_phi,
-            phi,
+            phi_m: gram(&phi, &m_phi),
+            phi_c: gram(&phi, &c_phi),
+            phi: Arc::new(row_major(&phi, ns)),
             m: bare.m_beam.clone(),
             c: bare.c_beam.clone(),
-            k,
+            statics,
             modal_damping: opts.modal_damping.clone(),
         })
     }
 
     /// Retained modes.
     pub fn modes(&self) -> usize {
-        self.phi.len()
+        self.omega.len()
     }
 
     /// The reduced system of a placement: `attached` holds the case's actuators and loads
     /// on the structure ([`System::assemble_attachments`]: the structure numbered as the
     /// bare one, the bodies after it, no structure matrices).
     pub fn reduce(&self, attached: &System) -> Result<Reduction> {
-        let ns = self.dofs.n;
         if attached.dofs.nodes != self.dofs.nodes || attached.projection.is_some() {
             return Err(Error::Numerical(
                 "the case's structure is not the one the study's shared reduction was built on".into(),
             ));
         }
-        let n = attached.n();
         let bodies: Vec<usize> = attached.dofs.bodies.iter().flatten().copied().collect();
-        let patterns = attachment_patterns(attached, ns);
-        let Residual { vectors: psi, omega: residual_omega, dropped } = match &self.k {
-            Some(k) if !patterns.is_empty() => {
-                let shapes = patterns.iter().map(|b| static_shape(k, b, ns)).collect();
-                residual_vectors(&self.m, &patterns, shapes, (&self.phi, Some(&self.m_phi)), &self.omega)?
-            }
-            _ => Residual { vectors: Vec::new(), omega: Vec::new(), dropped: 0 },
+        let patterns = attachment_patterns(attached, self.dofs.n);
+        let res = match &self.statics {
+            Some(s) if !patterns.is_empty() => self.residual(s, &patterns)?,
+            _ => PlacementResidual::none(),
         };
-        let (nm, np) = (self.phi.len(), psi.len());
-        let nr = nm + np + bodies.len();
-        let t = self.basis_rows(&psi, &bodies, n, nr);
-        let basis = Basis { t: &t, n, nr };
+        let (nm, nq) = (self.modes(), res.omega.len());
+        let nr = nm + nq + bodies.len();
 
-        let m_beam = self.structure_block((&self.phi_m, &self.m_phi), &self.m, &psi, nr);
-        let mut c_beam = self.structure_block((&self.phi_c, &self.c_phi), &self.c, &psi, nr);
-        let k_diag: Vec<f64> = self.omega.iter().chain(&residual_omega).map(|w| w * w).collect();
+        let m_beam = self.structure_block(&self.phi_m, &res.m_blocks, nq, nr);
+        let mut c_beam = self.structure_block(&self.phi_c, &res.c_blocks, nq, nr);
         if let Some(ratios) = &self.modal_damping {
             // As in `modal_basis::reduce`: 2ζ_r·ω_r on the modal coordinates, the residual
             // vectors taking the next ratios at their pseudo-frequencies.
-            for (r, &w) in self.omega.iter().chain(&residual_omega).enumerate() {
+            for (r, &w) in self.omega.iter().chain(&res.omega).enumerate() {
                 c_beam[r * nr + r] += 2.0 * ratio_of(ratios, r) * w;
             }
         }
         let mut k_beam = vec![0.0; nr * nr];
-        k_diag.iter().enumerate().for_each(|(r, &v)| k_beam[r * nr + r] = v);
+        for (r, w) in self.omega.iter().chain(&res.omega).enumerate() {
+            k_beam[r * nr + r] = w * w;
+        }
+        let residual_omega = res.omega;
+        let factored =
+            Factored { phi: Arc::clone(&self.phi), modes: nm, shapes: res.shapes, y: res.y, b: res.b, bodies };
+        let basis = Projection::factored(attached.dofs.clone(), factored);
         let [m, c, k] = [(&m_beam, &attached.m), (&c_beam, &attached.c), (&k_beam, &attached.k)].map(|(s, a)| {
             let mut r = basis.project_rows(a);
             r.iter_mut().zip(s).for_each(|(x, y)| *x += y);
             sparse_of_dense(&r, nr)
         });
         let [m_beam, c_beam, k_beam] = [&m_beam, &c_beam, &k_beam].map(|r| sparse_of_dense(r, nr));
-        let system = reduced_system(attached, t, nr, [m, c, k, m_beam, c_beam, k_beam], nm + np);
+        let system = reduced_system(attached, basis, [m, c, k, m_beam, c_beam, k_beam], nm + nq);
         Ok(Reduction {
             system,
             mode_omega: self.omega.clone(),
             first_discarded_omega: self.first_discarded,
             residual_omega,
+            dropped: res.dropped,
+        })
+    }
+
+    /// Pattern b's value on each retained mode, or on each column of a row-major
+    /// `structure DOFs × modes` array `rows` (bᵀ·Φ, bᵀ·K⁻¹·M·Φ, …).
+    fn on_modes(&self, rows: &[f64], b: &[(usize, f64)]) -> Vec<f64> {
+        let nm = self.modes();
+        let mut r = vec![0.0; nm];
+        for &(d, c) in b {
+            r.iter_mut().zip(&rows[d * nm..(d + 1) * nm]).for_each(|(x, v)| *x += c * v);
+        }
+        r
+    }
+
+    /// The residual vectors of the attachment `patterns` (as `modal_basis::residual_vectors`
+    /// builds them, without forming them): static shapes x_a, coefficients α_a with
+    /// Φᵀ·M·(x_a − Φ·α_a) = 0, the pencil of (G, ψᵀ·M·ψ) diagonalised.
+    fn residual(&self, s: &Statics, patterns: &[Vec<(usize, f64)>]) -> Result<PlacementResidual> {
+        let (nm, ns) = (self.modes(), self.dofs.n);
+        let shapes: Vec<Vec<f64>> = patterns.iter().map(|b| static_shape(&s.k, b, ns)).collect();
+        let on_phi: Vec<Vec<f64>> = patterns.iter().map(|b| self.on_modes(&self.phi, b)).collect();
+        // Residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ), at the patterns.
+        let g = |a: usize, b: usize| {
+            let sf = 0.5 * (at(&patterns[b], &shapes[a]) + at(&patterns[a], &shapes[b]));
+            sf - on_phi[a].iter().zip(&on_phi[b]).zip(&self.omega).map(|((x, y), w)| x * y / (w * w)).sum::<f64>()
+        };
+        // A pattern whose residual flexibility cancels to round-off is already spanned by
+        // the retained modes; keeping it would make T singular.
+        let live: Vec<usize> =
+            (0..patterns.len()).filter(|&a| g(a, a) > RESIDUAL_FLOOR * at(&patterns[a], &shapes[a])).collect();
+        let q = live.len();
+        let mut dropped = patterns.len() - q;
+        // Φᵀ·M·x_a and Φᵀ·C·x_a from the shared K⁻¹·M·Φ and K⁻¹·C·Φ; α_a by two passes of
+        // M-orthogonalisation (Φᵀ·M·Φ is I to round-off), as the explicit vectors get.
+        let phi_m_x: Vec<Vec<f64>> = live.iter().map(|&a| self.on_modes(&s.k_inv_m_phi, &patterns[a])).collect();
+        let phi_c_x: Vec<Vec<f64>> = live.iter().map(|&a| self.on_modes(&s.k_inv_c_phi, &patterns[a])).collect();
+        let alpha: Vec<Vec<f64>> = phi_m_x
+            .iter()
+            .map(|p| {
+                let mut al = p.clone();
+                let left = sub(p, &mat_vec(&self.phi_m, &al, nm));
+                al.iter_mut().zip(left).for_each(|(x, d)| *x += d);
+                al
+            })
+            .collect();
+        let shapes: Vec<Vec<f64>> = live.iter().map(|&a| shapes[a].clone()).collect();
+        // ψ_aᵀ·A·ψ_b = x_aᵀ·A·x_b − α_aᵀ·(Φᵀ·A·x_b) − (Φᵀ·A·x_a)ᵀ·α_b + α_aᵀ·(Φᵀ·A·Φ)·α_b.
+        let psi_gram = |a_mat: &Csr, phi_a_x: &[Vec<f64>], phi_a_phi: &[f64]| -> Vec<f64> {
+            let ax: Vec<Vec<f64>> = shapes.iter().map(|x| mul(a_mat, x)).collect();
+            let p_alpha: Vec<Vec<f64>> = alpha.iter().map(|al| mat_vec(phi_a_phi, al, nm)).collect();
+            let mut r = gram(&shapes, &ax);
+            for i in 0..q {
+                for j in 0..q {
+                    r[i * q + j] +=
+                        dot(&alpha[i], &p_alpha[j]) - dot(&alpha[i], &phi_a_x[j]) - dot(&phi_a_x[i], &alpha[j]);
+                }
+            }
+            symmetrise(&mut r, q);
+            r
+        };
+        let mg = psi_gram(&self.m, &phi_m_x, &self.phi_m);
+        let cg = psi_gram(&self.c, &phi_c_x, &self.phi_c);
+        let kg = Mat::<f64>::from_fn(q, q, |a, b| g(live[a], live[b]));
+        let (y, omega) = pencil_basis(&kg, &Mat::<f64>::from_fn(q, q, |a, b| mg[a * q + b]))?;
+        let nq = omega.len();
+        dropped += q - nq;
+        let y: Vec<f64> = (0..q).flat_map(|a| (0..nq).map(move |c| (a, c))).map(|(a, c)| y[(a, c)]).collect();
+        // Φᵀ·A·ψ_a = Φᵀ·A·x_a − (Φᵀ·A·Φ)·α_a, then on the columns Y.
+        let coupling = |phi_a_x: &[Vec<f64>], phi_a_phi: &[f64]| -> Vec<f64> {
+            let per_shape: Vec<Vec<f64>> =
+                (0..q).map(|a| sub(&phi_a_x[a], &mat_vec(phi_a_phi, &alpha[a], nm))).collect();
+            times_y(&per_shape, &y, nm, nq)
+        };
+        let on_columns = |gram_q: &[f64]| -> Vec<f64> {
+            // Yᵀ·G·Y.
+            let mut r = vec![0.0; nq * nq];
+            for c in 0..nq {
+                for d in 0..nq {
+                    r[c * nq + d] = (0..q)
+                        .flat_map(|a| (0..q).map(move |b| (a, b)))
+                        .map(|(a, b)| y[a * nq + c] * gram_q[a * q + b] * y[b * nq + d])
+                        .sum();
+                }
+            }
+            symmetrise(&mut r, nq);
+            r
+        };
+        Ok(PlacementResidual {
+            b: times_y(&alpha, &y, nm, nq),
+            m_blocks: (coupling(&phi_m_x, &self.phi_m), on_columns(&mg)),
+            c_blocks: (coupling(&phi_c_x, &self.phi_c), on_columns(&cg)),
+            shapes,
+            y,
+            omega,
             dropped,
         })
     }
 
-    /// T (row-major n × nr): the modes and residual vectors on the structure's rows, the
-    /// identity on the bodies'.
-    fn basis_rows(&self, psi: &[Vec<f64>], bodies: &[usize], n: usize, nr: usize) -> Vec<f64> {
-        let mut t = vec![0.0; n * nr];
-        for (c, v) in self.phi.iter().chain(psi).enumerate() {
-            for (d, &x) in v.iter().enumerate() {
-                t[d * nr + c] = x;
-            }
-        }
-        let first_body = self.phi.len() + psi.len();
-        for (k, &b) in bodies.iter().enumerate() {
-            t[b * nr + first_body + k] = 1.0;
-        }
-        t
-    }
-
-    /// The structure's matrix `a` on the basis (dense nr × nr, zero on the bodies): the
-    /// shared Φᵀ·A·Φ (`phi_a`), and the blocks of the residual vectors `psi` from A·Φ
-    /// (`a_phi`) and A·ψ.
-    fn structure_block(&self, (phi_a, a_phi): (&[f64], &[Vec<f64>]), a: &Csr, psi: &[Vec<f64>], nr: usize) -> Vec<f64> {
-        let nm = self.phi.len();
+    /// The structure's matrix A on the basis (dense nr × nr, zero on the bodies): the
+    /// shared Φᵀ·A·Φ (`phi_a`), and the residual vectors' blocks (Φᵀ·A·ψ̃, ψ̃ᵀ·A·ψ̃).
+    fn structure_block(&self, phi_a: &[f64], (coupling, own): &(Vec<f64>, Vec<f64>), nq: usize, nr: usize) -> Vec<f64> {
+        let nm = self.modes();
         let mut r = vec![0.0; nr * nr];
         for i in 0..nm {
             r[i * nr..i * nr + nm].copy_from_slice(&phi_a[i * nm..(i + 1) * nm]);
+            for c in 0..nq {
+                r[i * nr + nm + c] = coupling[i * nq + c];
+                r[(nm + c) * nr + i] = coupling[i * nq + c];
+            }
         }
-        let a_psi: Vec<Vec<f64>> = psi.iter().map(|v| mul(a, v)).collect();
-        for (k, ak) in a_psi.iter().enumerate() {
-            let col = nm + k;
-            for (i, av) in a_phi.iter().enumerate() {
-                let s = dot(av, &psi[k]);
-                r[i * nr + col] = s;
-                r[col * nr + i] = s;
-            }
-            for (l, al) in a_psi.iter().enumerate().take(k + 1) {
-                let s = 0.5 * (dot(&psi[k], al) + dot(&psi[l], ak));
-                r[col * nr + nm + l] = s;
-                r[(nm + l) * nr + col] = s;
-            }
+        for c in 0..nq {
+            r[(nm + c) * nr + nm..(nm + c) * nr + nm + nq].copy_from_slice(&own[c * nq..(c + 1) * nq]);
         }
         r
+    }
+}
+
+/// Σ_a v_a·Y_a,: (rows × columns, row-major) of per-shape vectors `v` (each `rows` long).
+fn times_y(v: &[Vec<f64>], y: &[f64], rows: usize, nq: usize) -> Vec<f64> {
+    let mut r = vec![0.0; rows * nq];
+    for (a, va) in v.iter().enumerate() {
+        for (i, &x) in va.iter().enumerate() {
+            for c in 0..nq {
+                r[i * nq + c] += x * y[a * nq + c];
+            }
+        }
+    }
+    r
+}
+
+/// A·x for a row-major n × n A.
+fn mat_vec(a: &[f64], x: &[f64], n: usize) -> Vec<f64> {
+    (0..n).map(|i| dot(&a[i * n..(i + 1) * n], x)).collect()
+}
+
+fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
+    a.iter().zip(b).map(|(x, y)| x - y).collect()
+}
+
+fn symmetrise(r: &mut [f64], n: usize) {
+    for i in 0..n {
+        for j in 0..i {
+            let s = 0.5 * (r[i * n + j] + r[j * n + i]);
+            r[i * n + j] = s;
+            r[j * n + i] = s;
+        }
     }
 }
 
@@ -234,4 +401,85 @@ fn static_shape(k: &OwnedLdlt, b: &[(usize, f64)], ns: usize) -> Vec<f64> {
     k.solve_in_place(&mut x);
     debug_assert!(at(b, &x).is_finite());
     x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::plan::calibrated_model;
+    use crate::assembly::Model;
+    use crate::case::LoadedCase;
+    use num_complex::Complex64;
+
+    /// A frame turned 30° on an 8 × 6 plate, its feet between nodes, one edge clamped.
+    fn placement() -> Model {
+        let text = "[plate]\nlength_x = 0.5\nlength_y = 0.4\nthickness = 0.003\nyoungs_modulus = 70e9\n\
+            poisson_ratio = 0.33\ndensity = 2700.0\n[plate.mesh]\nelements = [8, 6]\nthrough_points = false\n\
+            [plate.edges]\nx0 = \"simply_supported\"\nx1 = \"simply_supported\"\ny0 = \"clamped\"\n\
+            y1 = \"simply_supported\"\n[damping]\nkind = \"rayleigh_ratio\"\nzeta = 0.01\nmodes = [1, 3]\n\
+            [[actuator]]\ntype = \"frame\"\nname = \"frame\"\nat = [0.173, 0.228]\ndirection = 30.0\n\
+            [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 83.0\n\
+            [[analysis]]\ntype = \"steady_state\"\n";
+        calibrated_model(&LoadedCase::from_str(text, "plate.toml", ".".into()).unwrap()).unwrap()
+    }
+
+    /// The reduced structure matrices and the basis rows, which the factored form builds
+    /// from Gram matrices and never forms ψ for, against the explicit columns of T: Tᵀ·A·T
+    /// from dense products, and K-orthogonality of the residual columns to the modes.
+    #[test]
+    fn the_factored_basis_reduces_as_its_explicit_columns() {
+        let model = placement();
+        let bare = Model { damping: model.damping.clone(), ..Model::bare(model.structure.clone().unwrap()) };
+        let bare_sys = System::assemble(&bare).unwrap();
+        let modes =
+            crate::solve::eigen::modes(&bare_sys.k_beam, &bare_sys.m_beam, &bare_sys.dofs.structure_dofs(), usize::MAX)
+                .unwrap();
+        let opts = ReductionOptions {
+            cutoff: modes.omega[11] * 1.001,
+            static_correction: true,
+            modal_damping: None,
+            sparse_factor: false,
+        };
+        let attached = System::assemble_attachments(&model).unwrap();
+        let r = SharedBasis::new(&bare_sys, &modes, &opts).unwrap().reduce(&attached).unwrap();
+        let (nm, nq) = (r.mode_omega.len(), r.residual_omega.len());
+        assert_eq!(nm, 12);
+        assert!(nq >= 2, "the frame's feet give residual vectors: {nq}");
+        let p = r.system.projection.as_ref().unwrap();
+        let ns = bare_sys.n();
+        let column = |c: usize| -> Vec<f64> {
+            let mut e = vec![Complex64::default(); p.n_reduced];
+            e[c] = Complex64::new(1.0, 0.0);
+            p.expand(&e)[..ns].iter().map(|z| z.re).collect()
+        };
+        let t: Vec<Vec<f64>> = (0..nm + nq).map(column).collect();
+        // Rows of T agree with its columns.
+        for d in (0..ns).step_by(7) {
+            let row = p.row_dense(d);
+            for (c, tc) in t.iter().enumerate() {
+                assert!((row[c] - tc[d]).abs() <= 1e-12 * tc.iter().fold(0.0f64, |m, x| m.max(x.abs())));
+            }
+        }
+        for (a, reduced) in [(&bare_sys.m_beam, &r.system.m_beam), (&bare_sys.c_beam, &r.system.c_beam)] {
+            let at: Vec<Vec<f64>> = t.iter().map(|v| mul(a, v)).collect();
+            let diag: Vec<f64> = (0..nm + nq).map(|i| dot(&t[i], &at[i])).collect();
+            for i in 0..nm + nq {
+                for j in 0..nm + nq {
+                    let explicit = dot(&t[i], &at[j]);
+                    let scale = (diag[i] * diag[j]).sqrt();
+                    let e = (reduced.get(i, j) - explicit).abs() / scale;
+                    assert!(e < 1e-10, "({i}, {j}): {} against {explicit}: {e:e}", reduced.get(i, j));
+                }
+            }
+        }
+        // K: diagonal Ω², ω̃² as set, and the explicit columns K-orthogonal to it.
+        let kt: Vec<Vec<f64>> = t.iter().map(|v| mul(&bare_sys.k_beam, v)).collect();
+        for i in 0..nm + nq {
+            for j in 0..nm + nq {
+                let scale = (dot(&t[i], &kt[i]) * dot(&t[j], &kt[j])).sqrt();
+                let e = (r.system.k_beam.get(i, j) - dot(&t[i], &kt[j])).abs() / scale;
+                assert!(e < 1e-8, "K ({i}, {j}): {e:e}");
+            }
+        }
+    }
 }
