@@ -15,8 +15,6 @@
 
 use super::dofs::DofMap;
 use crate::linalg::Csr;
-use faer::linalg::matmul::matmul;
-use faer::{Accum, Mat, Par};
 use num_complex::Complex64;
 use std::sync::Arc;
 
@@ -154,35 +152,30 @@ impl Projection {
 
     /// Tᵀ·A·T for an A whose entries lie on few DOFs (an actuator's springs, dampers and
     /// masses), dense (row-major nr × nr, symmetrised): only the rows of T at those DOFs
-    /// enter, T_D (DOFs × nr), and Tᵀ·A·T = T_Dᵀ·(A_DD·T_D) is two small dense products.
+    /// enter, T_D, and Tᵀ·A·T = T_Dᵀ·(A_DD·T_D) costs nothing of the model's size.
     pub fn project_rows(&self, a: &Csr) -> Vec<f64> {
         let nr = self.n_reduced;
         let mut dofs: Vec<usize> = a.triplets().flat_map(|(i, j, _)| [i, j]).collect();
         dofs.sort_unstable();
         dofs.dedup();
-        let nd = dofs.len();
         let index = |i: usize| dofs.binary_search(&i).expect("a DOF of A");
-        let mut t_d = Mat::<f64>::zeros(nd, nr);
-        for (k, &d) in dofs.iter().enumerate() {
-            for (c, v) in self.row_dense(d).into_iter().enumerate() {
-                t_d[(k, c)] = v;
+        let t_d: Vec<Vec<f64>> = dofs.iter().map(|&d| self.row_dense(d)).collect();
+        // A·T on A's rows, from its entries; then T_Dᵀ·(A·T), skipping T's exact zeros.
+        let mut at = vec![vec![0.0; nr]; dofs.len()];
+        for (i, j, v) in a.triplets() {
+            at[index(i)].iter_mut().zip(&t_d[index(j)]).for_each(|(x, t)| *x += v * t);
+        }
+        let mut r = vec![0.0; nr * nr];
+        for (ti, ai) in t_d.iter().zip(&at) {
+            for (a_, &tia) in ti.iter().enumerate().filter(|(_, t)| **t != 0.0) {
+                r[a_ * nr..(a_ + 1) * nr].iter_mut().zip(ai).for_each(|(x, y)| *x += tia * y);
             }
         }
-        let mut a_dd = Mat::<f64>::zeros(nd, nd);
-        for (i, j, v) in a.triplets() {
-            a_dd[(index(i), index(j))] += v;
-        }
-        // Sequential: a placement is one task of a study that already runs on every core.
-        let mut at = Mat::<f64>::zeros(nd, nr);
-        matmul(at.as_mut(), Accum::Replace, a_dd.as_ref(), t_d.as_ref(), 1.0, Par::Seq);
-        let mut prod = Mat::<f64>::zeros(nr, nr);
-        matmul(prod.as_mut(), Accum::Replace, t_d.transpose(), at.as_ref(), 1.0, Par::Seq);
-        let mut r = vec![0.0; nr * nr];
-        for i in 0..nr {
-            for j in 0..=i {
-                let s = 0.5 * (prod[(i, j)] + prod[(j, i)]);
-                r[i * nr + j] = s;
-                r[j * nr + i] = s;
+        for a_ in 0..nr {
+            for b in 0..a_ {
+                let s = 0.5 * (r[a_ * nr + b] + r[b * nr + a_]);
+                r[a_ * nr + b] = s;
+                r[b * nr + a_] = s;
             }
         }
         r
