@@ -882,3 +882,44 @@ pub fn estimate_reduction_error(
     let r = run(model, reduced, harmonics, samples)?;
     Ok(reduction_error(&f, &r))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fine mesh's count (each harmonic factorised once for both samplings, the one
+    /// forcing's solve scaled from one to the other) gives each point's power per harmonic,
+    /// and the aliasing from their differences, as the two runs solved apart do, to the
+    /// share of the tolerance their refinement holds each to.
+    #[test]
+    fn a_fine_meshs_count_gives_the_spectra_of_the_two_runs_apart() {
+        let text = include_str!("../../cases/beam-frame-12V-60Hz.toml")
+            .replace("[beam]", "[beam]\n[beam.mesh]\nelements = 400");
+        let lc = crate::case::LoadedCase::from_str(&text, "frame.toml", std::path::PathBuf::from(".")).unwrap();
+        let model = crate::analysis::plan::calibrated_model(&lc).unwrap();
+        let sys = System::assemble(&model).unwrap();
+        assert!(roundoff::coarse_bound(&model).is_none(), "a mesh whose solves are refined");
+        let (all, samples) = (127, 256);
+        let counted = fine_spectra(&model, &sys, all, samples).unwrap();
+        let cache = StackForceCache::default();
+        let apart = [
+            run(&model, &sys, all, samples).unwrap(),
+            run_with(&model, &mut HarmonicSolver::new(&sys), all, 2 * samples, Detail::Headline(&cache)).unwrap(),
+        ]
+        .map(|r| point_spectra(&r).cloned().collect::<Vec<_>>());
+        let powers: Vec<f64> = apart[0].iter().map(|p| p.iter().sum()).collect();
+        let scales = own_scales(&powers);
+        let held = 2.0 * roundoff::REFINE_FRACTION * model.roundoff_tolerance;
+        for (c, a) in counted.iter().zip(&apart) {
+            for (i, ((c, a), s)) in c.iter().zip(a).zip(&scales).enumerate() {
+                assert_eq!(c.len(), all + 1);
+                let off: f64 = c.iter().zip(a).map(|(x, y)| (x - y).abs()).sum();
+                assert!(off <= held * s, "point {i}: {off:e} W off, against {s:e} W");
+            }
+        }
+        let folded = [aliasing(&counted[0], &counted[1]), aliasing(&apart[0], &apart[1])];
+        for (i, ((c, a), s)) in folded[0].iter().zip(&folded[1]).zip(&scales).enumerate() {
+            assert!((c - a).abs() <= 2.0 * held * s, "point {i}: aliasing {c:e} W against {a:e} W");
+        }
+    }
+}
