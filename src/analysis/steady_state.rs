@@ -49,8 +49,7 @@ pub struct SteadyStateResult {
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
     /// Bound on the relative round-off of every link's and load's mean power, the largest
-    /// over them ([`crate::analysis::roundoff`]; NaN where not stated: the runs behind a
-    /// fine mesh's truncation estimate).
+    /// over them ([`crate::analysis::roundoff`]).
     pub mesh_roundoff: f64,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
     pub frequency: Vec<f64>,
