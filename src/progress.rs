@@ -75,6 +75,20 @@ pub fn current_cancel() -> Option<Cancel> {
     CANCEL.with(|c| c.borrow().clone())
 }
 
+/// `a` here and `b` on a thread beside it (which sees this thread's cancellation, not its
+/// observer), both results; a panic in `b` is raised here.
+pub fn side_by_side<A, B: Send>(a: impl FnOnce() -> A, b: impl FnOnce() -> B + Send) -> (A, B) {
+    let cancel = current_cancel();
+    std::thread::scope(|scope| {
+        let side = scope.spawn(|| match cancel {
+            Some(c) => cancellable(c, b),
+            None => b(),
+        });
+        let a = a();
+        (a, side.join().unwrap_or_else(|p| std::panic::resume_unwind(p)))
+    })
+}
+
 /// Runs `f` with `observer` watching this thread's tasks (the previous observer is restored
 /// afterwards, also on a panic).
 pub fn observe<T>(observer: Rc<dyn Observer>, f: impl FnOnce() -> T) -> T {

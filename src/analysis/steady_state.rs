@@ -49,8 +49,7 @@ pub struct SteadyStateResult {
     /// Periods it took h to settle into its cycle.
     pub hysteresis_periods: usize,
     /// Bound on the relative round-off of every link's and load's mean power, the largest
-    /// over them ([`crate::analysis::roundoff`]; NaN where not stated: the runs behind a
-    /// fine mesh's truncation estimate).
+    /// over them ([`crate::analysis::roundoff`]).
     pub mesh_roundoff: f64,
     /// Frequencies k·f₀ (Hz), k = 0..=harmonics.
     pub frequency: Vec<f64>,
@@ -119,8 +118,16 @@ pub enum HarmonicCount {
 /// ([`Truncation`]): every point is held to the tolerance on its own power.
 pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: usize) -> Result<SteadyStateResult> {
     let all = resolved_harmonics(samples.max(4));
-    let (full, doubled) = with_doubled_samples(model, sys, all, samples)?;
-    let truncation = Truncation::of(&full, aliasing(&full, &doubled));
+    let (full, [spectra, doubled]) = if roundoff::coarse_bound(model).is_some() {
+        let full = run(model, sys, all, samples)?;
+        let cache = StackForceCache::default();
+        let doubled = run_with(model, &mut HarmonicSolver::new(sys), all, 2 * samples, Detail::Headline(&cache))?;
+        let spectra = [&full, &doubled].map(|r| point_spectra(r).cloned().collect());
+        (Some(full), spectra)
+    } else {
+        (None, fine_spectra(model, sys, all, samples)?)
+    };
+    let truncation = Truncation::of(&spectra, aliasing(&spectra, &doubled));
     let n_harm = match count {
         HarmonicCount::Fixed(n) => n.min(all),
         HarmonicCount::Tolerance(tol) => (1..=all).find(|&k| truncation.estimate(k) <= tol).ok_or_else(|| {
@@ -135,19 +142,17 @@ pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: u
             )
         })?,
     };
-    // The full run states no round-off bound on a fine mesh (see `with_doubled_samples`).
-    let mut r = if n_harm == all && !full.mesh_roundoff.is_nan() { full } else { run(model, sys, n_harm, samples)? };
+    // A fine mesh's count states no round-off bound (see `fine_spectra`).
+    let mut r = match full {
+        Some(full) if n_harm == all => full,
+        _ => run(model, sys, n_harm, samples)?,
+    };
     r.truncation_estimate = truncation.estimate(n_harm);
     Ok(r)
 }
 
-/// The point powers of a steady state: each link's, then each point load's (W).
-fn point_powers(r: &SteadyStateResult) -> Vec<f64> {
-    r.spectra.iter().map(|s| s.power_total).chain(r.load_spectra.iter().map(|s| s.power_total)).collect()
-}
-
-/// What the kept harmonics leave out of each point's power, from a steady state solved
-/// with every harmonic its samples resolve (K of them):
+/// What the kept harmonics leave out of each point's power, from each point's power per
+/// harmonic solved with every harmonic the samples resolve (K of them):
 ///
 /// - the harmonics above the kept n up to K, measured: Σ_{n<k≤K} |P_k|;
 /// - those beyond K, bounded by an envelope. A drive of bounded variation has force
@@ -170,10 +175,12 @@ struct Truncation {
 }
 
 impl Truncation {
-    /// From `full`, solved with every resolved harmonic, and each point's `aliasing` (W).
-    fn of(full: &SteadyStateResult, aliasing: Vec<f64>) -> Self {
-        let all = full.harmonics;
-        let rest: Vec<Vec<f64>> = point_spectra(full)
+    /// From each point's power per harmonic k = 0..=K (W) and its `aliasing` (W); a point's
+    /// power is the sum of its harmonics'.
+    fn of(spectra: &[Vec<f64>], aliasing: Vec<f64>) -> Self {
+        let all = spectra.first().map_or(0, |p| p.len() - 1);
+        let rest: Vec<Vec<f64>> = spectra
+            .iter()
             .map(|power| {
                 let mut rest = vec![0.0f64; all + 1];
                 for k in (0..all).rev() {
@@ -183,7 +190,8 @@ impl Truncation {
             })
             .collect();
         let beyond = rest.iter().zip(aliasing).map(|(r, a)| 3.0 * r[all - all / 4] + a).collect();
-        Truncation { rest, beyond, scales: own_scales(&point_powers(full)) }
+        let powers: Vec<f64> = spectra.iter().map(|p| p.iter().sum()).collect();
+        Truncation { rest, beyond, scales: own_scales(&powers) }
     }
 
     /// The largest over the points of what n kept harmonics leave out, relative to the
@@ -207,47 +215,79 @@ fn point_spectra(r: &SteadyStateResult) -> impl Iterator<Item = &Vec<f64>> {
 /// twice the samples (`doubled`) folds back only the harmonics beyond twice the Nyquist
 /// one; with force harmonics falling at least as 1/k its folding is at most half that of
 /// `samples`, e_2N ≤ e_N/2, so e_N ≤ |P_N − P_2N| + e_N/2, and e_N ≤ 2·|P_N − P_2N|,
-/// harmonic by harmonic: the bound is 2·Σ_k |P_k(N) − P_k(2N)|.
-fn aliasing(full: &SteadyStateResult, doubled: &SteadyStateResult) -> Vec<f64> {
+/// harmonic by harmonic: the bound is 2·Σ_k |P_k(N) − P_k(2N)|. Each point's power per
+/// harmonic (W) from `samples` and from twice the samples.
+fn aliasing(full: &[Vec<f64>], doubled: &[Vec<f64>]) -> Vec<f64> {
     let folded = |(a, b): (&Vec<f64>, &Vec<f64>)| 2.0 * a.iter().zip(b).map(|(x, y)| (x - y).abs()).sum::<f64>();
-    point_spectra(full).zip(point_spectra(doubled)).map(folded).collect()
+    full.iter().zip(doubled).map(folded).collect()
 }
 
-/// The steady state with `all` harmonics from `samples` per period, and its headline from
-/// twice the samples ([`aliasing`]). Where the solves are refined (a fine mesh, where the
-/// two take seconds) they run side by side on two threads, each with its own solver and
-/// numbers bit for bit those of one after the other, and neither states a round-off bound
-/// (`mesh_roundoff` NaN): their harmonics serve the truncation estimate, and the harmonics
-/// kept are solved again with their bound ([`run_counted`]). Elsewhere one after the
-/// other, as [`run`] solves.
-fn with_doubled_samples(
-    model: &Model,
-    sys: &System,
-    all: usize,
-    samples: usize,
-) -> Result<(SteadyStateResult, SteadyStateResult)> {
-    let fine = roundoff::coarse_bound(model).is_none();
-    let solver = || HarmonicSolver { floors: !fine, ..HarmonicSolver::new(sys) };
-    let doubled = || {
-        let cache = StackForceCache::default();
-        run_with(model, &mut solver(), all, 2 * samples, Detail::Headline(&cache))
-    };
-    let full = || run_with(model, &mut solver(), all, samples, Detail::Full);
-    if !fine {
-        return Ok((full()?, doubled()?));
+/// Each point's power per harmonic k = 0..=`all` (W) from `samples` per period and from
+/// twice the samples, on a mesh whose solves are refined: what the truncation estimate
+/// needs of the runs with every resolved harmonic ([`Truncation`], [`aliasing`]), without
+/// their amplitudes (which would take 2 × 0.3 GB on 20,000 elements) or a round-off bound
+/// (the harmonics kept are solved again with theirs, [`run_counted`]).
+///
+/// The two samplings solve at the same frequencies k·ω₀, so each harmonic is factorised
+/// once for both; with a single forcing (one stack, no point load) their right-hand sides
+/// are parallel, b₂ = (F₂/F₁)·b₁, and so is the solution: the first sampling's, scaled,
+/// is the second's with its error scaled alike (the same relative error, held to the same
+/// share of the tolerance, [`Shares`]). With several forcings each sampling has its own
+/// solve. Each sampling judges its refinement against its own powers so far, as a run of
+/// its own would.
+fn fine_spectra(model: &Model, sys: &System, all: usize, samples: usize) -> Result<[Vec<Vec<f64>>; 2]> {
+    let cache = StackForceCache::default();
+    let (period, first) = forcing_harmonics(model, samples, all, &cache)?;
+    let (_, second) = forcing_harmonics(model, 2 * samples, all, &cache)?;
+    let forcings = [first, second];
+    let w0 = 2.0 * PI / period;
+    let largest = forcings.each_ref().map(|f| (0..=all).map(|k| forcing_size(f, k)).fold(0.0f64, f64::max));
+    let active: Vec<usize> = (0..=all)
+        .filter(|&k| (0..2).any(|s| forcing_size(&forcings[s], k) > NEGLIGIBLE_HARMONIC * largest[s]))
+        .collect();
+    let refinement = MeshRefinement::new(model, sys)?;
+    let mut dk = DynamicStiffness::of(sys);
+    let points = sys.links.len() + sys.loads.len();
+    let mut spectra = [(); 2].map(|_| vec![vec![0.0; all + 1]; points]);
+    let mut shares = [(); 2].map(|_| Shares::new(sys, active.len(), false));
+    let (mut rhs, mut q) = (vec![Complex64::default(); sys.n()], [(); 2].map(|_| Vec::new()));
+    let task = crate::progress::Task::start("harmonic count", Some(active.len() as u64), "harmonics solved");
+    for (done, pair) in active.chunks(2).enumerate() {
+        task.set(2 * done as u64)?;
+        match *pair {
+            [ka, kb] => dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?,
+            [k] => dk.factorize(k as f64 * w0)?,
+            _ => unreachable!("chunks of 1 or 2"),
+        }
+        for (lane, &k) in pair.iter().enumerate() {
+            let w = k as f64 * w0;
+            let scale = match &forcings {
+                [f1, f2] if f1.len() == 1 && f1[0][k] != Complex64::default() => Some(f2[0][k] / f1[0][k]),
+                _ => None,
+            };
+            for s in 0..2 {
+                let forcing: Vec<Complex64> = forcings[s].iter().map(|f| f[k]).collect();
+                let powers = match (s, scale) {
+                    (1, Some(c)) => {
+                        let [q0, q1] = &mut q;
+                        q1.clone_from(q0);
+                        q1.iter_mut().for_each(|x| *x *= c);
+                        shares[1].add(q1, w, &forcing)
+                    }
+                    _ => {
+                        forcing_vector(sys, &forcing, &mut rhs);
+                        q[s].clone_from(&rhs);
+                        dk.solve_lane(lane, &mut q[s]);
+                        let solve = Solved { dk: &dk, lane, rhs: &rhs };
+                        shares[s].refine(&refinement, solve, &mut q[s], (k, w, &forcing)).1
+                    }
+                };
+                spectra[s].iter_mut().zip(powers).for_each(|(p, x)| p[k] = x);
+            }
+        }
     }
-    let cancel = crate::progress::current_cancel();
-    std::thread::scope(|scope| {
-        let side = scope.spawn(|| match cancel {
-            Some(c) => crate::progress::cancellable(c, doubled),
-            None => doubled(),
-        });
-        let full = full();
-        let doubled = side.join().unwrap_or_else(|p| std::panic::resume_unwind(p));
-        Ok((full?, doubled?))
-    })
+    Ok(spectra)
 }
-
 /// [`run`] against a solver kept between cases (the cases of a sweep that differ only in
 /// their drives share the assembled system, so they share its solver and allocate nothing
 /// for the harmonic solves), computing what `detail` asks for. `model` must be the model
@@ -292,10 +332,7 @@ pub fn run_with(
     res.net_power = net_power(&sys.links, &res.mean_power, model.actuators.len());
     res.load_spectra = load_spectra(model, sys, &solver.q, load_h, &timing);
     let coarse = roundoff::coarse_bound(model).unwrap_or(0.0);
-    res.mesh_roundoff = match &solver.refinement {
-        Some(_) if !solver.floors => f64::NAN,
-        _ => roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period).max(coarse),
-    };
+    res.mesh_roundoff = roundoff_bound(sys, &res, &solver.error, 2.0 * PI / period).max(coarse);
     let load_power: f64 = res.load_spectra.iter().map(|s| s.power_total).sum();
     res.balance_error = balance_error(res.mean_power.iter().sum::<f64>() + load_power, res.beam_dissipation);
     if let Detail::Full = detail {
@@ -621,9 +658,6 @@ pub struct HarmonicSolver<'s> {
     /// The right-hand sides of the pair of harmonics being solved, kept for their
     /// refinement (one per factorisation lane: all of them would be as large as Q).
     rhs: Vec<Vec<Complex64>>,
-    /// Whether the refined solves' estimates get their rounding floor, as a stated bound
-    /// needs (without, [`SteadyStateResult::mesh_roundoff`] is NaN).
-    floors: bool,
     /// Beam dissipation per harmonic (W) of the last solve.
     pub diss: Vec<f64>,
 }
@@ -637,7 +671,6 @@ impl<'s> HarmonicSolver<'s> {
             q: Vec::new(),
             error: Vec::new(),
             rhs: Vec::new(),
-            floors: true,
             diss: Vec::new(),
         }
     }
@@ -662,23 +695,17 @@ impl<'s> HarmonicSolver<'s> {
     /// force F̂_p of actuator j, then (j ≥ actuators) the force of point load j − actuators.
     pub fn solve(&mut self, fp_h: impl Fn(usize, usize) -> Complex64, n_harm: usize, w0: f64) -> Result<()> {
         let sys = self.sys;
-        let n = sys.n();
         self.q.resize_with(n_harm + 1, Vec::new);
         self.diss.clear();
+        let forcings = sys.drives.len() + sys.loads.len();
         for (k, rhs) in self.q.iter_mut().enumerate() {
-            rhs.clear();
-            rhs.resize(n, Complex64::default());
-            for (j, b) in sys.drives.iter().chain(&sys.loads).enumerate() {
-                for &(d, c) in b {
-                    rhs[d] += fp_h(j, k) * c;
-                }
-            }
+            let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
+            forcing_vector(sys, &forcing, rhs);
         }
         // A harmonic whose stack forces are all below NEGLIGIBLE_HARMONIC of the largest is
         // not solved: its Q_k is zero. For a sine drive these are the even harmonics (and
         // the mean), which the hysteresis's odd symmetry makes zero up to the FFT's
         // round-off; skipping them halves the work of a steady state.
-        let forcings = sys.drives.len() + sys.loads.len();
         let size = |k: usize| (0..forcings).map(|j| fp_h(j, k).norm()).fold(0.0f64, f64::max);
         let largest = (0..=n_harm).map(size).fold(0.0f64, f64::max);
         let mut active = Vec::with_capacity(n_harm + 1);
@@ -694,10 +721,7 @@ impl<'s> HarmonicSolver<'s> {
         self.error.clear();
         self.error.resize_with(n_harm + 1, Refined::default);
         self.rhs.resize_with(2, Vec::new);
-        // Each point's power from the harmonics solved so far, against which a harmonic's
-        // share of the tolerance is judged (see the refinement below).
-        let mut so_far = vec![0.0f64; sys.links.len() + sys.loads.len()];
-        let share = roundoff::REFINE_FRACTION / active.len().max(1) as f64;
+        let mut shares = Shares::new(sys, active.len(), true);
         let task = crate::progress::Task::start("steady state", Some(active.len() as u64), "harmonics solved");
         for (done, pair) in active.chunks(2).enumerate() {
             task.set(2 * done as u64)?;
@@ -718,37 +742,11 @@ impl<'s> HarmonicSolver<'s> {
                 }
                 _ => unreachable!("chunks of 1 or 2"),
             }
-            // A harmonic is refined unless its first estimate already keeps the bound of
-            // every point's power within its share of the tolerance: REFINE_FRACTION/(the
-            // harmonics solved) of the power the point has from the harmonics before it
-            // (the lower ones, which carry most of it; the first has none, and is refined).
-            // The shares sum to REFINE_FRACTION of the tolerance wherever the power so far
-            // is the point's power; the bound stated is computed afterwards from every
-            // harmonic's estimate, whatever was refined, so the choice can cost accuracy
-            // but never the bound's validity. The mean (k = 0) carries no power but the
-            // static shape, where the factor is worst: it is held to the tolerance as a
-            // whole. A harmonic left so has a small share of the motion too (its apparent
-            // power is small beside every point's), so the displacements it adds to the
-            // time series are off by as little.
             if let Some(r) = &self.refinement {
                 for (lane, &k) in pair.iter().enumerate() {
-                    let w = k as f64 * w0;
                     let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
-                    let budget: Vec<f64> = so_far.iter().map(|p| share * r.tolerance() * p.abs()).collect();
-                    let e = r.refine_unless(
-                        &self.dk,
-                        lane,
-                        &self.rhs[lane],
-                        &mut self.q[k],
-                        |q, e| {
-                            k > 0 && harmonic_points(sys, q, w, &forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
-                        },
-                        self.floors,
-                    );
-                    for (p, (power, _)) in so_far.iter_mut().zip(harmonic_points(sys, &self.q[k], w, &forcing, &e)) {
-                        *p += power;
-                    }
-                    self.error[k] = e;
+                    let solve = Solved { dk: &self.dk, lane, rhs: &self.rhs[lane] };
+                    self.error[k] = shares.refine(r, solve, &mut self.q[k], (k, k as f64 * w0, &forcing)).0;
                 }
             }
         }
@@ -761,6 +759,103 @@ impl<'s> HarmonicSolver<'s> {
             });
         }
         Ok(())
+    }
+}
+
+/// The right-hand side Σ_j f_j·b_j of one harmonic's `forcing` (stack forces, then point
+/// loads), into `rhs` (resized to the system's DOFs).
+fn forcing_vector(sys: &System, forcing: &[Complex64], rhs: &mut Vec<Complex64>) {
+    rhs.clear();
+    rhs.resize(sys.n(), Complex64::default());
+    for (b, f) in sys.drives.iter().chain(&sys.loads).zip(forcing) {
+        for &(d, c) in b {
+            rhs[d] += f * c;
+        }
+    }
+}
+
+/// The largest of one harmonic's forcings (N), from each forcing's harmonics.
+fn forcing_size(forcings: &[Vec<Complex64>], k: usize) -> f64 {
+    forcings.iter().map(|f| f[k].norm()).fold(0.0f64, f64::max)
+}
+
+/// The period and the harmonics k = 0..=`n_harm` (N) of every forcing from `samples` per
+/// period: each stack's F_p (from `cache`), then each point load's.
+fn forcing_harmonics(
+    model: &Model,
+    samples: usize,
+    n_harm: usize,
+    cache: &StackForceCache,
+) -> Result<(f64, Vec<Vec<Complex64>>)> {
+    let timing = DriveTiming::sampled(model, samples)?;
+    let stacks = StackForces::of(model, &timing, n_harm, Detail::Headline(cache))?;
+    let loads = load_cycles(model, &timing).into_iter().map(|f| harmonics(&f)[..=n_harm].to_vec());
+    Ok((timing.period, stacks.harmonics.into_iter().chain(loads).collect()))
+}
+
+/// One harmonic's solve: factorisation `lane` of `dk`, for right-hand side `rhs`.
+#[derive(Clone, Copy)]
+struct Solved<'a> {
+    dk: &'a DynamicStiffness,
+    lane: usize,
+    rhs: &'a [Complex64],
+}
+
+/// Each point's power from the harmonics solved so far, against which a harmonic's share
+/// of the tolerance is judged.
+///
+/// A harmonic is refined unless its first estimate already keeps the bound of every
+/// point's power within its share of the tolerance: REFINE_FRACTION/(the harmonics solved)
+/// of the power the point has from the harmonics before it (the lower ones, which carry
+/// most of it; the first has none, and is refined). The shares sum to REFINE_FRACTION of
+/// the tolerance wherever the power so far is the point's power; the bound stated is
+/// computed afterwards from every harmonic's estimate, whatever was refined, so the choice
+/// can cost accuracy but never the bound's validity. The mean (k = 0) carries no power but
+/// the static shape, where the factor is worst: it is held to the tolerance as a whole. A
+/// harmonic left so has a small share of the motion too (its apparent power is small
+/// beside every point's), so the displacements it adds to the time series are off by as
+/// little.
+struct Shares<'s> {
+    sys: &'s System,
+    share: f64,
+    so_far: Vec<f64>,
+    /// Whether the estimates get their rounding floor (a stated bound needs it).
+    floor: bool,
+}
+
+impl<'s> Shares<'s> {
+    fn new(sys: &'s System, harmonics: usize, floor: bool) -> Self {
+        let share = roundoff::REFINE_FRACTION / harmonics.max(1) as f64;
+        Shares { sys, share, so_far: vec![0.0; sys.links.len() + sys.loads.len()], floor }
+    }
+
+    /// Refines `q`, harmonic k's solution from `solve`, unless its share allows (above), and
+    /// adds the harmonic's power to each point's; returns the estimate of q's error and each
+    /// point's power (W). `at`: k, ω_k (rad/s) and the harmonic's forcing (stack forces,
+    /// then point loads).
+    fn refine(
+        &mut self,
+        r: &MeshRefinement,
+        solve: Solved,
+        q: &mut [Complex64],
+        at: (usize, f64, &[Complex64]),
+    ) -> (Refined, Vec<f64>) {
+        let (sys, (k, w, forcing)) = (self.sys, at);
+        let budget: Vec<f64> = self.so_far.iter().map(|p| self.share * r.tolerance() * p.abs()).collect();
+        let enough = |q: &[Complex64], e: &Refined| {
+            k > 0 && harmonic_points(sys, q, w, forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
+        };
+        let e = r.refine_unless(solve.dk, solve.lane, solve.rhs, q, enough, self.floor);
+        (e, self.add(q, w, forcing))
+    }
+
+    /// Adds the power of harmonic motion `q` at ω (rad/s) under `forcing` to each point's;
+    /// returns each point's power (W).
+    fn add(&mut self, q: &[Complex64], w: f64, forcing: &[Complex64]) -> Vec<f64> {
+        let none = Refined::default();
+        let powers: Vec<f64> = harmonic_points(self.sys, q, w, forcing, &none).map(|(p, _)| p).collect();
+        self.so_far.iter_mut().zip(&powers).for_each(|(s, p)| *s += p);
+        powers
     }
 }
 
@@ -785,4 +880,45 @@ pub fn estimate_reduction_error(
     let f = run(model, full, harmonics, samples)?;
     let r = run(model, reduced, harmonics, samples)?;
     Ok(reduction_error(&f, &r))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fine mesh's count (each harmonic factorised once for both samplings, the one
+    /// forcing's solve scaled from one to the other) gives each point's power per harmonic,
+    /// and the aliasing from their differences, as the two runs solved apart do, to the
+    /// share of the tolerance their refinement holds each to.
+    #[test]
+    fn a_fine_meshs_count_gives_the_spectra_of_the_two_runs_apart() {
+        let text = include_str!("../../cases/beam-frame-12V-60Hz.toml")
+            .replace("[beam]", "[beam]\n[beam.mesh]\nelements = 400");
+        let lc = crate::case::LoadedCase::from_str(&text, "frame.toml", std::path::PathBuf::from(".")).unwrap();
+        let model = crate::analysis::plan::calibrated_model(&lc).unwrap();
+        let sys = System::assemble(&model).unwrap();
+        assert!(roundoff::coarse_bound(&model).is_none(), "a mesh whose solves are refined");
+        let (all, samples) = (127, 256);
+        let counted = fine_spectra(&model, &sys, all, samples).unwrap();
+        let cache = StackForceCache::default();
+        let apart = [
+            run(&model, &sys, all, samples).unwrap(),
+            run_with(&model, &mut HarmonicSolver::new(&sys), all, 2 * samples, Detail::Headline(&cache)).unwrap(),
+        ]
+        .map(|r| point_spectra(&r).cloned().collect::<Vec<_>>());
+        let powers: Vec<f64> = apart[0].iter().map(|p| p.iter().sum()).collect();
+        let scales = own_scales(&powers);
+        let held = 2.0 * roundoff::REFINE_FRACTION * model.roundoff_tolerance;
+        for (c, a) in counted.iter().zip(&apart) {
+            for (i, ((c, a), s)) in c.iter().zip(a).zip(&scales).enumerate() {
+                assert_eq!(c.len(), all + 1);
+                let off: f64 = c.iter().zip(a).map(|(x, y)| (x - y).abs()).sum();
+                assert!(off <= held * s, "point {i}: {off:e} W off, against {s:e} W");
+            }
+        }
+        let folded = [aliasing(&counted[0], &counted[1]), aliasing(&apart[0], &apart[1])];
+        for (i, ((c, a), s)) in folded[0].iter().zip(&folded[1]).zip(&scales).enumerate() {
+            assert!((c - a).abs() <= 2.0 * held * s, "point {i}: aliasing {c:e} W against {a:e} W");
+        }
+    }
 }

@@ -8,6 +8,7 @@ use crate::analysis::harmonic::{self, PointForce};
 use crate::analysis::modes;
 use crate::analysis::plan;
 use crate::analysis::reduction::{self, ReductionReport, ReductionSettings};
+use crate::analysis::roundoff;
 use crate::analysis::steady_state::{self, HarmonicCount};
 use crate::analysis::transient::{self, TransientSettings};
 use crate::assembly::{DofMap, Model, System};
@@ -426,16 +427,24 @@ impl Runner<'_> {
     ) -> Result<steady_state::SteadyStateResult> {
         let model = self.model;
         let Some(rs) = reduction else {
-            let fd = self.reference()?;
-            let mut s = steady_state::run_counted(model, fd, count, samples)?;
-            s.expand(fd);
+            let (fd, system) = (self.reference()?, self.system);
             // The mode-resolved view has viscous modal dampers only.
-            let bare = if model.loss_factor() > 0.0 {
-                None
-            } else {
-                modes::bare_modes_on(model, self.system, MODAL_TABLE_MODES)?
+            let bare = || {
+                if model.loss_factor() > 0.0 {
+                    Ok(None)
+                } else {
+                    modes::bare_modes_on(model, system, MODAL_TABLE_MODES)
+                }
             };
-            s.decompose_with(self.system, bare.as_ref(), ModalDamping::of_model(model, self.system));
+            let counted = || steady_state::run_counted(model, fd, count, samples);
+            // A fine mesh's modes take a good part of its steady state's time: beside it.
+            let (s, bare) = match roundoff::coarse_bound(model) {
+                Some(_) => (counted(), bare()),
+                None => crate::progress::side_by_side(counted, bare),
+            };
+            let mut s = s?;
+            s.expand(fd);
+            s.decompose_with(system, bare?.as_ref(), ModalDamping::of_model(model, system));
             return Ok(s);
         };
         // A reduced model's cut-off follows the harmonic count, so it needs one first.

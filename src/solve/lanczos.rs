@@ -158,7 +158,10 @@ fn lanczos(
         m.mul_vec(&w, &mut mw);
         let b = dot(&w, &mw).max(0.0).sqrt();
         beta.push(b);
-        if j + 1 == steps || b <= 1e-14 * aj.abs() {
+        if j + 1 == steps
+            || b <= 1e-14 * aj.abs()
+            || (checked(j + 1, count) && ritz(&alpha, &beta, count).is_ok_and(|r| r.2))
+        {
             break;
         }
         w.iter_mut().for_each(|x| *x /= b);
@@ -167,36 +170,14 @@ fn lanczos(
         mq.push(mw);
     }
     let mdim = alpha.len();
-    let t = Mat::from_fn(mdim, mdim, |i, j| {
-        if i == j {
-            alpha[i]
-        } else if i == j + 1 || j == i + 1 {
-            beta[i.min(j)]
-        } else {
-            0.0
-        }
-    });
-    let evd =
-        t.self_adjoint_eigen(Side::Lower).map_err(|e| super::eigen::not_converged("tridiagonal eigensolver", e))?;
-    let theta = evd.S().column_vector();
-    let s = evd.U();
+    let (theta, s, converged) = ritz(&alpha, &beta, count)?;
     let take = count.min(mdim);
-    let last_beta = *beta.last().unwrap_or(&0.0);
-    let mut converged = true;
     let mut omega = Vec::with_capacity(take);
     let mut shapes = Mat::<f64>::zeros(n, take);
     for r in 0..take {
         // Largest θ first.
         let c = mdim - 1 - r;
         let th = theta[c];
-        if !(th > 0.0) {
-            return Err(Error::Numerical(
-                "shift-invert Lanczos met a non-positive Ritz value: is the shift below the lowest mode?".into(),
-            ));
-        }
-        if (last_beta * s[(mdim - 1, c)]).abs() > 1e-10 * th {
-            converged = false;
-        }
         let lam = sigma + 1.0 / th;
         omega.push(lam.max(0.0).sqrt());
         // On the column's slice: indexing the matrix entry by entry costs as much as the
@@ -220,4 +201,45 @@ fn lanczos(
         }
     }
     Ok((omega, shapes, converged))
+}
+
+/// Whether the Ritz pairs are checked after `steps` vectors: every ten from twenty beyond
+/// the modes wanted, and no fewer than 40 (the tridiagonal eigenproblem costs little beside
+/// ten steps' reorthogonalisation, which grows with the vectors kept: on many modes,
+/// stopping once the wanted pairs converge saves most of it).
+fn checked(steps: usize, count: usize) -> bool {
+    steps >= (count + 20).max(40) && steps.is_multiple_of(10)
+}
+
+/// The Ritz values θ (ascending), the eigenvectors of the tridiagonal T (α on its diagonal,
+/// β beside it) and whether the `count` largest have converged: residual |β_m·s_m| within
+/// 1e-10·θ. A non-positive wanted θ is an error (the shift is above a mode).
+fn ritz(alpha: &[f64], beta: &[f64], count: usize) -> Result<(Vec<f64>, Mat<f64>, bool)> {
+    let mdim = alpha.len();
+    let t = Mat::from_fn(mdim, mdim, |i, j| {
+        if i == j {
+            alpha[i]
+        } else if i == j + 1 || j == i + 1 {
+            beta[i.min(j)]
+        } else {
+            0.0
+        }
+    });
+    let evd =
+        t.self_adjoint_eigen(Side::Lower).map_err(|e| super::eigen::not_converged("tridiagonal eigensolver", e))?;
+    let theta: Vec<f64> = (0..mdim).map(|i| evd.S().column_vector()[i]).collect();
+    let s = evd.U().to_owned();
+    let last_beta = *beta.last().unwrap_or(&0.0);
+    let mut converged = true;
+    for c in (mdim - count.min(mdim)..mdim).rev() {
+        if !(theta[c] > 0.0) {
+            return Err(Error::Numerical(
+                "shift-invert Lanczos met a non-positive Ritz value: is the shift below the lowest mode?".into(),
+            ));
+        }
+        if (last_beta * s[(mdim - 1, c)]).abs() > 1e-10 * theta[c] {
+            converged = false;
+        }
+    }
+    Ok((theta, s, converged))
 }
