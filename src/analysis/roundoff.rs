@@ -20,8 +20,9 @@
 //! (relative, Euclidean over the DOFs): on ordinary meshes the factor's solution is kept
 //! bit for bit, and only the bound is new. A steady state's harmonic is also kept where
 //! its estimate takes no more than its share of every point power's tolerance
-//! ([`MeshRefinement::refine_unless`]; the shares in `steady_state::Shares`): the higher harmonics, whose part of the power
-//! is small, need far less of their solution than the tolerance asks of the whole.
+//! ([`MeshRefinement::refine_unless`]; the shares in `steady_state::Shares`): the higher
+//! harmonics, whose part of the power is small, need far less of their solution than the
+//! tolerance asks of the whole.
 //!
 //! The stated bound is per point power, cancellation included: a power P = ½Re Σ_k F̄_k·v_k
 //! with errors |δF_k|, |δv_k| from the DOF errors is off by at most

@@ -14,7 +14,7 @@
 //! is formed per placement; [`Projection::expand`] forms the full field only when asked.
 
 use super::dofs::DofMap;
-use crate::linalg::Csr;
+use crate::linalg::{symmetrise, Csr};
 use num_complex::Complex64;
 use std::sync::Arc;
 
@@ -171,13 +171,7 @@ impl Projection {
                 r[a_ * nr..(a_ + 1) * nr].iter_mut().zip(ai).for_each(|(x, y)| *x += tia * y);
             }
         }
-        for a_ in 0..nr {
-            for b in 0..a_ {
-                let s = 0.5 * (r[a_ * nr + b] + r[b * nr + a_]);
-                r[a_ * nr + b] = s;
-                r[b * nr + a_] = s;
-            }
-        }
+        symmetrise(&mut r, nr);
         r
     }
 }

@@ -18,6 +18,17 @@ pub use skyline::{Skyline, SkylineLdlt};
 pub use sparse::Csr;
 pub use sparse_ldlt::{SparseLdlt, SparsePattern};
 
+/// Replaces a square row-major `n × n` matrix by its symmetric part, (A + Aᵀ)/2.
+pub fn symmetrise(a: &mut [f64], n: usize) {
+    for i in 0..n {
+        for j in 0..i {
+            let s = 0.5 * (a[i * n + j] + a[j * n + i]);
+            a[i * n + j] = s;
+            a[j * n + i] = s;
+        }
+    }
+}
+
 /// Σ aᵢ·bᵢ, summed in order (the Krylov and reduction bases' inner products).
 pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()

@@ -168,7 +168,7 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
     {
         let shapes = static_shapes(full, &bodies, &attach, opts.sparse_factor)?;
         let unit: Vec<Vec<(usize, f64)>> = attach.iter().map(|&j| vec![(j, 1.0)]).collect();
-        residual_vectors(&full.m_beam, &unit, shapes, (&phi, None), &mode_omega)?
+        residual_vectors(&full.m_beam, &unit, shapes, &phi, &mode_omega)?
     } else {
         Residual { vectors: Vec::new(), omega: Vec::new(), dropped: 0 }
     };
@@ -285,47 +285,55 @@ pub(super) fn at(pattern: &[(usize, f64)], v: &[f64]) -> f64 {
     pattern.iter().fold(0.0, |s, &(d, c)| s + c * v[d])
 }
 
+/// The residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ) between attachment patterns
+/// b_a with static shapes `shapes` (K⁻¹·b_a), from their values on the retained modes
+/// (`on_modes[a][r]` = b_aᵀ·φ_r, at `mode_omega`), over the patterns it keeps; and those
+/// patterns. A pattern whose own residual flexibility cancels to round-off is already
+/// spanned by the retained modes (a cut-off above most of the mesh's modes); keeping it
+/// would make T singular.
+pub(super) fn residual_flexibility(
+    patterns: &[Vec<(usize, f64)>],
+    shapes: &[Vec<f64>],
+    on_modes: &[Vec<f64>],
+    mode_omega: &[f64],
+) -> (Vec<usize>, Mat<f64>) {
+    let g = |a: usize, b: usize| {
+        let sf = 0.5 * (at(&patterns[b], &shapes[a]) + at(&patterns[a], &shapes[b]));
+        sf - on_modes[a].iter().zip(&on_modes[b]).zip(mode_omega).map(|((x, y), w)| x * y / (w * w)).sum::<f64>()
+    };
+    let live: Vec<usize> =
+        (0..patterns.len()).filter(|&a| g(a, a) > RESIDUAL_FLOOR * at(&patterns[a], &shapes[a])).collect();
+    let kg = Mat::<f64>::from_fn(live.len(), live.len(), |a, b| g(live[a], live[b]));
+    (live, kg)
+}
+
 /// Residual vectors for the attachment patterns `patterns` (b_j: a DOF, or a point's
 /// shape functions) with static shapes `shapes` (K⁻¹·b_j): the static shapes minus what
 /// the retained modes `phi` (at `mode_omega`) carry of them, M-orthogonal (`m`) to the
-/// modes and diagonalising the residual flexibility. `m_phi` may hold M·φ_r for every
-/// mode (a basis kept for many reductions), saving a product with M per pass.
+/// modes and diagonalising the residual flexibility.
 pub(super) fn residual_vectors(
     m: &Csr,
     patterns: &[Vec<(usize, f64)>],
     shapes: Vec<Vec<f64>>,
-    (phi, m_phi): (&[Vec<f64>], Option<&[Vec<f64>]>),
+    phi: &[Vec<f64>],
     mode_omega: &[f64],
 ) -> Result<Residual> {
     let n = shapes.first().map_or(0, Vec::len);
-    // Residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ), at the feet.
-    let p = patterns.len();
-    let g = |a: usize, b: usize| {
-        let sf = 0.5 * (at(&patterns[b], &shapes[a]) + at(&patterns[a], &shapes[b]));
-        sf - phi.iter().zip(mode_omega).map(|(v, w)| at(&patterns[a], v) * at(&patterns[b], v) / (w * w)).sum::<f64>()
-    };
-    // A foot whose residual flexibility cancels to round-off is already spanned by the
-    // retained modes (a cut-off above most of the mesh's modes); keeping it would make
-    // T singular.
-    let live: Vec<usize> = (0..p).filter(|&a| g(a, a) > RESIDUAL_FLOOR * at(&patterns[a], &shapes[a])).collect();
-    let mut dropped = p - live.len();
+    let on_modes: Vec<Vec<f64>> = patterns.iter().map(|b| phi.iter().map(|v| at(b, v)).collect()).collect();
+    let (live, kg) = residual_flexibility(patterns, &shapes, &on_modes, mode_omega);
+    let mut dropped = patterns.len() - live.len();
     // ψ_j = S_j − Φ·Ω⁻²·Φ_f,j, then M-orthogonalised against Φ (twice) for round-off.
     let psi: Vec<Vec<f64>> = live
         .iter()
         .map(|&a| {
             let mut x = shapes[a].clone();
-            for (v, w) in phi.iter().zip(mode_omega) {
-                let c = at(&patterns[a], v) / (w * w);
+            for ((v, w), f) in phi.iter().zip(mode_omega).zip(&on_modes[a]) {
+                let c = f / (w * w);
                 x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
             }
             for _ in 0..2 {
-                let coefficients: Vec<f64> = match m_phi {
-                    Some(mv) => mv.iter().map(|mv| dot(mv, &x)).collect(),
-                    None => {
-                        let mx = mul(m, &x);
-                        phi.iter().map(|v| dot(v, &mx)).collect()
-                    }
-                };
+                let mx = mul(m, &x);
+                let coefficients: Vec<f64> = phi.iter().map(|v| dot(v, &mx)).collect();
                 for (v, c) in phi.iter().zip(coefficients) {
                     x.iter_mut().zip(v).for_each(|(xi, vi)| *xi -= c * vi);
                 }
@@ -334,7 +342,6 @@ pub(super) fn residual_vectors(
         })
         .collect();
     let q = live.len();
-    let kg = Mat::<f64>::from_fn(q, q, |a, b| g(live[a], live[b]));
     let mp: Vec<Vec<f64>> = psi.iter().map(|v| mul(m, v)).collect();
     let mg = Mat::<f64>::from_fn(q, q, |a, b| 0.5 * (dot(&psi[a], &mp[b]) + dot(&psi[b], &mp[a])));
     let (y, omega) = pencil_basis(&kg, &mg)?;

@@ -32,13 +32,13 @@
 //! structure's matrices is assembled per placement.
 
 use super::modal_basis::{
-    at, mul, pencil_basis, reduced_system, sparse_of_dense, Reduction, ReductionOptions, RESIDUAL_FLOOR,
+    at, mul, pencil_basis, reduced_system, residual_flexibility, sparse_of_dense, Reduction, ReductionOptions,
 };
 use crate::assembly::projection::Factored;
 use crate::assembly::{DofMap, Projection, System};
 use crate::error::{Error, Result};
 use crate::linalg::sparse_ldlt::OwnedLdlt;
-use crate::linalg::{dot, Csr};
+use crate::linalg::{dot, symmetrise, Csr};
 use crate::solve::eigen::{ratio_of, Modes};
 use faer::Mat;
 use std::sync::Arc;
@@ -242,15 +242,7 @@ impl SharedBasis {
         let (nm, ns) = (self.modes(), self.dofs.n);
         let shapes: Vec<Vec<f64>> = patterns.iter().map(|b| static_shape(&s.k, b, ns)).collect();
         let on_phi: Vec<Vec<f64>> = patterns.iter().map(|b| self.on_modes(&self.phi, b)).collect();
-        // Residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ), at the patterns.
-        let g = |a: usize, b: usize| {
-            let sf = 0.5 * (at(&patterns[b], &shapes[a]) + at(&patterns[a], &shapes[b]));
-            sf - on_phi[a].iter().zip(&on_phi[b]).zip(&self.omega).map(|((x, y), w)| x * y / (w * w)).sum::<f64>()
-        };
-        // A pattern whose residual flexibility cancels to round-off is already spanned by
-        // the retained modes; keeping it would make T singular.
-        let live: Vec<usize> =
-            (0..patterns.len()).filter(|&a| g(a, a) > RESIDUAL_FLOOR * at(&patterns[a], &shapes[a])).collect();
+        let (live, kg) = residual_flexibility(patterns, &shapes, &on_phi, &self.omega);
         let q = live.len();
         let mut dropped = patterns.len() - q;
         // Φᵀ·M·x_a and Φᵀ·C·x_a from the shared K⁻¹·M·Φ and K⁻¹·C·Φ; α_a by two passes of
@@ -266,7 +258,8 @@ impl SharedBasis {
                 al
             })
             .collect();
-        let shapes: Vec<Vec<f64>> = live.iter().map(|&a| shapes[a].clone()).collect();
+        let shapes: Vec<Vec<f64>> =
+            shapes.into_iter().enumerate().filter(|(a, _)| live.contains(a)).map(|(_, x)| x).collect();
         // ψ_aᵀ·A·ψ_b = x_aᵀ·A·x_b − α_aᵀ·(Φᵀ·A·x_b) − (Φᵀ·A·x_a)ᵀ·α_b + α_aᵀ·(Φᵀ·A·Φ)·α_b.
         let psi_gram = |a_mat: &Csr, phi_a_x: &[Vec<f64>], phi_a_phi: &[f64]| -> Vec<f64> {
             let ax: Vec<Vec<f64>> = shapes.iter().map(|x| mul(a_mat, x)).collect();
@@ -283,7 +276,6 @@ impl SharedBasis {
         };
         let mg = psi_gram(&self.m, &phi_m_x, &self.phi_m);
         let cg = psi_gram(&self.c, &phi_c_x, &self.phi_c);
-        let kg = Mat::<f64>::from_fn(q, q, |a, b| g(live[a], live[b]));
         let (y, omega) = pencil_basis(&kg, &Mat::<f64>::from_fn(q, q, |a, b| mg[a * q + b]))?;
         let nq = omega.len();
         dropped += q - nq;
@@ -358,16 +350,6 @@ fn mat_vec(a: &[f64], x: &[f64], n: usize) -> Vec<f64> {
 
 fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
     a.iter().zip(b).map(|(x, y)| x - y).collect()
-}
-
-fn symmetrise(r: &mut [f64], n: usize) {
-    for i in 0..n {
-        for j in 0..i {
-            let s = 0.5 * (r[i * n + j] + r[j * n + i]);
-            r[i * n + j] = s;
-            r[j * n + i] = s;
-        }
-    }
 }
 
 /// The distinct patterns along which the actuators and loads of `attached` act on the
