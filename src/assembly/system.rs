@@ -402,7 +402,7 @@ pub(super) struct ActuatorMatrices {
     pub(super) m: Vec<(usize, usize, f64)>,
     pub(super) k: Vec<(usize, usize, f64)>,
     pub(super) c: Vec<(usize, usize, f64)>,
-    links: Vec<LinkDofs>,
+    pub(super) links: Vec<LinkDofs>,
     /// Per actuator, the pattern b_a its stack force F_p acts along.
     drives: Vec<Vec<(usize, f64)>>,
 }

@@ -1,6 +1,7 @@
 //! The two-node Hermite-cubic Euler–Bernoulli element, DOFs (w₁, θ₁, w₂, θ₂).
 
 use nalgebra::Matrix4;
+use twofloat::TwoFloat;
 
 /// How the element mass is represented.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -57,6 +58,19 @@ pub fn element_stiffness_rows(ei: f64, l: f64) -> [[f64; 4]; 2] {
     // At ξ = ½ ∓ 1/(2√3): N₁″ = ∓2√3/l², N₂″ = (−1 ∓ √3)/l, N₃″ = −N₁″, N₄″ = (1 ∓ √3)/l.
     let a = c * 2.0 * s3 / (l * l);
     let b = c * (1.0 + s3) / l;
+    let d = c * (s3 - 1.0) / l;
+    [[-a, -b, a, -d], [a, d, -a, b]]
+}
+
+/// [`element_stiffness_rows`] in double-word arithmetic (to ~u² of the exact rows of `ei`
+/// and `l`): where a refinement's residual must not carry the double rows' own rounding,
+/// which breaks their rigid-rotation null space by ~ε and so stands for a model ~ε·elements
+/// off the one meant.
+pub fn element_stiffness_rows_wide(ei: f64, l: f64) -> [[TwoFloat; 4]; 2] {
+    let s3 = TwoFloat::from(3.0).sqrt();
+    let c = (TwoFloat::new_mul(0.5 * ei, l)).sqrt();
+    let a = c * 2.0 * s3 / TwoFloat::new_mul(l, l);
+    let b = c * (s3 + 1.0) / l;
     let d = c * (s3 - 1.0) / l;
     [[-a, -b, a, -d], [a, d, -a, b]]
 }

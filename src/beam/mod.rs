@@ -9,7 +9,7 @@ pub mod element;
 pub mod mesh;
 pub mod section;
 
-pub use element::{element_mass, element_stiffness, element_stiffness_rows, MassKind};
+pub use element::{element_mass, element_stiffness, element_stiffness_rows, element_stiffness_rows_wide, MassKind};
 pub use mesh::{Mesh, MeshElement};
 pub use section::{Material, Section};
 

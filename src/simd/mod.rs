@@ -26,6 +26,7 @@
 
 pub mod band;
 pub mod lanes;
+pub mod twofold;
 pub mod update;
 
 pub use lanes::madd;
