@@ -72,6 +72,38 @@ fn placements_on_one_shared_basis_match_the_full_plate() {
     }
 }
 
+/// Static shapes solved up front in blocks of right-hand sides, and kept for later cases,
+/// reduce each case as its own solve does, to round-off.
+#[test]
+fn kept_static_shapes_reduce_as_a_cases_own_solve() {
+    let settings = ReductionSettings {
+        cutoff: Cutoff::HarmonicFactor(reduction::AUTO_FACTOR),
+        static_correction: true,
+        error_estimate: false,
+        modal_damping: None,
+    };
+    let models: Vec<Model> =
+        [[0.173, 0.228], [0.331, 0.107], [0.25, 0.2]].iter().map(|&at| model(&plate_case(at, ""))).collect();
+    let cutoff = reduction::cutoff_hz(&models[0], &settings, 9).unwrap();
+    let own = SharedReduction::new(&models[0], &settings, cutoff).unwrap().with_shape_cache(0);
+    let kept = SharedReduction::new(&models[0], &settings, cutoff).unwrap();
+    let patterns: Vec<_> = models.iter().flat_map(|m| kept.attachment_patterns(m).unwrap()).collect();
+    let mut distinct = patterns.clone();
+    distinct.dedup();
+    assert!(distinct.len() >= 6, "two feet per frame: {}", distinct.len());
+    assert_eq!(kept.prefetch(&patterns), distinct.len());
+    assert_eq!(kept.prefetch(&patterns), 0, "each shape is solved once");
+    assert_eq!(own.prefetch(&patterns), 0, "no room: every case solves its own");
+    for m in &models {
+        let a = steady_state::run(m, &own.system(m).unwrap().0, 9, 256).unwrap();
+        let b = steady_state::run(m, &kept.system(m).unwrap().0, 9, 256).unwrap();
+        let e = max_rel(&b.mean_power, &a.mean_power)
+            .max(max_rel(&b.net_power, &a.net_power))
+            .max(max_rel(&[b.beam_dissipation], &[a.beam_dissipation]));
+        assert!(e < 1e-12, "kept {:?} against own {:?}: {e:e}", b.mean_power, a.mean_power);
+    }
+}
+
 #[test]
 fn a_case_run_alone_is_reduced_as_the_study_reduces_it() {
     // The case-level reduction of a plate is the shared basis built for that case alone:

@@ -14,7 +14,7 @@ use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::solve::eigen::Modes;
 use crate::solve::modal_basis::{self as red, ReductionOptions};
-use crate::solve::shared_basis::SharedBasis;
+use crate::solve::shared_basis::{Pattern, SharedBasis};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -274,6 +274,24 @@ impl SharedReduction {
     /// The structure's modes kept.
     pub fn modes_kept(&self) -> usize {
         self.basis.modes()
+    }
+
+    /// The patterns along which the actuators and loads of `model` (a case on the same
+    /// structure) act on it: what [`SharedReduction::prefetch`] takes.
+    pub fn attachment_patterns(&self, model: &Model) -> Result<Vec<Pattern>> {
+        Ok(self.basis.attachment_patterns(&System::assemble_attachments(model)?))
+    }
+
+    /// Solves the static shapes of `patterns` up front ([`SharedBasis::prefetch`]).
+    pub fn prefetch(&self, patterns: &[Pattern]) -> usize {
+        self.basis.prefetch(patterns)
+    }
+
+    /// The same reduction keeping at most `bytes` of static shapes (0: every case solves
+    /// its own).
+    pub fn with_shape_cache(mut self, bytes: u64) -> Self {
+        self.basis.set_shape_cache(bytes);
+        self
     }
 
     /// The reduced system of `model` (a case on the same structure) and its report.

@@ -56,7 +56,7 @@ impl DofMap {
             map.structure = s.kind();
             map.nodes = vec![None; s.n_nodes() * map.kinds.len()];
             for &node in order {
-                for (k, fixed) in s.fixed(node).into_iter().enumerate() {
+                for (k, &fixed) in s.fixed(node).iter().enumerate() {
                     map.nodes[node * map.kinds.len() + k] = (!fixed).then(&mut take);
                 }
                 place_bodies(&mut map, &mut take, Some(node));

@@ -179,9 +179,15 @@ impl System {
             false => [Csr::zeros(n), Csr::zeros(n), Csr::zeros(n)],
         };
         let actuators = actuator_matrices(&comps, &feet, structure, &dofs);
-        let m = Csr::combine(&[(1.0, &m_beam), (1.0, &Csr::from_triplets(n, &actuators.m))]);
-        let k = Csr::combine(&[(1.0, &k_beam), (1.0, &Csr::from_triplets(n, &actuators.k))]);
-        let c = Csr::combine(&[(1.0, &c_beam), (1.0, &Csr::from_triplets(n, &actuators.c))]);
+        // Without the structure (a placement on a shared reduction, assembled per case) the
+        // actuators' matrices are the whole: no pass over the structure's rows to add zeros.
+        let [m, k, c] = [(&m_beam, &actuators.m), (&k_beam, &actuators.k), (&c_beam, &actuators.c)].map(|(s, a)| {
+            let a = Csr::from_triplets(n, a);
+            match with_structure {
+                true => Csr::combine(&[(1.0, s), (1.0, &a)]),
+                false => a,
+            }
+        });
         let envelope = Skyline::<f64>::envelope_of(
             n,
             m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),

@@ -32,8 +32,11 @@ pub struct Imported {
     /// Rows held at zero (boundary conditions not yet applied in the files).
     pub fixed: Vec<bool>,
     by_id: HashMap<i64, usize>,
-    /// `(node, component)` → row.
-    row_of: HashMap<(usize, usize), usize>,
+    /// Row of each node's components, node-major (`node · COMPONENTS.len() + component`):
+    /// a table, not a map, since numbering a case's DOFs asks for every node's.
+    row_of: Vec<Option<usize>>,
+    /// Which components of each node are held, in the same layout.
+    held: Vec<bool>,
     /// What the model's check found (rigid-body modes, massless rows).
     pub report: check::Report,
     /// The nodes in reverse Cuthill–McKee order of their coupling: the order assembly
@@ -132,7 +135,10 @@ impl Imported {
             }
             fixed[r - 1] = true;
         }
-        let row_of = table.rows.iter().enumerate().map(|(r, &nk)| (nk, r)).collect();
+        let mut row_of = vec![None; table.nodes.len() * COMPONENTS.len()];
+        for (r, &(node, c)) in table.rows.iter().enumerate() {
+            row_of[node * COMPONENTS.len() + c] = Some(r);
+        }
         let mut model = Imported {
             nodes: table.nodes,
             rows: table.rows,
@@ -141,11 +147,15 @@ impl Imported {
             c,
             fixed,
             by_id: table.by_id,
+            held: Vec::new(),
             row_of,
             report: Default::default(),
             node_order: Vec::new(),
             mean_band: 0,
         };
+        model.held = (0..model.nodes.len() * COMPONENTS.len())
+            .map(|i| model.row(i / COMPONENTS.len(), i % COMPONENTS.len()).is_none_or(|r| model.fixed[r]))
+            .collect();
         model.report = check::check(&model, files)?;
         model.node_order = crate::structure::ordering::reverse_cuthill_mckee(&model.node_graph());
         model.mean_band = model.profile_band();
@@ -164,12 +174,15 @@ impl Imported {
 
     /// The row of a node's component, if the model has that DOF.
     pub fn row(&self, node: usize, component: usize) -> Option<usize> {
-        self.row_of.get(&(node, component)).copied()
+        match component < COMPONENTS.len() {
+            true => self.row_of.get(node * COMPONENTS.len() + component).copied().flatten(),
+            false => None,
+        }
     }
 
     /// Which components of a node are held (absent from the model, or a fixed row).
-    pub fn fixed(&self, node: usize) -> Vec<bool> {
-        (0..COMPONENTS.len()).map(|c| self.row(node, c).is_none_or(|r| self.fixed[r])).collect()
+    pub fn fixed(&self, node: usize) -> &[bool] {
+        &self.held[node * COMPONENTS.len()..(node + 1) * COMPONENTS.len()]
     }
 
     /// The node a point written by position stands on (spec §15): the node nearest `xyz`

@@ -254,15 +254,23 @@ impl OwnedLdlt {
     pub fn solve_in_place(&self, x: &mut [f64]) {
         solve_with(&self.pattern, &self.values, x);
     }
+
+    /// Solves A·X = B in place for the columns of B, stored one after the other in `x`
+    /// (column-major, `dim()` rows): one pass over the factor for them all.
+    pub fn solve_columns_in_place(&self, x: &mut [f64]) {
+        solve_with(&self.pattern, &self.values, x);
+    }
 }
 
-/// Solves with the factor `values` on `pattern`, in place.
+/// Solves with the factor `values` on `pattern`, in place, for the columns of `x`
+/// (column-major, `pattern.dim()` rows).
 fn solve_with(pattern: &SparsePattern, values: &[f64], x: &mut [f64]) {
     let n = pattern.dim();
-    assert_eq!(x.len(), n);
+    assert!(n > 0 && x.len() % n == 0);
+    let columns = x.len() / n;
     let symbolic = &pattern.symbolic;
-    let mut buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, Par::Seq));
-    let rhs = MatMut::from_column_major_slice_mut(x, n, 1);
+    let mut buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(columns, Par::Seq));
+    let rhs = MatMut::from_column_major_slice_mut(x, n, columns);
     LdltRef::new(symbolic, values).solve_in_place_with_conj(Conj::No, rhs, Par::Seq, MemStack::new(&mut buf));
 }
 

@@ -10,7 +10,9 @@
 //!
 //! * the static shapes x_j = K⁻¹·b_j of the case's attachment patterns b_j (a foot's w: one
 //!   DOF at a node, the element's shape functions between nodes; a point load's likewise),
-//!   one solve each, turned into residual vectors ψ_j = x_j − Φ·α_j as a single system's
+//!   with M·x_j and C·x_j, kept per pattern ([`ShapeCache`]: a study that knows its
+//!   candidates solves them up front, [`SharedBasis::prefetch`], a block of right-hand
+//!   sides per pass over the factor; others as cases meet them), turned into residual vectors ψ_j = x_j − Φ·α_j as a single system's
 //!   reduction does (`modal_basis::residual_vectors`: M-orthogonal to Φ, diagonalising the
 //!   residual flexibility);
 //! * the structure blocks that involve them (Φᵀ·M·ψ, ψᵀ·M·ψ, and C's);
@@ -21,8 +23,9 @@
 //! (K⁻¹·M·Φ)ᵀ·b_j, read off at the pattern's few DOFs from K⁻¹·M·Φ, solved once for the
 //! study (and K⁻¹·C·Φ likewise for C); the Gram matrices ψᵀ·M·ψ and ψᵀ·C·ψ follow from
 //! x_iᵀ·M·x_j and those coefficients; and T keeps ψ factored as X·Y − Φ·B
-//! ([`Factored`]). A placement so costs its few sparse solves and products with M and C,
-//! not O(modes × structure DOFs) per residual vector.
+//! ([`Factored`]). A placement whose shapes are kept so costs O(pattern size × modes) and a
+//! few dot products over the structure's DOFs, not a sparse solve per pattern, nor
+//! O(modes × structure DOFs) per residual vector.
 //!
 //! The reduced system is the one `modal_basis::reduce` builds from the case's assembled
 //! system, except that its static correction is spanned by the attachment patterns b_j
@@ -34,6 +37,7 @@
 use super::modal_basis::{
     at, mul, pencil_basis, reduced_system, residual_flexibility, sparse_of_dense, Reduction, ReductionOptions,
 };
+use crate::analysis::budget::machine_memory;
 use crate::assembly::projection::Factored;
 use crate::assembly::{DofMap, Projection, System};
 use crate::error::{Error, Result};
@@ -41,7 +45,24 @@ use crate::linalg::sparse_ldlt::OwnedLdlt;
 use crate::linalg::{dot, symmetrise, Csr};
 use crate::solve::eigen::{ratio_of, Modes};
 use faer::Mat;
-use std::sync::Arc;
+use rayon::prelude::*;
+use std::collections::{HashMap, HashSet};
+use std::sync::{Arc, Mutex};
+
+/// An attachment pattern b: structure DOFs and their coefficients, by DOF.
+pub type Pattern = Vec<(usize, f64)>;
+
+/// Right-hand sides solved together in one pass over the factor of K: enough to turn the
+/// memory-bound solve of one vector into products of the factor's blocks with 32 columns,
+/// few enough that a block (8 MB at 32,000 DOFs) stays small.
+const BLOCK: usize = 32;
+
+/// What the static shapes a study keeps may take: a quarter of the default memory budget
+/// (half of the machine's available memory). 24 bytes per structure DOF per pattern, so
+/// 1 GB holds ≈ 1,400 patterns of a 32,000-DOF model.
+fn default_shape_cache() -> u64 {
+    machine_memory() / 4
+}
 
 /// The bare structure's part of a reduction, shared by the placements of a study.
 #[derive(Debug)]
@@ -71,6 +92,58 @@ struct Statics {
     k: OwnedLdlt,
     k_inv_m_phi: Vec<f64>,
     k_inv_c_phi: Vec<f64>,
+    shapes: ShapeCache,
+}
+
+/// A static shape x = K⁻¹·b with M·x and C·x.
+#[derive(Debug)]
+struct StaticShape {
+    x: Vec<f64>,
+    mx: Vec<f64>,
+    cx: Vec<f64>,
+}
+
+/// The static shapes of the patterns a study has met, at most `room` of them; beyond that a
+/// case solves its own (and drops it).
+#[derive(Debug)]
+struct ShapeCache {
+    room: usize,
+    shapes: Mutex<HashMap<Vec<(usize, u64)>, Arc<StaticShape>>>,
+}
+
+/// A pattern as a key: its DOFs and the bits of its coefficients.
+fn key(b: &[(usize, f64)]) -> Vec<(usize, u64)> {
+    b.iter().map(|&(d, c)| (d, c.to_bits())).collect()
+}
+
+impl ShapeCache {
+    /// A cache of at most `bytes` of shapes over `ns` DOFs.
+    fn new(bytes: u64, ns: usize) -> Self {
+        let per_shape = (3 * ns * std::mem::size_of::<f64>()).max(1) as u64;
+        ShapeCache { room: usize::try_from(bytes / per_shape).unwrap_or(usize::MAX), shapes: Mutex::default() }
+    }
+
+    fn get(&self, b: &[(usize, f64)]) -> Option<Arc<StaticShape>> {
+        self.shapes.lock().ok()?.get(&key(b)).cloned()
+    }
+
+    /// Keeps `shape` of pattern `b` while there is room.
+    fn keep(&self, b: &[(usize, f64)], shape: &Arc<StaticShape>) {
+        if let Ok(mut map) = self.shapes.lock() {
+            if map.len() < self.room {
+                map.entry(key(b)).or_insert_with(|| Arc::clone(shape));
+            }
+        }
+    }
+
+    /// How many more shapes fit.
+    fn free(&self) -> usize {
+        self.shapes.lock().map_or(0, |m| self.room.saturating_sub(m.len()))
+    }
+
+    fn len(&self) -> usize {
+        self.shapes.lock().map_or(0, |m| m.len())
+    }
 }
 
 /// A placement's residual vectors ψ̃_c = Σ_a Y_ac·(x_a − Φ·α_a), with what the reduced
@@ -112,12 +185,12 @@ fn row_major(columns: &[Vec<f64>], rows: usize) -> Vec<f64> {
 }
 
 /// Vᵀ·A·V of column vectors V given A·V, symmetrised (row-major).
-fn gram(v: &[Vec<f64>], av: &[Vec<f64>]) -> Vec<f64> {
+fn gram(v: &[impl AsRef<[f64]>], av: &[impl AsRef<[f64]>]) -> Vec<f64> {
     let n = v.len();
     let mut r = vec![0.0; n * n];
     for i in 0..n {
         for j in 0..=i {
-            let s = 0.5 * (dot(&v[i], &av[j]) + dot(&v[j], &av[i]));
+            let s = 0.5 * (dot(v[i].as_ref(), av[j].as_ref()) + dot(v[j].as_ref(), av[i].as_ref()));
             r[i * n + j] = s;
             r[j * n + i] = s;
         }
@@ -141,16 +214,16 @@ impl SharedBasis {
             true => {
                 let k = OwnedLdlt::of(&bare.k_beam)?;
                 let solved = |vs: &[Vec<f64>]| -> Vec<Vec<f64>> {
-                    vs.iter()
-                        .map(|v| {
-                            let mut x = v.clone();
-                            k.solve_in_place(&mut x);
-                            x
+                    vs.par_chunks(BLOCK)
+                        .flat_map_iter(|block| {
+                            let mut x: Vec<f64> = block.concat();
+                            k.solve_columns_in_place(&mut x);
+                            x.chunks_exact(ns).map(<[f64]>::to_vec).collect::<Vec<_>>()
                         })
                         .collect()
                 };
                 let (k_inv_m_phi, k_inv_c_phi) = (row_major(&solved(&m_phi), ns), row_major(&solved(&c_phi), ns));
-                Some(Statics { k, k_inv_m_phi, k_inv_c_phi })
+                Some(Statics { k, k_inv_m_phi, k_inv_c_phi, shapes: ShapeCache::new(default_shape_cache(), ns) })
             }
             false => None,
         };
@@ -171,6 +244,76 @@ impl SharedBasis {
     /// Retained modes.
     pub fn modes(&self) -> usize {
         self.omega.len()
+    }
+
+    /// Keeps at most `bytes` of static shapes from now on (0: every case solves its own).
+    pub fn set_shape_cache(&mut self, bytes: u64) {
+        let ns = self.dofs.n;
+        if let Some(s) = &mut self.statics {
+            s.shapes = ShapeCache::new(bytes, ns);
+        }
+    }
+
+    /// Static shapes kept.
+    pub fn shapes_kept(&self) -> usize {
+        self.statics.as_ref().map_or(0, |s| s.shapes.len())
+    }
+
+    /// The patterns along which the actuators and loads of `attached` act on the structure.
+    pub fn attachment_patterns(&self, attached: &System) -> Vec<Pattern> {
+        attachment_patterns(attached, self.dofs.n)
+    }
+
+    /// Solves the static shapes of `patterns` not yet kept, [`BLOCK`] right-hand sides per
+    /// pass over the factor of K, as many as the cache has room for, and keeps them with
+    /// their products with M and C. Returns how many it solved.
+    pub fn prefetch(&self, patterns: &[Pattern]) -> usize {
+        let Some(s) = &self.statics else { return 0 };
+        let ns = self.dofs.n;
+        let mut seen = HashSet::new();
+        let mut todo: Vec<&Pattern> = patterns
+            .iter()
+            .filter(|b| !b.is_empty() && b.iter().all(|&(d, _)| d < ns) && s.shapes.get(b).is_none())
+            .filter(|b| seen.insert(key(b)))
+            .collect();
+        todo.truncate(s.shapes.free());
+        todo.par_chunks(BLOCK).for_each(|block| {
+            let mut x = vec![0.0; ns * block.len()];
+            for (b, column) in block.iter().zip(x.chunks_exact_mut(ns)) {
+                load(b, column);
+            }
+            s.k.solve_columns_in_place(&mut x);
+            let times = |a: &Csr| {
+                let mut y = vec![0.0; x.len()];
+                a.mul_columns(&x, &mut y);
+                y
+            };
+            let (mx, cx) = (times(&self.m), times(&self.c));
+            let columns = |v: &[f64], j: usize| v[j * ns..(j + 1) * ns].to_vec();
+            for (j, b) in block.iter().enumerate() {
+                let shape = StaticShape { x: columns(&x, j), mx: columns(&mx, j), cx: columns(&cx, j) };
+                s.shapes.keep(b, &Arc::new(shape));
+            }
+        });
+        todo.len()
+    }
+
+    /// The static shapes of `patterns`: kept ones, the others solved now (and kept while
+    /// there is room).
+    fn static_shapes(&self, s: &Statics, patterns: &[Pattern]) -> Vec<Arc<StaticShape>> {
+        let shape = |b: &Pattern| {
+            s.shapes.get(b).unwrap_or_else(|| {
+                let shape = Arc::new(self.with_products(static_shape(&s.k, b, self.dofs.n)));
+                s.shapes.keep(b, &shape);
+                shape
+            })
+        };
+        patterns.iter().map(shape).collect()
+    }
+
+    /// Static shape x with M·x and C·x.
+    fn with_products(&self, x: Vec<f64>) -> StaticShape {
+        StaticShape { mx: mul(&self.m, &x), cx: mul(&self.c, &x), x }
     }
 
     /// The reduced system of a placement: `attached` holds the case's actuators and loads
@@ -238,9 +381,10 @@ impl SharedBasis {
     /// The residual vectors of the attachment `patterns` (as `modal_basis::residual_vectors`
     /// builds them, without forming them): static shapes x_a, coefficients α_a with
     /// Φᵀ·M·(x_a − Φ·α_a) = 0, the pencil of (G, ψᵀ·M·ψ) diagonalised.
-    fn residual(&self, s: &Statics, patterns: &[Vec<(usize, f64)>]) -> Result<PlacementResidual> {
-        let (nm, ns) = (self.modes(), self.dofs.n);
-        let shapes: Vec<Vec<f64>> = patterns.iter().map(|b| static_shape(&s.k, b, ns)).collect();
+    fn residual(&self, s: &Statics, patterns: &[Pattern]) -> Result<PlacementResidual> {
+        let nm = self.modes();
+        let kept = self.static_shapes(s, patterns);
+        let shapes: Vec<Vec<f64>> = kept.iter().map(|k| k.x.clone()).collect();
         let on_phi: Vec<Vec<f64>> = patterns.iter().map(|b| self.on_modes(&self.phi, b)).collect();
         let (live, kg) = residual_flexibility(patterns, &shapes, &on_phi, &self.omega);
         let q = live.len();
@@ -260,9 +404,9 @@ impl SharedBasis {
             .collect();
         let shapes: Vec<Vec<f64>> =
             shapes.into_iter().enumerate().filter(|(a, _)| live.contains(a)).map(|(_, x)| x).collect();
+        let kept: Vec<&StaticShape> = live.iter().map(|&a| &*kept[a]).collect();
         // ψ_aᵀ·A·ψ_b = x_aᵀ·A·x_b − α_aᵀ·(Φᵀ·A·x_b) − (Φᵀ·A·x_a)ᵀ·α_b + α_aᵀ·(Φᵀ·A·Φ)·α_b.
-        let psi_gram = |a_mat: &Csr, phi_a_x: &[Vec<f64>], phi_a_phi: &[f64]| -> Vec<f64> {
-            let ax: Vec<Vec<f64>> = shapes.iter().map(|x| mul(a_mat, x)).collect();
+        let psi_gram = |ax: &[&[f64]], phi_a_x: &[Vec<f64>], phi_a_phi: &[f64]| -> Vec<f64> {
             let p_alpha: Vec<Vec<f64>> = alpha.iter().map(|al| mat_vec(phi_a_phi, al, nm)).collect();
             let mut r = gram(&shapes, &ax);
             for i in 0..q {
@@ -274,8 +418,10 @@ impl SharedBasis {
             symmetrise(&mut r, q);
             r
         };
-        let mg = psi_gram(&self.m, &phi_m_x, &self.phi_m);
-        let cg = psi_gram(&self.c, &phi_c_x, &self.phi_c);
+        let mx: Vec<&[f64]> = kept.iter().map(|k| k.mx.as_slice()).collect();
+        let cx: Vec<&[f64]> = kept.iter().map(|k| k.cx.as_slice()).collect();
+        let mg = psi_gram(&mx, &phi_m_x, &self.phi_m);
+        let cg = psi_gram(&cx, &phi_c_x, &self.phi_c);
         let (y, omega) = pencil_basis(&kg, &Mat::<f64>::from_fn(q, q, |a, b| mg[a * q + b]))?;
         let nq = omega.len();
         dropped += q - nq;
@@ -355,7 +501,7 @@ fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
 /// The distinct patterns along which the actuators and loads of `attached` act on the
 /// structure (its DOFs below `ns`): each link's foot, each drive's and each load's
 /// structure part, signed so that the first coefficient is positive.
-fn attachment_patterns(attached: &System, ns: usize) -> Vec<Vec<(usize, f64)>> {
+fn attachment_patterns(attached: &System, ns: usize) -> Vec<Pattern> {
     let structure_part = |g: &[(usize, f64)]| {
         let mut b: Vec<(usize, f64)> = g.iter().copied().filter(|&(d, c)| d < ns && c != 0.0).collect();
         b.sort_by_key(|&(d, _)| d);
@@ -364,7 +510,7 @@ fn attachment_patterns(attached: &System, ns: usize) -> Vec<Vec<(usize, f64)>> {
         }
         b
     };
-    let mut patterns: Vec<Vec<(usize, f64)>> = Vec::new();
+    let mut patterns: Vec<Pattern> = Vec::new();
     let all = attached.links.iter().map(|l| &l.foot).chain(&attached.drives).chain(&attached.loads);
     for b in all.map(|g| structure_part(g)).filter(|b| !b.is_empty()) {
         if !patterns.contains(&b) {
@@ -374,12 +520,17 @@ fn attachment_patterns(attached: &System, ns: usize) -> Vec<Vec<(usize, f64)>> {
     patterns
 }
 
-/// K⁻¹·b over the structure's `ns` DOFs.
-fn static_shape(k: &OwnedLdlt, b: &[(usize, f64)], ns: usize) -> Vec<f64> {
-    let mut x = vec![0.0; ns];
+/// Pattern b as a vector over the structure's DOFs, added into `x`.
+fn load(b: &[(usize, f64)], x: &mut [f64]) {
     for &(d, c) in b {
         x[d] += c;
     }
+}
+
+/// K⁻¹·b over the structure's `ns` DOFs.
+fn static_shape(k: &OwnedLdlt, b: &[(usize, f64)], ns: usize) -> Vec<f64> {
+    let mut x = vec![0.0; ns];
+    load(b, &mut x);
     k.solve_in_place(&mut x);
     debug_assert!(at(b, &x).is_finite());
     x

@@ -105,14 +105,14 @@ impl Structure {
     }
 
     /// Which of a node's DOFs its supports fix.
-    pub fn fixed(&self, node: usize) -> Vec<bool> {
+    pub fn fixed(&self, node: usize) -> std::borrow::Cow<'_, [bool]> {
         match self {
             Structure::Beam(b) => {
                 let (w, t) = b.fixed(node);
-                vec![w, t]
+                vec![w, t].into()
             }
-            Structure::Plate(p) => p.fixed(node).to_vec(),
-            Structure::Imported(m) => m.fixed(node),
+            Structure::Plate(p) => p.fixed(node).to_vec().into(),
+            Structure::Imported(m) => m.fixed(node).into(),
         }
     }
 

@@ -220,6 +220,24 @@ impl<'a> Evaluator<'a> {
         Ok(())
     }
 
+    /// Solves the static shapes of the cases of `groups` up front when they run on a shared
+    /// reduction ([`StudySystems::prefetch`]): one case per group, whose cases differ only
+    /// in their drives and so share their attachments.
+    fn prefetch(&self, groups: &[Vec<usize>]) {
+        let sweep = self.sweep;
+        let firsts: Vec<usize> = groups.iter().filter_map(|g| g.first().copied()).collect();
+        let Some(first) = firsts.first().and_then(|&i| sweep.case(i).ok()).and_then(|lc| calibrated_model(&lc).ok())
+        else {
+            return;
+        };
+        self.systems.prefetch(&first, firsts.len(), |k| {
+            // Where the actuators stand does not depend on the damping: its calibration
+            // (the bare modes, for a damping ratio) is left to the case.
+            let model = crate::case::build::build_model(&sweep.case(firsts[k])?)?;
+            Ok(Model { damping: crate::assembly::Damping::None, ..model })
+        });
+    }
+
     /// A sweep on a shared reduction checks it: the case of `rows` with the largest total
     /// net power solved again on the full model, its point and net powers compared. None
     /// for a sweep on the full model, without rows, or where the full model of that case
@@ -453,6 +471,9 @@ pub fn run(sweep: &Sweep, opts: &RunOptions) -> Result<SweepTable> {
     } else {
         todo.iter().map(|&i| vec![i]).collect()
     };
+    if ev.shares_systems() {
+        pool.install(|| ev.prefetch(&groups));
+    }
     let cancelled = || opts.cancel.as_ref().is_some_and(Cancel::is_cancelled);
     let new: Vec<Row> = pool.install(|| {
         groups

@@ -19,6 +19,7 @@ use crate::analysis::reduction::{self, ReductionReport, ReductionSettings, Share
 use crate::assembly::{Model, System};
 use crate::case::ReductionSpec;
 use crate::error::{Error, Result};
+use rayon::prelude::*;
 use std::sync::Arc;
 
 /// How a study's cases get their systems.
@@ -73,14 +74,7 @@ impl StudySystems {
         };
         let settings = &ReductionSettings::of_spec(&from.spec, model.modal_ratios());
         let case_cutoff = reduction::cutoff_hz(model, settings, self.harmonics).map_err(|e| e.in_file(file))?;
-        let shared = {
-            let cell = &from.base.shared_reduction;
-            let mut slot = cell.lock().map_err(|_| Error::Numerical("a study thread panicked".into()))?;
-            match slot.as_ref() {
-                Some(s) => Arc::clone(s),
-                None => Arc::clone(slot.insert(Arc::new(from.build(settings, self.harmonics)?))),
-            }
-        };
+        let shared = from.shared(settings, self.harmonics)?;
         if case_cutoff > shared.cutoff_hz() * (1.0 + 1e-12) {
             return Err(Error::input(
                 file,
@@ -96,9 +90,39 @@ impl StudySystems {
         let (sys, report) = shared.system(model).map_err(|e| e.in_file(file))?;
         Ok((sys, Some(report)))
     }
+
+    /// Solves up front, a block of right-hand sides per pass over the factor of K, the
+    /// static shapes of the `count` cases `case` builds (a study that knows its
+    /// candidates: the nodes of a node sweep, its positions; only where their actuators
+    /// and loads stand is read), so that each case then reads them instead of solving its
+    /// own. Builds the shared reduction if no case has yet, with the settings of `first`
+    /// (a case's calibrated model). Without one, or where it or a case cannot be built,
+    /// nothing is done: the cases' own evaluations report their errors. Returns the
+    /// shapes solved.
+    pub fn prefetch(&self, first: &Model, count: usize, case: impl Fn(usize) -> Result<Model> + Sync) -> usize {
+        let Some(from) = &self.shared_from else { return 0 };
+        let settings = &ReductionSettings::of_spec(&from.spec, first.modal_ratios());
+        let Ok(shared) = from.shared(settings, self.harmonics) else { return 0 };
+        let patterns: Vec<_> = (0..count)
+            .into_par_iter()
+            .filter_map(|i| case(i).ok().and_then(|m| shared.attachment_patterns(&m).ok()))
+            .flatten()
+            .collect();
+        shared.prefetch(&patterns)
+    }
 }
 
 impl SharedFrom {
+    /// The study's shared reduction, built by the first case that asks for it.
+    fn shared(&self, settings: &ReductionSettings, harmonics: usize) -> Result<Arc<SharedReduction>> {
+        let cell = &self.base.shared_reduction;
+        let mut slot = cell.lock().map_err(|_| Error::Numerical("a study thread panicked".into()))?;
+        match slot.as_ref() {
+            Some(s) => Ok(Arc::clone(s)),
+            None => Ok(Arc::clone(slot.insert(Arc::new(self.build(settings, harmonics)?)))),
+        }
+    }
+
     /// The shared reduction: on the base case's structure, up to the highest cut-off the
     /// base case and the extremes ask for.
     fn build(&self, settings: &ReductionSettings, harmonics: usize) -> Result<SharedReduction> {
