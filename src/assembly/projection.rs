@@ -112,6 +112,15 @@ impl Projection {
         Projection { full, n_reduced, columns: Columns::Factored(f) }
     }
 
+    /// The retained modes of a factored T (a placement on a shared modal basis), the first
+    /// reduced coordinates; None for a dense T.
+    pub fn shared_modes(&self) -> Option<usize> {
+        match &self.columns {
+            Columns::Factored(f) => Some(f.modes),
+            Columns::Dense(_) => None,
+        }
+    }
+
     /// Row `i` of T (full DOF i in reduced coordinates), dense.
     pub fn row_dense(&self, i: usize) -> Vec<f64> {
         match &self.columns {
