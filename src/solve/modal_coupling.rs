@@ -122,8 +122,7 @@ impl ModalCoupling {
         }
         let weights: Vec<[f64; 3]> = links.iter().map(|l| [l.k, l.foot_mass, l.c]).collect();
         let totals = [&sys.k, &sys.m, &sys.c].map(|a| dense(a, n));
-        let bare = [&sys.k_beam, &sys.m_beam, &sys.c_beam].map(|a| dense(a, n));
-        let diag = bare.each_ref().map(|b| (0..nd).map(|i| b[i * n + i]).collect::<Vec<f64>>());
+        let diag = [&sys.k_beam, &sys.m_beam, &sys.c_beam].map(|a| (0..nd).map(|i| a.get(i, i)).collect::<Vec<f64>>());
         for (a, total) in totals.iter().enumerate() {
             let link = |i: usize, j: usize| -> f64 {
                 weights.iter().enumerate().map(|(l, w)| w[a] * rows[l * nd + i] * rows[l * nd + j]).sum()
