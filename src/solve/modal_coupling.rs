@@ -57,7 +57,7 @@ const NOISE: f64 = 1e-10;
 const MAX_STEPS: usize = 8;
 
 /// The dynamic stiffness of a reduced system in the coupled form (see the module's doc
-/// comment), factorised per frequency in fixed storage.
+/// comment), factorised per frequency.
 pub struct ModalCoupling {
     /// Modal coordinates 0..nd; the rest nd..n.
     nd: usize,
@@ -89,7 +89,7 @@ struct Factor {
     pivots: Vec<usize>,
 }
 
-/// A symmetric `Csr` of dimension n, dense row-major.
+/// A `Csr` of dimension n, dense row-major.
 fn dense(a: &Csr, n: usize) -> Vec<f64> {
     let mut d = vec![0.0; n * n];
     for (i, j, v) in a.triplets() {
@@ -105,8 +105,8 @@ fn combine([k, m, c]: [f64; 3], c_m: f64, c_c: Complex64) -> Complex64 {
 
 impl ModalCoupling {
     /// The coupled form of `sys`, where it holds (a reduced system on a shared modal basis
-    /// whose modal block is the structure's diagonal plus the links' feet, to round-off);
-    /// None elsewhere.
+    /// whose modal block is the structure's diagonal plus the links' feet, up to entries
+    /// below [`LEFT_OUT`] of their diagonal); None elsewhere.
     pub fn of(sys: &System) -> Option<Self> {
         let nd = sys.projection.as_ref()?.shared_modes()?;
         let n = sys.n();
