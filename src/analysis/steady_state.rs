@@ -28,6 +28,7 @@ use crate::power::spectra::harmonics;
 use crate::signal::sampling::resolved_harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::eigen::Modes;
+use crate::solve::modal_coupling::ModalCoupling;
 use crate::solve::refine::Refined;
 use num_complex::Complex64;
 use serde::Serialize;
@@ -645,9 +646,16 @@ pub const NEGLIGIBLE_HARMONIC: f64 = 1e-12;
 /// evaluates every drive frequency of a placement against one assembled system, and this
 /// keeps its profile storage and the Q_k vectors, so a steady state allocates nothing.
 /// Results are bit for bit those of [`solve_harmonics`].
+///
+/// A placement's system on a shared modal basis is solved in its coupled form
+/// ([`ModalCoupling`]: the modes' receptance at the feet coupled to the actuators) where
+/// that form holds and no refinement needs the dense factor; every other system by the
+/// profile factor of its dynamic stiffness.
 pub struct HarmonicSolver<'s> {
     sys: &'s System,
-    dk: DynamicStiffness,
+    /// The profile factor, built when first needed.
+    dk: Option<DynamicStiffness>,
+    coupled: Option<ModalCoupling>,
     /// The refinement of the solves against the model's element rows (set by
     /// [`HarmonicSolver::prepare`]; without it the factor's solutions stand, unbounded).
     refinement: Option<MeshRefinement>,
@@ -664,9 +672,11 @@ pub struct HarmonicSolver<'s> {
 
 impl<'s> HarmonicSolver<'s> {
     pub fn new(sys: &'s System) -> Self {
+        let coupled = ModalCoupling::of(sys);
         HarmonicSolver {
             sys,
-            dk: DynamicStiffness::of(sys),
+            dk: coupled.is_none().then(|| DynamicStiffness::of(sys)),
+            coupled,
             refinement: None,
             q: Vec::new(),
             error: Vec::new(),
@@ -716,13 +726,55 @@ impl<'s> HarmonicSolver<'s> {
                 self.q[k].iter_mut().for_each(|x| *x = Complex64::default());
             }
         }
-        // Harmonics in pairs (see DynamicStiffness::factorize_pair): the same bits as one
-        // at a time, in less time.
         self.error.clear();
         self.error.resize_with(n_harm + 1, Refined::default);
         self.rhs.resize_with(2, Vec::new);
-        let mut shares = Shares::new(sys, active.len(), true);
         let task = crate::progress::Task::start("steady state", Some(active.len() as u64), "harmonics solved");
+        // The coupled form where no element rows ask for the dense factor's refinement (the
+        // error estimate is then none either way), the dense factor where a solve of it
+        // does not settle.
+        match &mut self.coupled {
+            Some(mc) if self.refinement.as_ref().is_none_or(|r| !r.can_refine()) => {
+                for (done, &k) in active.iter().enumerate() {
+                    task.set(done as u64)?;
+                    mc.factorize(k as f64 * w0)?;
+                    let rhs = self.q[k].clone();
+                    if !mc.solve_in_place(&mut self.q[k]) {
+                        let dk = self.dk.get_or_insert_with(|| DynamicStiffness::of(sys));
+                        self.q[k] = rhs;
+                        dk.factorize(k as f64 * w0)?;
+                        dk.solve_in_place(&mut self.q[k]);
+                    }
+                }
+            }
+            _ => self.solve_dense(&active, &fp_h, w0, &task)?,
+        }
+        for (k, q) in self.q.iter().enumerate() {
+            let w = k as f64 * w0;
+            self.diss.push(match (&self.refinement, active.contains(&k)) {
+                (_, false) => 0.0,
+                (Some(r), true) => r.dissipation(sys, q, w),
+                (None, true) => beam_dissipation(sys, q, w),
+            });
+        }
+        Ok(())
+    }
+
+    /// The `active` harmonics' solves (right-hand sides in [`HarmonicSolver::q`]) by the
+    /// profile factor, refined where the model asks.
+    fn solve_dense(
+        &mut self,
+        active: &[usize],
+        fp_h: impl Fn(usize, usize) -> Complex64,
+        w0: f64,
+        task: &crate::progress::Task,
+    ) -> Result<()> {
+        let sys = self.sys;
+        let forcings = sys.drives.len() + sys.loads.len();
+        let dk = self.dk.get_or_insert_with(|| DynamicStiffness::of(sys));
+        let mut shares = Shares::new(sys, active.len(), true);
+        // Harmonics in pairs (see DynamicStiffness::factorize_pair): the same bits as one
+        // at a time, in less time.
         for (done, pair) in active.chunks(2).enumerate() {
             task.set(2 * done as u64)?;
             if self.refinement.is_some() {
@@ -732,31 +784,23 @@ impl<'s> HarmonicSolver<'s> {
             }
             match *pair {
                 [ka, kb] => {
-                    self.dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?;
+                    dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?;
                     let (lo, hi) = self.q.split_at_mut(kb);
-                    self.dk.solve_pair(&mut lo[ka], &mut hi[0]);
+                    dk.solve_pair(&mut lo[ka], &mut hi[0]);
                 }
                 [k] => {
-                    self.dk.factorize(k as f64 * w0)?;
-                    self.dk.solve_in_place(&mut self.q[k]);
+                    dk.factorize(k as f64 * w0)?;
+                    dk.solve_in_place(&mut self.q[k]);
                 }
                 _ => unreachable!("chunks of 1 or 2"),
             }
             if let Some(r) = &self.refinement {
                 for (lane, &k) in pair.iter().enumerate() {
                     let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
-                    let solve = Solved { dk: &self.dk, lane, rhs: &self.rhs[lane] };
+                    let solve = Solved { dk: &*dk, lane, rhs: &self.rhs[lane] };
                     self.error[k] = shares.refine(r, solve, &mut self.q[k], (k, k as f64 * w0, &forcing)).0;
                 }
             }
-        }
-        for (k, q) in self.q.iter().enumerate() {
-            let w = k as f64 * w0;
-            self.diss.push(match (&self.refinement, active.contains(&k)) {
-                (_, false) => 0.0,
-                (Some(r), true) => r.dissipation(sys, q, w),
-                (None, true) => beam_dissipation(sys, q, w),
-            });
         }
         Ok(())
     }

@@ -6,6 +6,7 @@ pub mod dynamic_stiffness;
 pub mod eigen;
 pub mod lanczos;
 pub mod modal_basis;
+pub mod modal_coupling;
 pub mod newmark;
 pub mod refine;
 pub mod shared_basis;
