@@ -44,7 +44,7 @@ use crate::assembly::rows::StiffnessRows;
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
 use crate::solve::dynamic_stiffness::DynamicStiffness;
-use crate::solve::refine::{estimate, refine, Refinable, Refined};
+use crate::solve::refine::{estimate, refine, working_residual, Refinable, Refined};
 use num_complex::Complex64;
 
 /// The default relative tolerance of point powers and mobilities.
@@ -125,8 +125,7 @@ impl Refinable for Lane<'_> {
         if self.accurate {
             self.rows.residual(self.c_m, self.c_c, b, x, r);
         } else {
-            self.apply(x, r);
-            r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
+            working_residual(self, b, x, r);
         }
     }
     fn rounding(&self, x: &[Complex64]) -> Vec<Vec<Complex64>> {

@@ -39,9 +39,9 @@ fn twofold(v: TwoFloat) -> Twofold {
     Twofold { hi: v.hi(), lo: v.lo() }
 }
 
-/// The first-order relative rounding of a stored entry of M, of the actuators' links and of
-/// the coefficients c_m, c_c, a₀·c_c, a₁·c_c: each is formed by at most six roundings of
-/// u = ε/2 (a consistent-mass entry: ρA·l/420, ·156 or ·l², and the sum of two elements).
+/// The first-order relative rounding of a stored entry of the mass matrices and of their
+/// coefficient m_el = c_m + a₀·c_c: each is formed by at most six roundings of u = ε/2 (a
+/// consistent-mass entry: ρA·l/420, ·156 or ·l², and the sum of two elements).
 const COEFFICIENT_ROUNDING: f64 = 3.0 * f64::EPSILON;
 
 /// The relative rounding of a compensated sum of at most eight products of twofold numbers
@@ -70,9 +70,9 @@ impl Tie {
 
     /// [`Tie::coefficient`] to twice the working precision: its real and imaginary parts.
     fn twofold_coefficient(&self, c_c: Complex64, eta: f64) -> [Twofold; 2] {
-        let mut re = two_product(c_c.re, self.c);
+        let mut re = Twofold::product(c_c.re, self.c);
         re.add(self.k);
-        let mut im = two_product(c_c.im, self.c);
+        let mut im = Twofold::product(c_c.im, self.c);
         if self.lossy {
             im.add_twofold_product::<false>(Twofold::of(eta), Twofold::of(self.k));
         }
@@ -138,13 +138,12 @@ impl StiffnessRows {
                 }
             }
         }
-        let grounded =
+        let grounded: Vec<(usize, f64, f64)> =
             beam.springs.iter().filter_map(|s| dofs.w(s.node).map(|i| (i, s.stiffness, s.damping))).collect();
         let [m_el, _, _] = structure_matrices(structure, dofs, Default::default());
         let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
         let feet = feet_attachments(&comps, structure)?;
         let act = actuator_matrices(&comps, &feet, structure, dofs);
-        let grounded: Vec<(usize, f64, f64)> = grounded;
         let ties = grounded
             .iter()
             .map(|&(i, k, c)| Tie { g: vec![(i, 1.0)], k, c, lossy: true })
@@ -249,7 +248,7 @@ impl StiffnessRows {
         r.iter_mut().for_each(|v| *v = Complex64::default());
         self.apply_masses(c_m, c_c, x, r);
         let ties: Vec<[Twofold; 2]> = self.ties.iter().map(|t| t.twofold_coefficient(c_c, self.eta)).collect();
-        let (a1c, etc) = (two_product(self.a1, c_c.re), two_product(self.a1, c_c.im));
+        let (a1c, etc) = (Twofold::product(self.a1, c_c.re), Twofold::product(self.a1, c_c.im));
         let mut k_el = [a1c, etc];
         k_el[0].add(1.0);
         k_el[1].add(self.eta);
@@ -329,12 +328,6 @@ impl StiffnessRows {
             .collect();
         [out, rows]
     }
-}
-
-/// Twofold product of two doubles.
-fn two_product(a: f64, b: f64) -> Twofold {
-    let (hi, lo) = simd::twofold::two_prod::<false>(a, b);
-    Twofold { hi, lo }
 }
 
 /// The beam's part of the residual, r ← b − r − k_el·Gᵀ(G·x) with r holding the rest's

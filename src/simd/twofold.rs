@@ -50,6 +50,12 @@ impl Twofold {
         Twofold { hi: x, lo: 0.0 }
     }
 
+    /// a·b exactly (for |a·b| well inside the exponent range).
+    pub fn product(a: f64, b: f64) -> Self {
+        let (hi, lo) = two_prod::<false>(a, b);
+        Twofold { hi, lo }
+    }
+
     /// self += a·b.
     #[inline(always)]
     pub fn add_product<const FMA: bool>(&mut self, a: f64, b: f64) {

@@ -91,13 +91,18 @@ impl Refined {
 /// place.
 pub trait Refinable {
     fn apply(&self, x: &[Complex64], y: &mut [Complex64]);
-    /// r = b − A·x; by default from [`Refinable::apply`].
+    /// r = b − A·x; by default from [`Refinable::apply`] ([`working_residual`]).
     fn residual(&self, b: &[Complex64], x: &[Complex64], r: &mut [Complex64]) {
-        self.apply(x, r);
-        r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
+        working_residual(self, b, x, r);
     }
     fn rounding(&self, x: &[Complex64]) -> Vec<Vec<Complex64>>;
     fn precondition(&self, x: &mut [Complex64]);
+}
+
+/// r = b − A·x from [`Refinable::apply`], to working precision.
+pub fn working_residual(op: &(impl Refinable + ?Sized), b: &[Complex64], x: &[Complex64], r: &mut [Complex64]) {
+    op.apply(x, r);
+    r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
 }
 
 fn norm(x: &[Complex64]) -> f64 {
@@ -152,8 +157,7 @@ fn gmres(op: &impl Refinable, r: &[Complex64]) -> (Vec<Complex64>, usize) {
     for restart in 0..RESTARTS {
         if restart > 0 {
             // Restarts need only working precision: the outer residual is the accurate one.
-            op.apply(&d, &mut z);
-            z.iter_mut().zip(r).for_each(|(z, r)| *z = r - *z);
+            working_residual(op, r, &d, &mut z);
             op.precondition(&mut z);
         }
         let beta = norm(&z);
