@@ -1,7 +1,8 @@
 //! Point mobility of the bare paper beam against the exact continuous beam as the mesh is
 //! refined: discretisation error falls as elements⁻⁴, and the refined solves keep round-off
 //! below 1e-6 where the assembled factor alone lost ε·elements⁴ (`analysis::roundoff`);
-//! then the time of the frame case's steady state on fine meshes (docs/performance.md).
+//! then the time of the frame case's steady state and transient on fine meshes
+//! (docs/performance.md).
 //! Usage: cargo run --release --example mesh_accuracy
 use beamflow::analysis::harmonic::{self, PointForce};
 use beamflow::analysis::plan::calibrated_model;
@@ -54,6 +55,22 @@ fn main() {
         println!(
             "frame steady state, {n:>6} elements: {secs:.2} s ({} harmonics), stated round-off {:.1e}",
             s.harmonics, s.mesh_roundoff
+        );
+    }
+    // The frame case's transient (default step and tolerance) on fine meshes: the step takes
+    // the element rows' stiffness and refines its increments beyond 286 elements.
+    for n in [200, 2000, 20000] {
+        let text = frame
+            .replace("[beam]", &format!("[beam]\n[beam.mesh]\nelements = {n}"))
+            .replace("[[analysis]]\ntype = \"steady_state\"\n", "");
+        let lc = LoadedCase::from_str(&text, "frame.toml", PathBuf::from(".")).unwrap();
+        let start = std::time::Instant::now();
+        let run = beamflow::app::runner::run_case(&lc).unwrap();
+        let secs = start.elapsed().as_secs_f64();
+        let beamflow::analysis::case_run::AnalysisResult::Transient(t) = &run.results[0] else { unreachable!() };
+        println!(
+            "frame transient, {n:>6} elements: {secs:.2} s ({} periods), settling {:.1e}, stated round-off {:.1e}",
+            t.periods_run, t.settling_estimate, t.mesh_roundoff
         );
     }
 }

@@ -26,7 +26,8 @@ use crate::simd::{self, Builds};
 use num_complex::Complex64;
 use twofloat::TwoFloat;
 
-/// One row of G: up to four (DOF, value) entries, in doubles and to twice their precision.
+/// One row of G: up to four (DOF, value) entries, in doubles and to twice their precision;
+/// the `len..4` unused ones are 0 at DOF 0.
 #[derive(Clone, Copy, Debug)]
 struct Row {
     dofs: [usize; 4],
@@ -86,6 +87,9 @@ pub struct StiffnessRows {
     n: usize,
     /// G: elements' curvature rows, then √k of each support spring (K_el = GᵀG).
     rows: Vec<Row>,
+    /// G's rows in doubles alone, packed (48 bytes a row, not a [`Row`]'s 136): what the
+    /// transient step's product streams every step.
+    packed: Vec<([u32; 4], [f64; 4])>,
     /// Grounded spring–dampers (DOF, k, c): in K_beam (and its loss) but not in K_el.
     grounded: Vec<(usize, f64, f64)>,
     /// The grounded spring–dampers, then the actuators' links, as ties.
@@ -151,9 +155,11 @@ impl StiffnessRows {
             .collect();
         let n = dofs.n;
         let rayleigh = model.rayleigh();
+        let packed = rows.iter().map(|r| (r.dofs.map(|d| d as u32), r.values)).collect();
         Ok(Some(StiffnessRows {
             n,
             rows,
+            packed,
             grounded,
             ties,
             m_el,
@@ -220,6 +226,34 @@ impl StiffnessRows {
                 a.mul_vec_add(coef, x, y);
             }
         }
+    }
+
+    /// z ← z − K·x for real x: the stiffness alone (c_m = c_c = 0, no loss), in doubles,
+    /// the beam's part as Gᵀ(G·x), so a smooth x cancels by ~elements², not ~elements⁴ as
+    /// with the assembled K.
+    pub fn subtract_stiffness(&self, x: &[f64], z: &mut [f64]) {
+        for (d, g) in &self.packed {
+            // Every row as four entries (the unused ones 0 at DOF 0), so the loops unroll.
+            let s = (0..4).map(|e| x[d[e] as usize] * g[e]).sum::<f64>();
+            for e in 0..4 {
+                z[d[e] as usize] -= s * g[e];
+            }
+        }
+        for t in &self.ties {
+            let s = t.k * t.g.iter().map(|&(i, v)| x[i] * v).sum::<f64>();
+            t.g.iter().for_each(|&(i, v)| z[i] -= s * v);
+        }
+    }
+
+    /// The strain energies ½·xᵀ·K·x of the structure (its elements, supports and grounded
+    /// springs) and of the actuators' links, as sums of squares: (G·x)² per row and
+    /// k·(gᵀ·x)² per tie, which keep a smooth x's cancellation to ~elements².
+    pub fn strain_energies(&self, x: &[f64]) -> (f64, f64) {
+        let row = |(d, g): &([u32; 4], [f64; 4])| (0..4).map(|e| x[d[e] as usize] * g[e]).sum::<f64>().powi(2);
+        let tie = |t: &Tie| t.k * t.g.iter().map(|&(i, v)| x[i] * v).sum::<f64>().powi(2);
+        let (grounded, links) = self.ties.split_at(self.grounded.len());
+        let structure = self.packed.iter().map(row).sum::<f64>() + grounded.iter().map(tie).sum::<f64>();
+        (0.5 * structure, 0.5 * links.iter().map(tie).sum::<f64>())
     }
 
     /// r = b − A·x with the beam's part summed to twice the working precision
@@ -443,6 +477,21 @@ mod tests {
                 assert!((a - y[i]).norm() <= 1e-13 * scale, "row {i}: {a} vs {}", y[i]);
                 assert!(bound < 1e-12 * scale);
             }
+            // The transient's real product and strain energies: −K·x and ½xᵀ·K·x, split at
+            // the structure (K_beam) and the links (K − K_beam).
+            let xr: Vec<f64> = x.iter().map(|z| z.re).collect();
+            let (mut z, mut k_xr, mut kb_xr) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            split.subtract_stiffness(&xr, &mut z);
+            sys.k.mul_vec(&xr, &mut k_xr);
+            sys.k_beam.mul_vec(&xr, &mut kb_xr);
+            for i in 0..n {
+                assert!((z[i] + k_xr[i]).abs() <= 1e-13 * sys.k.get(i, i).abs() * 10.0, "row {i}");
+            }
+            let half = |v: &[f64]| 0.5 * xr.iter().zip(v).map(|(a, b)| a * b).sum::<f64>();
+            let (structure, links) = split.strain_energies(&xr);
+            let (e_beam, e_all) = (half(&kb_xr), half(&k_xr));
+            assert!((structure - e_beam).abs() <= 1e-12 * e_all, "{structure} vs {e_beam}");
+            assert!((structure + links - e_all).abs() <= 1e-12 * e_all, "{} vs {e_all}", structure + links);
         }
     }
 

@@ -10,6 +10,14 @@
 
 use crate::assembly::System;
 use crate::linalg::Csr;
+use std::sync::Arc;
+
+/// The strain energy ½·uᵀ·K·u formed without the assembled K, whose entries a smooth u
+/// cancels by ~elements⁴ (fine meshes, `crate::assembly::rows`).
+pub trait StrainEnergy: Send + Sync {
+    /// (structure's, actuators' links') strain energy (J) at displacement u.
+    fn structure_and_links(&self, u: &[f64]) -> (f64, f64);
+}
 
 /// ½·xᵀ·A·x of a symmetric A as Σ w·x_i·x_j over A's lower triangle. M and K are
 /// symmetric by assembly (element matrices and link terms g·gᵀ), so the upper triangle
@@ -58,7 +66,7 @@ impl HalfForm {
 
 /// The beam's and the system's stored energy at a state (u, v), from the system's M, K and
 /// the structure's own M_beam, K_beam. Built once per run.
-#[derive(Clone, Debug)]
+#[derive(Clone)]
 pub struct StoredEnergy {
     n: usize,
     m_beam: HalfForm,
@@ -66,6 +74,8 @@ pub struct StoredEnergy {
     /// M − M_beam and K − K_beam: the actuators' masses and link springs.
     m_rest: HalfForm,
     k_rest: HalfForm,
+    /// The strain energies from element rows in place of `k_beam` and `k_rest`, when set.
+    strain: Option<Arc<dyn StrainEnergy>>,
 }
 
 impl StoredEnergy {
@@ -81,14 +91,25 @@ impl StoredEnergy {
             k_beam: HalfForm::from_lower(HalfForm::lower(&sys.k_beam)),
             m_rest: rest(&sys.m, &sys.m_beam),
             k_rest: rest(&sys.k, &sys.k_beam),
+            strain: None,
         }
+    }
+
+    /// Takes the strain energies from `strain` rather than the assembled K.
+    pub fn with_strain(mut self, strain: Option<Arc<dyn StrainEnergy>>) -> Self {
+        self.strain = strain;
+        self
     }
 
     /// (beam, system) stored energy (J) at displacement u and velocity v (system DOFs).
     pub fn beam_and_system(&self, u: &[f64], v: &[f64]) -> (f64, f64) {
         assert!(u.len() == self.n && v.len() == self.n, "state of {} DOFs for a system of {}", u.len(), self.n);
-        let beam = self.m_beam.eval(v) + self.k_beam.eval(u);
-        (beam, beam + (self.m_rest.eval(v) + self.k_rest.eval(u)))
+        let (k_beam, k_rest) = match &self.strain {
+            Some(s) => s.structure_and_links(u),
+            None => (self.k_beam.eval(u), self.k_rest.eval(u)),
+        };
+        let beam = self.m_beam.eval(v) + k_beam;
+        (beam, beam + (self.m_rest.eval(v) + k_rest))
     }
 
     /// Entries held for the actuators' part (tests check it stays small).

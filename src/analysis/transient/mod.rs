@@ -24,8 +24,11 @@ use super::drive::{DriveTiming, Step};
 use super::series::{
     Balances, BodySeries, DriveSeries, LinkSeries, LinkSpectrum, LoadSeries, LoadSpectrum, SensorSeries,
 };
+use crate::analysis::roundoff;
+use crate::assembly::rows::StiffnessRows;
 use crate::assembly::{Model, System};
 use crate::error::Result;
+use crate::power::energy::StrainEnergy;
 use crate::power::point::{mean_product, net_power};
 use crate::power::record::{RecordAnalysis, RecordPlan, Welch};
 use crate::power::spectra::harmonics;
@@ -33,6 +36,7 @@ use crate::progress::Task;
 use crate::solve::band_newmark::{BandNewmark, StepOptions};
 use crate::solve::newmark::{consistent_acceleration, Scheme};
 use serde::Serialize;
+use std::sync::Arc;
 
 /// How to run.
 #[derive(Clone, Debug)]
@@ -102,8 +106,10 @@ pub struct TransientResult {
     /// state of the same discrete system (the measured distance plus a margin for round-off;
     /// see [`settle`]; NaN for a non-periodic drive).
     pub settling_estimate: f64,
-    /// Estimated relative round-off of the point powers from the mesh
-    /// ([`crate::analysis::roundoff::mesh_roundoff`]).
+    /// The relative round-off of the point powers that `settling_estimate` does not
+    /// measure: on a fine mesh whose steps use the element rows, the bound of the refined
+    /// periodic state it is measured against; else the measured envelope of the step's
+    /// round-off ([`crate::analysis::roundoff`]).
     pub mesh_roundoff: f64,
     /// Times of the recorded window (s).
     pub t: Vec<f64>,
@@ -160,8 +166,14 @@ impl PeriodPlan {
     }
 }
 
-/// The integrator of a run, built and set up in one place.
-fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<BandNewmark> {
+/// The integrator of a run, built and set up in one place, and the element rows' strain
+/// energy where the step uses them.
+fn integrator(
+    model: &Model,
+    sys: &System,
+    scheme: Scheme,
+    dt: f64,
+) -> Result<(BandNewmark, Option<Arc<dyn StrainEnergy>>)> {
     // The structure's Rayleigh damping lets the band step drop its C product (a reduced,
     // dense system declines: its C is no longer banded).
     let options = StepOptions {
@@ -169,7 +181,18 @@ fn integrator(model: &Model, sys: &System, scheme: Scheme, dt: f64) -> Result<Ba
         track_dissipation: true,
         ..StepOptions::default()
     };
-    BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt, options)
+    let mut nm = BandNewmark::new(&sys.m, &sys.c, &sys.k, &sys.envelope, scheme, dt, options)?;
+    // A mesh too fine for the envelope's bound steps with the element rows' stiffness and
+    // refines its increments (`band_newmark::accurate`); its energies come from the rows.
+    if roundoff::coarse_bound(model).is_none() {
+        if let Some(rows) = StiffnessRows::of(model, sys)? {
+            let rows = Arc::new(roundoff::RowStiffness(rows));
+            if nm.use_stiffness_product(rows.clone()) {
+                return Ok((nm, Some(rows)));
+            }
+        }
+    }
+    Ok((nm, None))
 }
 
 /// Starts the integrator at rest under the forces `w0` at t = 0 (N: each stack's F_p,
@@ -242,26 +265,36 @@ fn check_bounded(nm: &BandNewmark, sys: &System, ledger: &EnergyLedger, period: 
 fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTiming) -> Result<TransientResult> {
     let record_plan = record_plan(model, &timing, s.segment)?;
     let layout = Readout::new(model, sys)?;
-    let mut nm = integrator(model, sys, s.scheme, timing.dt)?;
+    let (mut nm, strain) = integrator(model, sys, s.scheme, timing.dt)?;
+    let accurate = strain.is_some();
     let mut stacks = StackHistories::new(model, &timing);
     let f_p0 = stacks.initial_forces();
     start_at_rest(&mut nm, sys, &stacks.initial_weights())?;
     let plan = PeriodPlan::new(&timing, s);
     let thin = s.history_every.max(1);
     let mut window = Window::new(plan.keep, timing.steps_per_period, (plan.min, thin));
-    let mut ledger = EnergyLedger::new(sys, &nm);
+    let mut ledger = EnergyLedger::new(sys, &nm, strain);
     nm.set_observations(layout.rows());
     let mut stepper = Stepper::new(&nm, sys, &layout, &f_p0, &timing);
     let reference = if timing.periodic && s.steady_state {
-        Some(reference::periodic_metrics(model, sys, &s.scheme, &timing)?)
+        Some(reference::periodic_metrics(model, sys, &s.scheme, &timing, accurate)?)
     } else {
         None
     };
-    let roundoff = crate::analysis::roundoff::envelope(model);
-    // The reference and the run each carry the mesh's round-off, and their period means of
-    // N products up to N·ε more (a sum's worst case).
+    // The period means of N products carry up to N·ε each (a sum's worst case): the run's
+    // and the reference's.
     let summed = timing.steps_per_period as f64 * f64::EPSILON;
-    let mut settle = SettleCheck::new(s.tolerance, reference, roundoff + summed);
+    let (roundoff, margin) = match &reference {
+        // A refined reference's bound is all the measured distance cannot see: the run's own
+        // round-off is part of that distance.
+        Some(r) if accurate => (r.bound, r.bound + 2.0 * summed),
+        // Otherwise the reference and the run each carry the mesh's measured envelope.
+        _ => {
+            let envelope = if accurate { roundoff::refined_step_envelope(model) } else { roundoff::envelope(model) };
+            (envelope, 2.0 * (envelope + summed))
+        }
+    };
+    let mut settle = SettleCheck::new(s.tolerance, reference.map(|r| r.metrics), margin);
     let (mut converged, mut periods_run, mut settled_run) = (false, 0, 0);
     // A periodic run counts periods; a record, its steps.
     let task = if timing.periodic {

@@ -17,12 +17,16 @@
 use super::record::PeriodRecord;
 use super::settle::{period_metrics, Metrics};
 use crate::analysis::drive::{load_cycles, stack_cycle, DriveTiming};
+use crate::analysis::roundoff::MeshRefinement;
 use crate::analysis::steady_state::{PeriodSynthesis, NEGLIGIBLE_HARMONIC};
 use crate::assembly::{Model, System};
 use crate::error::Result;
+use crate::power::link::{interface_amplitude, link_power_error};
+use crate::power::point::{mean_power_error, own_scales};
 use crate::power::spectra::harmonics;
 use crate::solve::dynamic_stiffness::DynamicStiffness;
 use crate::solve::newmark::Scheme;
+use crate::solve::refine::Refined;
 use num_complex::Complex64;
 use std::f64::consts::PI;
 
@@ -44,9 +48,49 @@ fn coefficients(scheme: &Scheme, dt: f64, k: usize, n: usize) -> Option<(Complex
     (finite(c_m) && finite(sigma) && finite(alpha)).then_some((c_m, sigma, alpha))
 }
 
+/// The periodic state's metrics and, where its solves are refined, a bound of their
+/// round-off: the largest over the metrics, each relative to its own size as the settling
+/// check takes it (0 where not refined).
+pub(super) struct Reference {
+    pub metrics: Metrics,
+    pub bound: f64,
+}
+
+/// Each metric's round-off bound (W, N), summed over the harmonics.
+#[derive(Default)]
+struct Bounds {
+    powers: Vec<f64>,
+    /// Squares of the transmitted forces' amplitude errors, summed.
+    forces: Vec<f64>,
+}
+
+impl Bounds {
+    fn new(links: usize, loads: usize) -> Self {
+        Bounds { powers: vec![0.0; links + loads], forces: vec![0.0; links] }
+    }
+
+    /// The largest relative bound against `m`'s own scales. An RMS force's error is at most
+    /// the RMS of the error, ≤ √(Σ_k |δF_k|²).
+    fn relative_to(&self, m: &Metrics) -> f64 {
+        let rel = |b: &[f64], v: &[f64]| {
+            b.iter().zip(own_scales(v)).fold(0.0f64, |acc, (e, s)| acc.max(if *e == 0.0 { 0.0 } else { e / s }))
+        };
+        let forces: Vec<f64> = self.forces.iter().map(|f| f.sqrt()).collect();
+        rel(&self.powers, &m.powers).max(rel(&forces, &m.forces))
+    }
+}
+
 /// The per-period metrics (as [`period_metrics`] takes them from a run) of the periodic
-/// state of `sys` stepped by `scheme` at `timing`.
-pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, timing: &DriveTiming) -> Result<Metrics> {
+/// state of `sys` stepped by `scheme` at `timing`. With `refined`, each harmonic's solve
+/// is refined against the model's element rows ([`MeshRefinement`]) and its bound stated:
+/// the periodic state of a fine mesh, whose run steps with the rows too.
+pub(super) fn periodic_metrics(
+    model: &Model,
+    sys: &System,
+    scheme: &Scheme,
+    timing: &DriveTiming,
+    refined: bool,
+) -> Result<Reference> {
     let n = timing.steps_per_period;
     let mut rec = PeriodRecord::default();
     // Every forcing's harmonics: the stacks' F_p, then the point loads'.
@@ -64,7 +108,9 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
     let size = |k: usize| loads.iter().map(|f| f[k].norm()).fold(0.0f64, f64::max);
     let largest = (0..=kmax).map(size).fold(0.0f64, f64::max);
     let mut dk = DynamicStiffness::of(sys);
+    let refinement = if refined { Some(MeshRefinement::new(model, sys)?) } else { None };
     let nl = sys.links.len();
+    let mut bounds = Bounds::new(nl, sys.loads.len());
     let zero = vec![Complex64::default(); kmax + 1];
     let (mut u, mut ud, mut fv, mut fa) =
         (vec![zero.clone(); nl], vec![zero.clone(); nl], vec![zero.clone(); nl], vec![zero.clone(); nl]);
@@ -81,14 +127,36 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
             }
         }
         dk.factorize_general(c_m, sigma)?;
+        let b = q.clone();
         dk.solve_in_place(&mut q);
+        let e = match &refinement {
+            Some(r) => r.refine_if(&dk, 0, &b, &mut q, true),
+            None => Refined::default(),
+        };
+        // The rates' magnitudes: |σ| = ω̃ and |α| = ω̃² for average acceleration, and the
+        // larger of the two stands for both in the other schemes' bound.
+        let omega = sigma.norm().max(alpha.norm().sqrt());
         for (l, lk) in sys.links.iter().enumerate() {
             let stretch: Complex64 = lk.stretch.iter().map(|&(d, c)| q[d] * c).sum();
             let foot: Complex64 = lk.foot.iter().map(|&(d, c)| q[d] * c).sum();
             (u[l][k], ud[l][k], fv[l][k], fa[l][k]) = (stretch, sigma * stretch, sigma * foot, alpha * foot);
+            if refinement.is_some() {
+                // F_T = k·u + c·u̇ − F_p (the stack's only where active), at the rates of the
+                // recurrence.
+                let f_p = if lk.active { loads[lk.actuator][k] } else { Complex64::default() };
+                let ft = stretch * lk.k + ud[l][k] * lk.c - f_p;
+                let fi = interface_amplitude(lk, ft, fa[l][k]);
+                let du = e.bound(&lk.stretch);
+                bounds.powers[l] += link_power_error(lk, du, e.bound(&lk.foot), omega, fi, fv[l][k]);
+                bounds.forces[l] += (du * Complex64::new(lk.k, omega * lk.c).norm()).powi(2);
+            }
         }
         for (j, pattern) in sys.loads.iter().enumerate() {
             lv[j][k] = sigma * pattern.iter().map(|&(d, c)| q[d] * c).sum::<Complex64>();
+            if refinement.is_some() {
+                let f = loads[model.actuators.len() + j][k];
+                bounds.powers[nl + j] += mean_power_error(f, 0.0, lv[j][k], omega * e.bound(pattern));
+            }
         }
     }
     // x_j = Re Σ_k X̂_k·e^{i2πkj/N}: one inverse FFT per signal (the time derivative is
@@ -101,7 +169,8 @@ pub(super) fn periodic_metrics(model: &Model, sys: &System, scheme: &Scheme, tim
         rec.fa.push(synth.series(&fa[l]));
     }
     rec.lv = lv.iter().map(|v| synth.series(v)).collect();
-    Ok(period_metrics(&sys.links, &rec))
+    let metrics = period_metrics(&sys.links, &rec);
+    Ok(Reference { bound: bounds.relative_to(&metrics), metrics })
 }
 
 #[cfg(test)]

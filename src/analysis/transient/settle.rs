@@ -10,19 +10,20 @@
 //! of the largest), and the run has settled when every point is within the tolerance.
 //!
 //! The largest of those distances is the stated `settling_estimate`, and it bounds the
-//! error of every point's power against the periodic state the run converges to (a run
-//! continued until the start-up transient has decayed to round-off). The distance is
-//! measured, not extrapolated from the change between periods, so the only gap between it
-//! and that error is how far the reference is from the run's limit: both are the same
-//! linear recurrence solved in floating point, the reference by one factorisation per
-//! harmonic and the run by steps, each within the mesh's round-off
-//! ([`crate::analysis::roundoff::mesh_roundoff`]) and the N·ε of a mean of N samples
-//! (ε the machine epsilon) of the exact periodic state; call their sum ε. So with d the
-//! distance of a point from the reference r and δ = 2ε, the error against the run's limit
-//! is at most (d + δ|r|)/(|r| − δ|r|) = (d/|r| + δ)/(1 − δ), the estimate stated: its
-//! margin over the measured distance is δ, and it is an upper bound as long as ε bounds the
-//! solves' round-off. A tolerance below 2δ cannot be told from round-off; the run then
-//! stops at 2δ and states its estimate.
+//! error of every point's power against the exact periodic state of the discrete system.
+//! The distance is measured, not extrapolated from the change between periods, so the only
+//! gap between it and that error is what the measurement cannot see, a relative margin δ:
+//! with d the distance of a point from the reference r, the error is at most
+//! (d + δ)/(1 − δ), the estimate stated. What δ holds:
+//! - on a fine mesh whose steps use the element rows, the refined reference's own bound
+//!   (`reference::Reference::bound`) and the N·ε of each of the two means of N samples
+//!   (ε the machine epsilon): the run's round-off is part of the measured distance;
+//! - otherwise twice the mesh's measured envelope of round-off
+//!   ([`crate::analysis::roundoff::envelope`]) and the means' N·ε, the reference and the run
+//!   each carrying it.
+//!
+//! A tolerance below 2δ cannot be told from round-off; the run then stops at 2δ and states
+//! its estimate.
 //!
 //! The change between neighbouring periods is kept too, for non-periodic drives (which
 //! have no periodic state) and as a diagnostic.
@@ -45,11 +46,10 @@ pub(super) struct SettleCheck {
 
 impl SettleCheck {
     /// A check that the run has settled to `tolerance` (relative), against the periodic
-    /// state's metrics `reference` ([`period_metrics`] of it), each of which the run's
-    /// limit may differ from by `roundoff` (relative), or, without one, between
-    /// neighbouring periods.
-    pub fn new(tolerance: f64, reference: Option<Metrics>, roundoff: f64) -> Self {
-        let margin = 2.0 * roundoff;
+    /// state's metrics `reference` ([`period_metrics`] of it), with the relative `margin`
+    /// δ for what the measured distance cannot see, or, without one, between neighbouring
+    /// periods.
+    pub fn new(tolerance: f64, reference: Option<Metrics>, margin: f64) -> Self {
         SettleCheck { tolerance, reference, margin, previous: None, change: f64::NAN, remaining: f64::NAN }
     }
 
@@ -195,7 +195,7 @@ mod tests {
         };
         let links = [links(), links()].concat();
         let reference = period_metrics(&links, &two(0.01));
-        let mut check = SettleCheck::new(1e-3, Some(reference), 1e-6);
+        let mut check = SettleCheck::new(1e-3, Some(reference), 2e-6);
         assert!(!check.settled_after(&links, &two(0.0101)));
         let expected = (0.01 + 2e-6) / (1.0 - 2e-6);
         assert!((check.remaining() - expected).abs() < 1e-12, "{}", check.remaining());

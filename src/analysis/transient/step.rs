@@ -9,11 +9,12 @@ use crate::analysis::drive::DriveTiming;
 use crate::analysis::series::Balances;
 use crate::assembly::{LinkDofs, Model, System};
 use crate::error::Result;
-use crate::power::energy::StoredEnergy;
+use crate::power::energy::{StoredEnergy, StrainEnergy};
 use crate::power::link::{interface_force, transmitted_force};
 use crate::power::point::{damper_dissipation, midpoint_work};
 use crate::signal::voltage::VoltageInput;
 use crate::solve::band_newmark::BandNewmark;
+use std::sync::Arc;
 
 /// The drives over the current period: each stack's voltage and h, and each point load's
 /// force, at its N + 1 sample times. F_p depends on the voltage alone, so h is integrated
@@ -240,8 +241,9 @@ pub(super) struct EnergyLedger {
 }
 
 impl EnergyLedger {
-    pub fn new(sys: &System, nm: &BandNewmark) -> Self {
-        let energy = StoredEnergy::new(sys);
+    /// `strain`: the strain energies from element rows (fine meshes), else from K.
+    pub fn new(sys: &System, nm: &BandNewmark, strain: Option<Arc<dyn StrainEnergy>>) -> Self {
+        let energy = StoredEnergy::new(sys).with_strain(strain);
         let start = energy.beam_and_system(nm.u(), nm.v());
         EnergyLedger {
             energy,

@@ -40,6 +40,9 @@ pub(super) struct Proportional {
     /// The scheme's w₂ = e_v·v + e_a·a, which R multiplies.
     pub(super) ev: f64,
     pub(super) ea: f64,
+    /// a₀ (1/s) and a₁ (s) of C = a₀·M + a₁·K + R.
+    pub(super) a0: f64,
+    pub(super) a1: f64,
 }
 
 /// An entry of C − a₀·M − a₁·K below this fraction of |C| + |a₀·M| + |a₁·K| (a few
@@ -91,6 +94,6 @@ impl Proportional {
         // w₁' = w₁ + a₀·w₂ and w₂' = u − a₁·w₂, and the band sees no C.
         let coeffs =
             StepCoeffs { cv: k.cv + a0 * k.ev, ca: k.ca + a0 * k.ea, ev: -a1 * k.ev, ea: -a1 * k.ea, eu: 1.0, ..k };
-        Some((Proportional { residual, ev: k.ev, ea: k.ea }, coeffs))
+        Some((Proportional { residual, ev: k.ev, ea: k.ea, a0, a1 }, coeffs))
     }
 }

@@ -116,13 +116,7 @@ impl BandNewmark {
         let mut lp = self.factor.long.len();
         let mut prev = 0.0; // x_{i+1}
         for i in (0..n).rev() {
-            let mut xi = x[i];
-            if b > 0 {
-                for s in (2..=b).rev() {
-                    xi = madd::<FMA>(-l[(i + s) * b + b - s], x[i + s], xi);
-                }
-                xi = madd::<FMA>(-l[(i + 1) * b + b - 1], prev, xi);
-            }
+            let xi = backward_row::<FMA>(l, b, i, x, prev);
             prev = xi;
             x[i] = xi;
             if i + b < n {
@@ -152,6 +146,23 @@ impl BandNewmark {
         for e in &self.band.extra {
             diss += 2.0 * e.c * vb[e.i + b] * vb[e.j + b];
         }
+        if let Some(acc) = &self.accurate {
+            diss += acc.a1 * acc.product.quadratic(&vb[b..b + n]);
+        }
         diss
     }
+}
+
+/// Row i of the backward sweep Lᵀ·x = y/d: x[i] (holding y/d) less the band entries of
+/// column i against the rows below, the newest (`prev`, x_{i+1}) last and from a register.
+#[inline(always)]
+pub(super) fn backward_row<const FMA: bool>(l: &[f64], b: usize, i: usize, x: &[f64], prev: f64) -> f64 {
+    let mut xi = x[i];
+    if b > 0 {
+        for s in (2..=b).rev() {
+            xi = madd::<FMA>(-l[(i + s) * b + b - s], x[i + s], xi);
+        }
+        xi = madd::<FMA>(-l[(i + 1) * b + b - 1], prev, xi);
+    }
+    xi
 }
