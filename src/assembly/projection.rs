@@ -14,7 +14,6 @@
 //! is formed per placement; [`Projection::expand`] forms the full field only when asked.
 
 use super::dofs::DofMap;
-use crate::linalg::Csr;
 use num_complex::Complex64;
 use std::sync::Arc;
 
@@ -157,37 +156,5 @@ impl Projection {
             r.iter_mut().zip(self.row_dense(d)).for_each(|(x, t)| *x += coef * t);
         }
         r.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect()
-    }
-
-    /// Tᵀ·A·T for a symmetric A whose entries lie on few DOFs (an actuator's springs,
-    /// dampers and masses), dense (row-major nr × nr, symmetric): only the rows of T at
-    /// those DOFs enter, T_D, and Tᵀ·A·T = T_Dᵀ·(A_DD·T_D) costs nothing of the model's
-    /// size. A's zero entries (a link without damping, a foot without mass) bring no DOF.
-    pub fn project_rows(&self, a: &Csr) -> Vec<f64> {
-        let nr = self.n_reduced;
-        let entries = || a.triplets().filter(|&(_, _, v)| v != 0.0);
-        let mut dofs: Vec<usize> = entries().flat_map(|(i, j, _)| [i, j]).collect();
-        dofs.sort_unstable();
-        dofs.dedup();
-        let index = |i: usize| dofs.binary_search(&i).expect("a DOF of A");
-        let t_d: Vec<Vec<f64>> = dofs.iter().map(|&d| self.row_dense(d)).collect();
-        // A·T on A's rows, from its entries; then T_Dᵀ·(A·T), skipping T's exact zeros.
-        let mut at = vec![vec![0.0; nr]; dofs.len()];
-        for (i, j, v) in entries() {
-            at[index(i)].iter_mut().zip(&t_d[index(j)]).for_each(|(x, t)| *x += v * t);
-        }
-        // The upper triangle, then its mirror (Tᵀ·A·T is symmetric).
-        let mut r = vec![0.0; nr * nr];
-        for (ti, ai) in t_d.iter().zip(&at) {
-            for (a_, &tia) in ti.iter().enumerate().filter(|(_, t)| **t != 0.0) {
-                r[a_ * nr + a_..(a_ + 1) * nr].iter_mut().zip(&ai[a_..]).for_each(|(x, y)| *x += tia * y);
-            }
-        }
-        for i in 0..nr {
-            for j in 0..i {
-                r[i * nr + j] = r[j * nr + i];
-            }
-        }
-        r
     }
 }

@@ -54,6 +54,12 @@ impl Csr {
         Csr { mat: CsMat::new((n, n), indptr, indices, data) }
     }
 
+    /// Builds from rows already in compressed form: row i's column indices (ascending,
+    /// distinct) and values at `indptr[i]..indptr[i + 1]`.
+    pub fn from_sorted_rows(n: usize, indptr: Vec<usize>, indices: Vec<usize>, data: Vec<f64>) -> Self {
+        Csr { mat: CsMat::new((n, n), indptr, indices, data) }
+    }
+
     /// This matrix times `factor`.
     pub fn scaled(&self, factor: f64) -> Self {
         let n = self.dim();
@@ -192,8 +198,9 @@ impl Csr {
     pub fn to_dense(&self) -> Vec<f64> {
         let n = self.dim();
         let mut d = vec![0.0; n * n];
-        for (i, j, v) in self.triplets() {
-            d[i * n + j] += v;
+        for i in 0..n {
+            let (idx, val) = self.row(i);
+            idx.iter().zip(val).for_each(|(&j, &v)| d[i * n + j] += v);
         }
         d
     }

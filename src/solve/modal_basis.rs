@@ -234,8 +234,7 @@ pub(super) fn reduced_system(full: &System, basis: Projection, matrices: [Csr; 6
         .collect();
     let combine = |bs: &[Vec<(usize, f64)>]| -> Vec<_> { bs.iter().map(|b| basis.row_combination(b)).collect() };
     let (drives, loads) = (combine(&full.drives), combine(&full.loads));
-    let envelope =
-        Skyline::<f64>::envelope_of(nr, m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)));
+    let envelope = envelope_of_rows(nr, [&m, &c, &k]);
     System {
         dofs: reduced_dofs(full, first_body, nr),
         m,
@@ -251,6 +250,21 @@ pub(super) fn reduced_system(full: &System, basis: Projection, matrices: [Csr; 6
         envelope,
         projection: Some(Arc::new(basis)),
     }
+}
+
+/// The skyline envelope of the patterns of `matrices` (each n × n), row by row: a row's
+/// first column, and each entry above the diagonal for the row of its column.
+fn envelope_of_rows(n: usize, matrices: [&Csr; 3]) -> Vec<usize> {
+    let mut first: Vec<usize> = (0..n).collect();
+    for a in matrices {
+        for i in 0..n {
+            for &j in a.row(i).0 {
+                let (r, c) = if i >= j { (i, j) } else { (j, i) };
+                first[r] = first[r].min(c);
+            }
+        }
+    }
+    first
 }
 
 /// Beam DOFs the actuators and loads touch, ascending.
@@ -430,17 +444,19 @@ impl Basis<'_> {
 /// A symmetric dense matrix (row-major nr × nr) as a sparse one, without the entries below
 /// round-off of their diagonal pair (the orthogonality relations' rounding).
 pub(super) fn sparse_of_dense(r: &[f64], nr: usize) -> Csr {
-    let mut trip = Vec::new();
+    let (mut indptr, mut indices, mut data) = (vec![0], Vec::new(), Vec::new());
     for a in 0..nr {
         for b in 0..nr {
             let v = r[a * nr + b];
             let scale = (r[a * nr + a].abs() * r[b * nr + b].abs()).sqrt();
             if v != 0.0 && (a == b || v.abs() > DROP * scale) {
-                trip.push((a, b, v));
+                indices.push(b);
+                data.push(v);
             }
         }
+        indptr.push(indices.len());
     }
-    Csr::from_triplets(nr, &trip)
+    Csr::from_sorted_rows(nr, indptr, indices, data)
 }
 
 /// The reduced system's DOF map: no beam DOFs, the bodies numbered after the `first_body`

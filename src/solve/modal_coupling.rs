@@ -89,15 +89,6 @@ struct Factor {
     pivots: Vec<usize>,
 }
 
-/// A `Csr` of dimension n, dense row-major.
-fn dense(a: &Csr, n: usize) -> Vec<f64> {
-    let mut d = vec![0.0; n * n];
-    for (i, j, v) in a.triplets() {
-        d[i * n + j] = v;
-    }
-    d
-}
-
 /// k + c_m·m + c_c·c.
 fn combine([k, m, c]: [f64; 3], c_m: f64, c_c: Complex64) -> Complex64 {
     Complex64::new(k + c_m * m, 0.0) + c_c * c
@@ -121,7 +112,7 @@ impl ModalCoupling {
             }
         }
         let weights: Vec<[f64; 3]> = links.iter().map(|l| [l.k, l.foot_mass, l.c]).collect();
-        let totals = [&sys.k, &sys.m, &sys.c].map(|a| dense(a, n));
+        let totals = [&sys.k, &sys.m, &sys.c].map(Csr::to_dense);
         let diag = [&sys.k_beam, &sys.m_beam, &sys.c_beam].map(|a| (0..nd).map(|i| a.get(i, i)).collect::<Vec<f64>>());
         for (a, total) in totals.iter().enumerate() {
             let link = |i: usize, j: usize| -> f64 {

@@ -16,8 +16,9 @@
 //!   reduction does (`modal_basis::residual_vectors`: M-orthogonal to Φ, diagonalising the
 //!   residual flexibility);
 //! * the structure blocks that involve them (Φᵀ·M·ψ, ψᵀ·M·ψ, and C's);
-//! * the actuators' bodies, springs, dampers and foot masses projected on the rows of the
-//!   basis at their feet (`Projection::project_rows`).
+//! * the actuators' bodies, springs, dampers and foot masses projected through their links:
+//!   each link's stretch and foot on the reduced coordinates (rows of the basis at their
+//!   DOFs), rank-one terms of the links' weights.
 //!
 //! None of these forms ψ_j. What the modes carry of a static shape, Φᵀ·M·x_j, is
 //! (K⁻¹·M·Φ)ᵀ·b_j, read off at the pattern's few DOFs from K⁻¹·M·Φ, solved once for the
@@ -35,7 +36,7 @@
 //! structure's matrices is assembled per placement.
 
 use super::modal_basis::{
-    at, mul, pencil_basis, reduced_system, residual_flexibility, sparse_of_dense, Reduction, ReductionOptions,
+    mul, pencil_basis, reduced_system, residual_flexibility, sparse_of_dense, Reduction, ReductionOptions,
 };
 use crate::analysis::budget::machine_memory;
 use crate::assembly::projection::Factored;
@@ -278,42 +279,49 @@ impl SharedBasis {
             .collect();
         todo.truncate(s.shapes.free());
         todo.par_chunks(BLOCK).for_each(|block| {
-            let mut x = vec![0.0; ns * block.len()];
-            for (b, column) in block.iter().zip(x.chunks_exact_mut(ns)) {
-                load(b, column);
-            }
-            s.k.solve_columns_in_place(&mut x);
-            let times = |a: &Csr| {
-                let mut y = vec![0.0; x.len()];
-                a.mul_columns(&x, &mut y);
-                y
-            };
-            let (mx, cx) = (times(&self.m), times(&self.c));
-            let columns = |v: &[f64], j: usize| v[j * ns..(j + 1) * ns].to_vec();
-            for (j, b) in block.iter().enumerate() {
-                let shape = StaticShape { x: columns(&x, j), mx: columns(&mx, j), cx: columns(&cx, j) };
-                s.shapes.keep(b, &Arc::new(shape));
+            for (b, shape) in block.iter().zip(self.solve_block(s, block)) {
+                s.shapes.keep(b, &shape);
             }
         });
         todo.len()
     }
 
-    /// The static shapes of `patterns`: kept ones, the others solved now (and kept while
-    /// there is room).
-    fn static_shapes(&self, s: &Statics, patterns: &[Pattern]) -> Vec<Arc<StaticShape>> {
-        let shape = |b: &Pattern| {
-            s.shapes.get(b).unwrap_or_else(|| {
-                let shape = Arc::new(self.with_products(static_shape(&s.k, b, self.dofs.n)));
-                s.shapes.keep(b, &shape);
-                shape
-            })
+    /// The static shapes of `block` (at most [`BLOCK`] patterns) in one pass over the
+    /// factor of K, with their products with M and C one pass over each matrix.
+    fn solve_block(&self, s: &Statics, block: &[&Pattern]) -> Vec<Arc<StaticShape>> {
+        let ns = self.dofs.n;
+        let mut x = vec![0.0; ns * block.len()];
+        for (b, column) in block.iter().zip(x.chunks_exact_mut(ns)) {
+            load(b, column);
+        }
+        s.k.solve_columns_in_place(&mut x);
+        let times = |a: &Csr| {
+            let mut y = vec![0.0; x.len()];
+            a.mul_columns(&x, &mut y);
+            y
         };
-        patterns.iter().map(shape).collect()
+        let (mx, cx) = (times(&self.m), times(&self.c));
+        let columns = |v: &[f64], j: usize| v[j * ns..(j + 1) * ns].to_vec();
+        (0..block.len())
+            .map(|j| Arc::new(StaticShape { x: columns(&x, j), mx: columns(&mx, j), cx: columns(&cx, j) }))
+            .collect()
     }
 
-    /// Static shape x with M·x and C·x.
-    fn with_products(&self, x: Vec<f64>) -> StaticShape {
-        StaticShape { mx: mul(&self.m, &x), cx: mul(&self.c, &x), x }
+    /// The static shapes of `patterns`: kept ones, the others solved now in one block (and
+    /// kept while there is room).
+    fn static_shapes(&self, s: &Statics, patterns: &[Pattern]) -> Vec<Arc<StaticShape>> {
+        let mut shapes: Vec<Option<Arc<StaticShape>>> = patterns.iter().map(|b| s.shapes.get(b)).collect();
+        let missing: Vec<&Pattern> =
+            patterns.iter().zip(&shapes).filter(|(_, x)| x.is_none()).map(|(b, _)| b).collect();
+        if !missing.is_empty() {
+            let mut solved = missing.chunks(BLOCK).flat_map(|block| self.solve_block(s, block));
+            for (b, shape) in patterns.iter().zip(&mut shapes).filter(|(_, x)| x.is_none()) {
+                let new = solved.next().expect("one shape per missing pattern");
+                s.shapes.keep(b, &new);
+                *shape = Some(new);
+            }
+        }
+        shapes.into_iter().flatten().collect()
     }
 
     /// The reduced system of a placement: `attached` holds the case's actuators and loads
@@ -343,20 +351,18 @@ impl SharedBasis {
                 c_beam[r * nr + r] += 2.0 * ratio_of(ratios, r) * w;
             }
         }
-        let mut k_beam = vec![0.0; nr * nr];
-        for (r, w) in self.omega.iter().chain(&res.omega).enumerate() {
-            k_beam[r * nr + r] = w * w;
-        }
+        let k_diag: Vec<f64> = self.omega.iter().chain(&res.omega).map(|w| w * w).collect();
         let residual_omega = res.omega;
         let factored =
             Factored { phi: Arc::clone(&self.phi), modes: nm, shapes: res.shapes, y: res.y, b: res.b, bodies };
         let basis = Projection::factored(attached.dofs.clone(), factored);
-        let [m, c, k] = [(&m_beam, &attached.m), (&c_beam, &attached.c), (&k_beam, &attached.k)].map(|(s, a)| {
-            let mut r = basis.project_rows(a);
+        let [mut m, mut c, mut k] = attachments_on_basis(attached, &basis, nm + nq);
+        for (r, s) in [(&mut m, &m_beam), (&mut c, &c_beam)] {
             r.iter_mut().zip(s).for_each(|(x, y)| *x += y);
-            sparse_of_dense(&r, nr)
-        });
-        let [m_beam, c_beam, k_beam] = [&m_beam, &c_beam, &k_beam].map(|r| sparse_of_dense(r, nr));
+        }
+        k_diag.iter().enumerate().for_each(|(r, w2)| k[r * nr + r] += w2);
+        let [m, c, k, m_beam, c_beam] = [&m, &c, &k, &m_beam, &c_beam].map(|r| sparse_of_dense(r, nr));
+        let k_beam = diagonal(&k_diag);
         let system = reduced_system(attached, basis, [m, c, k, m_beam, c_beam, k_beam], nm + nq);
         Ok(Reduction {
             system,
@@ -489,6 +495,54 @@ fn times_y(v: &[Vec<f64>], y: &[f64], rows: usize, nq: usize) -> Vec<f64> {
     r
 }
 
+/// The actuators' M, C and K of `attached` on the reduced coordinates of `basis` (dense
+/// row-major, upper half mirrored), its bodies from column `first_body` on. By assembly
+/// (`assembly::system::actuator_matrices`) each is a sum of rank-one terms on the links —
+/// k·g·gᵀ and c·g·gᵀ on the stretch g = top − foot, m_f·f·fᵀ on the foot f — and, for M,
+/// the bodies' own mass blocks, on DOFs whose rows of T are unit rows. So Tᵀ·A·T is
+/// Σ w·(Tᵀ·g)·(Tᵀ·g)ᵀ: O(links × n²), whatever the number of DOFs the feet touch.
+fn attachments_on_basis(attached: &System, basis: &Projection, first_body: usize) -> [Vec<f64>; 3] {
+    let nr = basis.n_reduced;
+    let mut out = [vec![0.0; nr * nr], vec![0.0; nr * nr], vec![0.0; nr * nr]];
+    let rank_one = |r: &mut [f64], w: f64, g: &[(usize, f64)]| {
+        if w != 0.0 {
+            for &(i, gi) in g {
+                g.iter().filter(|&&(j, _)| j >= i).for_each(|&(j, gj)| r[i * nr + j] += w * gi * gj);
+            }
+        }
+    };
+    let [m, c, k] = &mut out;
+    for link in &attached.links {
+        let g = basis.row_combination(&link.stretch);
+        rank_one(k, link.k, &g);
+        rank_one(c, link.c, &g);
+        rank_one(m, link.foot_mass, &basis.row_combination(&link.foot));
+    }
+    let ns = attached.dofs.n - attached.dofs.bodies.iter().map(Vec::len).sum::<usize>();
+    let bodies: Vec<usize> = attached.dofs.bodies.iter().flatten().copied().collect();
+    let column = |d: usize| bodies.iter().position(|&b| b == d).map(|p| first_body + p);
+    for (i, j, v) in attached.m.triplets().filter(|&(i, j, _)| i >= ns && j >= ns && i <= j) {
+        if let (Some(a), Some(b)) = (column(i), column(j)) {
+            m[a.min(b) * nr + a.max(b)] += v;
+        }
+    }
+    for r in &mut out {
+        for i in 0..nr {
+            for j in 0..i {
+                r[i * nr + j] = r[j * nr + i];
+            }
+        }
+    }
+    out
+}
+
+/// A diagonal matrix of its nonzero entries.
+fn diagonal(d: &[f64]) -> Csr {
+    let trip: Vec<(usize, usize, f64)> =
+        d.iter().enumerate().filter(|(_, v)| **v != 0.0).map(|(r, &v)| (r, r, v)).collect();
+    Csr::from_triplets(d.len(), &trip)
+}
+
 /// A·x for a row-major n × n A.
 fn mat_vec(a: &[f64], x: &[f64], n: usize) -> Vec<f64> {
     (0..n).map(|i| dot(&a[i * n..(i + 1) * n], x)).collect()
@@ -525,15 +579,6 @@ fn load(b: &[(usize, f64)], x: &mut [f64]) {
     for &(d, c) in b {
         x[d] += c;
     }
-}
-
-/// K⁻¹·b over the structure's `ns` DOFs.
-fn static_shape(k: &OwnedLdlt, b: &[(usize, f64)], ns: usize) -> Vec<f64> {
-    let mut x = vec![0.0; ns];
-    load(b, &mut x);
-    k.solve_in_place(&mut x);
-    debug_assert!(at(b, &x).is_finite());
-    x
 }
 
 #[cfg(test)]
@@ -612,6 +657,30 @@ mod tests {
                 let scale = (dot(&t[i], &kt[i]) * dot(&t[j], &kt[j])).sqrt();
                 let e = (r.system.k_beam.get(i, j) - dot(&t[i], &kt[j])).abs() / scale;
                 assert!(e < 1e-8, "K ({i}, {j}): {e:e}");
+            }
+        }
+        // The actuators' matrices, projected through their links, against Tᵀ·A·T of the
+        // assembled attachments on every column of T (the bodies' too).
+        let nr = p.n_reduced;
+        let full_column = |c: usize| -> Vec<f64> {
+            let mut e = vec![Complex64::default(); nr];
+            e[c] = Complex64::new(1.0, 0.0);
+            p.expand(&e).iter().map(|z| z.re).collect()
+        };
+        let t: Vec<Vec<f64>> = (0..nr).map(full_column).collect();
+        let s = &r.system;
+        for (name, a, total, own) in [
+            ("M", &attached.m, &s.m, &s.m_beam),
+            ("C", &attached.c, &s.c, &s.c_beam),
+            ("K", &attached.k, &s.k, &s.k_beam),
+        ] {
+            let at: Vec<Vec<f64>> = t.iter().map(|v| mul(a, v)).collect();
+            let explicit: Vec<f64> = (0..nr * nr).map(|x| dot(&t[x / nr], &at[x % nr])).collect();
+            let scale = explicit.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for (x, e) in explicit.iter().enumerate() {
+                let (i, j) = (x / nr, x % nr);
+                let projected = total.get(i, j) - own.get(i, j);
+                assert!((projected - e).abs() <= 1e-12 * scale, "{name} ({i}, {j}): {projected:e} against {e:e}");
             }
         }
     }
