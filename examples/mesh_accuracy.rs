@@ -4,6 +4,7 @@
 //! then the time of the frame case's steady state and transient on fine meshes
 //! (docs/performance.md).
 //! Usage: cargo run --release --example mesh_accuracy
+use beamflow::analysis::case_run::AnalysisResult;
 use beamflow::analysis::harmonic::{self, PointForce};
 use beamflow::analysis::plan::calibrated_model;
 use beamflow::assembly::System;
@@ -41,17 +42,9 @@ fn main() {
             .collect();
         println!("{n:>8}  {}   (stated round-off {:.1e})", errs.join(""), h.mesh_roundoff);
     }
-    let frame =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/beam-frame-12V-60Hz.toml")).unwrap();
     for n in [200, 2000, 20000] {
-        let text = frame
-            .replace("[beam]", &format!("[beam]\n[beam.mesh]\nelements = {n}"))
-            .replace("[[analysis]]\ntype = \"transient\"\n", "");
-        let lc = LoadedCase::from_str(&text, "frame.toml", PathBuf::from(".")).unwrap();
-        let start = std::time::Instant::now();
-        let run = beamflow::app::runner::run_case(&lc).unwrap();
-        let secs = start.elapsed().as_secs_f64();
-        let beamflow::analysis::case_run::AnalysisResult::SteadyState(s) = &run.results[0] else { unreachable!() };
+        let (secs, result) = frame_run(n, "transient");
+        let AnalysisResult::SteadyState(s) = &result else { unreachable!() };
         println!(
             "frame steady state, {n:>6} elements: {secs:.2} s ({} harmonics), stated round-off {:.1e}",
             s.harmonics, s.mesh_roundoff
@@ -60,17 +53,25 @@ fn main() {
     // The frame case's transient (default step and tolerance) on fine meshes: the step takes
     // the element rows' stiffness and refines its increments beyond 286 elements.
     for n in [200, 2000, 20000] {
-        let text = frame
-            .replace("[beam]", &format!("[beam]\n[beam.mesh]\nelements = {n}"))
-            .replace("[[analysis]]\ntype = \"steady_state\"\n", "");
-        let lc = LoadedCase::from_str(&text, "frame.toml", PathBuf::from(".")).unwrap();
-        let start = std::time::Instant::now();
-        let run = beamflow::app::runner::run_case(&lc).unwrap();
-        let secs = start.elapsed().as_secs_f64();
-        let beamflow::analysis::case_run::AnalysisResult::Transient(t) = &run.results[0] else { unreachable!() };
+        let (secs, result) = frame_run(n, "steady_state");
+        let AnalysisResult::Transient(t) = &result else { unreachable!() };
         println!(
             "frame transient, {n:>6} elements: {secs:.2} s ({} periods), settling {:.1e}, stated round-off {:.1e}",
             t.periods_run, t.settling_estimate, t.mesh_roundoff
         );
     }
+}
+
+/// The frame case on `n` elements without its analysis of type `without`, run whole: its
+/// wall time (s) and the analysis left.
+fn frame_run(n: usize, without: &str) -> (f64, AnalysisResult) {
+    let frame =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/cases/beam-frame-12V-60Hz.toml")).unwrap();
+    let text = frame
+        .replace("[beam]", &format!("[beam]\n[beam.mesh]\nelements = {n}"))
+        .replace(&format!("[[analysis]]\ntype = \"{without}\"\n"), "");
+    let lc = LoadedCase::from_str(&text, "frame.toml", PathBuf::from(".")).unwrap();
+    let start = std::time::Instant::now();
+    let mut run = beamflow::app::runner::run_case(&lc).unwrap();
+    (start.elapsed().as_secs_f64(), run.results.swap_remove(0))
 }

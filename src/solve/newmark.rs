@@ -28,6 +28,16 @@ pub struct Scheme {
 }
 
 impl Scheme {
+    /// The weights of K, C and M in the effective stiffness each step factors at step Δt
+    /// (s): K_eff = (1 − α_f)·K + (1 − α_f)·γ/(β·Δt)·C + (1 − α_m)/(β·Δt²)·M.
+    pub fn effective_weights(&self, dt: f64) -> [f64; 3] {
+        [
+            1.0 - self.alpha_f,
+            (1.0 - self.alpha_f) * self.gamma / (self.beta * dt),
+            (1.0 - self.alpha_m) / (self.beta * dt * dt),
+        ]
+    }
+
     /// Trapezoidal rule (γ = ½, β = ¼): unconditionally stable, no numerical damping,
     /// second order.
     pub fn average_acceleration() -> Self {
@@ -165,9 +175,10 @@ impl<'a> Newmark<'a> {
         let n = m.dim();
         let s = scheme;
         let mut k_eff = Skyline::zeros(envelope.to_vec());
-        k.add_into_skyline(1.0 - s.alpha_f, &mut k_eff);
-        c.add_into_skyline((1.0 - s.alpha_f) * s.gamma / (s.beta * dt), &mut k_eff);
-        m.add_into_skyline((1.0 - s.alpha_m) / (s.beta * dt * dt), &mut k_eff);
+        let [wk, wc, wm] = s.effective_weights(dt);
+        k.add_into_skyline(wk, &mut k_eff);
+        c.add_into_skyline(wc, &mut k_eff);
+        m.add_into_skyline(wm, &mut k_eff);
         let factor = k_eff.factorize()?;
         Ok(Newmark {
             m,

@@ -127,11 +127,11 @@ pub(super) fn periodic_metrics(
             }
         }
         dk.factorize_general(c_m, sigma)?;
-        let b = q.clone();
+        let b = refinement.as_ref().map(|_| q.clone());
         dk.solve_in_place(&mut q);
-        let e = match &refinement {
-            Some(r) => r.refine_if(&dk, 0, &b, &mut q, true),
-            None => Refined::default(),
+        let e = match (&refinement, b) {
+            (Some(r), Some(b)) => r.refine_if(&dk, 0, &b, &mut q, true),
+            _ => Refined::default(),
         };
         // The rates' magnitudes: |σ| = ω̃ and |α| = ω̃² for average acceleration, and the
         // larger of the two stands for both in the other schemes' bound.

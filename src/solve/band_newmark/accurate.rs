@@ -42,7 +42,9 @@ pub(super) struct Accurate {
 }
 
 impl Accurate {
-    /// For K_eff = (1 − α_f)·K + c_c·C + c_m·M with C = a₀·M + a₁·K + R.
+    /// For K_eff = w_K·K + w_C·C + w_M·M (the scheme's
+    /// [`effective_weights`](crate::solve::newmark::Scheme::effective_weights)) with
+    /// C = a₀·M + a₁·K + R.
     pub(super) fn new(
         product: Arc<dyn StiffnessProduct>,
         n: usize,

@@ -235,9 +235,10 @@ impl BandNewmark {
         let n = m.dim();
         let s = scheme;
         let mut k_eff = Skyline::<f64>::zeros(envelope.to_vec());
-        k.add_into_skyline(1.0 - s.alpha_f, &mut k_eff);
-        c.add_into_skyline((1.0 - s.alpha_f) * s.gamma / (s.beta * dt), &mut k_eff);
-        m.add_into_skyline((1.0 - s.alpha_m) / (s.beta * dt * dt), &mut k_eff);
+        let [wk, wc, wm] = s.effective_weights(dt);
+        k.add_into_skyline(wk, &mut k_eff);
+        c.add_into_skyline(wc, &mut k_eff);
+        m.add_into_skyline(wm, &mut k_eff);
         let ldlt = k_eff.factorize()?;
         let factor = BandFactor::new(ldlt.clone());
         let b = factor.b;
@@ -312,10 +313,8 @@ impl BandNewmark {
         if self.dense.is_some() {
             return false;
         }
-        let (s, dt) = (self.scheme, self.dt);
-        let c_c = (1.0 - s.alpha_f) * s.gamma / (s.beta * dt);
-        let c_m = (1.0 - s.alpha_m) / (s.beta * dt * dt);
-        let acc = accurate::Accurate::new(product, self.n, [1.0 - s.alpha_f, c_c, c_m], p.a0, p.a1);
+        let weights = self.scheme.effective_weights(self.dt);
+        let acc = accurate::Accurate::new(product, self.n, weights, p.a0, p.a1);
         let (a0, residual) = (p.a0, p.residual.clone());
         self.band.k.iter_mut().for_each(|k| *k = 0.0);
         self.band.extra.iter_mut().for_each(|e| e.k = 0.0);
