@@ -61,6 +61,28 @@ fn simply_supported_frequencies_converge_to_navier_as_h4() {
     }
 }
 
+/// The Rayleigh calibration's few modes (sparse shift-invert Lanczos beyond 300 DOFs) are
+/// the dense solver's, and Navier's to the mesh's accuracy, on a simply supported and a
+/// free plate (which the sparse path does not shift, so it falls back to the dense one).
+#[test]
+fn calibration_modes_agree_with_the_dense_solver() {
+    for (edges, first) in [("simply_supported", 0), ("free", 3)] {
+        let s = build_structure(&case(&plate_case(edges, 20, 16, ""))).unwrap();
+        let few = modes::few_bare_modes(&s, first + 3).unwrap();
+        let dense = modes::bare_modes(&s, first + 3).unwrap();
+        for r in first..first + 3 {
+            let e = rel(few.omega[r], dense.omega[r]);
+            assert!(e <= 1e-10, "{edges}, mode {}: {} against {} ({e:e})", r + 1, few.omega[r], dense.omega[r]);
+        }
+    }
+    let exact = navier::lowest(3, LX, LY, d(), rho_h());
+    let s = build_structure(&case(&plate_case("simply_supported", 20, 16, ""))).unwrap();
+    let few = modes::few_bare_modes(&s, 3).unwrap();
+    for (r, (_, _, w)) in exact.iter().enumerate() {
+        assert!(rel(few.omega[r], *w) <= 1e-4, "mode {}: {} against Navier {w}", r + 1, few.omega[r]);
+    }
+}
+
 /// The clamped square plate against Leissa's frequency parameters (5 digits).
 #[test]
 fn clamped_square_plate_matches_leissa() {

@@ -7,7 +7,7 @@
 
 use super::budget::Budget;
 use super::cost;
-use super::modes::bare_modes;
+use super::modes::few_bare_modes;
 use crate::assembly::{Damping, DofMap, Model, Rayleigh, System};
 use crate::case::{build_model, LoadedCase};
 use crate::error::{Error, Result};
@@ -67,7 +67,7 @@ pub fn calibrate(model: &mut Model) -> Result<()> {
 pub fn rayleigh_from_ratio(structure: &Structure, zeta: f64, modes: [usize; 2]) -> Result<Rayleigh> {
     let need = modes[0].max(modes[1]);
     let numbering = DofMap::number(Some(structure), &[], &[]);
-    let m = bare_modes(structure, need).map_err(|e| match numbering.locate(e, Some(structure)) {
+    let m = few_bare_modes(structure, need).map_err(|e| match numbering.locate(e, Some(structure)) {
         e @ (Error::Numerical(_) | Error::Singular { .. }) => Error::case_field(
             "damping",
             format!("the damping ratio is calibrated at the bare beam's modes, which cannot be computed: {e}"),
