@@ -3,7 +3,8 @@
 //! below 1e-6 where the assembled factor alone lost ε·elements⁴ (`analysis::roundoff`);
 //! then the time of the frame case's steady state and transient on fine meshes
 //! (docs/performance.md).
-//! Usage: cargo run --release --example mesh_accuracy
+//! Usage: cargo run --release --example mesh_accuracy [-- steady]
+//! (`steady`: only the frame case's steady-state times, each mesh three times).
 use beamflow::analysis::case_run::AnalysisResult;
 use beamflow::analysis::harmonic::{self, PointForce};
 use beamflow::analysis::plan::calibrated_model;
@@ -14,6 +15,13 @@ use num_complex::Complex64;
 use std::path::PathBuf;
 
 fn main() {
+    if std::env::args().nth(1).as_deref() == Some("steady") {
+        for n in [200, 2000, 20000] {
+            let times: Vec<String> = (0..3).map(|_| format!("{:.2}", frame_run(n, "transient").0)).collect();
+            println!("frame steady state, {n:>6} elements: {} s", times.join(", "));
+        }
+        return;
+    }
     let (ei, rho_a, l, x) = (210e9 * 0.05 * 0.005f64.powi(3) / 12.0, 7850.0 * 0.05 * 0.005, 0.73, 0.15);
     let freqs = [5.0, 60.0, 445.0];
     println!("elements  {}", freqs.map(|f| format!("{f:>10} Hz")).join(""));

@@ -183,7 +183,7 @@ impl MeshRefinement {
     /// refines it if its error estimate exceeds [`REFINE_FRACTION`] of the tolerance, and
     /// returns the estimate of the error left.
     pub fn refine(&self, dk: &DynamicStiffness, lane: usize, b: &[Complex64], x: &mut [Complex64]) -> Refined {
-        self.refine_unless(dk, lane, b, x, |_, _| false, true)
+        self.refine_unless(None, dk, lane, b, x, |_, _| false, true)
     }
 
     /// [`MeshRefinement::refine`], refining whatever the first estimate when `always` (a
@@ -206,14 +206,53 @@ impl MeshRefinement {
         }
     }
 
+    /// The first estimates ([`estimate`]) of the solutions `x[l]` from lane l of a pair
+    /// factorised in `dk` for right-hand sides `b[l]` (one or two lanes): both residuals, then
+    /// one paired solve for both corrections, in about the time of one (a solve of this size
+    /// is a chain of dependent rows; two chains run side by side). The same bits as
+    /// [`estimate`] lane by lane. None without element rows.
+    pub fn first_estimates(
+        &self,
+        dk: &DynamicStiffness,
+        b: &[&[Complex64]],
+        x: &[&[Complex64]],
+        floor: bool,
+    ) -> Option<Vec<Refined>> {
+        let rows = self.rows.as_ref()?;
+        let mut r: Vec<Vec<Complex64>> = (0..b.len())
+            .map(|lane| {
+                let mut r = vec![Complex64::default(); x[lane].len()];
+                Lane::of(rows, dk, lane, floor).residual(b[lane], x[lane], &mut r);
+                r
+            })
+            .collect();
+        match &mut r[..] {
+            [a, b] => dk.solve_pair(a, b),
+            [a] => dk.solve_lane(0, a),
+            _ => unreachable!("one or two lanes"),
+        }
+        Some(
+            r.into_iter()
+                .map(|mut c| {
+                    c.iter_mut().for_each(|d| *d *= 2.0);
+                    Refined { correction: c, ..Default::default() }
+                })
+                .collect(),
+        )
+    }
+
     /// [`MeshRefinement::refine`], leaving `x` as the factor gave it also where `enough`
     /// accepts its first estimate (without the floor, which refinement cannot shrink): the
     /// caller's judgement of what the quantities it forms from `x` need (a harmonic whose
     /// share of every point power is small needs far less of the solution than the
     /// tolerance asks of the whole). Without `floor` the estimate is the correction alone:
     /// enough to judge x by, not to state a bound with.
+    /// `first` is x's first estimate where it is already known
+    /// ([`MeshRefinement::first_estimates`]), None to compute it here.
+    #[allow(clippy::too_many_arguments)]
     pub fn refine_unless(
         &self,
+        first: Option<Refined>,
         dk: &DynamicStiffness,
         lane: usize,
         b: &[Complex64],
@@ -223,7 +262,7 @@ impl MeshRefinement {
     ) -> Refined {
         let Some(rows) = &self.rows else { return Refined::default() };
         let op = Lane::of(rows, dk, lane, floor);
-        let first = estimate(&op, b, x);
+        let first = first.unwrap_or_else(|| estimate(&op, b, x));
         let held = norm(&first.correction) <= REFINE_FRACTION * self.tolerance * norm(x);
         let kept = if held || enough(x, &first) { first } else { refine(&op, b, x, STEP_FRACTION * self.tolerance) };
         if floor {

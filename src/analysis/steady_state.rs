@@ -119,14 +119,15 @@ pub enum HarmonicCount {
 /// ([`Truncation`]): every point is held to the tolerance on its own power.
 pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: usize) -> Result<SteadyStateResult> {
     let all = resolved_harmonics(samples.max(4));
-    let (full, [spectra, doubled]) = if roundoff::coarse_bound(model).is_some() {
+    let (full, refinement, [spectra, doubled]) = if roundoff::coarse_bound(model).is_some() {
         let full = run(model, sys, all, samples)?;
         let cache = StackForceCache::default();
         let doubled = run_with(model, &mut HarmonicSolver::new(sys), all, 2 * samples, Detail::Headline(&cache))?;
         let spectra = [&full, &doubled].map(|r| point_spectra(r).cloned().collect());
-        (Some(full), spectra)
+        (Some(full), None, spectra)
     } else {
-        (None, fine_spectra(model, sys, all, samples)?)
+        let (refinement, spectra) = fine_spectra(model, sys, all, samples)?;
+        (None, Some(refinement), spectra)
     };
     let truncation = Truncation::of(&spectra, aliasing(&spectra, &doubled));
     let n_harm = match count {
@@ -146,7 +147,12 @@ pub fn run_counted(model: &Model, sys: &System, count: HarmonicCount, samples: u
     // A fine mesh's count states no round-off bound (see `fine_spectra`).
     let mut r = match full {
         Some(full) if n_harm == all => full,
-        _ => run(model, sys, n_harm, samples)?,
+        // The count's refinement (its element rows) serves the kept harmonics too.
+        _ => {
+            let mut solver = HarmonicSolver::new(sys);
+            solver.refinement = refinement;
+            run_with(model, &mut solver, n_harm, samples, Detail::Full)?
+        }
     };
     r.truncation_estimate = truncation.estimate(n_harm);
     Ok(r)
@@ -236,7 +242,12 @@ fn aliasing(full: &[Vec<f64>], doubled: &[Vec<f64>]) -> Vec<f64> {
 /// share of the tolerance, [`Shares`]). With several forcings each sampling has its own
 /// solve. Each sampling judges its refinement against its own powers so far, as a run of
 /// its own would.
-fn fine_spectra(model: &Model, sys: &System, all: usize, samples: usize) -> Result<[Vec<Vec<f64>>; 2]> {
+fn fine_spectra(
+    model: &Model,
+    sys: &System,
+    all: usize,
+    samples: usize,
+) -> Result<(MeshRefinement, [Vec<Vec<f64>>; 2])> {
     let cache = StackForceCache::default();
     let (period, first) = forcing_harmonics(model, samples, all, &cache)?;
     let (_, second) = forcing_harmonics(model, 2 * samples, all, &cache)?;
@@ -247,48 +258,90 @@ fn fine_spectra(model: &Model, sys: &System, all: usize, samples: usize) -> Resu
         .filter(|&k| (0..2).any(|s| forcing_size(&forcings[s], k) > NEGLIGIBLE_HARMONIC * largest[s]))
         .collect();
     let refinement = MeshRefinement::new(model, sys)?;
-    let mut dk = DynamicStiffness::of(sys);
     let points = sys.links.len() + sys.loads.len();
     let mut spectra = [(); 2].map(|_| vec![vec![0.0; all + 1]; points]);
     let mut shares = [(); 2].map(|_| Shares::new(sys, active.len(), false));
-    let (mut rhs, mut q) = (vec![Complex64::default(); sys.n()], [(); 2].map(|_| Vec::new()));
+    // The second sampling's right-hand side and solution (where it is not the first's
+    // scaled), one at a time.
+    let (mut rhs, mut q1) = (vec![Complex64::default(); sys.n()], Vec::new());
+    let forcing = |s: usize, k: usize| -> Vec<Complex64> { forcings[s].iter().map(|f| f[k]).collect() };
     let task = crate::progress::Task::start("harmonic count", Some(active.len() as u64), "harmonics solved");
+    let mut stage = PairStage::new(sys);
     for (done, pair) in active.chunks(2).enumerate() {
         task.set(2 * done as u64)?;
+        stage.solve(sys, pair, &|k| forcing(0, k), w0)?;
+        let PairStage { dk, rhs0, q0 } = &mut stage;
+        let bs: Vec<&[Complex64]> = rhs0[..pair.len()].iter().map(Vec::as_slice).collect();
+        let xs: Vec<&[Complex64]> = q0[..pair.len()].iter().map(Vec::as_slice).collect();
+        let mut firsts = refinement.first_estimates(dk, &bs, &xs, false).map(Vec::into_iter);
+        for (lane, &k) in pair.iter().enumerate() {
+            let w = k as f64 * w0;
+            let first = firsts.as_mut().and_then(Iterator::next);
+            let solve = Solved { dk, lane, rhs: &rhs0[lane] };
+            let powers = shares[0].refine_from(first, &refinement, solve, &mut q0[lane], (k, w, &forcing(0, k))).1;
+            spectra[0].iter_mut().zip(powers).for_each(|(p, x)| p[k] = x);
+            let second = forcing(1, k);
+            let powers = match &forcings {
+                [f1, f2] if f1.len() == 1 && f1[0][k] != Complex64::default() => {
+                    let c = f2[0][k] / f1[0][k];
+                    q1.clone_from(&q0[lane]);
+                    q1.iter_mut().for_each(|x| *x *= c);
+                    shares[1].add(&q1, w, &second)
+                }
+                _ => {
+                    forcing_vector(sys, &second, &mut rhs);
+                    q1.clone_from(&rhs);
+                    dk.solve_lane(lane, &mut q1);
+                    let solve = Solved { dk, lane, rhs: &rhs };
+                    shares[1].refine(&refinement, solve, &mut q1, (k, w, &second)).1
+                }
+            };
+            spectra[1].iter_mut().zip(powers).for_each(|(p, x)| p[k] = x);
+        }
+    }
+    Ok((refinement, spectra))
+}
+
+/// One pair of harmonics of the count: its factorisation, the first sampling's right-hand
+/// sides and their solutions (one per lane).
+struct PairStage {
+    dk: DynamicStiffness,
+    rhs0: [Vec<Complex64>; 2],
+    q0: [Vec<Complex64>; 2],
+}
+
+impl PairStage {
+    fn new(sys: &System) -> Self {
+        PairStage { dk: DynamicStiffness::of(sys), rhs0: Default::default(), q0: Default::default() }
+    }
+
+    /// Factorises at the pair's harmonics of ω₀ (rad/s) and solves for `forcing(k)`, both
+    /// lanes side by side (the same bits as one at a time: DynamicStiffness::solve_pair).
+    fn solve(
+        &mut self,
+        sys: &System,
+        pair: &[usize],
+        forcing: &dyn Fn(usize) -> Vec<Complex64>,
+        w0: f64,
+    ) -> Result<()> {
         match *pair {
-            [ka, kb] => dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?,
-            [k] => dk.factorize(k as f64 * w0)?,
+            [ka, kb] => self.dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?,
+            [k] => self.dk.factorize(k as f64 * w0)?,
             _ => unreachable!("chunks of 1 or 2"),
         }
         for (lane, &k) in pair.iter().enumerate() {
-            let w = k as f64 * w0;
-            let scale = match &forcings {
-                [f1, f2] if f1.len() == 1 && f1[0][k] != Complex64::default() => Some(f2[0][k] / f1[0][k]),
-                _ => None,
-            };
-            for s in 0..2 {
-                let forcing: Vec<Complex64> = forcings[s].iter().map(|f| f[k]).collect();
-                let powers = match (s, scale) {
-                    (1, Some(c)) => {
-                        let [q0, q1] = &mut q;
-                        q1.clone_from(q0);
-                        q1.iter_mut().for_each(|x| *x *= c);
-                        shares[1].add(q1, w, &forcing)
-                    }
-                    _ => {
-                        forcing_vector(sys, &forcing, &mut rhs);
-                        q[s].clone_from(&rhs);
-                        dk.solve_lane(lane, &mut q[s]);
-                        let solve = Solved { dk: &dk, lane, rhs: &rhs };
-                        shares[s].refine(&refinement, solve, &mut q[s], (k, w, &forcing)).1
-                    }
-                };
-                spectra[s].iter_mut().zip(powers).for_each(|(p, x)| p[k] = x);
-            }
+            forcing_vector(sys, &forcing(k), &mut self.rhs0[lane]);
+            self.q0[lane].clone_from(&self.rhs0[lane]);
         }
+        match &mut self.q0[..pair.len()] {
+            [a, b] => self.dk.solve_pair(a, b),
+            [a] => self.dk.solve_lane(0, a),
+            _ => unreachable!("chunks of 1 or 2"),
+        }
+        Ok(())
     }
-    Ok(spectra)
 }
+
 /// [`run`] against a solver kept between cases (the cases of a sweep that differ only in
 /// their drives share the assembled system, so they share its solver and allocate nothing
 /// for the harmonic solves), computing what `detail` asks for. `model` must be the model
@@ -795,10 +848,16 @@ impl<'s> HarmonicSolver<'s> {
                 _ => unreachable!("chunks of 1 or 2"),
             }
             if let Some(r) = &self.refinement {
+                // Both lanes' first estimates side by side (the same bits as lane by lane).
+                let bs: Vec<&[Complex64]> = self.rhs[..pair.len()].iter().map(Vec::as_slice).collect();
+                let xs: Vec<&[Complex64]> = pair.iter().map(|&k| self.q[k].as_slice()).collect();
+                let mut firsts = r.first_estimates(dk, &bs, &xs, true).map(Vec::into_iter);
                 for (lane, &k) in pair.iter().enumerate() {
                     let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
+                    let first = firsts.as_mut().and_then(Iterator::next);
                     let solve = Solved { dk: &*dk, lane, rhs: &self.rhs[lane] };
-                    self.error[k] = shares.refine(r, solve, &mut self.q[k], (k, k as f64 * w0, &forcing)).0;
+                    let at = (k, k as f64 * w0, &forcing[..]);
+                    self.error[k] = shares.refine_from(first, r, solve, &mut self.q[k], at).0;
                 }
             }
         }
@@ -884,12 +943,24 @@ impl<'s> Shares<'s> {
         q: &mut [Complex64],
         at: (usize, f64, &[Complex64]),
     ) -> (Refined, Vec<f64>) {
+        self.refine_from(None, r, solve, q, at)
+    }
+
+    /// [`Shares::refine`] from `first`, q's first estimate where it is already known.
+    fn refine_from(
+        &mut self,
+        first: Option<Refined>,
+        r: &MeshRefinement,
+        solve: Solved,
+        q: &mut [Complex64],
+        at: (usize, f64, &[Complex64]),
+    ) -> (Refined, Vec<f64>) {
         let (sys, (k, w, forcing)) = (self.sys, at);
         let budget: Vec<f64> = self.so_far.iter().map(|p| self.share * r.tolerance() * p.abs()).collect();
         let enough = |q: &[Complex64], e: &Refined| {
             k > 0 && harmonic_points(sys, q, w, forcing, e).zip(&budget).all(|((_, err), b)| err <= *b)
         };
-        let e = r.refine_unless(solve.dk, solve.lane, solve.rhs, q, enough, self.floor);
+        let e = r.refine_unless(first, solve.dk, solve.lane, solve.rhs, q, enough, self.floor);
         (e, self.add(q, w, forcing))
     }
 
@@ -943,7 +1014,7 @@ mod tests {
         let sys = System::assemble(&model).unwrap();
         assert!(roundoff::coarse_bound(&model).is_none(), "a mesh whose solves are refined");
         let (all, samples) = (127, 256);
-        let counted = fine_spectra(&model, &sys, all, samples).unwrap();
+        let (_, counted) = fine_spectra(&model, &sys, all, samples).unwrap();
         let cache = StackForceCache::default();
         let apart = [
             run(&model, &sys, all, samples).unwrap(),

@@ -204,11 +204,11 @@ impl StiffnessRows {
     pub fn apply(&self, c_m: Complex64, c_c: Complex64, x: &[Complex64], y: &mut [Complex64]) {
         let (k_el, _) = self.coefficients(c_m, c_c);
         y.iter_mut().for_each(|v| *v = Complex64::default());
-        for r in &self.rows {
-            let (d, g) = (&r.dofs[..r.len], &r.values[..r.len]);
-            let s: Complex64 = d.iter().zip(g).map(|(&i, &v)| x[i] * v).sum::<Complex64>() * k_el;
-            for (&i, &v) in d.iter().zip(g) {
-                y[i] += s * v;
+        for (d, g) in &self.packed {
+            // Every row as four entries (the unused ones 0 at DOF 0), so the loops unroll.
+            let s = (0..4).map(|e| x[d[e] as usize] * g[e]).sum::<Complex64>() * k_el;
+            for e in 0..4 {
+                y[d[e] as usize] += s * g[e];
             }
         }
         for t in &self.ties {

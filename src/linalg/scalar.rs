@@ -27,6 +27,12 @@ pub trait Scalar:
     /// Modulus, used for pivot checks.
     fn modulus(self) -> f64;
     fn is_finite(self) -> bool;
+    /// self·r for a real r: two products for a complex number where self·from_real(r)
+    /// takes four (the same value; only the sign of a zero part can differ).
+    #[inline]
+    fn times_real(self, r: f64) -> Self {
+        self * Self::from_real(r)
+    }
 }
 
 impl Scalar for f64 {
@@ -64,5 +70,9 @@ impl Scalar for Complex64 {
     #[inline]
     fn is_finite(self) -> bool {
         self.re.is_finite() && self.im.is_finite()
+    }
+    #[inline]
+    fn times_real(self, r: f64) -> Self {
+        Complex64::new(self.re * r, self.im * r)
     }
 }

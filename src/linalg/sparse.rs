@@ -112,7 +112,7 @@ impl Csr {
         for i in 0..self.dim() {
             let mut s = T::zero();
             for k in ip[i]..ip[i + 1] {
-                s += T::from_real(val[k]) * x[idx[k]];
+                s += x[idx[k]].times_real(val[k]);
             }
             y[i] = s;
         }
@@ -151,7 +151,7 @@ impl Csr {
         for i in 0..self.dim() {
             let mut s = T::zero();
             for k in ip[i]..ip[i + 1] {
-                s += T::from_real(val[k]) * x[idx[k]];
+                s += x[idx[k]].times_real(val[k]);
             }
             y[i] += alpha * s;
         }
