@@ -226,11 +226,7 @@ impl MeshRefinement {
                 r
             })
             .collect();
-        match &mut r[..] {
-            [a, b] => dk.solve_pair(a, b),
-            [a] => dk.solve_lane(0, a),
-            _ => unreachable!("one or two lanes"),
-        }
+        dk.solve_lanes(&mut r);
         Some(
             r.into_iter()
                 .map(|mut c| {

@@ -278,7 +278,7 @@ fn fine_spectra(
             let w = k as f64 * w0;
             let first = firsts.as_mut().and_then(Iterator::next);
             let solve = Solved { dk, lane, rhs: &rhs0[lane] };
-            let powers = shares[0].refine_from(first, &refinement, solve, &mut q0[lane], (k, w, &forcing(0, k))).1;
+            let powers = shares[0].refine(first, &refinement, solve, &mut q0[lane], (k, w, &forcing(0, k))).1;
             spectra[0].iter_mut().zip(powers).for_each(|(p, x)| p[k] = x);
             let second = forcing(1, k);
             let powers = match &forcings {
@@ -293,7 +293,7 @@ fn fine_spectra(
                     q1.clone_from(&rhs);
                     dk.solve_lane(lane, &mut q1);
                     let solve = Solved { dk, lane, rhs: &rhs };
-                    shares[1].refine(&refinement, solve, &mut q1, (k, w, &second)).1
+                    shares[1].refine(None, &refinement, solve, &mut q1, (k, w, &second)).1
                 }
             };
             spectra[1].iter_mut().zip(powers).for_each(|(p, x)| p[k] = x);
@@ -333,11 +333,7 @@ impl PairStage {
             forcing_vector(sys, &forcing(k), &mut self.rhs0[lane]);
             self.q0[lane].clone_from(&self.rhs0[lane]);
         }
-        match &mut self.q0[..pair.len()] {
-            [a, b] => self.dk.solve_pair(a, b),
-            [a] => self.dk.solve_lane(0, a),
-            _ => unreachable!("chunks of 1 or 2"),
-        }
+        self.dk.solve_lanes(&mut self.q0[..pair.len()]);
         Ok(())
     }
 }
@@ -857,7 +853,7 @@ impl<'s> HarmonicSolver<'s> {
                     let first = firsts.as_mut().and_then(Iterator::next);
                     let solve = Solved { dk: &*dk, lane, rhs: &self.rhs[lane] };
                     let at = (k, k as f64 * w0, &forcing[..]);
-                    self.error[k] = shares.refine_from(first, r, solve, &mut self.q[k], at).0;
+                    self.error[k] = shares.refine(first, r, solve, &mut self.q[k], at).0;
                 }
             }
         }
@@ -936,18 +932,9 @@ impl<'s> Shares<'s> {
     /// adds the harmonic's power to each point's; returns the estimate of q's error and each
     /// point's power (W). `at`: k, ω_k (rad/s) and the harmonic's forcing (stack forces,
     /// then point loads).
+    /// `first` is q's first estimate where it is already known
+    /// ([`MeshRefinement::first_estimates`]), None to compute it here.
     fn refine(
-        &mut self,
-        r: &MeshRefinement,
-        solve: Solved,
-        q: &mut [Complex64],
-        at: (usize, f64, &[Complex64]),
-    ) -> (Refined, Vec<f64>) {
-        self.refine_from(None, r, solve, q, at)
-    }
-
-    /// [`Shares::refine`] from `first`, q's first estimate where it is already known.
-    fn refine_from(
         &mut self,
         first: Option<Refined>,
         r: &MeshRefinement,

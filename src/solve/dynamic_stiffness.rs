@@ -271,6 +271,16 @@ impl DynamicStiffness {
         }
     }
 
+    /// Solves one or two right-hand sides in place, `xs[l]` with lane l: [`Self::solve_pair`]
+    /// for two (the last [`Self::factorize_pair`]), [`Self::solve_lane`] 0 for one.
+    pub fn solve_lanes(&self, xs: &mut [Vec<Complex64>]) {
+        match xs {
+            [a, b] => self.solve_pair(a, b),
+            [a] => self.solve_lane(0, a),
+            _ => panic!("one or two right-hand sides, not {}", xs.len()),
+        }
+    }
+
     /// The coefficients (c_m, c_c) of K + c_m·M + c_c·C factorised in `lane`.
     pub fn coefficients(&self, lane: usize) -> (Complex64, Complex64) {
         (self.lanes[lane].c_m, self.lanes[lane].c_c)
