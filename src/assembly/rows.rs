@@ -20,7 +20,7 @@ use super::Model;
 use crate::actuator::Component;
 use crate::beam::{element_stiffness_rows, element_stiffness_rows_wide, SupportKind};
 use crate::error::Result;
-use crate::linalg::Csr;
+use crate::linalg::{Csr, PackedRows};
 use crate::simd::twofold::Twofold;
 use crate::simd::{self, Builds};
 use num_complex::Complex64;
@@ -97,6 +97,8 @@ pub struct StiffnessRows {
     /// Element and point masses (M_el, which a₀ multiplies), and the actuators' masses.
     m_el: Csr,
     m_act: Csr,
+    /// The same two, packed for the products every residual and GMRES iteration takes.
+    masses: [PackedRows; 2],
     a0: f64,
     a1: f64,
     eta: f64,
@@ -156,14 +158,16 @@ impl StiffnessRows {
         let n = dofs.n;
         let rayleigh = model.rayleigh();
         let packed = rows.iter().map(|r| (r.dofs.map(|d| d as u32), r.values)).collect();
+        let m_act = Csr::from_triplets(n, &act.m);
         Ok(Some(StiffnessRows {
             n,
             rows,
             packed,
             grounded,
             ties,
+            masses: [PackedRows::of(&m_el), PackedRows::of(&m_act)],
             m_el,
-            m_act: Csr::from_triplets(n, &act.m),
+            m_act,
             a0: rayleigh.a0,
             a1: rayleigh.a1,
             eta: model.loss_factor(),
@@ -221,8 +225,9 @@ impl StiffnessRows {
     /// y += the masses' product: c_m·M + c_c·a₀·M_el.
     fn apply_masses(&self, c_m: Complex64, c_c: Complex64, x: &[Complex64], y: &mut [Complex64]) {
         let (_, m_el) = self.coefficients(c_m, c_c);
-        for (a, coef) in [(&self.m_el, m_el), (&self.m_act, c_m)] {
-            if a.nnz() > 0 && coef != Complex64::default() {
+        let [el, act] = &self.masses;
+        for (a, coef) in [(el, m_el), (act, c_m)] {
+            if !a.is_empty() && coef != Complex64::default() {
                 a.mul_vec_add(coef, x, y);
             }
         }

@@ -7,12 +7,14 @@
 
 pub mod band;
 pub mod banded_qr;
+pub mod packed;
 pub mod scalar;
 pub mod skyline;
 pub mod sparse;
 pub mod sparse_ldlt;
 
 pub use banded_qr::BandedR;
+pub use packed::PackedRows;
 pub use scalar::Scalar;
 pub use skyline::{Skyline, SkylineLdlt};
 pub use sparse::Csr;

@@ -16,7 +16,10 @@ use num_complex::Complex64;
 ///   instead of two per entry; this changes the last bits, not the accuracy);
 /// * tests the pivot against 1e-13·|a_ii| with a bound on the modulus first and takes the
 ///   exact `hypot` only when the bound cannot decide (the same test, without a `hypot` per
-///   row).
+///   row);
+/// * factorises a band's rows (a beam's are three wide) in loops of fixed length: the same
+///   operations in the same order as for any profile, without a loop of unknown length
+///   per entry.
 ///
 /// Two frequencies can be factorised and solved at once ([`DynamicStiffness::factorize_pair`],
 /// [`DynamicStiffness::solve_pair`]). A factorisation of this size is a chain of dependent
@@ -36,8 +39,32 @@ pub struct DynamicStiffness {
     c: Vec<f64>,
     /// The imaginary stiffness η·K_beam of hysteretic damping (zeros without).
     kl: Vec<f64>,
+    /// Each row's band ([`Band`]).
+    bands: Vec<Band>,
     /// Two factorisations: [`DynamicStiffness::factorize`] fills the first.
     lanes: [Factor; 2],
+}
+
+/// Rows this narrow or narrower are factorised in loops of fixed length.
+const NARROW: usize = 3;
+
+/// A row's band for the factorisation: its width i − first[i] where that is at most
+/// [`NARROW`] and every row it meets starts no later than it does (a band's rows do; an
+/// actuator body's long row does not), else [`Band::WIDE`].
+#[derive(Clone, Copy, Debug)]
+struct Band(u8);
+
+impl Band {
+    const WIDE: Band = Band(u8::MAX);
+
+    fn of(first: &[usize], i: usize) -> Band {
+        let w = i - first[i];
+        if w <= NARROW && (first[i]..i).all(|j| first[j] <= first[i]) {
+            Band(w as u8)
+        } else {
+            Self::WIDE
+        }
+    }
 }
 
 /// L strictly below the diagonal and D on it, and 1/d_i, of one frequency.
@@ -86,7 +113,51 @@ impl Factor {
 
     /// Factorises row i, rows before it being done.
     #[inline(always)]
-    fn row(&mut self, first: &[usize], start: &[usize], i: usize) -> Result<()> {
+    fn row(&mut self, first: &[usize], start: &[usize], band: Band, i: usize) -> Result<()> {
+        match band.0 {
+            0 => self.row_narrow::<0>(first, start, i),
+            1 => self.row_narrow::<1>(first, start, i),
+            2 => self.row_narrow::<2>(first, start, i),
+            3 => self.row_narrow::<3>(first, start, i),
+            _ => self.row_any(first, start, i),
+        }
+    }
+
+    /// [`Factor::row_any`] for a row of width W whose rows met start no later than it
+    /// does: the same operations in the same order, in loops of fixed length.
+    #[inline(always)]
+    fn row_narrow<const W: usize>(&mut self, first: &[usize], start: &[usize], i: usize) -> Result<()> {
+        let fi = i - W;
+        let (done, rest) = self.values.split_at_mut(start[i]);
+        let row = &mut rest[..W + 1];
+        let a_ii = row[W];
+        for jj in 0..W {
+            let j = fi + jj;
+            let from = start[j] + (fi - first[j]);
+            let rj = &done[from..from + jj];
+            let mut s = Complex64::default();
+            for t in 0..jj {
+                s += row[t] * rj[t];
+            }
+            row[jj] -= s;
+        }
+        let inv_d = &self.inv_d[fi..i];
+        let mut d = a_ii;
+        for t in 0..W {
+            let l = row[t] * inv_d[t];
+            d -= row[t] * l;
+            row[t] = l;
+        }
+        check_pivot(i, d, a_ii)?;
+        row[W] = d;
+        let s = 1.0 / d.norm_sqr();
+        self.inv_d[i] = Complex64::new(d.re * s, -d.im * s);
+        Ok(())
+    }
+
+    /// Factorises row i of any profile, rows before it being done.
+    #[inline(always)]
+    fn row_any(&mut self, first: &[usize], start: &[usize], i: usize) -> Result<()> {
         let fi = first[i];
         let (done, rest) = self.values.split_at_mut(start[i]);
         let row = &mut rest[..i - fi + 1];
@@ -163,6 +234,7 @@ impl DynamicStiffness {
         }
         start.push(off);
         DynamicStiffness {
+            bands: (0..n).map(|i| Band::of(envelope, i)).collect(),
             first: envelope.to_vec(),
             start,
             k: to_sky(k),
@@ -195,7 +267,7 @@ impl DynamicStiffness {
         let [a, _] = &mut self.lanes;
         a.fill(&self.k, &self.m, &self.c, &self.kl, omega);
         for i in 0..self.first.len() {
-            a.row(&self.first, &self.start, i)?;
+            a.row(&self.first, &self.start, self.bands[i], i)?;
         }
         a.factorized = true;
         Ok(())
@@ -208,7 +280,7 @@ impl DynamicStiffness {
         let [a, _] = &mut self.lanes;
         a.fill_general(&self.k, &self.m, &self.c, &self.kl, c_m, c_c);
         for i in 0..self.first.len() {
-            a.row(&self.first, &self.start, i)?;
+            a.row(&self.first, &self.start, self.bands[i], i)?;
         }
         a.factorized = true;
         Ok(())
@@ -222,8 +294,8 @@ impl DynamicStiffness {
         a.fill(&self.k, &self.m, &self.c, &self.kl, omega_a);
         b.fill(&self.k, &self.m, &self.c, &self.kl, omega_b);
         for i in 0..self.first.len() {
-            a.row(&self.first, &self.start, i)?;
-            b.row(&self.first, &self.start, i)?;
+            a.row(&self.first, &self.start, self.bands[i], i)?;
+            b.row(&self.first, &self.start, self.bands[i], i)?;
         }
         a.factorized = true;
         b.factorized = true;
@@ -334,6 +406,47 @@ mod tests {
         k.push((2, n - 1, -50.0));
         let envelope = Skyline::<f64>::envelope_of(n, k.iter().map(|&(i, j, _)| (i, j)));
         (Csr::from_triplets(n, &k), Csr::from_triplets(n, &m), Csr::from_triplets(n, &c), envelope)
+    }
+
+    /// The fixed-length loops of narrow rows give the bits of the loops for any profile, on
+    /// a band of width three (a beam's) with one long row: the factor and its solves.
+    #[test]
+    fn narrow_rows_give_the_bits_of_any_profile() {
+        let n = 30;
+        let (mut k, mut m, mut c) = (Vec::new(), Vec::new(), Vec::new());
+        for i in 0..n {
+            m.push((i, i, 1.0 + 0.1 * i as f64));
+            k.push((i, i, 5000.0 + 10.0 * i as f64));
+            c.push((i, i, 0.3));
+            for d in 1..=3.min(i) {
+                let v = -(900.0 + 37.0 * d as f64) / d as f64 + 0.01 * i as f64;
+                for (t, v) in [(&mut k, v), (&mut m, 0.01 * v), (&mut c, -0.1 / d as f64)] {
+                    t.push((i, i - d, v));
+                    t.push((i - d, i, v));
+                }
+            }
+        }
+        k.push((n - 1, 2, -50.0));
+        k.push((2, n - 1, -50.0));
+        let envelope = Skyline::<f64>::envelope_of(n, k.iter().map(|&(i, j, _)| (i, j)));
+        let (k, m, c) = (Csr::from_triplets(n, &k), Csr::from_triplets(n, &m), Csr::from_triplets(n, &c));
+        let mut narrow = DynamicStiffness::new(&k, &m, &c, &envelope);
+        let mut any = DynamicStiffness::new(&k, &m, &c, &envelope);
+        assert!(narrow.bands.iter().filter(|b| b.0 == 3).count() > n / 2);
+        any.bands.iter_mut().for_each(|b| *b = Band::WIDE);
+        let bits = |x: &[Complex64]| x.iter().flat_map(|z| [z.re.to_bits(), z.im.to_bits()]).collect::<Vec<_>>();
+        let b: Vec<Complex64> = (0..n).map(|i| Complex64::new(1.0 / (1.0 + i as f64), 0.1 * i as f64)).collect();
+        for dk in [&mut narrow, &mut any] {
+            dk.factorize_pair(17.0, 41.5).unwrap();
+        }
+        for l in 0..2 {
+            assert_eq!(bits(&narrow.lanes[l].values), bits(&any.lanes[l].values));
+            assert_eq!(bits(&narrow.lanes[l].inv_d), bits(&any.lanes[l].inv_d));
+            let (mut x, mut y) = (b.clone(), b.clone());
+            narrow.solve_lane(l, &mut x);
+            any.solve_lane(l, &mut y);
+            assert_eq!(bits(&x), bits(&y));
+        }
     }
 
     #[test]
