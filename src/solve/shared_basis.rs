@@ -512,10 +512,15 @@ fn times_y(v: &[Vec<f64>], y: &[f64], rows: usize, nq: usize) -> Vec<f64> {
 fn attachments_on_basis(attached: &System, basis: &Projection, first_body: usize) -> [Vec<f64>; 3] {
     let nr = basis.n_reduced;
     let mut out = [vec![0.0; nr * nr], vec![0.0; nr * nr], vec![0.0; nr * nr]];
-    let rank_one = |r: &mut [f64], w: f64, g: &[(usize, f64)]| {
+    let mut dense = vec![0.0; nr];
+    let mut rank_one = |r: &mut [f64], w: f64, g: &[(usize, f64)]| {
         if w != 0.0 {
+            dense.iter_mut().for_each(|x| *x = 0.0);
+            g.iter().for_each(|&(j, gj)| dense[j] = gj);
+            // Row i of the upper half: (w·g_i)·g_j for j ≥ i.
             for &(i, gi) in g {
-                g.iter().filter(|&&(j, _)| j >= i).for_each(|&(j, gj)| r[i * nr + j] += w * gi * gj);
+                let scale = w * gi;
+                r[i * nr + i..(i + 1) * nr].iter_mut().zip(&dense[i..]).for_each(|(x, gj)| *x += scale * gj);
             }
         }
     };
