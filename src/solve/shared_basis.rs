@@ -10,9 +10,10 @@
 //!
 //! * the static shapes x_j = K⁻¹·b_j of the case's attachment patterns b_j (a foot's w: one
 //!   DOF at a node, the element's shape functions between nodes; a point load's likewise),
-//!   with M·x_j and C·x_j, kept per pattern ([`ShapeCache`]: a study that knows its
-//!   candidates solves them up front, [`SharedBasis::prefetch`], a block of right-hand
-//!   sides per pass over the factor; others as cases meet them), turned into residual vectors ψ_j = x_j − Φ·α_j as a single system's
+//!   with M·x_j and C·x_j, summed from the unit loads' shapes K⁻¹·e_d of the pattern's DOFs,
+//!   kept per DOF ([`ShapeCache`]: a study that knows its candidates solves them up front,
+//!   [`SharedBasis::prefetch`], a block of right-hand sides per pass over the factor;
+//!   others as cases meet them), turned into residual vectors ψ_j = x_j − Φ·α_j as a single system's
 //!   reduction does (`modal_basis::residual_vectors`: M-orthogonal to Φ, diagonalising the
 //!   residual flexibility);
 //! * the structure blocks that involve them (Φᵀ·M·ψ, ψᵀ·M·ψ, and C's);
@@ -59,8 +60,8 @@ pub type Pattern = Vec<(usize, f64)>;
 const BLOCK: usize = 32;
 
 /// What the static shapes a study keeps may take: a quarter of the default memory budget
-/// (half of the machine's available memory). 24 bytes per structure DOF per pattern, so
-/// 1 GB holds ≈ 1,400 patterns of a 32,000-DOF model.
+/// (half of the machine's available memory). 24 bytes per structure DOF per kept shape, so
+/// 1 GB holds ≈ 1,400 shapes of a 32,000-DOF model.
 fn default_shape_cache() -> u64 {
     machine_memory() / 4
 }
