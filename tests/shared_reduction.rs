@@ -72,8 +72,10 @@ fn placements_on_one_shared_basis_match_the_full_plate() {
     }
 }
 
-/// Static shapes solved up front in blocks of right-hand sides, and kept for later cases,
-/// reduce each case as its own solve does, to round-off.
+/// Static shapes solved up front in blocks of right-hand sides, kept per DOF for later
+/// cases and summed into each pattern's shape, reduce each case as its own solve of the
+/// pattern does: to round-off carried through K's conditioning (the two are different sums
+/// of K⁻¹'s rounding, and the residual flexibility takes a difference of them).
 #[test]
 fn kept_static_shapes_reduce_as_a_cases_own_solve() {
     let settings = ReductionSettings {
@@ -91,7 +93,11 @@ fn kept_static_shapes_reduce_as_a_cases_own_solve() {
     let mut distinct = patterns.clone();
     distinct.dedup();
     assert!(distinct.len() >= 6, "two feet per frame: {}", distinct.len());
-    assert_eq!(kept.prefetch(&patterns), distinct.len());
+    // One unit load's shape per structure DOF the patterns touch.
+    let mut dofs: Vec<usize> = patterns.iter().flatten().map(|&(d, _)| d).collect();
+    dofs.sort_unstable();
+    dofs.dedup();
+    assert_eq!(kept.prefetch(&patterns), dofs.len());
     assert_eq!(kept.prefetch(&patterns), 0, "each shape is solved once");
     assert_eq!(own.prefetch(&patterns), 0, "no room: every case solves its own");
     for m in &models {
@@ -100,7 +106,7 @@ fn kept_static_shapes_reduce_as_a_cases_own_solve() {
         let e = max_rel(&b.mean_power, &a.mean_power)
             .max(max_rel(&b.net_power, &a.net_power))
             .max(max_rel(&[b.beam_dissipation], &[a.beam_dissipation]));
-        assert!(e < 1e-12, "kept {:?} against own {:?}: {e:e}", b.mean_power, a.mean_power);
+        assert!(e < 1e-10, "kept {:?} against own {:?}: {e:e}", b.mean_power, a.mean_power);
     }
 }
 

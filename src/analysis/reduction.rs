@@ -279,7 +279,7 @@ impl SharedReduction {
     /// The patterns along which the actuators and loads of `model` (a case on the same
     /// structure) act on it: what [`SharedReduction::prefetch`] takes.
     pub fn attachment_patterns(&self, model: &Model) -> Result<Vec<Pattern>> {
-        Ok(self.basis.attachment_patterns(&System::assemble_attachments(model)?))
+        Ok(self.basis.attachment_patterns(&System::assemble_attachments_on(model, self.basis.structure_dofs())?))
     }
 
     /// Solves the static shapes of `patterns` up front ([`SharedBasis::prefetch`]).
@@ -296,7 +296,7 @@ impl SharedReduction {
 
     /// The reduced system of `model` (a case on the same structure) and its report.
     pub fn system(&self, model: &Model) -> Result<(System, ReductionReport)> {
-        let attached = System::assemble_attachments(model)?;
+        let attached = System::assemble_attachments_on(model, self.basis.structure_dofs())?;
         let r = self.basis.reduce(&attached)?;
         let report = report_of(&r, &self.settings, self.cutoff_hz, attached.n());
         Ok((r.system, report))

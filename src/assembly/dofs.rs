@@ -67,6 +67,29 @@ impl DofMap {
         map
     }
 
+    /// This numbering of a structure alone (no bodies) with bodies of `body_sizes` DOFs
+    /// after it, as [`DofMap::number`] places bodies without anchors. Errors if `structure`
+    /// is not the one numbered (its nodes or DOF kinds differ).
+    pub fn with_bodies(&self, structure: Option<&Structure>, body_sizes: &[usize]) -> crate::error::Result<DofMap> {
+        let same = structure.map_or(self.nodes.is_empty(), |s| {
+            s.dof_names() == self.kinds && s.n_nodes() * self.kinds.len() == self.nodes.len()
+        });
+        if !same || self.bodies.iter().any(|b| !b.is_empty()) {
+            return Err(crate::error::Error::Numerical(
+                "the case's structure is not the one the study's shared reduction was built on".into(),
+            ));
+        }
+        let mut next = self.n;
+        let bodies = body_sizes
+            .iter()
+            .map(|&size| {
+                next += size;
+                (next - size..next).collect()
+            })
+            .collect();
+        Ok(DofMap { n: next, bodies, ..self.clone() })
+    }
+
     /// Number of structure nodes.
     pub fn n_nodes(&self) -> usize {
         if self.kinds.is_empty() {

@@ -75,6 +75,28 @@ impl Factored {
         }
     }
 
+    /// Σ coeff·(row `i` of T) over the full DOFs of `g`, into `row` (zeroed): the rows'
+    /// modal parts summed first, so a combination of many DOFs costs one product with Y
+    /// and B.
+    fn combination_into(&self, g: &[(usize, f64)], row: &mut [f64]) {
+        let (nm, nq, ns) = (self.modes, self.residual_columns(), self.structure_dofs());
+        let mut on_shapes = vec![0.0; self.shapes.len()];
+        for &(i, coef) in g {
+            if i < ns {
+                let phi_i = &self.phi[i * nm..(i + 1) * nm];
+                row[..nm].iter_mut().zip(phi_i).for_each(|(r, p)| *r += coef * p);
+                on_shapes.iter_mut().zip(&self.shapes).for_each(|(s, x)| *s += coef * x[i]);
+            } else if let Some(k) = self.bodies.iter().position(|&d| d == i) {
+                row[nm + nq + k] += coef;
+            }
+        }
+        for c in 0..nq {
+            let from_shapes: f64 = on_shapes.iter().enumerate().map(|(a, s)| self.y[a * nq + c] * s).sum();
+            let from_modes: f64 = row[..nm].iter().enumerate().map(|(r, p)| p * self.b[r * nq + c]).sum();
+            row[nm + c] = from_shapes - from_modes;
+        }
+    }
+
     /// T·q.
     fn expand(&self, q: &[Complex64], n: usize) -> Vec<Complex64> {
         let (nm, nq) = (self.modes, self.residual_columns());
@@ -152,8 +174,13 @@ impl Projection {
     /// A combination Σ coeff·q[dof] of full DOFs as one of the reduced coordinates.
     pub fn row_combination(&self, g: &[(usize, f64)]) -> Vec<(usize, f64)> {
         let mut r = vec![0.0; self.n_reduced];
-        for &(d, coef) in g {
-            r.iter_mut().zip(self.row_dense(d)).for_each(|(x, t)| *x += coef * t);
+        match &self.columns {
+            Columns::Factored(f) => f.combination_into(g, &mut r),
+            Columns::Dense(_) => {
+                for &(d, coef) in g {
+                    r.iter_mut().zip(self.row_dense(d)).for_each(|(x, t)| *x += coef * t);
+                }
+            }
         }
         r.into_iter().enumerate().filter(|(_, v)| *v != 0.0).collect()
     }

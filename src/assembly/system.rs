@@ -143,7 +143,7 @@ impl System {
     /// Assembles a model. Errors if an actuator foot is not on a mesh node or the damping is
     /// still a ratio (see [`crate::analysis::plan::calibrate`]).
     pub fn assemble(model: &Model) -> Result<System> {
-        Self::assemble_parts(model, true)
+        Self::assemble_parts(model, true, None)
     }
 
     /// The model's actuators and loads alone on its structure, for a reduction basis that
@@ -151,28 +151,41 @@ impl System {
     /// numbered as in the bare structure's assembly, every body after them, and no
     /// structure matrices (`m_beam`, `c_beam`, `k_beam` zero; `m`, `c`, `k` the actuators').
     pub fn assemble_attachments(model: &Model) -> Result<System> {
-        Self::assemble_parts(model, false)
+        Self::assemble_parts(model, false, None)
     }
 
-    fn assemble_parts(model: &Model, with_structure: bool) -> Result<System> {
+    /// [`System::assemble_attachments`] on a structure already numbered as `structure`
+    /// (the bare structure's DOF map, without bodies): the numbering depends on the
+    /// structure alone, so a study's cases skip its node ordering.
+    pub fn assemble_attachments_on(model: &Model, structure: &DofMap) -> Result<System> {
+        Self::assemble_parts(model, false, Some(structure))
+    }
+
+    fn assemble_parts(model: &Model, with_structure: bool, numbered: Option<&DofMap>) -> Result<System> {
         model.damping.require_calibrated()?;
         let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
         let structure = model.structure.as_ref();
         let feet = feet_attachments(&comps, structure)?;
-        // Each actuator's bodies are numbered after the last node its feet reach (keeping
-        // the profile narrow), or all after the structure when it is not assembled here.
-        let order = structure.map(Structure::node_order).unwrap_or_default();
-        let mut rank = vec![0; order.len()];
-        for (r, &node) in order.iter().enumerate() {
-            rank[node] = r;
-        }
-        let anchors: Vec<Option<usize>> = feet
-            .iter()
-            .map(|links| links.iter().flatten().flat_map(|a| a.iter().map(|t| t.0)).max_by_key(|&n| rank[n]))
-            .map(|anchor| anchor.filter(|_| with_structure))
-            .collect();
         let sizes: Vec<usize> = comps.iter().map(|c| c.dof_names.len()).collect();
-        let dofs = DofMap::number_in(structure, &order, &anchors, &sizes);
+        let dofs = match numbered {
+            Some(numbered) => numbered.with_bodies(structure, &sizes)?,
+            None => {
+                // Each actuator's bodies are numbered after the last node its feet reach
+                // (keeping the profile narrow), or all after the structure when it is not
+                // assembled here.
+                let order = structure.map(Structure::node_order).unwrap_or_default();
+                let mut rank = vec![0; order.len()];
+                for (r, &node) in order.iter().enumerate() {
+                    rank[node] = r;
+                }
+                let anchors: Vec<Option<usize>> = feet
+                    .iter()
+                    .map(|links| links.iter().flatten().flat_map(|a| a.iter().map(|t| t.0)).max_by_key(|&n| rank[n]))
+                    .map(|anchor| anchor.filter(|_| with_structure))
+                    .collect();
+                DofMap::number_in(structure, &order, &anchors, &sizes)
+            }
+        };
         let n = dofs.n;
         let [m_beam, c_beam, k_beam] = match with_structure {
             true => structure_matrices(structure, &dofs, model.rayleigh()),

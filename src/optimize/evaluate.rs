@@ -165,7 +165,7 @@ impl<'s> Evaluator<'s> {
     fn solve(&self, case: crate::case::Case) -> std::result::Result<Outcome, String> {
         let spec = self.spec;
         let s = |e: crate::Error| e.to_string();
-        let lc = LoadedCase::from_case(case, &format!("{} [candidate]", spec.base.file), spec.base.dir.clone())
+        let lc = LoadedCase::unwritten(case, &format!("{} [candidate]", spec.base.file), spec.base.dir.clone())
             .map_err(s)?;
         let model = &calibrated_model(&lc).map_err(s)?;
         let sys = self.systems.system(model, &lc.file).map_err(s)?.0;

@@ -444,12 +444,11 @@ impl Basis<'_> {
 /// A symmetric dense matrix (row-major nr × nr) as a sparse one, without the entries below
 /// round-off of their diagonal pair (the orthogonality relations' rounding).
 pub(super) fn sparse_of_dense(r: &[f64], nr: usize) -> Csr {
-    let (mut indptr, mut indices, mut data) = (vec![0], Vec::new(), Vec::new());
-    for a in 0..nr {
-        for b in 0..nr {
-            let v = r[a * nr + b];
-            let scale = (r[a * nr + a].abs() * r[b * nr + b].abs()).sqrt();
-            if v != 0.0 && (a == b || v.abs() > DROP * scale) {
+    let (mut indptr, mut indices, mut data) = (vec![0], Vec::with_capacity(nr * nr), Vec::with_capacity(nr * nr));
+    let root: Vec<f64> = (0..nr).map(|a| r[a * nr + a].abs().sqrt()).collect();
+    for (a, row) in r.chunks_exact(nr).enumerate() {
+        for (b, (&v, &root_b)) in row.iter().zip(&root).enumerate() {
+            if v != 0.0 && (a == b || v.abs() > DROP * root[a] * root_b) {
                 indices.push(b);
                 data.push(v);
             }

@@ -10,9 +10,10 @@
 //!
 //! * the static shapes x_j = K⁻¹·b_j of the case's attachment patterns b_j (a foot's w: one
 //!   DOF at a node, the element's shape functions between nodes; a point load's likewise),
-//!   with M·x_j and C·x_j, kept per pattern ([`ShapeCache`]: a study that knows its
-//!   candidates solves them up front, [`SharedBasis::prefetch`], a block of right-hand
-//!   sides per pass over the factor; others as cases meet them), turned into residual vectors ψ_j = x_j − Φ·α_j as a single system's
+//!   with M·x_j and C·x_j, summed from the unit loads' shapes K⁻¹·e_d of the pattern's DOFs,
+//!   kept per DOF ([`ShapeCache`]: a study that knows its candidates solves them up front,
+//!   [`SharedBasis::prefetch`], a block of right-hand sides per pass over the factor;
+//!   others as cases meet them), turned into residual vectors ψ_j = x_j − Φ·α_j as a single system's
 //!   reduction does (`modal_basis::residual_vectors`: M-orthogonal to Φ, diagonalising the
 //!   residual flexibility);
 //! * the structure blocks that involve them (Φᵀ·M·ψ, ψᵀ·M·ψ, and C's);
@@ -47,7 +48,7 @@ use crate::linalg::{dot, symmetrise, Csr};
 use crate::solve::eigen::{ratio_of, Modes};
 use faer::Mat;
 use rayon::prelude::*;
-use std::collections::{HashMap, HashSet};
+use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
 /// An attachment pattern b: structure DOFs and their coefficients, by DOF.
@@ -59,8 +60,8 @@ pub type Pattern = Vec<(usize, f64)>;
 const BLOCK: usize = 32;
 
 /// What the static shapes a study keeps may take: a quarter of the default memory budget
-/// (half of the machine's available memory). 24 bytes per structure DOF per pattern, so
-/// 1 GB holds ≈ 1,400 patterns of a 32,000-DOF model.
+/// (half of the machine's available memory). 24 bytes per structure DOF per kept shape, so
+/// 1 GB holds ≈ 1,400 shapes of a 32,000-DOF model.
 fn default_shape_cache() -> u64 {
     machine_memory() / 4
 }
@@ -104,17 +105,15 @@ struct StaticShape {
     cx: Vec<f64>,
 }
 
-/// The static shapes of the patterns a study has met, at most `room` of them; beyond that a
-/// case solves its own (and drops it).
+/// The static shapes of unit loads on the structure DOFs a study has met, K⁻¹·e_d by DOF d,
+/// at most `room` of them. A pattern's shape is their weighted sum: a foot between a
+/// plate's nodes is the element's 16 DOFs with its shape functions' values, so positions an
+/// optimiser moves continuously share the shapes of the DOFs around them. Beyond `room` a
+/// case solves its patterns' own shapes (and drops them).
 #[derive(Debug)]
 struct ShapeCache {
     room: usize,
-    shapes: Mutex<HashMap<Vec<(usize, u64)>, Arc<StaticShape>>>,
-}
-
-/// A pattern as a key: its DOFs and the bits of its coefficients.
-fn key(b: &[(usize, f64)]) -> Vec<(usize, u64)> {
-    b.iter().map(|&(d, c)| (d, c.to_bits())).collect()
+    shapes: Mutex<HashMap<usize, Arc<StaticShape>>>,
 }
 
 impl ShapeCache {
@@ -124,15 +123,15 @@ impl ShapeCache {
         ShapeCache { room: usize::try_from(bytes / per_shape).unwrap_or(usize::MAX), shapes: Mutex::default() }
     }
 
-    fn get(&self, b: &[(usize, f64)]) -> Option<Arc<StaticShape>> {
-        self.shapes.lock().ok()?.get(&key(b)).cloned()
+    fn get(&self, dof: usize) -> Option<Arc<StaticShape>> {
+        self.shapes.lock().ok()?.get(&dof).cloned()
     }
 
-    /// Keeps `shape` of pattern `b` while there is room.
-    fn keep(&self, b: &[(usize, f64)], shape: &Arc<StaticShape>) {
+    /// Keeps `shape` of the unit load on `dof` while there is room.
+    fn keep(&self, dof: usize, shape: &Arc<StaticShape>) {
         if let Ok(mut map) = self.shapes.lock() {
             if map.len() < self.room {
-                map.entry(key(b)).or_insert_with(|| Arc::clone(shape));
+                map.entry(dof).or_insert_with(|| Arc::clone(shape));
             }
         }
     }
@@ -242,6 +241,12 @@ impl SharedBasis {
         })
     }
 
+    /// The bare structure's DOF numbering, which a placement's attachments take
+    /// ([`System::assemble_attachments_on`]).
+    pub fn structure_dofs(&self) -> &DofMap {
+        &self.dofs
+    }
+
     /// Retained modes.
     pub fn modes(&self) -> usize {
         self.omega.len()
@@ -265,22 +270,20 @@ impl SharedBasis {
         attachment_patterns(attached, self.dofs.n)
     }
 
-    /// Solves the static shapes of `patterns` not yet kept, [`BLOCK`] right-hand sides per
-    /// pass over the factor of K, as many as the cache has room for, and keeps them with
-    /// their products with M and C. Returns how many it solved.
+    /// Solves the unit loads' static shapes of the DOFs of `patterns` not yet kept,
+    /// [`BLOCK`] right-hand sides per pass over the factor of K, as many as the cache has
+    /// room for, and keeps them with their products with M and C. Returns how many it
+    /// solved.
     pub fn prefetch(&self, patterns: &[Pattern]) -> usize {
         let Some(s) = &self.statics else { return 0 };
-        let ns = self.dofs.n;
-        let mut seen = HashSet::new();
-        let mut todo: Vec<&Pattern> = patterns
-            .iter()
-            .filter(|b| !b.is_empty() && b.iter().all(|&(d, _)| d < ns) && s.shapes.get(b).is_none())
-            .filter(|b| seen.insert(key(b)))
-            .collect();
+        let mut todo: Vec<usize> =
+            dofs_of(patterns, self.dofs.n).into_iter().filter(|&d| s.shapes.get(d).is_none()).collect();
         todo.truncate(s.shapes.free());
-        todo.par_chunks(BLOCK).for_each(|block| {
-            for (b, shape) in block.iter().zip(self.solve_block(s, block)) {
-                s.shapes.keep(b, &shape);
+        let units: Vec<Pattern> = todo.iter().map(|&d| vec![(d, 1.0)]).collect();
+        units.par_chunks(BLOCK).zip(todo.par_chunks(BLOCK)).for_each(|(block, dofs)| {
+            let block: Vec<&Pattern> = block.iter().collect();
+            for (&d, shape) in dofs.iter().zip(self.solve_block(s, &block)) {
+                s.shapes.keep(d, &shape);
             }
         });
         todo.len()
@@ -307,21 +310,27 @@ impl SharedBasis {
             .collect()
     }
 
-    /// The static shapes of `patterns`: kept ones, the others solved now in one block (and
-    /// kept while there is room).
+    /// The static shapes of `patterns`: sums of the unit loads' shapes at their DOFs, those
+    /// not yet kept solved now in blocks and kept; where the cache has no room for them,
+    /// the patterns' own shapes solved in one block.
     fn static_shapes(&self, s: &Statics, patterns: &[Pattern]) -> Vec<Arc<StaticShape>> {
-        let mut shapes: Vec<Option<Arc<StaticShape>>> = patterns.iter().map(|b| s.shapes.get(b)).collect();
-        let missing: Vec<&Pattern> =
-            patterns.iter().zip(&shapes).filter(|(_, x)| x.is_none()).map(|(b, _)| b).collect();
-        if !missing.is_empty() {
-            let mut solved = missing.chunks(BLOCK).flat_map(|block| self.solve_block(s, block));
-            for (b, shape) in patterns.iter().zip(&mut shapes).filter(|(_, x)| x.is_none()) {
-                let new = solved.next().expect("one shape per missing pattern");
-                s.shapes.keep(b, &new);
-                *shape = Some(new);
+        let dofs = dofs_of(patterns, self.dofs.n);
+        let mut units: HashMap<usize, Arc<StaticShape>> =
+            dofs.iter().filter_map(|&d| s.shapes.get(d).map(|x| (d, x))).collect();
+        let missing: Vec<usize> = dofs.iter().copied().filter(|d| !units.contains_key(d)).collect();
+        if missing.len() > s.shapes.free() {
+            let own: Vec<&Pattern> = patterns.iter().collect();
+            return own.chunks(BLOCK).flat_map(|block| self.solve_block(s, block)).collect();
+        }
+        let unit_loads: Vec<Pattern> = missing.iter().map(|&d| vec![(d, 1.0)]).collect();
+        for (dofs, block) in missing.chunks(BLOCK).zip(unit_loads.chunks(BLOCK)) {
+            let block: Vec<&Pattern> = block.iter().collect();
+            for (&d, shape) in dofs.iter().zip(self.solve_block(s, &block)) {
+                s.shapes.keep(d, &shape);
+                units.insert(d, shape);
             }
         }
-        shapes.into_iter().flatten().collect()
+        patterns.iter().map(|b| superpose(b, &units, self.dofs.n)).collect()
     }
 
     /// The reduced system of a placement: `attached` holds the case's actuators and loads
@@ -504,10 +513,15 @@ fn times_y(v: &[Vec<f64>], y: &[f64], rows: usize, nq: usize) -> Vec<f64> {
 fn attachments_on_basis(attached: &System, basis: &Projection, first_body: usize) -> [Vec<f64>; 3] {
     let nr = basis.n_reduced;
     let mut out = [vec![0.0; nr * nr], vec![0.0; nr * nr], vec![0.0; nr * nr]];
-    let rank_one = |r: &mut [f64], w: f64, g: &[(usize, f64)]| {
+    let mut dense = vec![0.0; nr];
+    let mut rank_one = |r: &mut [f64], w: f64, g: &[(usize, f64)]| {
         if w != 0.0 {
+            dense.iter_mut().for_each(|x| *x = 0.0);
+            g.iter().for_each(|&(j, gj)| dense[j] = gj);
+            // Row i of the upper half: (w·g_i)·g_j for j ≥ i.
             for &(i, gi) in g {
-                g.iter().filter(|&&(j, _)| j >= i).for_each(|&(j, gj)| r[i * nr + j] += w * gi * gj);
+                let scale = w * gi;
+                r[i * nr + i..(i + 1) * nr].iter_mut().zip(&dense[i..]).for_each(|(x, gj)| *x += scale * gj);
             }
         }
     };
@@ -572,6 +586,32 @@ fn attachment_patterns(attached: &System, ns: usize) -> Vec<Pattern> {
         }
     }
     patterns
+}
+
+/// The distinct structure DOFs (below `ns`) of `patterns`, ascending.
+fn dofs_of(patterns: &[Pattern], ns: usize) -> Vec<usize> {
+    let mut dofs: Vec<usize> = patterns.iter().flatten().map(|&(d, _)| d).filter(|&d| d < ns).collect();
+    dofs.sort_unstable();
+    dofs.dedup();
+    dofs
+}
+
+/// The static shape of pattern b, Σ_d b_d·K⁻¹·e_d, from the unit loads' shapes `units`
+/// (K is linear); a unit load's own shape where b is one.
+fn superpose(b: &[(usize, f64)], units: &HashMap<usize, Arc<StaticShape>>, ns: usize) -> Arc<StaticShape> {
+    if let [(d, c)] = b {
+        if *c == 1.0 {
+            return Arc::clone(&units[d]);
+        }
+    }
+    let mut sum = StaticShape { x: vec![0.0; ns], mx: vec![0.0; ns], cx: vec![0.0; ns] };
+    for &(d, c) in b {
+        let u = &units[&d];
+        for (to, from) in [(&mut sum.x, &u.x), (&mut sum.mx, &u.mx), (&mut sum.cx, &u.cx)] {
+            to.iter_mut().zip(from).for_each(|(t, f)| *t += c * f);
+        }
+    }
+    Arc::new(sum)
 }
 
 /// Pattern b as a vector over the structure's DOFs, added into `x`.
