@@ -63,7 +63,6 @@ impl LoadedCase {
         files
     }
 
-    /// A case built in code (sweeps): serialised back to TOML so results embed what ran.
     /// A validated case that is solved and not written (an optimiser's candidate): its
     /// `text` is left empty, as nothing embeds it.
     pub fn unwritten(case: Case, file: &str, dir: PathBuf) -> Result<LoadedCase> {
@@ -71,6 +70,7 @@ impl LoadedCase {
         Ok(LoadedCase { case, file: file.to_string(), dir, text: String::new() })
     }
 
+    /// A case built in code (sweeps): serialised back to TOML so results embed what ran.
     pub fn from_case(case: Case, file: &str, dir: PathBuf) -> Result<LoadedCase> {
         case.validate(file)?;
         let text = toml::to_string(&case)
