@@ -22,8 +22,12 @@ pub fn plot_profiles(
         .map(|p| {
             let xl = crate::report::sweep::axis_text(&p.variable, &p.unit, actuators);
             let mut lp = LinePlot::new("", xl, format!("{} ({unit})", label.replace('_', " ")));
-            let line =
-                Series::line("other variables at the optimum", p.x.clone(), p.f.clone()).broken_at(p.gaps.clone());
+            // A break in the line is where the constraints exclude the candidates: say so.
+            let name = match p.gaps.is_empty() {
+                true => "other variables at the optimum",
+                false => "other variables at the optimum (breaks: infeasible)",
+            };
+            let line = Series::line(name, p.x.clone(), p.f.clone()).broken_at(p.gaps.clone());
             lp.series.push(line);
             lp.series.push(Series::line("optimum", vec![p.x_best], vec![p.f_best]).with_style(SeriesStyle::Markers));
             lp
