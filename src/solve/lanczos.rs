@@ -221,6 +221,9 @@ fn checked(steps: usize, count: usize, from_root: bool) -> bool {
     }
 }
 
+/// The Ritz values θ (ascending), the eigenvectors of the tridiagonal T (α on its diagonal,
+/// β beside it) and whether the `count` largest have converged: residual |β_m·s_m| within
+/// 1e-10·θ. A non-positive wanted θ is an error (the shift is above a mode).
 fn ritz(alpha: &[f64], beta: &[f64], count: usize) -> Result<(Vec<f64>, Mat<f64>, bool)> {
     let mdim = alpha.len();
     let t = Mat::from_fn(mdim, mdim, |i, j| {
