@@ -261,45 +261,89 @@ fn fine_spectra(
     let points = sys.links.len() + sys.loads.len();
     let mut spectra = [(); 2].map(|_| vec![vec![0.0; all + 1]; points]);
     let mut shares = [(); 2].map(|_| Shares::new(sys, active.len(), false));
-    // The second sampling's right-hand side and solution (where it is not the first's
-    // scaled), one at a time.
-    let (mut rhs, mut q1) = (vec![Complex64::default(); sys.n()], Vec::new());
-    let forcing = |s: usize, k: usize| -> Vec<Complex64> { forcings[s].iter().map(|f| f[k]).collect() };
     let task = crate::progress::Task::start("harmonic count", Some(active.len() as u64), "harmonics solved");
-    let mut stage = PairStage::new(sys);
-    for (done, pair) in active.chunks(2).enumerate() {
-        task.set(2 * done as u64)?;
-        stage.solve(sys, pair, &|k| forcing(0, k), w0)?;
-        let PairStage { dk, rhs0, q0 } = &mut stage;
-        let bs: Vec<&[Complex64]> = rhs0[..pair.len()].iter().map(Vec::as_slice).collect();
-        let xs: Vec<&[Complex64]> = q0[..pair.len()].iter().map(Vec::as_slice).collect();
-        let mut firsts = refinement.first_estimates(dk, &bs, &xs, false).map(Vec::into_iter);
-        for (lane, &k) in pair.iter().enumerate() {
-            let w = k as f64 * w0;
-            let first = firsts.as_mut().and_then(Iterator::next);
-            let solve = Solved { dk, lane, rhs: &rhs0[lane] };
-            let powers = shares[0].refine(first, &refinement, solve, &mut q0[lane], (k, w, &forcing(0, k))).1;
-            spectra[0].iter_mut().zip(powers).for_each(|(p, x)| p[k] = x);
-            let second = forcing(1, k);
-            let powers = match &forcings {
-                [f1, f2] if f1.len() == 1 && f1[0][k] != Complex64::default() => {
-                    let c = f2[0][k] / f1[0][k];
-                    q1.clone_from(&q0[lane]);
-                    q1.iter_mut().for_each(|x| *x *= c);
-                    shares[1].add(&q1, w, &second)
-                }
-                _ => {
-                    forcing_vector(sys, &second, &mut rhs);
-                    q1.clone_from(&rhs);
-                    dk.solve_lane(lane, &mut q1);
-                    let solve = Solved { dk, lane, rhs: &rhs };
-                    shares[1].refine(None, &refinement, solve, &mut q1, (k, w, &second)).1
-                }
-            };
-            spectra[1].iter_mut().zip(powers).for_each(|(p, x)| p[k] = x);
+    let mut stages = [(); 2].map(|_| PairStage::new(sys));
+    let count = Count { sys, forcings: &forcings, w0, refinement: &refinement };
+    let pairs: Vec<&[usize]> = active.chunks(2).collect();
+    let solve = |stage: &mut PairStage, pair: &[usize], shares: [Shares; 2]| stage.count(&count, pair, shares);
+    in_waves(&mut stages, &pairs, &mut shares, &task, solve, |shares, _, solved, _| {
+        for (k, powers) in solved {
+            for (s, p) in powers.into_iter().enumerate() {
+                shares[s].so_far.iter_mut().zip(&p).for_each(|(t, x)| *t += x);
+                spectra[s].iter_mut().zip(p).for_each(|(row, x)| row[k] = x);
+            }
+        }
+    })?;
+    Ok((refinement, spectra))
+}
+
+/// The pairs of the count in waves whose pairs are solved side by side: the first pair
+/// (the drive's harmonic and the next, which carry most of every point's power) alone,
+/// then two at a time. Each pair judges its refinement against the powers of the waves
+/// before it (and of its own first lane), whichever thread solves it, so the spectra are
+/// the same bits on one core or two.
+fn waves<'p>(pairs: &'p [&'p [usize]]) -> impl Iterator<Item = &'p [&'p [usize]]> {
+    let (first, rest) = pairs.split_at(pairs.len().min(1));
+    std::iter::once(first).filter(|f| !f.is_empty()).chain(rest.chunks(2))
+}
+
+/// Solves `pairs` in [`waves`], a wave's two pairs on the two `stages` side by side, each
+/// from a copy of `state` as the waves before left it; `merge` then takes each pair's
+/// result into `state`, in the pairs' order, with the stage that holds its solutions.
+fn in_waves<S: Clone + Sync, T: Send>(
+    stages: &mut [PairStage; 2],
+    pairs: &[&[usize]],
+    state: &mut S,
+    task: &crate::progress::Task,
+    solve: impl Fn(&mut PairStage, &[usize], S) -> Result<T> + Sync,
+    mut merge: impl FnMut(&mut S, &[usize], T, &mut PairStage),
+) -> Result<()> {
+    let mut done = 0;
+    for wave in waves(pairs) {
+        task.set(done as u64)?;
+        let [one, two] = stages;
+        let solved = match wave {
+            [a] => vec![solve(one, a, state.clone())?],
+            [a, b] => {
+                let (x, y) = crate::progress::side_by_side(
+                    || solve(&mut *one, a, state.clone()),
+                    || solve(&mut *two, b, state.clone()),
+                );
+                vec![x?, y?]
+            }
+            _ => unreachable!("waves of one or two pairs"),
+        };
+        for ((stage, pair), t) in [one, two].into_iter().zip(wave).zip(solved) {
+            merge(state, pair, t, stage);
+            done += pair.len();
         }
     }
-    Ok((refinement, spectra))
+    Ok(())
+}
+
+/// What every pair of the count shares: the system, each sampling's forcings (stack
+/// forces, then point loads; harmonics k = 0..=K each), ω₀ (rad/s) and the element rows.
+struct Count<'a> {
+    sys: &'a System,
+    forcings: &'a [Vec<Vec<Complex64>>; 2],
+    w0: f64,
+    refinement: &'a MeshRefinement,
+}
+
+/// What every pair of a run's kept harmonics shares: the system, each harmonic's forcing
+/// (stack forces, then point loads), ω₀ (rad/s) and the element rows.
+struct Kept<'a> {
+    sys: &'a System,
+    forcing: &'a [Vec<Complex64>],
+    w0: f64,
+    refinement: &'a MeshRefinement,
+}
+
+impl Count<'_> {
+    /// Sampling s's forcing of harmonic k.
+    fn forcing(&self, s: usize, k: usize) -> Vec<Complex64> {
+        self.forcings[s].iter().map(|f| f[k]).collect()
+    }
 }
 
 /// One pair of harmonics of the count: its factorisation, the first sampling's right-hand
@@ -308,11 +352,70 @@ struct PairStage {
     dk: DynamicStiffness,
     rhs0: [Vec<Complex64>; 2],
     q0: [Vec<Complex64>; 2],
+    /// The second sampling's right-hand side and solution (where it is not the first's
+    /// scaled), one at a time.
+    rhs1: Vec<Complex64>,
+    q1: Vec<Complex64>,
 }
 
 impl PairStage {
     fn new(sys: &System) -> Self {
-        PairStage { dk: DynamicStiffness::of(sys), rhs0: Default::default(), q0: Default::default() }
+        let (rhs0, q0) = Default::default();
+        PairStage { dk: DynamicStiffness::of(sys), rhs0, q0, rhs1: vec![Complex64::default(); sys.n()], q1: Vec::new() }
+    }
+
+    /// Solves the run's kept `pair` of harmonics into `q0` and refines them with their
+    /// bound, judged against `shares`; returns each harmonic's error estimate and power per
+    /// point (W).
+    fn kept(&mut self, c: &Kept, pair: &[usize], mut shares: Shares) -> Result<Vec<(Refined, Vec<f64>)>> {
+        self.solve(c.sys, pair, &|k| c.forcing[k].clone(), c.w0)?;
+        let PairStage { dk, rhs0, q0, .. } = self;
+        let bs: Vec<&[Complex64]> = rhs0[..pair.len()].iter().map(Vec::as_slice).collect();
+        let xs: Vec<&[Complex64]> = q0[..pair.len()].iter().map(Vec::as_slice).collect();
+        let mut firsts = c.refinement.first_estimates(dk, &bs, &xs, true).map(Vec::into_iter);
+        let mut out = Vec::with_capacity(pair.len());
+        for (lane, &k) in pair.iter().enumerate() {
+            let first = firsts.as_mut().and_then(Iterator::next);
+            let solve = Solved { dk, lane, rhs: &rhs0[lane] };
+            out.push(shares.refine(first, c.refinement, solve, &mut q0[lane], (k, k as f64 * c.w0, &c.forcing[k])));
+        }
+        Ok(out)
+    }
+
+    /// Solves the count's `pair` of harmonics for both samplings, judging each solve's
+    /// refinement against `shares` (each sampling's powers so far); returns each harmonic
+    /// with each sampling's power per point (W).
+    fn count(&mut self, c: &Count, pair: &[usize], mut shares: [Shares; 2]) -> Result<Vec<(usize, [Vec<f64>; 2])>> {
+        self.solve(c.sys, pair, &|k| c.forcing(0, k), c.w0)?;
+        let PairStage { dk, rhs0, q0, rhs1, q1 } = self;
+        let bs: Vec<&[Complex64]> = rhs0[..pair.len()].iter().map(Vec::as_slice).collect();
+        let xs: Vec<&[Complex64]> = q0[..pair.len()].iter().map(Vec::as_slice).collect();
+        let mut firsts = c.refinement.first_estimates(dk, &bs, &xs, false).map(Vec::into_iter);
+        let mut out = Vec::with_capacity(pair.len());
+        for (lane, &k) in pair.iter().enumerate() {
+            let w = k as f64 * c.w0;
+            let first = firsts.as_mut().and_then(Iterator::next);
+            let solve = Solved { dk, lane, rhs: &rhs0[lane] };
+            let first_powers = shares[0].refine(first, c.refinement, solve, &mut q0[lane], (k, w, &c.forcing(0, k))).1;
+            let second = c.forcing(1, k);
+            let second_powers = match c.forcings {
+                [f1, f2] if f1.len() == 1 && f1[0][k] != Complex64::default() => {
+                    let ratio = f2[0][k] / f1[0][k];
+                    q1.clone_from(&q0[lane]);
+                    q1.iter_mut().for_each(|x| *x *= ratio);
+                    shares[1].add(q1, w, &second)
+                }
+                _ => {
+                    forcing_vector(c.sys, &second, rhs1);
+                    q1.clone_from(rhs1);
+                    dk.solve_lane(lane, q1);
+                    let solve = Solved { dk, lane, rhs: rhs1 };
+                    shares[1].refine(None, c.refinement, solve, q1, (k, w, &second)).1
+                }
+            };
+            out.push((k, [first_powers, second_powers]));
+        }
+        Ok(out)
     }
 
     /// Factorises at the pair's harmonics of ω₀ (rad/s) and solves for `forcing(k)`, both
@@ -712,9 +815,9 @@ pub struct HarmonicSolver<'s> {
     pub q: Vec<Vec<Complex64>>,
     /// Per harmonic, the estimate of Q_k's error (empty where not estimated).
     pub error: Vec<Refined>,
-    /// The right-hand sides of the pair of harmonics being solved, kept for their
-    /// refinement (one per factorisation lane: all of them would be as large as Q).
-    rhs: Vec<Vec<Complex64>>,
+    /// Two stages for a refined mesh's pairs of harmonics, solved side by side (built when
+    /// first needed).
+    stages: Option<[PairStage; 2]>,
     /// Beam dissipation per harmonic (W) of the last solve.
     pub diss: Vec<f64>,
 }
@@ -729,7 +832,7 @@ impl<'s> HarmonicSolver<'s> {
             refinement: None,
             q: Vec::new(),
             error: Vec::new(),
-            rhs: Vec::new(),
+            stages: None,
             diss: Vec::new(),
         }
     }
@@ -777,7 +880,6 @@ impl<'s> HarmonicSolver<'s> {
         }
         self.error.clear();
         self.error.resize_with(n_harm + 1, Refined::default);
-        self.rhs.resize_with(2, Vec::new);
         let task = crate::progress::Task::start("steady state", Some(active.len() as u64), "harmonics solved");
         // The coupled form where no element rows ask for the dense factor's refinement (the
         // error estimate is then none either way), the dense factor where a solve of it
@@ -819,44 +921,50 @@ impl<'s> HarmonicSolver<'s> {
         task: &crate::progress::Task,
     ) -> Result<()> {
         let sys = self.sys;
+        let Some(r) = &self.refinement else {
+            let dk = self.dk.get_or_insert_with(|| DynamicStiffness::of(sys));
+            // Harmonics in pairs (see DynamicStiffness::factorize_pair): the same bits as
+            // one at a time, in less time.
+            for (done, pair) in active.chunks(2).enumerate() {
+                task.set(2 * done as u64)?;
+                match *pair {
+                    [ka, kb] => {
+                        dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?;
+                        let (lo, hi) = self.q.split_at_mut(kb);
+                        dk.solve_pair(&mut lo[ka], &mut hi[0]);
+                    }
+                    [k] => {
+                        dk.factorize(k as f64 * w0)?;
+                        dk.solve_in_place(&mut self.q[k]);
+                    }
+                    _ => unreachable!("chunks of 1 or 2"),
+                }
+            }
+            return Ok(());
+        };
+        // A refined mesh's pairs are solved in waves on two stages, as the count's are.
         let forcings = sys.drives.len() + sys.loads.len();
-        let dk = self.dk.get_or_insert_with(|| DynamicStiffness::of(sys));
-        let mut shares = Shares::new(sys, active.len(), true);
-        // Harmonics in pairs (see DynamicStiffness::factorize_pair): the same bits as one
-        // at a time, in less time.
-        for (done, pair) in active.chunks(2).enumerate() {
-            task.set(2 * done as u64)?;
-            if self.refinement.is_some() {
-                for (rhs, &k) in self.rhs.iter_mut().zip(pair) {
-                    rhs.clone_from(&self.q[k]);
+        let forcing: Vec<Vec<Complex64>> =
+            (0..self.q.len()).map(|k| (0..forcings).map(|j| fp_h(j, k)).collect()).collect();
+        let stages = self.stages.get_or_insert_with(|| [(); 2].map(|_| PairStage::new(sys)));
+        let kept = Kept { sys, forcing: &forcing, w0, refinement: r };
+        let pairs: Vec<&[usize]> = active.chunks(2).collect();
+        let (q, error) = (&mut self.q, &mut self.error);
+        let solve = |stage: &mut PairStage, pair: &[usize], shares: Shares<'s>| stage.kept(&kept, pair, shares);
+        in_waves(
+            stages,
+            &pairs,
+            &mut Shares::new(sys, active.len(), true),
+            task,
+            solve,
+            |shares, pair, solved, stage| {
+                for (lane, (&k, (e, powers))) in pair.iter().zip(solved).enumerate() {
+                    std::mem::swap(&mut q[k], &mut stage.q0[lane]);
+                    error[k] = e;
+                    shares.so_far.iter_mut().zip(&powers).for_each(|(t, x)| *t += x);
                 }
-            }
-            match *pair {
-                [ka, kb] => {
-                    dk.factorize_pair(ka as f64 * w0, kb as f64 * w0)?;
-                    let (lo, hi) = self.q.split_at_mut(kb);
-                    dk.solve_pair(&mut lo[ka], &mut hi[0]);
-                }
-                [k] => {
-                    dk.factorize(k as f64 * w0)?;
-                    dk.solve_in_place(&mut self.q[k]);
-                }
-                _ => unreachable!("chunks of 1 or 2"),
-            }
-            if let Some(r) = &self.refinement {
-                // Both lanes' first estimates side by side (the same bits as lane by lane).
-                let bs: Vec<&[Complex64]> = self.rhs[..pair.len()].iter().map(Vec::as_slice).collect();
-                let xs: Vec<&[Complex64]> = pair.iter().map(|&k| self.q[k].as_slice()).collect();
-                let mut firsts = r.first_estimates(dk, &bs, &xs, true).map(Vec::into_iter);
-                for (lane, &k) in pair.iter().enumerate() {
-                    let forcing: Vec<Complex64> = (0..forcings).map(|j| fp_h(j, k)).collect();
-                    let first = firsts.as_mut().and_then(Iterator::next);
-                    let solve = Solved { dk: &*dk, lane, rhs: &self.rhs[lane] };
-                    let at = (k, k as f64 * w0, &forcing[..]);
-                    self.error[k] = shares.refine(first, r, solve, &mut self.q[k], at).0;
-                }
-            }
-        }
+            },
+        )?;
         Ok(())
     }
 }
@@ -914,6 +1022,7 @@ struct Solved<'a> {
 /// harmonic left so has a small share of the motion too (its apparent power is small
 /// beside every point's), so the displacements it adds to the time series are off by as
 /// little.
+#[derive(Clone)]
 struct Shares<'s> {
     sys: &'s System,
     share: f64,
