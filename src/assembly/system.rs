@@ -133,6 +133,10 @@ pub struct System {
     /// For a reduced system, how its coordinates map to the full model's; None for the
     /// assembled (full) system.
     pub projection: Option<Arc<Projection>>,
+    /// K, M and C (row-major n × n, entry for entry `k`, `m` and `c`) where the system was
+    /// formed dense (a placement's reduced system): a dense solve reads them instead of
+    /// expanding the sparse ones again.
+    pub dense: Option<Arc<[Vec<f64>; 3]>>,
 }
 
 impl System {
@@ -201,14 +205,37 @@ impl System {
                 false => a,
             }
         });
-        let envelope = Skyline::<f64>::envelope_of(
-            n,
-            m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
-        );
+        // Without the structure the pattern is the actuators' triplets', read without a
+        // pass over every row.
+        let envelope = match with_structure {
+            true => Skyline::<f64>::envelope_of(
+                n,
+                m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
+            ),
+            false => Skyline::<f64>::envelope_of(
+                n,
+                actuators.m.iter().chain(&actuators.k).chain(&actuators.c).map(|&(i, j, _)| (i, j)),
+            ),
+        };
         let k_loss = (with_structure && model.loss_factor() > 0.0).then(|| k_beam.scaled(model.loss_factor()));
         let loads = load_patterns(model, &dofs)?;
         let ActuatorMatrices { links, drives, .. } = actuators;
-        Ok(System { dofs, m, c, k, m_beam, c_beam, k_beam, k_loss, links, drives, loads, envelope, projection: None })
+        Ok(System {
+            dofs,
+            m,
+            c,
+            k,
+            m_beam,
+            c_beam,
+            k_beam,
+            k_loss,
+            links,
+            drives,
+            loads,
+            envelope,
+            projection: None,
+            dense: None,
+        })
     }
 
     /// The structure's w at a point as a combination Σ coeff·q[dof] of this system's DOFs:

@@ -39,8 +39,11 @@ impl Csr {
         let mut data = Vec::with_capacity(triplets.len());
         indptr.push(0);
         for i in 0..n {
+            // Most rows of an actuators-only system are empty: they cost one push.
             let row = &mut bucket[start[i]..start[i + 1]];
-            row.sort_unstable_by_key(|&(j, _)| j);
+            if row.len() > 1 {
+                row.sort_unstable_by_key(|&(j, _)| j);
+            }
             for &(j, v) in row.iter() {
                 if indices.len() > indptr[i] && *indices.last().unwrap() == j {
                     *data.last_mut().unwrap() += v;

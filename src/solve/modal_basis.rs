@@ -249,6 +249,7 @@ pub(super) fn reduced_system(full: &System, basis: Projection, matrices: [Csr; 6
         loads,
         envelope,
         projection: Some(Arc::new(basis)),
+        dense: None,
     }
 }
 
@@ -437,22 +438,31 @@ impl Basis<'_> {
                 r[b * nr + a] = s;
             }
         }
-        sparse_of_dense(&r, nr)
+        sparse_of_dense(&mut r, nr)
     }
 }
 
 /// A symmetric dense matrix (row-major nr × nr) as a sparse one, without the entries below
-/// round-off of their diagonal pair (the orthogonality relations' rounding).
-pub(super) fn sparse_of_dense(r: &[f64], nr: usize) -> Csr {
+/// round-off of their diagonal pair (the orthogonality relations' rounding), which are set
+/// to zero in `r` too: `r` is then the sparse matrix's dense form, entry for entry.
+pub(super) fn sparse_of_dense(r: &mut [f64], nr: usize) -> Csr {
     let (mut indptr, mut indices, mut data) = (vec![0], Vec::with_capacity(nr * nr), Vec::with_capacity(nr * nr));
     let root: Vec<f64> = (0..nr).map(|a| r[a * nr + a].abs().sqrt()).collect();
-    for (a, row) in r.chunks_exact(nr).enumerate() {
-        for (b, (&v, &root_b)) in row.iter().zip(&root).enumerate() {
-            if v != 0.0 && (a == b || v.abs() > DROP * root[a] * root_b) {
-                indices.push(b);
-                data.push(v);
-            }
+    let (mut row_indices, mut row_data) = (vec![0; nr], vec![0.0; nr]);
+    for (a, row) in r.chunks_exact_mut(nr).enumerate() {
+        let bound = DROP * root[a];
+        // Every entry of the row is written and the kept ones advance: no branch per
+        // entry, whose outcome a dense block's pattern leaves to chance.
+        let mut len = 0;
+        for (b, (v, &root_b)) in row.iter_mut().zip(&root).enumerate() {
+            let keep = (*v != 0.0) & ((a == b) | (v.abs() > bound * root_b));
+            row_indices[len] = b;
+            row_data[len] = *v;
+            len += keep as usize;
+            *v = if keep { *v } else { 0.0 };
         }
+        indices.extend_from_slice(&row_indices[..len]);
+        data.extend_from_slice(&row_data[..len]);
         indptr.push(indices.len());
     }
     Csr::from_sorted_rows(nr, indptr, indices, data)

@@ -43,6 +43,7 @@ use crate::assembly::System;
 use crate::error::{Error, Result};
 use crate::linalg::Csr;
 use num_complex::Complex64;
+use std::sync::Arc;
 
 /// What an entry of the modal block may differ from the form by, relative to the geometric
 /// mean of its diagonal entries (the modes' M-orthogonality, the round-off of projecting the
@@ -71,7 +72,7 @@ pub struct ModalCoupling {
     coupling: [Vec<f64>; 3],
     rest: [Vec<f64>; 3],
     /// The system's K, M, C (n × n, row-major), which the solves are refined against.
-    totals: [Vec<f64>; 3],
+    totals: Arc<[Vec<f64>; 3]>,
     factor: Factor,
 }
 
@@ -112,7 +113,10 @@ impl ModalCoupling {
             }
         }
         let weights: Vec<[f64; 3]> = links.iter().map(|l| [l.k, l.foot_mass, l.c]).collect();
-        let totals = [&sys.k, &sys.m, &sys.c].map(Csr::to_dense);
+        let totals = match &sys.dense {
+            Some(dense) => Arc::clone(dense),
+            None => Arc::new([&sys.k, &sys.m, &sys.c].map(Csr::to_dense)),
+        };
         let diag = [&sys.k_beam, &sys.m_beam, &sys.c_beam].map(|a| (0..nd).map(|i| a.get(i, i)).collect::<Vec<f64>>());
         // Σ_l w_l·f_l,i·f_l,j of the links' rank-one terms, a row at a time.
         let mut link = vec![0.0; nd];
@@ -167,7 +171,7 @@ impl ModalCoupling {
             let kmc = [0, 1, 2].map(|a| self.diag[a][i]);
             let lambda = combine(kmc, c_m, c_c);
             let scale = kmc[0].abs() + omega * omega * kmc[1].abs() + omega * kmc[2].abs();
-            if !(lambda.norm() > 1e-13 * scale) || !lambda.re.is_finite() || !lambda.im.is_finite() {
+            if !(lambda.norm_sqr() > (1e-13 * scale).powi(2)) || !lambda.re.is_finite() || !lambda.im.is_finite() {
                 return Err(Error::Singular {
                     row: i,
                     detail: format!("mode {i}'s dynamic stiffness {lambda:?} at {omega} rad/s: undamped at resonance"),
@@ -244,7 +248,7 @@ impl ModalCoupling {
     fn residual(&self, b: &[Complex64], x: &[Complex64]) -> Vec<Complex64> {
         let n = b.len();
         let omega = self.factor.omega;
-        let [k, m, c] = &self.totals;
+        let [k, m, c] = &*self.totals;
         let (re, im): (Vec<f64>, Vec<f64>) = x.iter().map(|z| (z.re, z.im)).unzip();
         (0..n)
             .map(|i| {
@@ -316,10 +320,11 @@ fn norm(x: &[Complex64]) -> f64 {
 fn lu_in_place(a: &mut [Complex64], s: usize, pivots: &mut Vec<usize>) -> Result<()> {
     pivots.clear();
     for k in 0..s {
-        let scale = (k..s).map(|i| a[i * s + k].norm()).fold(0.0f64, f64::max);
-        let p = (k..s).max_by(|&i, &j| a[i * s + k].norm().total_cmp(&a[j * s + k].norm())).unwrap_or(k);
+        // Sizes compared squared: the same order as the moduli, without a hypot each.
+        let size = |i: usize| a[i * s + k].norm_sqr();
+        let p = (k..s).max_by(|&i, &j| size(i).total_cmp(&size(j))).unwrap_or(k);
         let pivot = a[p * s + k];
-        if !(pivot.norm() > 0.0) || !pivot.re.is_finite() || !pivot.im.is_finite() || scale == 0.0 {
+        if !(size(p) > 0.0) || !pivot.re.is_finite() || !pivot.im.is_finite() {
             return Err(Error::Singular {
                 row: k,
                 detail: "the actuators coupled to the modes at their feet: the system is singular".into(),

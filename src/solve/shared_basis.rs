@@ -44,7 +44,7 @@ use crate::assembly::projection::Factored;
 use crate::assembly::{DofMap, Projection, System};
 use crate::error::{Error, Result};
 use crate::linalg::sparse_ldlt::OwnedLdlt;
-use crate::linalg::{dot, symmetrise, Csr};
+use crate::linalg::{dot, dots, symmetrise, Csr};
 use crate::solve::eigen::{ratio_of, Modes};
 use faer::Mat;
 use rayon::prelude::*;
@@ -189,8 +189,12 @@ fn gram(v: &[impl AsRef<[f64]>], av: &[impl AsRef<[f64]>]) -> Vec<f64> {
     let n = v.len();
     let mut r = vec![0.0; n * n];
     for i in 0..n {
+        // vᵢ·(A·vⱼ) and vⱼ·(A·vᵢ) for j ≤ i, the chains side by side.
+        let to_av: Vec<&[f64]> = av[..=i].iter().map(AsRef::as_ref).collect();
+        let to_v: Vec<&[f64]> = v[..=i].iter().map(AsRef::as_ref).collect();
+        let (left, right) = (dots(v[i].as_ref(), &to_av), dots(av[i].as_ref(), &to_v));
         for j in 0..=i {
-            let s = 0.5 * (dot(v[i].as_ref(), av[j].as_ref()) + dot(v[j].as_ref(), av[i].as_ref()));
+            let s = 0.5 * (left[j] + right[j]);
             r[i * n + j] = s;
             r[j * n + i] = s;
         }
@@ -279,14 +283,26 @@ impl SharedBasis {
         let mut todo: Vec<usize> =
             dofs_of(patterns, self.dofs.n).into_iter().filter(|&d| s.shapes.get(d).is_none()).collect();
         todo.truncate(s.shapes.free());
-        let units: Vec<Pattern> = todo.iter().map(|&d| vec![(d, 1.0)]).collect();
-        units.par_chunks(BLOCK).zip(todo.par_chunks(BLOCK)).for_each(|(block, dofs)| {
-            let block: Vec<&Pattern> = block.iter().collect();
-            for (&d, shape) in dofs.iter().zip(self.solve_block(s, &block)) {
-                s.shapes.keep(d, &shape);
-            }
-        });
+        self.solve_units(s, &todo);
         todo.len()
+    }
+
+    /// Solves the unit loads' static shapes at `dofs`, [`BLOCK`] right-hand sides per pass
+    /// over the factor of K (the blocks in parallel), keeps them, and returns them in the
+    /// order of `dofs`.
+    fn solve_units(&self, s: &Statics, dofs: &[usize]) -> Vec<Arc<StaticShape>> {
+        let units: Vec<Pattern> = dofs.iter().map(|&d| vec![(d, 1.0)]).collect();
+        let blocks: Vec<Vec<Arc<StaticShape>>> = units
+            .par_chunks(BLOCK)
+            .zip(dofs.par_chunks(BLOCK))
+            .map(|(block, dofs)| {
+                let block: Vec<&Pattern> = block.iter().collect();
+                let shapes = self.solve_block(s, &block);
+                dofs.iter().zip(&shapes).for_each(|(&d, shape)| s.shapes.keep(d, shape));
+                shapes
+            })
+            .collect();
+        blocks.into_iter().flatten().collect()
     }
 
     /// The static shapes of `block` (at most [`BLOCK`] patterns) in one pass over the
@@ -322,14 +338,7 @@ impl SharedBasis {
             let own: Vec<&Pattern> = patterns.iter().collect();
             return own.chunks(BLOCK).flat_map(|block| self.solve_block(s, block)).collect();
         }
-        let unit_loads: Vec<Pattern> = missing.iter().map(|&d| vec![(d, 1.0)]).collect();
-        for (dofs, block) in missing.chunks(BLOCK).zip(unit_loads.chunks(BLOCK)) {
-            let block: Vec<&Pattern> = block.iter().collect();
-            for (&d, shape) in dofs.iter().zip(self.solve_block(s, &block)) {
-                s.shapes.keep(d, &shape);
-                units.insert(d, shape);
-            }
-        }
+        units.extend(missing.iter().copied().zip(self.solve_units(s, &missing)));
         patterns.iter().map(|b| superpose(b, &units, self.dofs.n)).collect()
     }
 
@@ -370,9 +379,12 @@ impl SharedBasis {
             r.iter_mut().zip(s).for_each(|(x, y)| *x += y);
         }
         k_diag.iter().enumerate().for_each(|(r, w2)| k[r * nr + r] += w2);
-        let [m, c, k, m_beam, c_beam] = [&m, &c, &k, &m_beam, &c_beam].map(|r| sparse_of_dense(r, nr));
+        let mut dense = [k, m, c];
+        let [k, m, c] = dense.each_mut().map(|r| sparse_of_dense(r, nr));
+        let [m_beam, c_beam] = [m_beam, c_beam].map(|mut r| sparse_of_dense(&mut r, nr));
         let k_beam = diagonal(&k_diag);
-        let system = reduced_system(attached, basis, [m, c, k, m_beam, c_beam, k_beam], nm + nq);
+        let mut system = reduced_system(attached, basis, [m, c, k, m_beam, c_beam, k_beam], nm + nq);
+        system.dense = Some(Arc::new(dense));
         Ok(Reduction {
             system,
             mode_omega: self.omega.clone(),
@@ -420,9 +432,12 @@ impl SharedBasis {
         let shapes: Vec<Vec<f64>> =
             shapes.into_iter().enumerate().filter(|(a, _)| live.contains(a)).map(|(_, x)| x).collect();
         let kept: Vec<&StaticShape> = live.iter().map(|&a| &*kept[a]).collect();
+        // (Φᵀ·A·Φ)·α_a, which both the Gram matrices and the coupling blocks need.
+        let on_alpha =
+            |phi_a_phi: &[f64]| -> Vec<Vec<f64>> { alpha.iter().map(|al| mat_vec(phi_a_phi, al, nm)).collect() };
+        let (m_alpha, c_alpha) = (on_alpha(&self.phi_m), on_alpha(&self.phi_c));
         // ψ_aᵀ·A·ψ_b = x_aᵀ·A·x_b − α_aᵀ·(Φᵀ·A·x_b) − (Φᵀ·A·x_a)ᵀ·α_b + α_aᵀ·(Φᵀ·A·Φ)·α_b.
-        let psi_gram = |ax: &[&[f64]], phi_a_x: &[Vec<f64>], phi_a_phi: &[f64]| -> Vec<f64> {
-            let p_alpha: Vec<Vec<f64>> = alpha.iter().map(|al| mat_vec(phi_a_phi, al, nm)).collect();
+        let psi_gram = |ax: &[&[f64]], phi_a_x: &[Vec<f64>], p_alpha: &[Vec<f64>]| -> Vec<f64> {
             let mut r = gram(&shapes, &ax);
             for i in 0..q {
                 for j in 0..q {
@@ -435,16 +450,15 @@ impl SharedBasis {
         };
         let mx: Vec<&[f64]> = kept.iter().map(|k| k.mx.as_slice()).collect();
         let cx: Vec<&[f64]> = kept.iter().map(|k| k.cx.as_slice()).collect();
-        let mg = psi_gram(&mx, &phi_m_x, &self.phi_m);
-        let cg = psi_gram(&cx, &phi_c_x, &self.phi_c);
+        let mg = psi_gram(&mx, &phi_m_x, &m_alpha);
+        let cg = psi_gram(&cx, &phi_c_x, &c_alpha);
         let (y, omega) = pencil_basis(&kg, &Mat::<f64>::from_fn(q, q, |a, b| mg[a * q + b]))?;
         let nq = omega.len();
         dropped += q - nq;
         let y: Vec<f64> = (0..q).flat_map(|a| (0..nq).map(move |c| (a, c))).map(|(a, c)| y[(a, c)]).collect();
         // Φᵀ·A·ψ_a = Φᵀ·A·x_a − (Φᵀ·A·Φ)·α_a, then on the columns Y.
-        let coupling = |phi_a_x: &[Vec<f64>], phi_a_phi: &[f64]| -> Vec<f64> {
-            let per_shape: Vec<Vec<f64>> =
-                (0..q).map(|a| sub(&phi_a_x[a], &mat_vec(phi_a_phi, &alpha[a], nm))).collect();
+        let coupling = |phi_a_x: &[Vec<f64>], p_alpha: &[Vec<f64>]| -> Vec<f64> {
+            let per_shape: Vec<Vec<f64>> = (0..q).map(|a| sub(&phi_a_x[a], &p_alpha[a])).collect();
             times_y(&per_shape, &y, nm, nq)
         };
         let on_columns = |gram_q: &[f64]| -> Vec<f64> {
@@ -463,8 +477,8 @@ impl SharedBasis {
         };
         Ok(PlacementResidual {
             b: times_y(&alpha, &y, nm, nq),
-            m_blocks: (coupling(&phi_m_x, &self.phi_m), on_columns(&mg)),
-            c_blocks: (coupling(&phi_c_x, &self.phi_c), on_columns(&cg)),
+            m_blocks: (coupling(&phi_m_x, &m_alpha), on_columns(&mg)),
+            c_blocks: (coupling(&phi_c_x, &c_alpha), on_columns(&cg)),
             shapes,
             y,
             omega,
@@ -557,9 +571,16 @@ fn diagonal(d: &[f64]) -> Csr {
     Csr::from_triplets(d.len(), &trip)
 }
 
-/// A·x for a row-major n × n A.
+/// A·x for a row-major n × n symmetric A (Φᵀ·M·Φ, Φᵀ·C·Φ, symmetrised), column by column:
+/// A's columns are its rows, so each entry gets the terms A_ij·x_j in the order of a row's
+/// dot product (the same bits), and the columns' updates run in vector lanes where the
+/// dot products are one chain of dependent additions each.
 fn mat_vec(a: &[f64], x: &[f64], n: usize) -> Vec<f64> {
-    (0..n).map(|i| dot(&a[i * n..(i + 1) * n], x)).collect()
+    let mut r = vec![-0.0; n];
+    for (column, &xj) in a.chunks_exact(n).zip(x) {
+        r.iter_mut().zip(column).for_each(|(ri, aij)| *ri += aij * xj);
+    }
+    r
 }
 
 fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
