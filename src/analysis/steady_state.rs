@@ -827,7 +827,7 @@ impl<'s> HarmonicSolver<'s> {
         let coupled = ModalCoupling::of(sys);
         HarmonicSolver {
             sys,
-            dk: coupled.is_none().then(|| DynamicStiffness::of(sys)),
+            dk: None,
             coupled,
             refinement: None,
             q: Vec::new(),
@@ -1014,7 +1014,8 @@ struct Solved<'a> {
 /// A harmonic is refined unless its first estimate already keeps the bound of every
 /// point's power within its share of the tolerance: REFINE_FRACTION/(the harmonics solved)
 /// of the power the point has from the harmonics before it (the lower ones, which carry
-/// most of it; the first has none, and is refined). The shares sum to REFINE_FRACTION of
+/// most of it; the first has none, and is refined). In [`in_waves`] "before it" is the
+/// waves before its own and its pair's first lane: a smaller budget, never a larger one. The shares sum to REFINE_FRACTION of
 /// the tolerance wherever the power so far is the point's power; the bound stated is
 /// computed afterwards from every harmonic's estimate, whatever was refined, so the choice
 /// can cost accuracy but never the bound's validity. The mean (k = 0) carries no power but

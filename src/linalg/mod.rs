@@ -40,6 +40,7 @@ pub fn dot(a: &[f64], b: &[f64]) -> f64 {
 /// summed in order. One dot product is a chain of dependent additions; four independent
 /// chains fill the time each addition waits for the last.
 pub fn dots(a: &[f64], bs: &[&[f64]]) -> Vec<f64> {
+    debug_assert!(bs.iter().all(|b| b.len() == a.len()), "dots of vectors of one length");
     let mut out = Vec::with_capacity(bs.len());
     let mut groups = bs.chunks_exact(4);
     for g in &mut groups {

@@ -171,7 +171,7 @@ impl ModalCoupling {
             let kmc = [0, 1, 2].map(|a| self.diag[a][i]);
             let lambda = combine(kmc, c_m, c_c);
             let scale = kmc[0].abs() + omega * omega * kmc[1].abs() + omega * kmc[2].abs();
-            if !(lambda.norm_sqr() > (1e-13 * scale).powi(2)) || !lambda.re.is_finite() || !lambda.im.is_finite() {
+            if !(lambda.norm() > 1e-13 * scale) || !lambda.re.is_finite() || !lambda.im.is_finite() {
                 return Err(Error::Singular {
                     row: i,
                     detail: format!("mode {i}'s dynamic stiffness {lambda:?} at {omega} rad/s: undamped at resonance"),
@@ -320,7 +320,8 @@ fn norm(x: &[Complex64]) -> f64 {
 fn lu_in_place(a: &mut [Complex64], s: usize, pivots: &mut Vec<usize>) -> Result<()> {
     pivots.clear();
     for k in 0..s {
-        // Sizes compared squared: the same order as the moduli, without a hypot each.
+        // Sizes compared squared (the moduli's order up to rounding in near-ties), without
+        // a hypot each.
         let size = |i: usize| a[i * s + k].norm_sqr();
         let p = (k..s).max_by(|&i, &j| size(i).total_cmp(&size(j))).unwrap_or(k);
         let pivot = a[p * s + k];
