@@ -368,11 +368,9 @@ impl PairStage {
     /// bound, judged against `shares`; returns each harmonic's error estimate and power per
     /// point (W).
     fn kept(&mut self, c: &Kept, pair: &[usize], mut shares: Shares) -> Result<Vec<(Refined, Vec<f64>)>> {
-        self.solve(c.sys, pair, &|k| c.forcing[k].clone(), c.w0)?;
+        let firsts = self.solve_estimated(c.sys, pair, &|k| c.forcing[k].clone(), c.w0, (c.refinement, true))?;
+        let mut firsts = firsts.map(Vec::into_iter);
         let PairStage { dk, rhs0, q0, .. } = self;
-        let bs: Vec<&[Complex64]> = rhs0[..pair.len()].iter().map(Vec::as_slice).collect();
-        let xs: Vec<&[Complex64]> = q0[..pair.len()].iter().map(Vec::as_slice).collect();
-        let mut firsts = c.refinement.first_estimates(dk, &bs, &xs, true).map(Vec::into_iter);
         let mut out = Vec::with_capacity(pair.len());
         for (lane, &k) in pair.iter().enumerate() {
             let first = firsts.as_mut().and_then(Iterator::next);
@@ -386,11 +384,9 @@ impl PairStage {
     /// refinement against `shares` (each sampling's powers so far); returns each harmonic
     /// with each sampling's power per point (W).
     fn count(&mut self, c: &Count, pair: &[usize], mut shares: [Shares; 2]) -> Result<Vec<(usize, [Vec<f64>; 2])>> {
-        self.solve(c.sys, pair, &|k| c.forcing(0, k), c.w0)?;
+        let firsts = self.solve_estimated(c.sys, pair, &|k| c.forcing(0, k), c.w0, (c.refinement, false))?;
+        let mut firsts = firsts.map(Vec::into_iter);
         let PairStage { dk, rhs0, q0, rhs1, q1 } = self;
-        let bs: Vec<&[Complex64]> = rhs0[..pair.len()].iter().map(Vec::as_slice).collect();
-        let xs: Vec<&[Complex64]> = q0[..pair.len()].iter().map(Vec::as_slice).collect();
-        let mut firsts = c.refinement.first_estimates(dk, &bs, &xs, false).map(Vec::into_iter);
         let mut out = Vec::with_capacity(pair.len());
         for (lane, &k) in pair.iter().enumerate() {
             let w = k as f64 * c.w0;
@@ -416,6 +412,22 @@ impl PairStage {
             out.push((k, [first_powers, second_powers]));
         }
         Ok(out)
+    }
+
+    /// [`PairStage::solve`], then both lanes' first estimates against the element rows of
+    /// `refinement`, with their floor where `floor` ([`MeshRefinement::first_estimates`]).
+    fn solve_estimated(
+        &mut self,
+        sys: &System,
+        pair: &[usize],
+        forcing: &dyn Fn(usize) -> Vec<Complex64>,
+        w0: f64,
+        (refinement, floor): (&MeshRefinement, bool),
+    ) -> Result<Option<Vec<Refined>>> {
+        self.solve(sys, pair, forcing, w0)?;
+        let bs: Vec<&[Complex64]> = self.rhs0[..pair.len()].iter().map(Vec::as_slice).collect();
+        let xs: Vec<&[Complex64]> = self.q0[..pair.len()].iter().map(Vec::as_slice).collect();
+        Ok(refinement.first_estimates(&self.dk, &bs, &xs, floor))
     }
 
     /// Factorises at the pair's harmonics of ω₀ (rad/s) and solves for `forcing(k)`, both
@@ -1015,8 +1027,9 @@ struct Solved<'a> {
 /// point's power within its share of the tolerance: REFINE_FRACTION/(the harmonics solved)
 /// of the power the point has from the harmonics before it (the lower ones, which carry
 /// most of it; the first has none, and is refined). In [`in_waves`] "before it" is the
-/// waves before its own and its pair's first lane: a smaller budget, never a larger one. The shares sum to REFINE_FRACTION of
-/// the tolerance wherever the power so far is the point's power; the bound stated is
+/// waves before its own and its pair's first lane: a smaller budget, never a larger one.
+/// The shares sum to REFINE_FRACTION of the tolerance wherever the power so far is the
+/// point's power; the bound stated is
 /// computed afterwards from every harmonic's estimate, whatever was refined, so the choice
 /// can cost accuracy but never the bound's validity. The mean (k = 0) carries no power but
 /// the static shape, where the factor is worst: it is held to the tolerance as a whole. A
