@@ -214,3 +214,18 @@ fn amplitudes_beyond_the_admissible_range_are_refused_before_they_overflow() {
         beamflow::app::runner::run_case(&lc).unwrap();
     }
 }
+
+/// A case describes one structure: a `[beam]` of its own beside a `[plate]` or an
+/// `[imported]` model is refused, naming the table; one that only repeats the beam's
+/// defaults is the same as none.
+#[test]
+fn one_structure_per_case() {
+    let plate = "[plate]\nlength_x = 0.5\nlength_y = 0.4\nthickness = 0.003\nyoungs_modulus = 70e9\n\
+        poisson_ratio = 0.33\ndensity = 2700.0\n[plate.edges]\nx0 = \"clamped\"\nx1 = \"free\"\ny0 = \"free\"\ny1 = \"free\"\n";
+    expect(&format!("[beam]\nlength = 0.5\n{plate}"), &["plate", "not both"]);
+    expect(&format!("[beam.mesh]\nelements = 40\n{plate}"), &["plate", "not both"]);
+    let imported = "[imported]\nmass = \"m.mtx\"\nstiffness = \"k.mtx\"\ndofs = \"dofs.csv\"\n";
+    expect(&format!("[beam]\nthickness = 0.004\n{imported}"), &["imported", "without `[beam]`"]);
+    let defaults = format!("[beam]\nlength = 0.73\n{plate}[[analysis]]\ntype = \"modes\"\n");
+    assert!(LoadedCase::from_str(&defaults, "plate.toml", PathBuf::from(".")).is_ok(), "the beam's defaults alone");
+}

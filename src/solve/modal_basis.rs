@@ -259,9 +259,14 @@ fn envelope_of_rows(n: usize, matrices: [&Csr; 3]) -> Vec<usize> {
     let mut first: Vec<usize> = (0..n).collect();
     for a in matrices {
         for i in 0..n {
-            for &j in a.row(i).0 {
-                let (r, c) = if i >= j { (i, j) } else { (j, i) };
-                first[r] = first[r].min(c);
+            // A row's columns ascend: its first is its lowest, and those above the
+            // diagonal follow the first one past it.
+            let columns = a.row(i).0;
+            if let Some(&j) = columns.first() {
+                first[i] = first[i].min(j);
+            }
+            for &j in &columns[columns.partition_point(|&j| j <= i)..] {
+                first[j] = first[j].min(i);
             }
         }
     }

@@ -128,12 +128,14 @@ impl ModalCoupling {
                     let scale = w[a] * rows[l * nd + i];
                     link[..=i].iter_mut().zip(&rows[l * nd..=l * nd + i]).for_each(|(x, f)| *x += scale * f);
                 }
-                for j in 0..=i {
-                    let own = if i == j { diag[a][i] } else { 0.0 };
-                    let off = total[i * n + j] - own - link[j];
-                    if !(off.abs() <= LEFT_OUT * root[i] * root[j]) {
-                        return None;
-                    }
+                // Every entry compared, no branch per entry (a NaN fails its comparison).
+                let bound = LEFT_OUT * root[i];
+                let row = &total[i * n..i * n + i];
+                let off_diagonal = row.iter().zip(&link[..i]).zip(&root[..i]);
+                let within = off_diagonal.fold(true, |ok, ((t, l), r)| ok & ((t - l).abs() <= bound * r));
+                let on_diagonal = (total[i * n + i] - diag[a][i] - link[i]).abs() <= bound * root[i];
+                if !(within & on_diagonal) {
+                    return None;
                 }
             }
         }
@@ -209,10 +211,19 @@ impl ModalCoupling {
                 z[(p + c) * s + l] = -g[l * nr + c] * f.w[l];
             }
         }
+        // Nᵀ·Λ⁻¹·N, summed over the modes in order as outer products of N's rows (each
+        // entry's sum as a dot product over i would be, reading its rows in place).
+        let mut schur = vec![Complex64::default(); nr * nr];
+        if nr > 0 {
+            for (n_i, sn_i) in f.n.chunks_exact(nr).zip(f.scaled_n.chunks_exact(nr)) {
+                for (row, &n_ic) in schur.chunks_exact_mut(nr).zip(n_i) {
+                    row.iter_mut().zip(sn_i).for_each(|(x, &sn_ie)| *x += n_ic * sn_ie);
+                }
+            }
+        }
         for c in 0..nr {
             for e in 0..nr {
-                let schur: Complex64 = (0..nd).map(|i| f.n[i * nr + c] * f.scaled_n[i * nr + e]).sum();
-                z[(p + c) * s + p + e] = at(&self.rest, c * nr + e) - schur;
+                z[(p + c) * s + p + e] = at(&self.rest, c * nr + e) - schur[c * nr + e];
             }
         }
         lu_in_place(z, s, &mut f.pivots)

@@ -5,7 +5,7 @@ use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
 /// The beam: geometry (m), material (Pa, kg/m³), mesh, supports and attachments.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct BeamSpec {
     #[serde(default = "d_length")]
@@ -63,7 +63,7 @@ pub enum MassSpec {
 }
 
 /// Either a generated mesh of about `elements` elements, or a mesh file.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct MeshSpec {
     #[serde(default = "d_elements")]
@@ -110,7 +110,7 @@ pub enum SupportKindSpec {
     Spring,
 }
 
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SupportSpec {
     /// Position (m).
@@ -124,7 +124,7 @@ pub struct SupportSpec {
     pub k_theta: Option<f64>,
 }
 
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct PointMassSpec {
     pub x: f64,
@@ -135,7 +135,7 @@ pub struct PointMassSpec {
     pub rotary_inertia: f64,
 }
 
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, Deserialize, Serialize, PartialEq)]
 #[serde(deny_unknown_fields)]
 pub struct SpringSpec {
     pub x: f64,

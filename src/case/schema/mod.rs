@@ -302,7 +302,7 @@ impl Case {
             }
             return Ok(());
         };
-        if self.plate.is_some() || toml::to_string(&self.beam).ok() != toml::to_string(&BeamSpec::default()).ok() {
+        if self.plate.is_some() || self.beam != BeamSpec::default() {
             return Err(Error::input(
                 file,
                 "imported",
@@ -340,7 +340,7 @@ impl Case {
         b.validate(file)?;
         self.validate_imported(file)?;
         if let Some(p) = &self.plate {
-            if toml::to_string(b).ok() != toml::to_string(&BeamSpec::default()).ok() {
+            if *b != BeamSpec::default() {
                 return Err(Error::input(
                     file,
                     "plate",
