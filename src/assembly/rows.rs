@@ -15,7 +15,7 @@
 //! ([`crate::analysis::roundoff`]), for A = K + c_m·M + c_c·C + i·η·K_beam (c_m = −ω²,
 //! c_c = iω for the continuous system), with C = a₀·M_el + a₁·K_el + C_grounded + C_links.
 
-use super::system::{actuator_matrices, feet_attachments, structure_matrices, System};
+use super::system::{actuator_matrices, feet_attachments, System};
 use super::Model;
 use crate::actuator::Component;
 use crate::beam::{element_stiffness_rows, element_stiffness_rows_wide, SupportKind};
@@ -146,7 +146,8 @@ impl StiffnessRows {
         }
         let grounded: Vec<(usize, f64, f64)> =
             beam.springs.iter().filter_map(|s| dofs.w(s.node).map(|i| (i, s.stiffness, s.damping))).collect();
-        let [m_el, _, _] = structure_matrices(structure, dofs, Default::default());
+        // The structure's own mass (elements and point inertia), as the full system holds it.
+        let m_el = sys.m_beam.clone();
         let comps: Vec<Component> = model.actuators.iter().map(|a| a.component()).collect();
         let feet = feet_attachments(&comps, structure)?;
         let act = actuator_matrices(&comps, &feet, structure, dofs);

@@ -201,6 +201,8 @@ impl System {
         let [m, k, c] = [(&m_beam, &actuators.m), (&k_beam, &actuators.k), (&c_beam, &actuators.c)].map(|(s, a)| {
             let a = Csr::from_triplets(n, a);
             match with_structure {
+                // The bare structure (no actuators): its own matrices, as the sum gives them.
+                true if a.nnz() == 0 => s.clone(),
                 true => Csr::combine(&[(1.0, s), (1.0, &a)]),
                 false => a,
             }
@@ -208,10 +210,11 @@ impl System {
         // Without the structure the pattern is the actuators' triplets', read without a
         // pass over every row.
         let envelope = match with_structure {
-            true => Skyline::<f64>::envelope_of(
-                n,
-                m.triplets().chain(k.triplets()).chain(c.triplets()).map(|(i, j, _)| (i, j)),
-            ),
+            true => {
+                let mut first: Vec<usize> = (0..n).collect();
+                [&m, &k, &c].iter().for_each(|a| a.widen_envelope(&mut first));
+                first
+            }
             false => Skyline::<f64>::envelope_of(
                 n,
                 actuators.m.iter().chain(&actuators.k).chain(&actuators.c).map(|&(i, j, _)| (i, j)),
@@ -368,40 +371,10 @@ pub(super) fn structure_matrices(
     rayleigh: super::damping::Rayleigh,
 ) -> [Csr; 3] {
     let n = dofs.n;
-    let mut mb = Vec::new();
-    let mut kb = Vec::new();
-    let mut cb = Vec::new();
-    if let Some(s) = structure {
-        s.for_each_element(|e| {
-            let d = dofs.element_dofs(e.nodes);
-            for a in 0..d.len() {
-                for b in 0..d.len() {
-                    if let (Some(i), Some(j)) = (d[a], d[b]) {
-                        kb.push((i, j, (e.stiffness)(a, b)));
-                        mb.push((i, j, (e.mass)(a, b)));
-                    }
-                }
-            }
-        });
-        if let Some(model) = s.imported() {
-            imported_entries(model, dofs, &mut mb, &mut kb);
-        }
-        for (node, kind, v) in s.point_inertia() {
-            if let Some(i) = dofs.node_dof(node, kind) {
-                mb.push((i, i, v));
-            }
-        }
-        for (node, kind, k) in s.support_springs() {
-            if let Some(i) = dofs.node_dof(node, kind) {
-                kb.push((i, i, k));
-            }
-        }
-    }
+    let (mb, mut kb) = structure_entries(structure, dofs);
     let m_el = Csr::from_triplets(n, &mb);
     let k_el = Csr::from_triplets(n, &kb);
-    let mut ctrip: Vec<(usize, usize, f64)> = Vec::new();
-    ctrip.extend(m_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a0 * v)));
-    ctrip.extend(k_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a1 * v)));
+    let mut cb = Vec::new();
     if let Some(s) = structure {
         for (node, k, c) in s.grounded_springs() {
             if let Some(i) = dofs.w(node) {
@@ -410,8 +383,18 @@ pub(super) fn structure_matrices(
             }
         }
     }
-    if let Some(c) = structure.and_then(Structure::imported).and_then(|m| m.c.as_ref().map(|c| (m, c))) {
-        let (model, c) = c;
+    let given_c = structure.and_then(Structure::imported).and_then(|m| m.c.as_ref().map(|c| (m, c)));
+    // Without grounded springs or a given C, each entry of C is a₀·m + a₁·k on the
+    // elements' pattern and K is the elements' own: merged rows, not a second sort of
+    // every triplet (two terms sum to the same bits in either order).
+    if cb.is_empty() && given_c.is_none() {
+        let c = Csr::sum_of((rayleigh.a0, &m_el), (rayleigh.a1, &k_el));
+        return [m_el, c, k_el];
+    }
+    let mut ctrip: Vec<(usize, usize, f64)> = Vec::new();
+    ctrip.extend(m_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a0 * v)));
+    ctrip.extend(k_el.triplets().map(|(i, j, v)| (i, j, rayleigh.a1 * v)));
+    if let Some((model, c)) = given_c {
         ctrip.extend(
             c.triplets()
                 .filter_map(|(i, j, v)| Some((imported_dof(model, dofs, i)?, imported_dof(model, dofs, j)?, v))),
@@ -421,25 +404,54 @@ pub(super) fn structure_matrices(
     [m_el, Csr::from_triplets(n, &ctrip), Csr::from_triplets(n, &kb)]
 }
 
+/// (row, col, value) triplets, duplicates to be summed.
+type Entries = Vec<(usize, usize, f64)>;
+
+/// The entries of the structure's M and K: its elements, an imported model's matrices,
+/// point inertia and support springs.
+fn structure_entries(structure: Option<&Structure>, dofs: &DofMap) -> (Entries, Entries) {
+    let (mut mb, mut kb) = (Vec::new(), Vec::new());
+    let Some(s) = structure else { return (mb, kb) };
+    s.for_each_element(|e| {
+        let d = dofs.element_dofs(e.nodes);
+        for a in 0..d.len() {
+            for b in 0..d.len() {
+                if let (Some(i), Some(j)) = (d[a], d[b]) {
+                    kb.push((i, j, (e.stiffness)(a, b)));
+                    mb.push((i, j, (e.mass)(a, b)));
+                }
+            }
+        }
+    });
+    if let Some(model) = s.imported() {
+        imported_entries(model, &model.m, dofs, &mut mb);
+        imported_entries(model, &model.k, dofs, &mut kb);
+    }
+    for (node, kind, v) in s.point_inertia() {
+        if let Some(i) = dofs.node_dof(node, kind) {
+            mb.push((i, i, v));
+        }
+    }
+    for (node, kind, k) in s.support_springs() {
+        if let Some(i) = dofs.node_dof(node, kind) {
+            kb.push((i, i, k));
+        }
+    }
+    (mb, kb)
+}
+
 /// The system DOF of an imported model's row (None for a fixed row).
 fn imported_dof(model: &crate::imported::Imported, dofs: &DofMap, row: usize) -> Option<usize> {
     let (node, kind) = model.rows[row];
     dofs.node_dof(node, kind)
 }
 
-/// An imported model's M and K entries on the system's DOFs (fixed rows dropped).
-fn imported_entries(
-    model: &crate::imported::Imported,
-    dofs: &DofMap,
-    mb: &mut Vec<(usize, usize, f64)>,
-    kb: &mut Vec<(usize, usize, f64)>,
-) {
-    for (a, out) in [(&model.m, mb), (&model.k, kb)] {
-        out.extend(
-            a.triplets()
-                .filter_map(|(i, j, v)| Some((imported_dof(model, dofs, i)?, imported_dof(model, dofs, j)?, v))),
-        );
-    }
+/// An imported model's entries of `a` (its M or K) on the system's DOFs (fixed rows
+/// dropped), into `out`.
+fn imported_entries(model: &crate::imported::Imported, a: &Csr, dofs: &DofMap, out: &mut Entries) {
+    out.extend(
+        a.triplets().filter_map(|(i, j, v)| Some((imported_dof(model, dofs, i)?, imported_dof(model, dofs, j)?, v))),
+    );
 }
 
 /// The actuators' contributions: body masses and foot masses (m), link springs (k) and

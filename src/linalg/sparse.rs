@@ -217,9 +217,15 @@ impl Csr {
         }
     }
 
-    /// Linear combination Σ cᵢ·Aᵢ of matrices of one dimension.
+    /// Linear combination Σ cᵢ·Aᵢ of matrices of one dimension (terms with cᵢ = 0 left
+    /// out, their pattern too).
     pub fn combine(terms: &[(f64, &Csr)]) -> Csr {
         let n = terms.first().map_or(0, |t| t.1.dim());
+        if let [(ca, a), (cb, b)] = terms {
+            if *ca != 0.0 && *cb != 0.0 {
+                return Csr::sum_of((*ca, a), (*cb, b));
+            }
+        }
         let mut trip = Vec::new();
         for (c, a) in terms {
             if *c != 0.0 {
@@ -227,6 +233,54 @@ impl Csr {
             }
         }
         Csr::from_triplets(n, &trip)
+    }
+
+    /// Lowers the skyline envelope `first` (a row's first column, initially the row
+    /// itself) to hold this matrix's symmetric pattern: each entry (i, j) and (j, i). A
+    /// row's columns ascend, so its first is its lowest, and those above the diagonal
+    /// follow the first one past it.
+    pub fn widen_envelope(&self, first: &mut [usize]) {
+        for i in 0..self.dim() {
+            let columns = self.row(i).0;
+            if let Some(&j) = columns.first() {
+                first[i] = first[i].min(j);
+            }
+            for &j in &columns[columns.partition_point(|&j| j <= i)..] {
+                first[j] = first[j].min(i);
+            }
+        }
+    }
+
+    /// a·A + b·B of matrices of one dimension, on the union of their patterns (an entry
+    /// of one only is its own product; zero coefficients keep their pattern). Their rows
+    /// merged in column order: the same entries and bits as the triplets of both summed.
+    pub fn sum_of((ca, a): (f64, &Csr), (cb, b): (f64, &Csr)) -> Csr {
+        let n = a.dim();
+        debug_assert_eq!(n, b.dim());
+        let mut indptr = Vec::with_capacity(n + 1);
+        let mut indices = Vec::with_capacity(a.nnz().max(b.nnz()));
+        let mut data = Vec::with_capacity(a.nnz().max(b.nnz()));
+        indptr.push(0);
+        for i in 0..n {
+            let ((ja, va), (jb, vb)) = (a.row(i), b.row(i));
+            let (mut p, mut q) = (0, 0);
+            while p < ja.len() || q < jb.len() {
+                let (col_a, col_b) =
+                    (ja.get(p).copied().unwrap_or(usize::MAX), jb.get(q).copied().unwrap_or(usize::MAX));
+                let col = col_a.min(col_b);
+                let value = match (col_a == col, col_b == col) {
+                    (true, true) => ca * va[p] + cb * vb[q],
+                    (true, false) => ca * va[p],
+                    _ => cb * vb[q],
+                };
+                p += usize::from(col_a == col);
+                q += usize::from(col_b == col);
+                indices.push(col);
+                data.push(value);
+            }
+            indptr.push(indices.len());
+        }
+        Csr::from_sorted_rows(n, indptr, indices, data)
     }
 
     /// The matrix on the rows and columns `keep` only, renumbered 0..keep.len() in their order.
@@ -247,6 +301,36 @@ impl Csr {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// a·A + b·B by merged rows gives the entries and bits of both matrices' triplets
+    /// summed: on patterns that overlap in part, with an empty row, and with a zero
+    /// coefficient (whose pattern stays).
+    #[test]
+    fn sum_of_matches_the_summed_triplets() {
+        let a = Csr::from_triplets(5, &[(0, 0, 1.5), (0, 2, -0.3), (2, 2, 0.7), (4, 1, 2.2), (4, 4, 0.1)]);
+        let b = Csr::from_triplets(5, &[(0, 0, 0.3), (0, 1, 1.1), (2, 2, -0.9), (3, 3, 4.0), (4, 4, 0.2)]);
+        for (ca, cb) in [(0.37, 1.9), (1.0, 0.0), (0.0, -2.5)] {
+            let merged = Csr::sum_of((ca, &a), (cb, &b));
+            let both: Vec<_> = a
+                .triplets()
+                .map(|(i, j, v)| (i, j, ca * v))
+                .chain(b.triplets().map(|(i, j, v)| (i, j, cb * v)))
+                .collect();
+            let want = Csr::from_triplets(5, &both);
+            assert_eq!(merged.triplets().collect::<Vec<_>>(), want.triplets().collect::<Vec<_>>(), "{ca}, {cb}");
+        }
+    }
+
+    /// The envelope widened row by row is the one of every (i, j) pair, on a pattern that
+    /// is not symmetric.
+    #[test]
+    fn widened_envelope_matches_the_pairs() {
+        let a = Csr::from_triplets(6, &[(0, 4, 1.0), (1, 1, 1.0), (2, 0, 1.0), (3, 5, 1.0), (5, 2, 1.0), (4, 4, 1.0)]);
+        let mut first: Vec<usize> = (0..6).collect();
+        a.widen_envelope(&mut first);
+        assert_eq!(first, Skyline::<f64>::envelope_of(6, a.triplets().map(|(i, j, _)| (i, j))));
+        assert_eq!(first, [0, 1, 0, 3, 0, 2]);
+    }
 
     /// xᵀ·A·y against the dense sum, on an unsymmetric pattern with a duplicate triplet and
     /// an empty row.

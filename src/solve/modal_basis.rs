@@ -257,19 +257,7 @@ pub(super) fn reduced_system(full: &System, basis: Projection, matrices: [Csr; 6
 /// first column, and each entry above the diagonal for the row of its column.
 fn envelope_of_rows(n: usize, matrices: [&Csr; 3]) -> Vec<usize> {
     let mut first: Vec<usize> = (0..n).collect();
-    for a in matrices {
-        for i in 0..n {
-            // A row's columns ascend: its first is its lowest, and those above the
-            // diagonal follow the first one past it.
-            let columns = a.row(i).0;
-            if let Some(&j) = columns.first() {
-                first[i] = first[i].min(j);
-            }
-            for &j in &columns[columns.partition_point(|&j| j <= i)..] {
-                first[j] = first[j].min(i);
-            }
-        }
-    }
+    matrices.iter().for_each(|a| a.widen_envelope(&mut first));
     first
 }
 
