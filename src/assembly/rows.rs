@@ -19,7 +19,7 @@ use super::system::{actuator_matrices, feet_attachments, System};
 use super::Model;
 use crate::actuator::Component;
 use crate::beam::{element_stiffness_rows, element_stiffness_rows_wide, SupportKind};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::linalg::{Csr, PackedRows};
 use crate::simd::twofold::Twofold;
 use crate::simd::{self, Builds};
@@ -105,13 +105,19 @@ pub struct StiffnessRows {
 }
 
 impl StiffnessRows {
-    /// The split of a full (unreduced) system of `model`; None without a beam or for a
-    /// reduced system (whose coordinates are not the element DOFs).
+    /// The split of a full (unreduced) system of `model` ([`System::assemble`]: its
+    /// structure's mass is taken from it); None without a beam or for a reduced system
+    /// (whose coordinates are not the element DOFs).
     pub fn of(model: &Model, sys: &System) -> Result<Option<Self>> {
         let Some(beam) = model.beam() else { return Ok(None) };
         let structure = model.structure.as_ref();
         if sys.projection.is_some() {
             return Ok(None);
+        }
+        if sys.m_beam.nnz() == 0 {
+            return Err(Error::Numerical(
+                "element rows need the system assembled with its structure, not the actuators alone".into(),
+            ));
         }
         let dofs = &sys.dofs;
         let mut rows = Vec::with_capacity(2 * beam.mesh.elements.len() + beam.supports.len());

@@ -365,11 +365,7 @@ pub(super) fn feet_attachments(
 /// The structure's own M, C and K: elements, point masses, support springs, Rayleigh
 /// damping of the elements and point masses (a₀·M + a₁·K, without the grounded springs),
 /// and the grounded spring–dampers.
-pub(super) fn structure_matrices(
-    structure: Option<&Structure>,
-    dofs: &DofMap,
-    rayleigh: super::damping::Rayleigh,
-) -> [Csr; 3] {
+fn structure_matrices(structure: Option<&Structure>, dofs: &DofMap, rayleigh: super::damping::Rayleigh) -> [Csr; 3] {
     let n = dofs.n;
     let (mb, mut kb) = structure_entries(structure, dofs);
     let m_el = Csr::from_triplets(n, &mb);
@@ -385,8 +381,8 @@ pub(super) fn structure_matrices(
     }
     let given_c = structure.and_then(Structure::imported).and_then(|m| m.c.as_ref().map(|c| (m, c)));
     // Without grounded springs or a given C, each entry of C is a₀·m + a₁·k on the
-    // elements' pattern and K is the elements' own: merged rows, not a second sort of
-    // every triplet (two terms sum to the same bits in either order).
+    // elements' pattern and K is the elements' own: one merge of two sorted rows per row
+    // (two terms sum to the same bits in either order).
     if cb.is_empty() && given_c.is_none() {
         let c = Csr::sum_of((rayleigh.a0, &m_el), (rayleigh.a1, &k_el));
         return [m_el, c, k_el];

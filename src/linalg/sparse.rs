@@ -218,7 +218,7 @@ impl Csr {
     }
 
     /// Linear combination Σ cᵢ·Aᵢ of matrices of one dimension (terms with cᵢ = 0 left
-    /// out, their pattern too).
+    /// out, their pattern too; two terms otherwise as [`Csr::sum_of`]).
     pub fn combine(terms: &[(f64, &Csr)]) -> Csr {
         let n = terms.first().map_or(0, |t| t.1.dim());
         if let [(ca, a), (cb, b)] = terms {
@@ -235,10 +235,10 @@ impl Csr {
         Csr::from_triplets(n, &trip)
     }
 
-    /// Lowers the skyline envelope `first` (a row's first column, initially the row
-    /// itself) to hold this matrix's symmetric pattern: each entry (i, j) and (j, i). A
-    /// row's columns ascend, so its first is its lowest, and those above the diagonal
-    /// follow the first one past it.
+    /// Lowers each row's first column in `first` (initially the row itself) so that the
+    /// skyline envelope holds this matrix's symmetric pattern: each entry (i, j) and
+    /// (j, i). A row's columns ascend, so its first is its lowest, and those above the
+    /// diagonal follow the first one past it.
     pub fn widen_envelope(&self, first: &mut [usize]) {
         for i in 0..self.dim() {
             let columns = self.row(i).0;
@@ -256,7 +256,7 @@ impl Csr {
     /// merged in column order: the same entries and bits as the triplets of both summed.
     pub fn sum_of((ca, a): (f64, &Csr), (cb, b): (f64, &Csr)) -> Csr {
         let n = a.dim();
-        debug_assert_eq!(n, b.dim());
+        assert_eq!(n, b.dim(), "a sum of matrices of one dimension");
         let mut indptr = Vec::with_capacity(n + 1);
         let mut indices = Vec::with_capacity(a.nnz().max(b.nnz()));
         let mut data = Vec::with_capacity(a.nnz().max(b.nnz()));
@@ -317,7 +317,8 @@ mod tests {
                 .chain(b.triplets().map(|(i, j, v)| (i, j, cb * v)))
                 .collect();
             let want = Csr::from_triplets(5, &both);
-            assert_eq!(merged.triplets().collect::<Vec<_>>(), want.triplets().collect::<Vec<_>>(), "{ca}, {cb}");
+            let bits = |a: &Csr| a.triplets().map(|(i, j, v)| (i, j, v.to_bits())).collect::<Vec<_>>();
+            assert_eq!(bits(&merged), bits(&want), "{ca}, {cb}");
         }
     }
 

@@ -85,6 +85,8 @@ struct Factor {
     /// N(ω) and Λ⁻¹·N(ω) (nd × nr).
     n: Vec<Complex64>,
     scaled_n: Vec<Complex64>,
+    /// Nᵀ·Λ⁻¹·N (nr × nr).
+    schur: Vec<Complex64>,
     /// The coupled system's LU (s × s, row-major, unit L below the diagonal) and row order.
     lu: Vec<Complex64>,
     pivots: Vec<usize>,
@@ -211,9 +213,11 @@ impl ModalCoupling {
                 z[(p + c) * s + l] = -g[l * nr + c] * f.w[l];
             }
         }
-        // Nᵀ·Λ⁻¹·N, summed over the modes in order as outer products of N's rows (each
-        // entry's sum as a dot product over i would be, reading its rows in place).
-        let mut schur = vec![Complex64::default(); nr * nr];
+        // Nᵀ·Λ⁻¹·N as outer products of N's rows: each entry summed over i in the order a
+        // dot product takes (the same bits), N's rows read contiguously.
+        let schur = &mut f.schur;
+        schur.clear();
+        schur.resize(nr * nr, Complex64::default());
         if nr > 0 {
             for (n_i, sn_i) in f.n.chunks_exact(nr).zip(f.scaled_n.chunks_exact(nr)) {
                 for (row, &n_ic) in schur.chunks_exact_mut(nr).zip(n_i) {
