@@ -210,11 +210,7 @@ impl System {
         // Without the structure the pattern is the actuators' triplets', read without a
         // pass over every row.
         let envelope = match with_structure {
-            true => {
-                let mut first: Vec<usize> = (0..n).collect();
-                [&m, &k, &c].iter().for_each(|a| a.widen_envelope(&mut first));
-                first
-            }
+            true => Csr::envelope_of(n, &[&m, &k, &c]),
             false => Skyline::<f64>::envelope_of(
                 n,
                 actuators.m.iter().chain(&actuators.k).chain(&actuators.c).map(|&(i, j, _)| (i, j)),

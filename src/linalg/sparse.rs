@@ -235,11 +235,18 @@ impl Csr {
         Csr::from_triplets(n, &trip)
     }
 
+    /// The skyline envelope (each row's first column) that holds the symmetric patterns
+    /// of `matrices`, each n × n: every entry (i, j) and (j, i).
+    pub fn envelope_of(n: usize, matrices: &[&Csr]) -> Vec<usize> {
+        let mut first: Vec<usize> = (0..n).collect();
+        matrices.iter().for_each(|a| a.widen_envelope(&mut first));
+        first
+    }
+
     /// Lowers each row's first column in `first` (initially the row itself) so that the
-    /// skyline envelope holds this matrix's symmetric pattern: each entry (i, j) and
-    /// (j, i). A row's columns ascend, so its first is its lowest, and those above the
-    /// diagonal follow the first one past it.
-    pub fn widen_envelope(&self, first: &mut [usize]) {
+    /// envelope holds this matrix's pattern. A row's columns ascend, so its first is its
+    /// lowest, and those above the diagonal follow the first one past it.
+    fn widen_envelope(&self, first: &mut [usize]) {
         for i in 0..self.dim() {
             let columns = self.row(i).0;
             if let Some(&j) = columns.first() {
@@ -327,8 +334,7 @@ mod tests {
     #[test]
     fn widened_envelope_matches_the_pairs() {
         let a = Csr::from_triplets(6, &[(0, 4, 1.0), (1, 1, 1.0), (2, 0, 1.0), (3, 5, 1.0), (5, 2, 1.0), (4, 4, 1.0)]);
-        let mut first: Vec<usize> = (0..6).collect();
-        a.widen_envelope(&mut first);
+        let first = Csr::envelope_of(6, &[&a]);
         assert_eq!(first, Skyline::<f64>::envelope_of(6, a.triplets().map(|(i, j, _)| (i, j))));
         assert_eq!(first, [0, 1, 0, 3, 0, 2]);
     }

@@ -234,7 +234,7 @@ pub(super) fn reduced_system(full: &System, basis: Projection, matrices: [Csr; 6
         .collect();
     let combine = |bs: &[Vec<(usize, f64)>]| -> Vec<_> { bs.iter().map(|b| basis.row_combination(b)).collect() };
     let (drives, loads) = (combine(&full.drives), combine(&full.loads));
-    let envelope = envelope_of_rows(nr, [&m, &c, &k]);
+    let envelope = Csr::envelope_of(nr, &[&m, &c, &k]);
     System {
         dofs: reduced_dofs(full, first_body, nr),
         m,
@@ -251,14 +251,6 @@ pub(super) fn reduced_system(full: &System, basis: Projection, matrices: [Csr; 6
         projection: Some(Arc::new(basis)),
         dense: None,
     }
-}
-
-/// The skyline envelope of the patterns of `matrices` (each n × n), row by row: a row's
-/// first column, and each entry above the diagonal for the row of its column.
-fn envelope_of_rows(n: usize, matrices: [&Csr; 3]) -> Vec<usize> {
-    let mut first: Vec<usize> = (0..n).collect();
-    matrices.iter().for_each(|a| a.widen_envelope(&mut first));
-    first
 }
 
 /// Beam DOFs the actuators and loads touch, ascending.
