@@ -8,8 +8,9 @@
 //!     T = ⎣ 0   0           I ⎦   actuator body DOFs
 //! ```
 //!
-//! with Φ the structure's retained modes (shared by every placement), X the placement's
-//! static shapes K⁻¹·b_j, Y their combinations into residual vectors and B what the modes
+//! with Φ the structure's retained modes (shared by every placement), X static shapes
+//! (the unit loads' K⁻¹·e_d that the placement's attachment patterns are sums of, kept by
+//! the study and shared), Y their combinations into residual vectors and B what the modes
 //! carry of them. A row of T then costs O(modes) and nothing of the size of the structure
 //! is formed per placement; [`Projection::expand`] forms the full field only when asked.
 
@@ -40,8 +41,8 @@ pub struct Factored {
     /// `structure DOFs × modes`.
     pub phi: Arc<Vec<f64>>,
     pub modes: usize,
-    /// The static shapes x_a over the structure's DOFs.
-    pub shapes: Vec<Vec<f64>>,
+    /// The static shapes x_k over the structure's DOFs.
+    pub shapes: Vec<Arc<Vec<f64>>>,
     /// Y, row-major `shapes × residual columns`.
     pub y: Vec<f64>,
     /// B, row-major `modes × residual columns`.

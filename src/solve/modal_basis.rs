@@ -286,23 +286,18 @@ pub(super) fn at(pattern: &[(usize, f64)], v: &[f64]) -> f64 {
 }
 
 /// The residual flexibility G = S_f − Φ_fᵀ·Ω⁻²·Φ_f (= Ψᵀ·K·Ψ) between attachment patterns
-/// b_a with static shapes `shapes` (K⁻¹·b_a), from their values on the retained modes
-/// (`on_modes[a][r]` = b_aᵀ·φ_r, at `mode_omega`), over the patterns it keeps; and those
-/// patterns. A pattern whose own residual flexibility cancels to round-off is already
-/// spanned by the retained modes (a cut-off above most of the mesh's modes); keeping it
-/// would make T singular.
-pub(super) fn residual_flexibility(
-    patterns: &[Vec<(usize, f64)>],
-    shapes: &[Vec<f64>],
-    on_modes: &[Vec<f64>],
-    mode_omega: &[f64],
-) -> (Vec<usize>, Mat<f64>) {
+/// b_a, from their static flexibility (`flex[a·p + b]` = b_bᵀ·K⁻¹·b_a, p patterns) and their
+/// values on the retained modes (`on_modes[a][r]` = b_aᵀ·φ_r, at `mode_omega`), over the
+/// patterns it keeps; and those patterns. A pattern whose own residual flexibility cancels
+/// to round-off is already spanned by the retained modes (a cut-off above most of the
+/// mesh's modes); keeping it would make T singular.
+pub(super) fn residual_flexibility(flex: &[f64], on_modes: &[Vec<f64>], mode_omega: &[f64]) -> (Vec<usize>, Mat<f64>) {
+    let p = on_modes.len();
     let g = |a: usize, b: usize| {
-        let sf = 0.5 * (at(&patterns[b], &shapes[a]) + at(&patterns[a], &shapes[b]));
+        let sf = 0.5 * (flex[a * p + b] + flex[b * p + a]);
         sf - on_modes[a].iter().zip(&on_modes[b]).zip(mode_omega).map(|((x, y), w)| x * y / (w * w)).sum::<f64>()
     };
-    let live: Vec<usize> =
-        (0..patterns.len()).filter(|&a| g(a, a) > RESIDUAL_FLOOR * at(&patterns[a], &shapes[a])).collect();
+    let live: Vec<usize> = (0..p).filter(|&a| g(a, a) > RESIDUAL_FLOOR * flex[a * p + a]).collect();
     let kg = Mat::<f64>::from_fn(live.len(), live.len(), |a, b| g(live[a], live[b]));
     (live, kg)
 }
@@ -320,7 +315,9 @@ pub(super) fn residual_vectors(
 ) -> Result<Residual> {
     let n = shapes.first().map_or(0, Vec::len);
     let on_modes: Vec<Vec<f64>> = patterns.iter().map(|b| phi.iter().map(|v| at(b, v)).collect()).collect();
-    let (live, kg) = residual_flexibility(patterns, &shapes, &on_modes, mode_omega);
+    let p = patterns.len();
+    let flex: Vec<f64> = (0..p * p).map(|x| at(&patterns[x % p], &shapes[x / p])).collect();
+    let (live, kg) = residual_flexibility(&flex, &on_modes, mode_omega);
     let mut dropped = patterns.len() - live.len();
     // ψ_j = S_j − Φ·Ω⁻²·Φ_f,j, then M-orthogonalised against Φ (twice) for round-off.
     let psi: Vec<Vec<f64>> = live

@@ -10,8 +10,9 @@
 //!
 //! * the static shapes x_j = K⁻¹·b_j of the case's attachment patterns b_j (a foot's w: one
 //!   DOF at a node, the element's shape functions between nodes; a point load's likewise),
-//!   with M·x_j and C·x_j, summed from the unit loads' shapes K⁻¹·e_d of the pattern's DOFs,
-//!   kept per DOF ([`ShapeCache`]: a study that knows its candidates solves them up front,
+//!   combinations of the unit loads' shapes K⁻¹·e_d of the pattern's DOFs, each with
+//!   K⁻¹·M·K⁻¹·e_d and K⁻¹·C·K⁻¹·e_d, kept per DOF ([`ShapeCache`]: a study that knows its
+//!   candidates solves them up front,
 //!   [`SharedBasis::prefetch`], a block of right-hand sides per pass over the factor;
 //!   others as cases meet them), turned into residual vectors ψ_j = x_j − Φ·α_j as a single system's
 //!   reduction does (`modal_basis::residual_vectors`: M-orthogonal to Φ, diagonalising the
@@ -24,10 +25,11 @@
 //! None of these forms ψ_j. What the modes carry of a static shape, Φᵀ·M·x_j, is
 //! (K⁻¹·M·Φ)ᵀ·b_j, read off at the pattern's few DOFs from K⁻¹·M·Φ, solved once for the
 //! study (and K⁻¹·C·Φ likewise for C); the Gram matrices ψᵀ·M·ψ and ψᵀ·C·ψ follow from
-//! x_iᵀ·M·x_j and those coefficients; and T keeps ψ factored as X·Y − Φ·B
-//! ([`Factored`]). A placement whose shapes are kept so costs O(pattern size × modes) and a
-//! few dot products over the structure's DOFs, not a sparse solve per pattern, nor
-//! O(modes × structure DOFs) per residual vector.
+//! x_iᵀ·M·x_j = b_iᵀ·K⁻¹·M·K⁻¹·b_j, read off the kept K⁻¹·M·K⁻¹·e_d at the patterns' DOFs,
+//! and those coefficients; and T keeps ψ factored as X·Y − Φ·B ([`Factored`], X the
+//! kept unit shapes themselves). A placement whose shapes are kept so costs
+//! O(pattern size × modes + pattern size²), nothing over the structure's DOFs: not a
+//! sparse solve per pattern, nor O(modes × structure DOFs) per residual vector.
 //!
 //! The reduced system is the one `modal_basis::reduce` builds from the case's assembled
 //! system, except that its static correction is spanned by the attachment patterns b_j
@@ -37,7 +39,7 @@
 //! structure's matrices is assembled per placement.
 
 use super::modal_basis::{
-    mul, pencil_basis, reduced_system, residual_flexibility, sparse_of_dense, Reduction, ReductionOptions,
+    at, mul, pencil_basis, reduced_system, residual_flexibility, sparse_of_dense, Reduction, ReductionOptions,
 };
 use crate::analysis::budget::machine_memory;
 use crate::assembly::projection::Factored;
@@ -97,12 +99,52 @@ struct Statics {
     shapes: ShapeCache,
 }
 
-/// A static shape x = K⁻¹·b with M·x and C·x.
+/// A static shape x = K⁻¹·L of a load L (a unit load on one DOF, or a pattern), with
+/// K⁻¹·M·x and K⁻¹·C·x: the Gram entry x'ᵀ·M·x of two shapes is then L'ᵀ·(K⁻¹·M·x), read
+/// off at the few DOFs of L', not summed over the structure.
 #[derive(Debug)]
 struct StaticShape {
-    x: Vec<f64>,
-    mx: Vec<f64>,
-    cx: Vec<f64>,
+    x: Arc<Vec<f64>>,
+    kmx: Vec<f64>,
+    kcx: Vec<f64>,
+}
+
+/// A placement's static shapes as combinations of kept ones: b_a = Σ_k w_ak·L_k, so
+/// x_a = Σ_k w_ak·x_k with x_k = K⁻¹·L_k.
+struct Combined {
+    loads: Vec<Pattern>,
+    shapes: Vec<Arc<StaticShape>>,
+    /// Per pattern a, its (k, w_ak).
+    weights: Vec<Vec<(usize, f64)>>,
+}
+
+impl Combined {
+    /// The patterns' Gram matrix Wᵀ·G·W (row-major, symmetrised) of G_kl = L_kᵀ·v_l, v_l the
+    /// `field` of shape l: x_aᵀ·x_b's flexibility b_aᵀ·K⁻¹·b_b for x itself, x_aᵀ·M·x_b for
+    /// K⁻¹·M·x, x_aᵀ·C·x_b for K⁻¹·C·x.
+    fn gram(&self, field: impl Fn(&StaticShape) -> &[f64]) -> Vec<f64> {
+        let (n, p) = (self.loads.len(), self.weights.len());
+        let mut g = vec![0.0; n * n];
+        for (l, shape) in self.shapes.iter().enumerate() {
+            let v = field(shape);
+            self.loads.iter().enumerate().for_each(|(k, load)| g[k * n + l] = at(load, v));
+        }
+        symmetrise(&mut g, n);
+        let mut gw = vec![0.0; n * p];
+        for (b, wb) in self.weights.iter().enumerate() {
+            for k in 0..n {
+                gw[k * p + b] = wb.iter().map(|&(l, w)| g[k * n + l] * w).sum();
+            }
+        }
+        let mut r = vec![0.0; p * p];
+        for (a, wa) in self.weights.iter().enumerate() {
+            for b in 0..p {
+                r[a * p + b] = wa.iter().map(|&(k, w)| w * gw[k * p + b]).sum();
+            }
+        }
+        symmetrise(&mut r, p);
+        r
+    }
 }
 
 /// The static shapes of unit loads on the structure DOFs a study has met, K⁻¹·e_d by DOF d,
@@ -149,8 +191,9 @@ impl ShapeCache {
 /// A placement's residual vectors ψ̃_c = Σ_a Y_ac·(x_a − Φ·α_a), with what the reduced
 /// structure matrices need of them.
 struct PlacementResidual {
-    shapes: Vec<Vec<f64>>,
-    /// Y (shapes × columns), B = [α_a]·Y (modes × columns), row-major.
+    /// The kept shapes x_k the static shapes x_a are combined from.
+    shapes: Vec<Arc<Vec<f64>>>,
+    /// W·Y (kept shapes × columns), B = [α_a]·Y (modes × columns), row-major.
     y: Vec<f64>,
     b: Vec<f64>,
     omega: Vec<f64>,
@@ -314,32 +357,42 @@ impl SharedBasis {
             load(b, column);
         }
         s.k.solve_columns_in_place(&mut x);
-        let times = |a: &Csr| {
-            let mut y = vec![0.0; x.len()];
-            a.mul_columns(&x, &mut y);
-            y
-        };
-        let (mx, cx) = (times(&self.m), times(&self.c));
-        let columns = |v: &[f64], j: usize| v[j * ns..(j + 1) * ns].to_vec();
-        (0..block.len())
-            .map(|j| Arc::new(StaticShape { x: columns(&x, j), mx: columns(&mx, j), cx: columns(&cx, j) }))
+        // M·x and C·x, then K⁻¹ of both in one more pass over the factor.
+        let nb = block.len();
+        let mut w = vec![0.0; 2 * x.len()];
+        let (wm, wc) = w.split_at_mut(x.len());
+        self.m.mul_columns(&x, wm);
+        self.c.mul_columns(&x, wc);
+        s.k.solve_columns_in_place(&mut w);
+        let column = |v: &[f64], j: usize| v[j * ns..(j + 1) * ns].to_vec();
+        (0..nb)
+            .map(|j| Arc::new(StaticShape { x: Arc::new(column(&x, j)), kmx: column(&w, j), kcx: column(&w, nb + j) }))
             .collect()
     }
 
-    /// The static shapes of `patterns`: sums of the unit loads' shapes at their DOFs, those
-    /// not yet kept solved now in blocks and kept; where the cache has no room for them,
-    /// the patterns' own shapes solved in one block.
-    fn static_shapes(&self, s: &Statics, patterns: &[Pattern]) -> Vec<Arc<StaticShape>> {
+    /// The static shapes of `patterns`: combinations of the unit loads' shapes at their
+    /// DOFs, those not yet kept solved now in blocks and kept; where the cache has no room
+    /// for them, the patterns' own shapes solved in blocks.
+    fn static_shapes(&self, s: &Statics, patterns: &[Pattern]) -> Combined {
         let dofs = dofs_of(patterns, self.dofs.n);
         let mut units: HashMap<usize, Arc<StaticShape>> =
             dofs.iter().filter_map(|&d| s.shapes.get(d).map(|x| (d, x))).collect();
         let missing: Vec<usize> = dofs.iter().copied().filter(|d| !units.contains_key(d)).collect();
         if missing.len() > s.shapes.free() {
             let own: Vec<&Pattern> = patterns.iter().collect();
-            return own.chunks(BLOCK).flat_map(|block| self.solve_block(s, block)).collect();
+            return Combined {
+                loads: patterns.to_vec(),
+                shapes: own.chunks(BLOCK).flat_map(|block| self.solve_block(s, block)).collect(),
+                weights: (0..patterns.len()).map(|a| vec![(a, 1.0)]).collect(),
+            };
         }
         units.extend(missing.iter().copied().zip(self.solve_units(s, &missing)));
-        patterns.iter().map(|b| superpose(b, &units, self.dofs.n)).collect()
+        let index: HashMap<usize, usize> = dofs.iter().enumerate().map(|(k, &d)| (d, k)).collect();
+        Combined {
+            loads: dofs.iter().map(|&d| vec![(d, 1.0)]).collect(),
+            shapes: dofs.iter().map(|d| Arc::clone(&units[d])).collect(),
+            weights: patterns.iter().map(|b| b.iter().map(|&(d, c)| (index[&d], c)).collect()).collect(),
+        }
     }
 
     /// The reduced system of a placement: `attached` holds the case's actuators and loads
@@ -409,13 +462,12 @@ impl SharedBasis {
     /// builds them, without forming them): static shapes x_a, coefficients α_a with
     /// Φᵀ·M·(x_a − Φ·α_a) = 0, the pencil of (G, ψᵀ·M·ψ) diagonalised.
     fn residual(&self, s: &Statics, patterns: &[Pattern]) -> Result<PlacementResidual> {
-        let nm = self.modes();
-        let kept = self.static_shapes(s, patterns);
-        let shapes: Vec<Vec<f64>> = kept.iter().map(|k| k.x.clone()).collect();
+        let (nm, p) = (self.modes(), patterns.len());
+        let combined = self.static_shapes(s, patterns);
         let on_phi: Vec<Vec<f64>> = patterns.iter().map(|b| self.on_modes(&self.phi, b)).collect();
-        let (live, kg) = residual_flexibility(patterns, &shapes, &on_phi, &self.omega);
+        let (live, kg) = residual_flexibility(&combined.gram(|x| &x.x), &on_phi, &self.omega);
         let q = live.len();
-        let mut dropped = patterns.len() - q;
+        let mut dropped = p - q;
         // Φᵀ·M·x_a and Φᵀ·C·x_a from the shared K⁻¹·M·Φ and K⁻¹·C·Φ; α_a by two passes of
         // M-orthogonalisation (Φᵀ·M·Φ is I to round-off), as the explicit vectors get.
         let phi_m_x: Vec<Vec<f64>> = live.iter().map(|&a| self.on_modes(&s.k_inv_m_phi, &patterns[a])).collect();
@@ -429,16 +481,13 @@ impl SharedBasis {
                 al
             })
             .collect();
-        let shapes: Vec<Vec<f64>> =
-            shapes.into_iter().enumerate().filter(|(a, _)| live.contains(a)).map(|(_, x)| x).collect();
-        let kept: Vec<&StaticShape> = live.iter().map(|&a| &*kept[a]).collect();
         // (Φᵀ·A·Φ)·α_a, which both the Gram matrices and the coupling blocks need.
         let on_alpha =
             |phi_a_phi: &[f64]| -> Vec<Vec<f64>> { alpha.iter().map(|al| mat_vec(phi_a_phi, al, nm)).collect() };
         let (m_alpha, c_alpha) = (on_alpha(&self.phi_m), on_alpha(&self.phi_c));
         // ψ_aᵀ·A·ψ_b = x_aᵀ·A·x_b − α_aᵀ·(Φᵀ·A·x_b) − (Φᵀ·A·x_a)ᵀ·α_b + α_aᵀ·(Φᵀ·A·Φ)·α_b.
-        let psi_gram = |ax: &[&[f64]], phi_a_x: &[Vec<f64>], p_alpha: &[Vec<f64>]| -> Vec<f64> {
-            let mut r = gram(&shapes, &ax);
+        let psi_gram = |shapes_gram: Vec<f64>, phi_a_x: &[Vec<f64>], p_alpha: &[Vec<f64>]| -> Vec<f64> {
+            let mut r: Vec<f64> = (0..q * q).map(|x| shapes_gram[live[x / q] * p + live[x % q]]).collect();
             for i in 0..q {
                 for j in 0..q {
                     r[i * q + j] +=
@@ -448,10 +497,8 @@ impl SharedBasis {
             symmetrise(&mut r, q);
             r
         };
-        let mx: Vec<&[f64]> = kept.iter().map(|k| k.mx.as_slice()).collect();
-        let cx: Vec<&[f64]> = kept.iter().map(|k| k.cx.as_slice()).collect();
-        let mg = psi_gram(&mx, &phi_m_x, &m_alpha);
-        let cg = psi_gram(&cx, &phi_c_x, &c_alpha);
+        let mg = psi_gram(combined.gram(|x| &x.kmx), &phi_m_x, &m_alpha);
+        let cg = psi_gram(combined.gram(|x| &x.kcx), &phi_c_x, &c_alpha);
         let (y, omega) = pencil_basis(&kg, &Mat::<f64>::from_fn(q, q, |a, b| mg[a * q + b]))?;
         let nq = omega.len();
         dropped += q - nq;
@@ -475,12 +522,13 @@ impl SharedBasis {
             symmetrise(&mut r, nq);
             r
         };
+        let (shapes, wy) = on_kept_shapes(&combined, &live, &y, nq);
         Ok(PlacementResidual {
             b: times_y(&alpha, &y, nm, nq),
             m_blocks: (coupling(&phi_m_x, &m_alpha), on_columns(&mg)),
             c_blocks: (coupling(&phi_c_x, &c_alpha), on_columns(&cg)),
             shapes,
-            y,
+            y: wy,
             omega,
             dropped,
         })
@@ -617,22 +665,20 @@ fn dofs_of(patterns: &[Pattern], ns: usize) -> Vec<usize> {
     dofs
 }
 
-/// The static shape of pattern b, Σ_d b_d·K⁻¹·e_d, from the unit loads' shapes `units`
-/// (K is linear); a unit load's own shape where b is one.
-fn superpose(b: &[(usize, f64)], units: &HashMap<usize, Arc<StaticShape>>, ns: usize) -> Arc<StaticShape> {
-    if let [(d, c)] = b {
-        if *c == 1.0 {
-            return Arc::clone(&units[d]);
+/// The residual columns' static part X·Y = Σ_k x_k·(W·Y)_k on the kept shapes x_k of
+/// `combined`, for Y (row-major, the `live` patterns × `nq` columns): the shapes whose
+/// rows of W·Y are not zero, and those rows.
+fn on_kept_shapes(combined: &Combined, live: &[usize], y: &[f64], nq: usize) -> (Vec<Arc<Vec<f64>>>, Vec<f64>) {
+    let n = combined.loads.len();
+    let mut wy = vec![0.0; n * nq];
+    for (i, &a) in live.iter().enumerate() {
+        for &(k, w) in &combined.weights[a] {
+            wy[k * nq..(k + 1) * nq].iter_mut().zip(&y[i * nq..(i + 1) * nq]).for_each(|(r, y)| *r += w * y);
         }
     }
-    let mut sum = StaticShape { x: vec![0.0; ns], mx: vec![0.0; ns], cx: vec![0.0; ns] };
-    for &(d, c) in b {
-        let u = &units[&d];
-        for (to, from) in [(&mut sum.x, &u.x), (&mut sum.mx, &u.mx), (&mut sum.cx, &u.cx)] {
-            to.iter_mut().zip(from).for_each(|(t, f)| *t += c * f);
-        }
-    }
-    Arc::new(sum)
+    let used: Vec<usize> = (0..n).filter(|&k| wy[k * nq..(k + 1) * nq].iter().any(|&v| v != 0.0)).collect();
+    let shapes = used.iter().map(|&k| Arc::clone(&combined.shapes[k].x)).collect();
+    (shapes, used.iter().flat_map(|&k| wy[k * nq..(k + 1) * nq].to_vec()).collect())
 }
 
 /// Pattern b as a vector over the structure's DOFs, added into `x`.
