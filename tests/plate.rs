@@ -83,6 +83,33 @@ fn calibration_modes_agree_with_the_dense_solver() {
     }
 }
 
+/// A free plate has three rigid-body modes (w, and the two rotations): reported as such,
+/// its round-off note on the first elastic mode; a damping ratio at one of them is refused
+/// with the elastic modes to give instead, and given those it holds ζ at them.
+#[test]
+fn a_free_plates_rigid_body_modes_are_named_and_not_damped() {
+    let s = build_structure(&case(&plate_case("free", 12, 10, ""))).unwrap();
+    let r = modes::run(&s, 8).unwrap();
+    assert_eq!(r.rigid_body_modes, 3, "{:?}", r.frequencies_hz);
+    assert!(r.frequencies_hz[3] > 1.0 && r.roundoff_bound[3] < 1e-6, "{:?}", r.roundoff_bound);
+    let held = build_structure(&case(&plate_case("simply_supported", 12, 10, ""))).unwrap();
+    assert_eq!(modes::run(&held, 4).unwrap().rigid_body_modes, 0);
+    let damped = |m: [usize; 2]| {
+        plate_case("free", 12, 10, &format!("[damping]\nkind = \"rayleigh_ratio\"\nzeta = 0.01\nmodes = {m:?}\n"))
+    };
+    let msg = case_error(&damped([1, 3]));
+    for needle in ["bad.toml", "damping.modes", "rigid-body", "modes = [4, 6]"] {
+        assert!(msg.contains(needle), "`{needle}` in: {msg}");
+    }
+    let lc = beamflow::case::LoadedCase::from_str(&damped([4, 6]), "free.toml", ".".into()).unwrap();
+    let model = beamflow::analysis::plan::calibrated_model(&lc).unwrap();
+    let beamflow::assembly::Damping::Rayleigh(c) = model.damping else { panic!("{:?}", model.damping) };
+    let w = modes::bare_modes(&s, 6).unwrap().omega;
+    for r in [3, 5] {
+        assert!((c.ratio_at(w[r]) - 0.01).abs() <= 1e-9, "mode {}: ζ = {}", r + 1, c.ratio_at(w[r]));
+    }
+}
+
 /// The clamped square plate against Leissa's frequency parameters (5 digits).
 #[test]
 fn clamped_square_plate_matches_leissa() {

@@ -26,13 +26,43 @@ pub fn bare_modes(structure: &Structure, count: usize) -> Result<Modes> {
 /// beam (whose calibration keeps its dense path bit for bit up to [`DENSE_EIGEN_LIMIT`]) take
 /// [`bare_modes`].
 pub fn few_bare_modes(structure: &Structure, count: usize) -> Result<Modes> {
-    let sys = bare_system(structure)?;
+    few_bare_modes_of(structure, &bare_system(structure)?, count)
+}
+
+/// [`few_bare_modes`] with the bare system already assembled (`sys` from [`bare_system`]).
+pub fn few_bare_modes_of(structure: &Structure, sys: &System, count: usize) -> Result<Modes> {
     if structure.beam().is_none() && sys.n() > FEW_MODES_DENSE_LIMIT && count < sys.n() / 4 {
         if let Ok(m) = crate::solve::lanczos::modes_sparse(&sys.k, &sys.m, count, 0.0) {
             return Ok(m);
         }
     }
-    bare_modes_of(structure, &sys, count)
+    bare_modes_of(structure, sys, count)
+}
+
+/// The largest K_ii/M_ii over the DOFs with mass (rad²/s²): the scale of the stiffest DOF's
+/// own frequency, against which the lowest eigenvalues are judged.
+pub fn stiffest_ratio(sys: &System) -> f64 {
+    (0..sys.n())
+        .filter_map(|i| {
+            let (k, m) = (sys.k.get(i, i), sys.m.get(i, i));
+            (m > 0.0).then_some(k / m)
+        })
+        .fold(0.0f64, f64::max)
+}
+
+/// How many of the lowest `modes` of a system whose stiffest DOF has `stiffest`
+/// ([`stiffest_ratio`]) are rigid-body modes, their frequencies zero up to round-off: ω²
+/// within 100·ε of that scale, where an eigenvalue of K as assembled is round-off (a free
+/// structure's computed rigid-body ω² sit at a few ε of it). Modes from the square-root
+/// factor of the element rows belong to a supported structure, which has none; and the
+/// scale is not a stiffness fraction, so that the lowest modes of a very fine mesh are
+/// not taken for rigid motion.
+pub fn rigid_body_count(modes: &Modes, stiffest: f64) -> usize {
+    if modes.from_root {
+        return 0;
+    }
+    let floor = 100.0 * f64::EPSILON * stiffest;
+    modes.omega.iter().take_while(|&&w| w * w < floor).count()
 }
 
 /// Largest plate or imported model whose few modes the dense solver finds.
@@ -130,7 +160,11 @@ pub struct ModesResult {
     /// which grows as (elements)² (about 5e-7 for mode 1 of the paper beam at 50,000
     /// elements; measured errors sit two orders below). With K as assembled (unsupported
     /// structures): ε·(ω_max/ω_r)²/2, growing as (elements)⁴. See docs/physics-notes.md.
+    /// 1 for a rigid-body mode, whose computed frequency is round-off of zero.
     pub roundoff_bound: Vec<f64>,
+    /// How many of the lowest modes are rigid-body modes (a structure not held against
+    /// rigid motion, e.g. a free plate): frequencies zero up to round-off.
+    pub rigid_body_modes: usize,
     #[serde(skip)]
     pub modes: Modes,
     /// Node coordinates (m) and the w of each mode at each node (row per mode).
@@ -262,17 +296,17 @@ pub fn run(structure: &Structure, count: usize) -> Result<ModesResult> {
     let f = modes.frequencies_hz();
     let (analytic, reference) = closed_form(structure, f.len());
     let relative_error = analytic.iter().zip(&f).map(|(a, x)| (x - a) / a).collect();
-    let mut stiffest = 0.0f64;
-    for i in 0..sys.n() {
-        let (k, m) = (sys.k.get(i, i), sys.m.get(i, i));
-        if m > 0.0 {
-            stiffest = stiffest.max(k / m);
-        }
-    }
+    let stiffest = stiffest_ratio(&sys);
+    let rigid_body_modes = rigid_body_count(&modes, stiffest);
     let roundoff_bound = modes
         .omega
         .iter()
-        .map(|w| {
+        .enumerate()
+        .map(|(r, w)| {
+            if r < rigid_body_modes {
+                // Zero up to round-off: relative to itself the computed value is all error.
+                return 1.0;
+            }
             // ω_max²/ω_r²: how far the stiffest DOF's scale is above this mode's energy.
             let ratio = stiffest / (w * w).max(f64::MIN_POSITIVE);
             if modes.from_root {
@@ -305,6 +339,7 @@ pub fn run(structure: &Structure, count: usize) -> Result<ModesResult> {
         relative_error,
         reference,
         roundoff_bound,
+        rigid_body_modes,
         node_x: (0..structure.n_nodes()).map(|n| structure.node_location(n).x()).collect(),
         node_y: (0..structure.n_nodes()).filter_map(|n| structure.node_location(n).y()).collect(),
         shapes_w,

@@ -7,7 +7,7 @@
 
 use super::budget::Budget;
 use super::cost;
-use super::modes::few_bare_modes;
+use super::modes::{bare_system, few_bare_modes_of, rigid_body_count, stiffest_ratio};
 use crate::assembly::{Damping, DofMap, Model, Rayleigh, System};
 use crate::case::{build_model, LoadedCase};
 use crate::error::{Error, Result};
@@ -63,19 +63,49 @@ pub fn calibrate(model: &mut Model) -> Result<()> {
 }
 
 /// Rayleigh coefficients giving damping ratio ζ at the bare structure's modes `modes`
-/// (1-based).
+/// (1-based). Refuses a rigid-body mode (a structure not held against rigid motion): a
+/// damping ratio there has no meaning, and a₀, a₁ set from a zero frequency would damp the
+/// elastic modes by orders of magnitude.
 pub fn rayleigh_from_ratio(structure: &Structure, zeta: f64, modes: [usize; 2]) -> Result<Rayleigh> {
     let need = modes[0].max(modes[1]);
     let numbering = DofMap::number(Some(structure), &[], &[]);
-    let m = few_bare_modes(structure, need).map_err(|e| match numbering.locate(e, Some(structure)) {
+    let uncomputable = |e: Error| match numbering.locate(e, Some(structure)) {
         e @ (Error::Numerical(_) | Error::Singular { .. }) => Error::case_field(
             "damping",
-            format!("the damping ratio is calibrated at the bare beam's modes, which cannot be computed: {e}"),
+            format!(
+                "the damping ratio is calibrated at the bare {}'s modes, which cannot be computed: {e}",
+                structure.kind()
+            ),
         ),
         e => e,
-    })?;
+    };
+    let sys = bare_system(structure).map_err(uncomputable)?;
+    let m = few_bare_modes_of(structure, &sys, need).map_err(uncomputable)?;
     if m.count() < need {
         return Err(Error::case_field("damping.modes", format!("the mesh has only {} modes", m.count())));
+    }
+    let stiffest = stiffest_ratio(&sys);
+    if rigid_body_count(&m, stiffest) >= modes[0].min(modes[1]) {
+        // Count them all (a free body has up to six), for the modes to give instead.
+        let rigid = match few_bare_modes_of(structure, &sys, need + 6) {
+            Ok(more) => rigid_body_count(&more, stiffest),
+            Err(_) => rigid_body_count(&m, stiffest),
+        };
+        let span = if rigid == 1 {
+            "mode 1 is a rigid-body mode".to_string()
+        } else {
+            format!("modes 1–{rigid} are rigid-body modes")
+        };
+        return Err(Error::case_field(
+            "damping.modes",
+            format!(
+                "{span} of the bare {} (it is not held against rigid motion; frequencies zero up to round-off), \
+                 where a damping ratio has no meaning: give elastic modes, e.g. modes = [{}, {}]",
+                structure.noun(),
+                rigid + 1,
+                rigid + 3
+            ),
+        ));
     }
     Ok(Rayleigh::from_ratio(zeta, m.omega[modes[0] - 1], m.omega[modes[1] - 1]))
 }

@@ -55,12 +55,25 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
             s += &format!("{:>4}  {:>14.6}\n", i + 1, f);
         }
     }
-    if let Some(&bound) = r.roundoff_bound.first() {
+    let rigid = r.rigid_body_modes;
+    if rigid > 0 {
+        let span = if rigid == 1 {
+            "mode 1 is a rigid-body mode".to_string()
+        } else {
+            format!("modes 1–{rigid} are rigid-body modes")
+        };
+        s += &format!(
+            "note: {span}: the structure is not held against rigid motion, and their computed frequencies \
+             are zero up to round-off.\n"
+        );
+    }
+    if let Some(&bound) = r.roundoff_bound.get(rigid) {
         if bound > 1e-3 {
             s += &format!(
-                "note: this mesh is fine enough for round-off to matter: mode 1 may be off by up to ~{bound:.0e} \
+                "note: this mesh is fine enough for round-off to matter: mode {} may be off by up to ~{bound:.0e} \
                  (relative; it grows as elements², or elements⁴ for a structure without supports). Fewer \
-                 elements give more accurate low modes.\n"
+                 elements give more accurate low modes.\n",
+                rigid + 1
             );
         }
     }

@@ -176,6 +176,7 @@ fn write_measured<S: GroupSink>(g: &S, c: &Comparison) -> Result<()> {
 fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
     let n = r.frequencies_hz.len();
     g.attr_str("reference", &r.reference)?;
+    g.attr_i64("rigid_body_modes", r.rigid_body_modes as i64)?;
     g.write_f64("frequencies_hz", &r.frequencies_hz, &[n], "Hz", "natural frequencies of the bare beam")?;
     if !r.analytic_hz.is_empty() {
         g.write_f64("analytic_hz", &r.analytic_hz, &[r.analytic_hz.len()], "Hz", "closed-form natural frequencies")?;

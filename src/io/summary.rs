@@ -19,7 +19,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     for r in &run.results {
         analyses.push(match r {
             AnalysisResult::Modes(m) => {
-                let mut v = json!({"type": "modes", "frequencies_hz": m.frequencies_hz, "analytic_hz": m.analytic_hz, "relative_error": m.relative_error, "roundoff_bound": m.roundoff_bound});
+                let mut v = json!({"type": "modes", "frequencies_hz": m.frequencies_hz, "analytic_hz": m.analytic_hz, "relative_error": m.relative_error, "roundoff_bound": m.roundoff_bound, "rigid_body_modes": m.rigid_body_modes});
                 if let Some(c) = &m.coupled {
                     v["coupled_frequencies_hz"] = json!(c.frequencies_hz);
                 }

@@ -65,6 +65,14 @@ impl Structure {
         }
     }
 
+    /// "beam", "plate" or "imported model": the structure named in a sentence.
+    pub fn noun(&self) -> &'static str {
+        match self {
+            Structure::Imported(_) => "imported model",
+            other => other.kind(),
+        }
+    }
+
     pub fn beam(&self) -> Option<&Beam> {
         match self {
             Structure::Beam(b) => Some(b),
