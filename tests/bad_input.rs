@@ -229,3 +229,29 @@ fn one_structure_per_case() {
     let defaults = format!("[beam]\nlength = 0.73\n{plate}[[analysis]]\ntype = \"modes\"\n");
     assert!(LoadedCase::from_str(&defaults, "plate.toml", PathBuf::from(".")).is_ok(), "the beam's defaults alone");
 }
+
+#[test]
+fn a_fixed_row_named_twice_is_refused() {
+    let imported = "[imported]\nmass = \"m.mtx\"\nstiffness = \"k.mtx\"\ndofs = \"dofs.csv\"\nfixed = [4, 53, 53]\n";
+    expect(imported, &["imported.fixed[2]", "row 53", "imported.fixed[1]"]);
+}
+
+/// A frame turned along an axis stands its legs exactly on the edge its stack foot is on
+/// (90° in radians is not π/2, and cos ψ ≈ 6e-17 would put a leg a hair outside); a point
+/// truly outside is named in readable numbers.
+#[test]
+fn a_frame_along_an_edge_stands_on_it() {
+    let plate = "[plate]\nlength_x = 0.5\nlength_y = 0.4\nthickness = 0.003\nyoungs_modulus = 70e9\n\
+        poisson_ratio = 0.33\ndensity = 2700.0\n[plate.edges]\nx0 = \"free\"\nx1 = \"simply_supported\"\n\
+        y0 = \"simply_supported\"\ny1 = \"simply_supported\"\n[damping]\nkind = \"rayleigh\"\na0 = 1.0\na1 = 1e-6\n";
+    let frame = |x: f64, direction: f64| {
+        format!("{plate}[[actuator]]\ntype = \"frame\"\nat = [{x}, 0.2]\ndirection = {direction}\n{SINE}")
+    };
+    for (x, direction) in [(0.0, 90.0), (0.0, 270.0), (0.0, -90.0), (0.5, 90.0)] {
+        let lc = LoadedCase::from_str(&frame(x, direction), "edge.toml", PathBuf::from(".")).unwrap();
+        assert!(beamflow::analysis::plan::calibrated_model(&lc).is_ok(), "x = {x}, direction {direction}°");
+    }
+    let msg = case_error(&frame(0.0, 91.0));
+    assert!(msg.contains("actuator[0].direction") && msg.contains("outside the plate"), "{msg}");
+    assert!(!msg.contains("0.00000000"), "round-off written out in full: {msg}");
+}

@@ -75,10 +75,11 @@ impl Location {
     /// (cos ψ, sin ψ, 0) and the point there is the node nearest it (a [`Location::Near`]
     /// along the same component; a node's own position must be resolved first).
     pub fn offset(&self, along: f64, psi: f64) -> Location {
-        let moved = |xyz: [f64; 3]| [xyz[0] + along * psi.cos(), xyz[1] + along * psi.sin(), xyz[2]];
+        let (cos, sin) = axis_exact(psi);
+        let moved = |xyz: [f64; 3]| [xyz[0] + along * cos, xyz[1] + along * sin, xyz[2]];
         match *self {
             Location::Beam { x } => Location::Beam { x: x + along },
-            Location::Plate { x, y } => Location::Plate { x: x + along * psi.cos(), y: y + along * psi.sin() },
+            Location::Plate { x, y } => Location::Plate { x: x + along * cos, y: y + along * sin },
             Location::Node { component, sign, xyz, .. } => {
                 Location::Near { xyz: moved(xyz), component, sign, tolerance: None }
             }
@@ -107,17 +108,44 @@ impl Location {
     }
 }
 
+/// (cos ψ, sin ψ) with the round-off of a direction along an axis removed: ψ = 90° in
+/// radians is not π/2 exactly, and cos ψ ≈ 6e-17 would put a foot written to stand on an
+/// edge a hair outside it.
+fn axis_exact(psi: f64) -> (f64, f64) {
+    let snap = |v: f64| if v.abs() < 1e-15 { 0.0 } else { v };
+    let (cos, sin) = (snap(psi.cos()), snap(psi.sin()));
+    match (cos == 0.0, sin == 0.0) {
+        (true, false) => (0.0, sin.signum()),
+        (false, true) => (cos.signum(), 0.0),
+        _ => (cos, sin),
+    }
+}
+
+/// A coordinate (m) as written in messages: as given, or in three digits where it is a
+/// round-off-sized excursion from zero.
+struct Coordinate(f64);
+
+impl fmt::Display for Coordinate {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self.0 {
+            v if v != 0.0 && v.abs() < 1e-9 => write!(f, "{v:.3e}"),
+            v => write!(f, "{v}"),
+        }
+    }
+}
+
 impl fmt::Display for Location {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match *self {
-            Location::Beam { x } => write!(f, "x = {x} m"),
-            Location::Plate { x, y } => write!(f, "(x, y) = ({x}, {y}) m"),
+            Location::Beam { x } => write!(f, "x = {} m", Coordinate(x)),
+            Location::Plate { x, y } => write!(f, "(x, y) = ({}, {}) m", Coordinate(x), Coordinate(y)),
             Location::Node { node, component, sign, .. } => {
                 let c = crate::imported::COMPONENTS.get(component as usize).unwrap_or(&"?");
                 write!(f, "node {node} {}{c}", if sign < 0 { "−" } else { "" })
             }
             Location::Near { xyz: [x, y, z], component, sign, .. } => {
                 let c = crate::imported::COMPONENTS.get(component as usize).unwrap_or(&"?");
+                let [x, y, z] = [x, y, z].map(Coordinate);
                 write!(f, "(x, y, z) = ({x}, {y}, {z}) m {}{c}", if sign < 0 { "−" } else { "" })
             }
         }

@@ -47,6 +47,16 @@ impl ImportedSpec {
         if let Some(i) = self.fixed.iter().position(|&r| r == 0) {
             return Err(Error::input(file, format!("imported.fixed[{i}]"), "rows are 1-based: 0 is not a row"));
         }
+        // A row named twice is most often a slip for another row.
+        for (j, r) in self.fixed.iter().enumerate() {
+            if let Some(i) = self.fixed[..j].iter().position(|x| x == r) {
+                return Err(Error::input(
+                    file,
+                    format!("imported.fixed[{j}]"),
+                    format!("row {r} is already listed as imported.fixed[{i}]: was another row meant?"),
+                ));
+            }
+        }
         Ok(())
     }
 }
