@@ -217,3 +217,22 @@ fn a_fifo_as_any_input_is_refused_at_once() {
     }
     assert!(!work.join("o").exists(), "nothing written for a refused input");
 }
+
+/// A sweep whose `--out` names a user's file that is not a sweep table is refused with
+/// what the file is not, and the file is left byte for byte.
+#[test]
+fn a_sweep_into_a_users_text_file_is_refused_and_the_file_kept() {
+    let (_dir, work) = sandbox();
+    for f in ["placement-frame.toml", "placement-frame.sweep.toml"] {
+        std::fs::copy(cases().join(f), work.join(f)).unwrap();
+    }
+    let notes = "my measurements, not a table\n";
+    std::fs::write(work.join("precious.txt"), notes).unwrap();
+    let r = run(&work, &["sweep", "placement-frame.sweep.toml", "--out", "precious.txt", "--no-plots"]);
+    assert_eq!(r.code, Some(1), "{}", r.stderr);
+    for says in ["precious.txt", "not a beamflow sweep table", "not an HDF5 file", "left as it is"] {
+        assert!(r.stderr.contains(says), "`{says}` in: {}", r.stderr);
+    }
+    assert!(!r.stderr.contains("H5F"), "no HDF5 library stack: {}", r.stderr);
+    assert_eq!(std::fs::read_to_string(work.join("precious.txt")).unwrap(), notes);
+}

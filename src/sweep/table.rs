@@ -413,10 +413,15 @@ impl SweepTable {
 
     /// Reads a table written by [`write`](Self::write).
     pub fn read(path: &Path) -> Result<SweepTable> {
-        let r = ResultsReader::open(path)?;
         let file = path.display().to_string();
+        let not_a_table =
+            |why: &str| Error::input(&file, "kind", format!("not a beamflow sweep table{why}; it is left as it is"));
+        if !is_hdf5(path)? {
+            return Err(not_a_table(" (not an HDF5 file)"));
+        }
+        let r = ResultsReader::open(path)?;
         if r.attr_str("/", "kind").ok().as_deref() != Some("sweep table") {
-            return Err(Error::input(&file, "kind", "not a beamflow sweep table"));
+            return Err(not_a_table(""));
         }
         let shard = Shard::parse(&r.attr_str("/", "shard")?, &file, "shard")?;
         let parameters = r.read_str_list("table/parameters")?;
@@ -569,6 +574,18 @@ pub fn merge_files(paths: &[impl AsRef<Path>]) -> Result<SweepTable> {
         .map(|p| Ok((p.as_ref().display().to_string(), SweepTable::read(p.as_ref())?)))
         .collect::<Result<Vec<_>>>()?;
     merge(&tables)
+}
+
+/// Whether the file at `path` starts with HDF5's signature (beamflow writes no user block),
+/// read before the HDF5 library reports another file as a stack of its own errors.
+fn is_hdf5(path: &Path) -> Result<bool> {
+    use std::io::Read;
+    crate::input_file::regular_file(path)?;
+    let mut head = [0u8; 8];
+    let n = std::fs::File::open(path)
+        .and_then(|mut f| f.read(&mut head))
+        .map_err(|e| Error::input(path.display().to_string(), "file", e.to_string()))?;
+    Ok(n == 8 && head == *b"\x89HDF\r\n\x1a\n")
 }
 
 #[cfg(test)]
