@@ -148,8 +148,46 @@ fn round2(v: f64) -> f64 {
 }
 
 /// Text that plotters escaped for XML, as written.
+/// Element content as written back to text: the five XML entities (plotters writes `'` as
+/// `&apos;`) and numeric references, in one pass, so `&amp;lt;` stays the text `&lt;`.
 fn unescape(s: &str) -> String {
-    s.replace("&lt;", "<").replace("&gt;", ">").replace("&quot;", "\"").replace("&#39;", "'").replace("&amp;", "&")
+    let mut out = String::with_capacity(s.len());
+    let mut rest = s;
+    while let Some(i) = rest.find('&') {
+        out.push_str(&rest[..i]);
+        let tail = &rest[i..];
+        let entity = tail.find(';').filter(|&j| j <= 10).and_then(|j| Some((entity_char(&tail[1..j])?, j)));
+        match entity {
+            Some((c, j)) => {
+                out.push(c);
+                rest = &tail[j + 1..];
+            }
+            None => {
+                out.push('&');
+                rest = &tail[1..];
+            }
+        }
+    }
+    out.push_str(rest);
+    out
+}
+
+/// The character an entity name (between `&` and `;`) stands for.
+fn entity_char(name: &str) -> Option<char> {
+    match name {
+        "lt" => Some('<'),
+        "gt" => Some('>'),
+        "quot" => Some('"'),
+        "apos" => Some('\''),
+        "amp" => Some('&'),
+        _ => {
+            let code = match name.strip_prefix("#x").or_else(|| name.strip_prefix("#X")) {
+                Some(hex) => u32::from_str_radix(hex, 16).ok()?,
+                None => name.strip_prefix('#')?.parse().ok()?,
+            };
+            char::from_u32(code)
+        }
+    }
 }
 
 #[cfg(test)]
@@ -179,5 +217,16 @@ mod tests {
         let scaled = dejavu().into_scaled(PxScale::from(12.4 * 1.24));
         let w = layout(&scaled, "W").1;
         assert!(w > 10.0 && w < 20.0, "{w}");
+    }
+
+    #[test]
+    fn entities_are_read_once() {
+        assert_eq!(
+            unescape("mode&apos;s &amp;apos; &lt;&#39;&#x3b1;&gt; AT&amp;T & x;"),
+            "mode's &apos; <'α> AT&T & x;"
+        );
+        let svg = "<svg><text x=\"0\" y=\"9\" font-size=\"12\">beam&apos;s</text></svg>";
+        let out = outline_text(svg, &dejavu());
+        assert!(out.contains("aria-label=\"beam&#39;s\""), "{out}");
     }
 }
