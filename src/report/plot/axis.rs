@@ -1,16 +1,18 @@
 //! Axis ranges, tick positions and tick text.
 //!
-//! Tick text is chosen so a reader never counts zeros: a y axis whose unit takes an SI
-//! prefix shows its values in that prefix (`power (µW)`, ticks 0.5 … 2); a logarithmic or
-//! symmetric-log axis with a simple unit writes it on each tick (`10 µW`); any other axis
-//! whose values need an exponent uses engineering notation (`250e-9`).
+//! Tick text is chosen so a reader never counts zeros, and the unit in the label is the
+//! ticks' unit: a y axis whose unit takes an SI prefix shows its values in that prefix
+//! (`power (µW)`, ticks 0.5 … 2, on linear, log and symmetric-log axes alike); a log axis
+//! whose ticks still span too many decades for decimals labels them as powers of ten
+//! (`10⁻⁴`, in the unprefixed unit); any other linear axis whose values need an exponent
+//! uses engineering notation (`250e-9`).
 
 use plotters::coord::combinators::{BindKeyPoints, LogCoord, WithKeyPoints};
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 
-use super::text::{eng, exponent3, prefixable, si, with_prefix};
+use super::text::{exponent3, prefixable, significant, with_prefix};
 
 /// Axis range fitted to `values`: widened when all values are equal (a constant signal
 /// must still get a usable axis), padded by `pad` (fraction of the span, in log decades
@@ -169,9 +171,27 @@ pub struct Axis {
     fmt: Box<dyn Fn(f64) -> String>,
 }
 
-/// A simple unit (no `/`), which reads well written on every tick: `10 µW`.
-fn tick_unit(label: &str) -> Option<(&str, &str)> {
-    prefixable(label).filter(|(_, u)| !u.contains(['/', '(']))
+/// A log axis's tick text: plain decimals (`0.5`, `20`), or where an axis needs exponents
+/// (`sci`) a power of ten as it is printed, `10⁻⁴`, `2×10⁻⁴`.
+pub fn log_tick(v: f64, sci: bool) -> String {
+    if !sci || v == 0.0 || !v.is_finite() {
+        return fmt_tick(v, v.abs() * 1e-6, false, 0);
+    }
+    let k = (v.abs() * (1.0 + 1e-9)).log10().floor() as i32;
+    let m = significant(v.abs() / 10f64.powi(k), 3);
+    let sign = if v < 0.0 { "-" } else { "" };
+    match m.as_str() {
+        "1" => format!("{sign}10{}", superscript(k)),
+        _ => format!("{sign}{m}×10{}", superscript(k)),
+    }
+}
+
+/// An integer in superscript digits (`-4` → `⁻⁴`).
+fn superscript(k: i32) -> String {
+    const DIGITS: [char; 10] = ['⁰', '¹', '²', '³', '⁴', '⁵', '⁶', '⁷', '⁸', '⁹'];
+    let digits = k.unsigned_abs().to_string();
+    let digits = digits.chars().map(|d| DIGITS[d as usize - '0' as usize]);
+    (if k < 0 { Some('⁻') } else { None }).into_iter().chain(digits).collect()
 }
 
 impl Axis {
@@ -191,22 +211,18 @@ impl Axis {
         }
     }
 
-    /// A logarithmic axis over `(lo, hi)` (both positive).
+    /// A logarithmic axis over `(lo, hi)` (both positive); with `prefix`, an SI prefix on a
+    /// unit that takes one, chosen by the top of the axis as on a linear axis, so the label's
+    /// unit is the ticks' (`power (µW)`, ticks 4 … 10).
     pub fn log(lo: f64, hi: f64, label: &str, prefix: bool) -> Self {
         let t = LogTicks::new(lo, hi);
-        let (label, fmt): (String, Box<dyn Fn(f64) -> String>) = match tick_unit(label).filter(|_| prefix) {
-            // The ticks carry the prefixed unit (`10 µW`); the label keeps it too, so the
-            // axis names its unit where a reader looks for it.
-            Some((_, unit)) => {
-                let unit = unit.to_string();
-                (label.to_string(), Box::new(move |v| si(v, &unit, 3)))
-            }
-            None => {
-                let sci = t.bold.iter().any(|v| needs_sci(v.abs()));
-                (label.to_string(), Box::new(move |v| fmt_tick(v, v.abs() * 1e-6, sci, 0)))
-            }
-        };
-        Axis { lo, hi, scale: Scale::Log, label, bold: t.bold, light: t.light, fmt }
+        let e = if prefix && prefixable(label).is_some() { exponent3(hi) } else { 0 };
+        // Ticks that need powers of ten anyway read best in the unit itself.
+        let e = if t.bold.iter().any(|v| needs_sci(v.abs() / 10f64.powi(e))) { 0 } else { e };
+        let s = 10f64.powi(e);
+        let sci = t.bold.iter().any(|v| needs_sci(v.abs() / s));
+        let fmt: Box<dyn Fn(f64) -> String> = Box::new(move |v| log_tick(v / s, sci));
+        Axis { lo, hi, scale: Scale::Log, label: with_prefix(label, e), bold: t.bold, light: t.light, fmt }
     }
 
     /// A symmetric-log axis with threshold `c` over mapped values `(lo, hi)`: labelled
@@ -233,16 +249,15 @@ impl Axis {
         light.retain(inside);
         bold.sort_by(f64::total_cmp);
         light.sort_by(f64::total_cmp);
-        let (label, fmt): (String, Box<dyn Fn(f64) -> String>) = match tick_unit(label) {
-            Some((_, unit)) => {
-                let unit = unit.to_string();
-                (
-                    label.to_string(),
-                    Box::new(move |u| if u == 0.0 { "0".into() } else { si(symlog_inv(u, c), &unit, 2) }),
-                )
-            }
-            None => (label.to_string(), Box::new(move |u| eng(symlog_inv(u, c), 2))),
-        };
+        // The unit's prefix by the largest tick, as on a linear axis; the smallest ticks
+        // then need powers of ten (`10⁻³`), as on a log axis.
+        let e = if prefixable(label).is_some() { exponent3(symlog_inv(top, c)) } else { 0 };
+        let sci_in = |e: i32| bold.iter().any(|&u| u != 0.0 && needs_sci(symlog_inv(u, c).abs() / 10f64.powi(e)));
+        let e = if sci_in(e) { 0 } else { e };
+        let (s, sci) = (10f64.powi(e), sci_in(e));
+        let fmt: Box<dyn Fn(f64) -> String> =
+            Box::new(move |u| if u == 0.0 { "0".into() } else { log_tick(symlog_inv(u, c) / s, sci) });
+        let label = with_prefix(label, e);
         Axis { lo, hi, scale: Scale::SymLog(c), label, bold, light, fmt }
     }
 
@@ -324,10 +339,16 @@ mod tests {
         let ax = Axis::log(20.0, 1500.0, "frequency (Hz)", true);
         assert_eq!(ax.samples(), vec!["20", "50", "100", "200", "500", "1000"]);
         let ay = Axis::log(2e-6, 3e-2, "mobility (m/(N·s))", true);
-        assert_eq!(ay.samples(), vec!["10e-6", "100e-6", "1e-3", "10e-3"]);
+        assert_eq!(ay.samples(), vec!["0.01", "0.1", "1", "10"]);
+        assert_eq!(ay.label, "mobility (mm/(N·s))");
         assert!(ay.light.contains(&3e-6) && ay.light.len() > 30);
-        let ap = Axis::log(2e-6, 3e-2, "power (W)", true);
-        assert_eq!((ap.samples()[0].as_str(), ap.label.as_str()), ("10 µW", "power (W)"));
+        let ap = Axis::log(4e-6, 1.6e-5, "power (W)", true);
+        assert_eq!((ap.samples()[0].as_str(), ap.label.as_str()), ("4", "power (µW)"));
+        // Too many decades for decimals: powers of ten, in the unit itself.
+        let aw = Axis::log(3e-12, 2e-3, "power (W)", true);
+        assert_eq!((aw.samples()[0].as_str(), aw.label.as_str()), ("10⁻¹⁰", "power (W)"));
+        let an = Axis::log(2e-7, 3e-3, "|Y| (1/(N·s))", true);
+        assert_eq!(an.samples(), vec!["10⁻⁶", "10⁻⁵", "10⁻⁴", "10⁻³"]);
         assert_eq!(Axis::log(2.0, 7.0, "x", true).samples(), vec!["2", "3", "4", "5", "6", "7"]);
         assert_eq!(Axis::log(1.01, 1.05, "x", true).samples().len(), 5);
         assert!((5..=9).contains(&LogTicks::new(1.0, 1e40).bold.len()));
@@ -359,12 +380,21 @@ mod tests {
         assert_eq!(symlog(0.0, c), 0.0);
         assert!(symlog(-1e-6, c) < 0.0 && (symlog(1e-5, c) - symlog(1e-6, c) - 1.0).abs() < 1e-3);
         let a = Axis::symlog(symlog(-1e-5, c), symlog(3e-5, c), c, "power (W)");
-        assert_eq!(a.label, "power (W)");
+        assert_eq!(a.label, "power (µW)");
         let s = a.samples();
         assert!(
-            s.contains(&"0".to_string()) && s.contains(&"10 µW".to_string()) && s.contains(&"-1 µW".to_string()),
+            s.contains(&"0".to_string()) && s.contains(&"10".to_string()) && s.contains(&"-1".to_string()),
             "{s:?}"
         );
+    }
+
+    #[test]
+    fn powers_of_ten_read_as_printed() {
+        assert_eq!(log_tick(1e-4, true), "10⁻⁴");
+        assert_eq!(log_tick(2e-4 * (1.0 - 1e-15), true), "2×10⁻⁴");
+        assert_eq!(log_tick(-1e12, true), "-10¹²");
+        assert_eq!(log_tick(1.0, true), "10⁰");
+        assert_eq!(log_tick(0.05, false), "0.05");
     }
 
     #[test]
