@@ -502,6 +502,22 @@ impl MultiPanel {
     fn rows(&self) -> usize {
         self.panels.len().div_ceil(self.columns.max(1)).max(1)
     }
+
+    /// The panels, each over the union of their x ranges where they all share one x axis
+    /// (the same label and scale): stacked panels then read off the same x at the same
+    /// place, even where one has markers (a padded range) and another lines only.
+    fn aligned(&self) -> Cow<'_, [LinePlot]> {
+        let first = &self.panels[0];
+        if self.panels.iter().any(|p| p.x_label != first.x_label || p.log_x != first.log_x) {
+            return Cow::Borrowed(&self.panels);
+        }
+        let (lo, hi) = self
+            .panels
+            .iter()
+            .map(|p| p.ranges().0)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |a, r| (a.0.min(r.0), a.1.max(r.1)));
+        Cow::Owned(self.panels.iter().map(|p| LinePlot { x_range: Some((lo, hi)), ..p.clone() }).collect())
+    }
 }
 
 impl LinePlot {
@@ -531,12 +547,13 @@ impl Drawable for MultiPanel {
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult {
         let body = titled(root, &self.title)?;
         let cells = body.split_evenly((self.rows(), self.columns.max(1)));
+        let panels = self.aligned();
         // One label width and one legend place for all panels, so the plot areas line up.
-        let legends: Vec<Legend> = self.panels.iter().map(LinePlot::legend).collect();
+        let legends: Vec<Legend> = panels.iter().map(LinePlot::legend).collect();
         let refs: Vec<&Legend> = legends.iter().collect();
         let place = Legend::place(&refs, &body, cells[0].dim_in_pixel().0);
-        let y_area = self.panels.iter().map(|p| p.y_area(&body)).max().unwrap_or(0);
-        for (area, panel) in cells.iter().zip(&self.panels) {
+        let y_area = panels.iter().map(|p| p.y_area(&body)).max().unwrap_or(0);
+        for (area, panel) in cells.iter().zip(panels.iter()) {
             panel.draw_in(area, Some(Share { y_area, place }))?;
         }
         Ok(())
@@ -575,6 +592,21 @@ mod tests {
         let d = decimate(pts, 500, &bx);
         assert!(d.len() <= 2000 && d.len() >= 500, "{}", d.len());
         assert!(d.iter().any(|p| p.1 > 0.999) && d.iter().any(|p| p.1 < -0.999));
+    }
+
+    /// Stacked panels over one x axis share its range: markers pad theirs, lines do not.
+    #[test]
+    fn panels_over_one_x_axis_share_its_range() {
+        let mut lines = LinePlot::new("", "f (Hz)", "y (m)");
+        lines.series.push(Series::line("a", vec![10.0, 100.0], vec![1.0, 2.0]));
+        let mut markers = lines.clone();
+        markers.series[0].style = SeriesStyle::Markers;
+        let m = MultiPanel::new("", vec![lines.clone(), markers.clone()]);
+        let ranges: Vec<_> = m.aligned().iter().map(|p| p.ranges().0).collect();
+        assert_eq!(ranges[0], ranges[1]);
+        assert!(ranges[0].0 < 10.0 && ranges[0].1 > 100.0, "{ranges:?}");
+        markers.x_label = "t (s)".into();
+        assert!(MultiPanel::new("", vec![lines, markers]).aligned().iter().all(|p| p.x_range.is_none()));
     }
 
     #[test]
