@@ -35,6 +35,10 @@ pub struct HarmonicResult {
     /// The points' y (m) on a plate; empty on a beam.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub point_y: Vec<f64>,
+    /// The response points as located on the structure (x, (x, y), or a node and its
+    /// component), for the figures to name them.
+    #[serde(skip)]
+    pub point_at: Vec<Location>,
     pub point_names: Vec<String>,
     /// Mobility Y[f][i][j] = V_i/F_j (m/(N·s)) for response point i and unit force j.
     #[serde(skip)]
@@ -127,6 +131,7 @@ pub fn run(
         frequency_hz: frequencies.to_vec(),
         point_x: points.iter().map(|p| p.0.x()).collect(),
         point_y: points.iter().filter_map(|p| p.0.y()).collect(),
+        point_at: points.iter().map(|p| p.0).collect(),
         point_names: points.iter().map(|p| p.1.clone()).collect(),
         mesh_roundoff: 0.0,
         transfer_inputs: inputs.iter().map(|t| t.name.clone()).collect(),

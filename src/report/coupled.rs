@@ -4,9 +4,9 @@
 
 use super::plot::{save, Dest};
 use super::plot::{LinePlot, MultiPanel, Series};
-use crate::actuator::Actuator;
 use crate::analysis::harmonic::HarmonicResult;
 use crate::analysis::modes::ModesResult;
+use crate::assembly::Model;
 use crate::error::Result;
 use std::path::PathBuf;
 
@@ -27,7 +27,8 @@ fn input_text(input: &str) -> String {
 
 /// `<tag>_transfer`: one row per input, |V/F| on log axes beside its phase, a line per
 /// response point.
-pub fn transfer_figure(dir: Dest, tag: &str, h: &HarmonicResult, actuators: &[Actuator]) -> Result<Vec<PathBuf>> {
+pub fn transfer_figure(dir: Dest, tag: &str, h: &HarmonicResult, model: &Model) -> Result<Vec<PathBuf>> {
+    let actuators = &model.actuators;
     if h.transfer_inputs.is_empty() {
         return Ok(Vec::new());
     }
@@ -51,7 +52,9 @@ pub fn transfer_figure(dir: Dest, tag: &str, h: &HarmonicResult, actuators: &[Ac
         panels.push(mag);
         panels.push(phase);
     }
-    let fig = MultiPanel::new("Transfer functions of the beam with its actuators attached", panels).with_columns(2);
+    let structure = super::figures::structure_name(model);
+    let fig = MultiPanel::new(format!("Transfer functions of the {structure} with its actuators attached"), panels)
+        .with_columns(2);
     save(&fig, dir, &format!("{tag}_transfer"))
 }
 

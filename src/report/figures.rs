@@ -155,6 +155,25 @@ pub fn into_word(model: &crate::assembly::Model) -> &'static str {
     }
 }
 
+/// The structure in figure titles and legends: `beam`, `plate`, `imported model`, or
+/// `structure` where the actuators stand on a rigid base.
+pub fn structure_name(model: &crate::assembly::Model) -> &'static str {
+    match model.structure.as_ref().map(|s| s.kind()) {
+        None => "structure",
+        Some("imported") => "imported model",
+        Some(kind) => kind,
+    }
+}
+
+/// A mode of the structure without its actuators, as an axis names it: `bare-beam mode`,
+/// `bare-plate mode`, `mode of the bare imported model`.
+fn bare_mode(model: &crate::assembly::Model) -> String {
+    match structure_name(model) {
+        "imported model" => "mode of the bare imported model".into(),
+        name => format!("bare-{name} mode"),
+    }
+}
+
 /// Power per harmonic into `into` (the beam, the plate, …). All into it: stems on a
 /// logarithmic axis. With lines of both
 /// signs: a symmetric-log axis, into the beam up, out of it down, each decade the same
@@ -213,7 +232,8 @@ fn modes_figure(m: &ModesResult) -> LinePlot {
 
 /// None when the analysis applies no force (transfer functions of the coupled system
 /// only, drawn by [`super::coupled`]).
-fn harmonic_figure(h: &HarmonicResult, actuators: &[Actuator]) -> Option<MultiPanel> {
+fn harmonic_figure(h: &HarmonicResult, model: &crate::assembly::Model) -> Option<MultiPanel> {
+    let structure = structure_name(model);
     let mut mob = LinePlot::new("Driving-point mobility", "frequency (Hz)", "|Y| (m/(N·s))");
     mob.log_x = true;
     mob.log_y = true;
@@ -226,8 +246,9 @@ fn harmonic_figure(h: &HarmonicResult, actuators: &[Actuator]) -> Option<MultiPa
     }
     for j in 0..nforce {
         let y: Vec<f64> = h.mobility.iter().map(|m| m[j][j].norm().max(1e-300)).collect();
-        let s = Series::line(format!("{} at x = {} m", h.point_names[j], h.point_x[j]), h.frequency_hz.clone(), y);
-        mob.series.push(palette::point_series(actuators, &h.point_names[j], s));
+        let at = h.point_at.get(j).map_or_else(|| format!("x = {} m", h.point_x[j]), |at| at.to_string());
+        let s = Series::line(format!("{} at {at}", h.point_names[j]), h.frequency_hz.clone(), y);
+        mob.series.push(palette::point_series(&model.actuators, &h.point_names[j], s));
     }
     pw.series.push(Series::line(
         "input ½Re(F·V*)",
@@ -236,13 +257,13 @@ fn harmonic_figure(h: &HarmonicResult, actuators: &[Actuator]) -> Option<MultiPa
     ));
     pw.series.push(
         Series::line(
-            "beam dissipation",
+            format!("{structure} dissipation"),
             h.frequency_hz.clone(),
             h.dissipated_power.iter().map(|p| p.abs().max(1e-300)).collect(),
         )
         .with_style(SeriesStyle::Markers),
     );
-    Some(MultiPanel::new("Harmonic response of the beam", vec![mob, pw]))
+    Some(MultiPanel::new(format!("Harmonic response of the {structure}"), vec![mob, pw]))
 }
 
 /// The analysis types of a run as file-name parts, `transient` or, when a case has several
@@ -301,10 +322,10 @@ fn draw_run(dir: Dest, stem: &str, run: &CaseRun) -> Result<Vec<PathBuf>> {
                 }
             },
             AnalysisResult::Harmonic(h) => {
-                if let Some(fig) = harmonic_figure(h, &run.model.actuators) {
+                if let Some(fig) = harmonic_figure(h, &run.model) {
                     out.extend(save(&fig, dir, &tag)?);
                 }
-                out.extend(super::coupled::transfer_figure(dir, &tag, h, &run.model.actuators)?);
+                out.extend(super::coupled::transfer_figure(dir, &tag, h, &run.model)?);
             }
             AnalysisResult::Transient(t) => {
                 // Figures show the last periods (a whole history, `[output] full_history`,
@@ -636,7 +657,7 @@ const MODE_SHARE: f64 = 0.01;
 /// At most this many modes get their own bar.
 const MODE_BARS: usize = 16;
 
-/// Net power into the beam by bare-beam mode, one group per actuator and point load: a bar
+/// Net power into the structure by bare-structure mode, one group per actuator and point load: a bar
 /// for each mode that matters ([`MODE_SHARE`], at most [`MODE_BARS`], in mode order) and a
 /// last bar `rest` with the other modes and what the truncated modal sum misses, so that
 /// each group's bars add up to its net power.
@@ -653,10 +674,9 @@ pub fn modal_power_figure(m: &ModalDecomposition, run: &CaseRun, s: &SteadyState
         sources.push((load.name.clone(), p.clone(), sp.power_total));
     }
     let shown = modes_that_matter(sources.iter().map(|(_, p, _)| p.as_slice()));
-    let kind = into_word(&run.model);
     let mut bar = BarChart::new(
-        format!("Net power into the {kind} by mode"),
-        format!("bare-{kind} mode (number, natural frequency)"),
+        format!("Net power into the {} by mode", into_word(&run.model)),
+        format!("{} (number, natural frequency)", bare_mode(&run.model)),
         "power (W)",
     );
     bar.categories = shown.iter().map(|&r| format!("{}\n{:.0} Hz", r + 1, m.mode_frequency_hz[r])).collect();
