@@ -211,10 +211,15 @@ pub fn power_spectrum_panel(title: &str, into: &str, stems: &[PowerLines], marke
     p
 }
 
-/// Stroke against voltage over the recorded window (the hysteresis loop).
+/// Stroke against voltage over the recorded window (the hysteresis loop), closed: the
+/// window holds whole periods sampled at t₀ + j·Δt, j < N, so the sample after the last is
+/// the first one a period on, and without it the loop would have a gap of one step where
+/// the window starts (at V = 0 for a sine).
 pub fn loop_panel(title: &str, d: &DriveSeries) -> LinePlot {
     let mut p = LinePlot::new(title, "voltage (V)", "free stroke δ (µm)");
-    p.series.push(Series::line("Bouc–Wen", d.voltage.clone(), d.stroke.iter().map(|s| s * 1e6).collect()));
+    let closed = |v: &[f64]| v.iter().chain(v.first()).copied().collect::<Vec<f64>>();
+    let stroke: Vec<f64> = closed(&d.stroke).iter().map(|s| s * 1e6).collect();
+    p.series.push(Series::line("Bouc–Wen", closed(&d.voltage), stroke));
     p
 }
 
