@@ -24,15 +24,20 @@ pub struct Profile {
 /// narrower than the grid, and a profile that misses its top misstates it.
 const NEAR_OPTIMUM: usize = 6;
 
-/// Power into each bare-beam mode (W) of the best and of a poor candidate.
+/// Power into each mode of the bare structure (W) of the best and of a poor candidate.
 #[derive(Clone, Debug)]
 pub struct ModalComparison {
     pub mode_frequency_hz: Vec<f64>,
     pub best: Vec<f64>,
     pub poor: Vec<f64>,
-    /// The candidates, `path = value, …`, and their objective values.
+    /// The structure whose modes they are: `beam`, `plate` or `imported model`.
+    pub structure: &'static str,
+    /// The candidates' objective values with their unit (`26.43 mW`).
     pub best_label: String,
     pub poor_label: String,
+    /// Each variable: its name in words (`position x, frame`) and its value with its unit
+    /// at the best and at the poor candidate (`93.17 mm`).
+    pub variables: Vec<[String; 3]>,
 }
 
 /// Profiles of objective 0 through `best`, `points` per real variable evenly spaced plus
@@ -104,14 +109,43 @@ pub fn modal_comparison(
     if ob.modal_power.is_empty() {
         return None;
     }
-    let label = |e: &Evaluation| {
-        format!("{}: {} {}", spec.describe(&e.u), crate::report::sweep::num(e.values[0]), spec.objectives[0].unit())
-    };
+    let unit = spec.objectives[0].unit();
+    let variables = spec
+        .variables
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let name = crate::report::sweep::axis_text(&v.name, "1", &spec.base.actuators);
+            [name, value_text(v.value(best.u[i]), v.unit()), value_text(v.value(poor.u[i]), v.unit())]
+        })
+        .collect();
     Some(ModalComparison {
         mode_frequency_hz: ob.mode_frequency_hz,
         best: ob.modal_power,
         poor: op.modal_power,
-        best_label: label(best),
-        poor_label: label(poor),
+        structure: structure_name(&spec.base.case),
+        best_label: crate::report::plot::text::quantity(best.values[0], &unit),
+        poor_label: crate::report::plot::text::quantity(poor.values[0], &unit),
+        variables,
     })
+}
+
+/// The structure of a case in words: `beam`, `plate` or `imported model`.
+fn structure_name(case: &crate::case::Case) -> &'static str {
+    if case.imported.is_some() {
+        "imported model"
+    } else if case.plate.is_some() {
+        "plate"
+    } else {
+        "beam"
+    }
+}
+
+/// A variable's value with its unit, as a reader writes it: `93.17 mm`, `179.9°`, `31`.
+fn value_text(v: toml::Value, unit: &str) -> String {
+    match v {
+        toml::Value::Float(f) => crate::report::plot::text::quantity(f, unit),
+        toml::Value::String(s) => s,
+        other => other.to_string(),
+    }
 }

@@ -39,11 +39,16 @@ pub fn plot_profiles(
 /// Grouped bars: each mode's share of the power the best and the poor candidate put into
 /// the first modes (their totals differ by orders of magnitude; the shares show where it
 /// goes). The shares are of the sum over the modes drawn, not of the net power, which
-/// higher modes and the static residual also carry.
+/// higher modes and the static residual also carry. The legend gives each candidate's
+/// objective and, under it, the variables of both.
 pub fn plot_modal(dir: &Path, name: &str, m: &ModalComparison) -> Result<Vec<PathBuf>> {
+    save(&modal_chart(m), dir, name)
+}
+
+fn modal_chart(m: &ModalComparison) -> BarChart {
     let n = m.mode_frequency_hz.len();
     let mut b = BarChart::new(
-        format!("Where the power goes: each bare-beam mode's share of the power into modes 1–{n}"),
+        format!("Where the power goes: share of each mode of the bare {} in the power into modes 1–{n}", m.structure),
         "mode (natural frequency)",
         format!("share of the power into modes 1–{n} (%)"),
     );
@@ -54,8 +59,11 @@ pub fn plot_modal(dir: &Path, name: &str, m: &ModalComparison) -> Result<Vec<Pat
     b.categories = m.mode_frequency_hz.iter().enumerate().map(|(r, f)| format!("{} ({f:.1} Hz)", r + 1)).collect();
     b.groups =
         vec![(format!("best: {}", m.best_label), share(&m.best)), (format!("poor: {}", m.poor_label), share(&m.poor))];
+    b.notes = std::iter::once("variables: best | poor".to_string())
+        .chain(m.variables.iter().map(|[name, best, poor]| format!("{name}: {best} | {poor}")))
+        .collect();
     b.size = (1200, 650);
-    save(&b, dir, name)
+    b
 }
 
 /// The two objectives of every feasible candidate evaluated, the Pareto front among them
@@ -78,4 +86,29 @@ pub fn plot_pareto(
             .with_style(SeriesStyle::Markers),
     );
     save(&lp, dir, name)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A plate's comparison: the title names the plate, the legend its candidates by their
+    /// objective and the variables with units, and every text is escaped once.
+    #[test]
+    fn the_modal_figure_names_its_structure_and_units() {
+        let m = ModalComparison {
+            mode_frequency_hz: vec![75.2, 163.3],
+            best: vec![1.0, 3.0],
+            poor: vec![2.0, 0.5],
+            structure: "plate",
+            best_label: "26.43 mW".into(),
+            poor_label: "2.13 µW".into(),
+            variables: vec![["position x, frame_a".into(), "93.17 mm".into(), "339.6 mm".into()]],
+        };
+        let svg = modal_chart(&m).svg("modes.svg").unwrap();
+        for text in ["mode of the bare plate", "best: 26.43 mW", "position x, frame_a: 93.17 mm | 339.6 mm"] {
+            assert!(svg.contains(text), "{text}");
+        }
+        assert!(!svg.contains("&amp;") && !svg.contains("beam"), "escaped twice, or a beam on a plate");
+    }
 }

@@ -189,6 +189,18 @@ pub fn si(v: f64, unit: &str, digits: usize) -> String {
     format!("{text} {}{unit}", prefix(e)).trim_end().to_string()
 }
 
+/// A value with its unit as a legend or a note names it, four significant digits:
+/// SI-prefixed where the unit takes a prefix (`26.43 mW`, `93.17 mm`), degrees as `°`,
+/// a plain number for a ratio (unit `1`, or `?` where none is known).
+pub fn quantity(v: f64, unit: &str) -> String {
+    match unit {
+        "1" | "" | "?" => significant(v, 4),
+        "deg" | "°" => format!("{}°", significant(v, 4)),
+        u if prefixable(&format!("({u})")).is_some() => si(v, u, 4),
+        u => format!("{} {u}", significant(v, 4)),
+    }
+}
+
 /// Engineering notation: a mantissa in [1, 1000) and an exponent that is a multiple of 3
 /// (`2.5e-7` → `250e-9`), or plain decimals when the exponent is 0.
 pub fn eng(v: f64, digits: usize) -> String {
@@ -273,5 +285,10 @@ mod tests {
         assert_eq!(eng(2.5e-7, 3), "250e-9");
         assert_eq!(eng(1.5e6, 3), "1.5e6");
         assert_eq!(eng(42.0, 3), "42");
+        assert_eq!(quantity(0.093167, "m"), "93.17 mm");
+        assert_eq!(
+            (quantity(179.92, "deg"), quantity(83.0, "Hz"), quantity(4.0, "1")),
+            ("179.9°".into(), "83 Hz".into(), "4".into())
+        );
     }
 }
