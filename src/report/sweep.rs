@@ -1,7 +1,11 @@
 //! Figures and the best-case table of a sweep table.
 //!
-//! * Two parameters on a full grid (e.g. position × frequency): a heat map of the net
-//!   power into the beam on a **logarithmic** colour scale. In steady state the net power
+//! * Two parameters on a full grid, one of them with at most [`LINES_UP_TO`] values (a
+//!   `values` list, a small `count`): one line of net power per value of that parameter
+//!   over the other. A few discrete values are no continuum: a heat map would fill bands
+//!   between them, as if cases had been solved there.
+//! * Two parameters on a full grid, each with more values (e.g. position × frequency): a
+//!   heat map of the net power into the beam on a **logarithmic** colour scale. In steady state the net power
 //!   of an actuator alone on a damped beam equals the beam's dissipation, so it is positive
 //!   and spans many decades (dips near mode nodes, peaks at resonances); a linear scale
 //!   would show only the resonance peaks. If any value is negative or zero (several
@@ -214,18 +218,29 @@ pub fn write_report(t: &SweepTable, out: &Path) -> Result<PathBuf> {
     Ok(path)
 }
 
-/// The figure of a table's shape, if it has one.
+/// Most values a parameter of a two-parameter grid may have to be drawn as one line per
+/// value instead of as an axis of a heat map.
+pub const LINES_UP_TO: usize = 6;
+
+/// The figure of a table's shape, if it has one: titled by the sweep's title (or what it
+/// shows), the net power named on the axis that carries it.
 fn figure(t: &SweepTable) -> Option<Figure> {
-    let title = if t.title.is_empty() { "Sweep".to_string() } else { t.title.clone() };
+    let into = t.into_word();
+    let title = if t.title.is_empty() { format!("Net power into the {into}") } else { t.title.clone() };
     if let Some((px, py, xs, ys, z)) = grid(t) {
+        if xs.len().min(ys.len()) <= LINES_UP_TO {
+            // Lines over the parameter with more values (the position on a tie).
+            let (along, per) = if ys.len() > xs.len() { (py, px) } else { (px, py) };
+            return Some(Figure::Lines(lines_per_value(t, title, along, per)));
+        }
         let max = z.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let signed = z.iter().any(|&v| v <= 0.0);
         let floor = if max > 0.0 { max * 1e-12 } else { 1e-30 };
         let mut h = HeatMap::new(
-            format!("{title}: net power into the {}", t.into_word()),
+            title,
             axis_label(t, px),
             axis_label(t, py),
-            if signed { "|net power| (W)" } else { "net power (W)" },
+            if signed { format!("|net power| into the {into} (W)") } else { format!("net power into the {into} (W)") },
         );
         // The grid's best case marked (the largest net power).
         if let Some(k) = (0..z.len()).max_by(|&a, &b| z[a].total_cmp(&z[b])) {
@@ -245,8 +260,7 @@ fn figure(t: &SweepTable) -> Option<Figure> {
     }
     if t.parameters.len() == 1 && !t.rows.is_empty() {
         let x: Vec<f64> = t.rows.iter().map(|r| r.inputs[0]).collect();
-        let into = t.into_word();
-        let mut p = LinePlot::new(format!("{title}: net power into the {into}"), axis_label(t, 0), "net power (W)");
+        let mut p = LinePlot::new(title, axis_label(t, 0), format!("net power into the {into} (W)"));
         let style = if t.rows.len() <= 40 { SeriesStyle::LineMarkers } else { SeriesStyle::Line };
         let mut order: Vec<usize> = (0..x.len()).collect();
         order.sort_by(|&a, &b| x[a].total_cmp(&x[b]));
@@ -267,6 +281,25 @@ fn figure(t: &SweepTable) -> Option<Figure> {
         return Some(Figure::Lines(p));
     }
     None
+}
+
+/// Total net power against parameter `along`, one line per value of parameter `per`,
+/// labelled by that value (`83 Hz`), on a log axis where every value is positive.
+fn lines_per_value(t: &SweepTable, title: String, along: usize, per: usize) -> LinePlot {
+    let mut p = LinePlot::new(title, axis_label(t, along), format!("net power into the {} (W)", t.into_word()));
+    let mut all_pos = true;
+    for v in sorted_unique(t.rows.iter().map(|r| r.inputs[per])) {
+        let mut rows: Vec<_> = t.rows.iter().filter(|r| r.inputs[per] == v).collect();
+        rows.sort_by(|a, b| a.inputs[along].total_cmp(&b.inputs[along]));
+        let x = rows.iter().map(|r| r.inputs[along]).collect();
+        let y: Vec<f64> = rows.iter().map(|r| r.total_net_power()).collect();
+        all_pos &= y.iter().all(|&v| v > 0.0);
+        let style = if rows.len() <= 40 { SeriesStyle::LineMarkers } else { SeriesStyle::Line };
+        p.series.push(Series::line(super::plot::text::quantity(v, &t.units[per]), x, y).with_style(style));
+    }
+    p.notes = vec![format!("one line per {}", axis_text(&t.parameters[per], "1", &t.actuators))];
+    p.log_y = all_pos;
+    p
 }
 
 /// The rows that are local maxima of the total net power over the sweep's grid of one or
@@ -508,6 +541,34 @@ mod tests {
         let mut scattered = t.clone();
         scattered.rows.truncate(17);
         assert_eq!(best_table(&scattered, 8).lines().count(), 2 + 8);
+    }
+
+    /// The figure of a grid, by the number of values of each parameter.
+    fn figure_of(xs: usize, fs: &[f64]) -> super::Figure {
+        let mut t = two_peaks();
+        let template = t.rows[0].clone();
+        t.rows = fs
+            .iter()
+            .flat_map(|&f| (0..xs).map(move |i| (0.1 * (i + 1) as f64, f)))
+            .enumerate()
+            .map(|(index, (x, f))| Row { index, inputs: vec![x, f], net_power: vec![x * f], ..template.clone() })
+            .collect();
+        super::figure(&t).unwrap()
+    }
+
+    #[test]
+    fn a_parameter_of_few_values_is_drawn_as_lines() {
+        let super::Figure::Lines(p) = figure_of(73, &[83.0, 150.0]) else { panic!("two frequencies: lines") };
+        let labels: Vec<&str> = p.series.iter().map(|s| s.label.as_str()).collect();
+        assert_eq!(labels, ["83 Hz", "150 Hz"]);
+        assert!(p.series.iter().all(|s| s.x.len() == 73) && p.x_label.starts_with("position x_{E}"));
+        assert!(p.svg("s.svg").unwrap().contains("aria-label=\"83 Hz\""));
+        // Fewer positions than frequencies: lines over the frequency.
+        let super::Figure::Lines(p) = figure_of(3, &[10.0, 20.0, 30.0, 40.0, 50.0, 60.0, 70.0]) else { panic!() };
+        assert_eq!(p.series.len(), 3);
+        assert!(p.x_label.starts_with("drive frequency"), "{}", p.x_label);
+        let many: Vec<f64> = (1..=super::LINES_UP_TO + 1).map(|k| 10.0 * k as f64).collect();
+        assert!(matches!(figure_of(12, &many), super::Figure::Heat(_)));
     }
 
     #[test]

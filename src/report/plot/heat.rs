@@ -161,10 +161,12 @@ impl Drawable for HeatMap {
             let at = (px - bx, py - by);
             m.marker.draw(&area, at, BLACK)?;
             if !m.label.is_empty() {
-                // Labels of points in the right third go to their left, inside the map.
+                // Labels of points in the right third go to their left, and of points near
+                // the top below them: inside the map, never over its frame.
                 let (w, _) = area.dim_in_pixel();
                 let (dx, pos) = if at.0 > 2 * w as i32 / 3 { (-9, super::HPos::Right) } else { (9, super::HPos::Left) };
-                super::text::draw(&area, &m.label, (at.0 + dx, at.1 - 12), TICK_PX, pos, false)?;
+                let dy = if at.1 < 2 * TICK_PX as i32 { 12 } else { -12 };
+                super::text::draw(&area, &m.label, (at.0 + dx, at.1 + dy), TICK_PX, pos, false)?;
             }
         }
 
