@@ -275,3 +275,55 @@ fn stems_stand_at_their_true_frequencies() {
         assert!(at_drive.iter().all(|&x| x == at_drive[0]), "{name}: stems at 60 Hz drawn apart: {at_drive:?}");
     }
 }
+
+/// A plate's layout draws everything that stands on it, each kind of edge in its own
+/// style with a legend, and the run's report shows it in a section of its own.
+#[test]
+fn a_plate_layout_shows_masses_springs_and_edge_kinds_and_is_in_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("layout.toml");
+    std::fs::write(
+        &case,
+        r#"
+[plate]
+length_x = 0.5
+length_y = 0.4
+thickness = 0.003
+youngs_modulus = 70e9
+poisson_ratio = 0.33
+density = 2700.0
+[plate.mesh]
+elements = [10, 8]
+[plate.edges]
+x0 = "clamped"
+x1 = "simply_supported"
+y0 = "free"
+y1 = "simply_supported"
+[[plate.point_mass]]
+at = [0.10, 0.10]
+mass = 0.05
+[[plate.spring]]
+at = [0.40, 0.30]
+stiffness = 2.0e4
+damping = 1.0
+[[sensor]]
+name = "corner"
+at = [0.5, 0.4]
+[[analysis]]
+type = "modes"
+count = 2
+"#,
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    beamflow::app::commands::run(&case, Some(&out), None, true, false, &beamflow::analysis::budget::Budget::default())
+        .unwrap();
+    let svg = std::fs::read_to_string(out.join("layout_layout.svg")).unwrap();
+    let texts: Vec<String> = labels(&svg).into_iter().map(|l| l.text).collect();
+    for t in ["point mass", "0.05 kg", "spring to the ground", "20 kN/m", "clamped edge", "free edge", "sensor"] {
+        assert!(texts.iter().any(|s| s == t), "`{t}` is not in the layout: {texts:?}");
+    }
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let layout = html.find("<figure id=\"fig-layout_layout\">").expect("the layout is in the report");
+    assert!(html.find("<h2 id=\"layout\">").is_some_and(|h| h < layout), "under its own heading");
+}

@@ -2,11 +2,13 @@
 //! drawn with its edges, point supports, actuator feet and sensors.
 
 use super::figures::{save, Dest};
-use super::plot::{HeatMap, MapGrid, MapMark, Marker};
+use super::plot::legend::{Entry, Swatch};
+use super::plot::{HeatMap, MapGrid, MapMark, Marker, Shape};
 use crate::analysis::case_run::CaseRun;
 use crate::analysis::modes::ModesResult;
 use crate::error::Result;
-use crate::plate::{element as bfs, Edge, Plate};
+use crate::plate::{element as bfs, Edge, Plate, PointSupportKind};
+use plotters::style::RGBColor;
 use std::path::PathBuf;
 
 /// Samples per element side: the field between nodes follows the element's own bicubic
@@ -106,56 +108,122 @@ pub fn modes_figure(dir: Dest, tag: &str, plate: &Plate, m: &ModesResult) -> Res
     save(&grid, dir, tag)
 }
 
-/// `<stem>_layout`: the plate with its edges named, point supports, actuator feet and
-/// sensors, drawn to scale.
+/// Width of the layout's legend strip (px at 100 dpi), added to the plate's drawing.
+const LEGEND_PX: u32 = 220;
+
+/// `<stem>_layout`: the plate drawn to scale with a margin around it, each edge drawn as
+/// its support is (clamped hatched, simply supported dashed, free thin, as in structural
+/// drawings), point supports, masses and springs, actuator feet and sensors, and a legend
+/// of those symbols.
 pub fn layout_figure(dir: Dest, stem: &str, plate: &Plate, run: &CaseRun) -> Result<Vec<PathBuf>> {
     let (lx, ly) = plate.grid.lengths();
-    let edge = |e: Edge| match e {
-        Edge::Clamped => "clamped",
-        Edge::SimplySupported => "simply supported",
-        Edge::Free => "free",
-    };
-    let e = plate.edges;
     let regions = if plate.is_uniform() { "" } else { " (regions of other sheets)" };
-    let title =
-        format!("The plate, {lx} × {ly} × {} m{regions}, its edges, actuator feet and sensors", plate.thickness);
+    let title = format!("The plate, {lx} × {ly} × {} m{regions}, and what stands on it", plate.thickness);
+    // A blank field over the plate and a margin (m) around it, so that a marker on an edge
+    // or at a corner is drawn whole, and the hatching of a clamped edge has room.
+    let pad = 0.04 * lx.max(ly);
     let mut h = plate_map(plate, title, "", 900);
-    // A blank field over the whole plate: the figure is the drawing on top of it.
-    (h.x, h.y, h.z) = (vec![0.25 * lx, 0.75 * lx], vec![0.25 * ly, 0.75 * ly], vec![0.0; 4]);
+    // To scale: a plot area about 900 px wide beside the tick labels and the legend, and
+    // as high as the plate and its margin are in proportion, above the x axis' labels.
+    h.size = (900 + 110 + LEGEND_PX, 135 + (900.0 * (ly + 2.0 * pad) / (lx + 2.0 * pad)) as u32);
+    (h.x, h.y, h.z) = (blank_cells(lx, pad), blank_cells(ly, pad), vec![0.0; 4]);
     h.diverging = true;
-    h.lines = outline(plate);
-    let side = |label: &str, e: Edge, x: f64, y: f64| MapMark {
-        x,
-        y,
-        label: format!("{label}: {}", edge(e)),
-        marker: Marker { shape: super::plot::Shape::Diamond, hollow: true },
-    };
-    h.marks.extend([
-        side("x = 0", e.x0, 0.0, 0.5 * ly),
-        side(&format!("x = {lx}"), e.x1, lx, 0.08 * ly),
-        side("y = 0", e.y0, 0.3 * lx, 0.0),
-        side(&format!("y = {ly}"), e.y1, 0.3 * lx, ly),
-    ]);
+    draw_edges(&mut h, plate, pad);
+    mark_points(&mut h, plate, run);
+    save(&h, dir, &format!("{stem}_layout"))
+}
+
+/// Centres of two cells whose edges run from −pad to `length` + pad.
+fn blank_cells(length: f64, pad: f64) -> Vec<f64> {
+    let d = 0.5 * (length + 2.0 * pad);
+    vec![-pad + 0.5 * d, -pad + 1.5 * d]
+}
+
+/// Each edge in the style of its support, hatched outside the plate where clamped, and a
+/// legend entry per kind of edge the plate has.
+fn draw_edges(h: &mut HeatMap, plate: &Plate, pad: f64) {
+    let (lx, ly) = plate.grid.lengths();
+    let e = plate.edges;
+    // (support, from, to, outward normal)
+    let edges = [
+        (e.x0, (0.0, 0.0), (0.0, ly), (-1.0, 0.0)),
+        (e.x1, (lx, 0.0), (lx, ly), (1.0, 0.0)),
+        (e.y0, (0.0, 0.0), (lx, 0.0), (0.0, -1.0)),
+        (e.y1, (0.0, ly), (lx, ly), (0.0, 1.0)),
+    ];
+    for &(support, a, b, n) in &edges {
+        match support {
+            Edge::Clamped => {
+                h.lines.push(vec![a, b]);
+                h.thin.extend(hatching(a, b, n, 0.6 * pad));
+            }
+            Edge::SimplySupported => h.dashed.push(vec![a, b]),
+            Edge::Free => h.thin.push(vec![a, b]),
+        }
+    }
+    let black = RGBColor(0, 0, 0);
+    for (kind, label, swatch) in [
+        (Edge::Clamped, "clamped edge", Swatch::Hatched),
+        (Edge::SimplySupported, "simply supported edge", Swatch::Dashed),
+        (Edge::Free, "free edge", Swatch::Thin),
+    ] {
+        if edges.iter().any(|ed| ed.0 == kind) {
+            h.legend.push(Entry { label: label.into(), color: black, swatch, marker: Marker::nth(0) });
+        }
+    }
+}
+
+/// Short strokes from edge `a`–`b` outwards along `n`, slanted, `len` (m) long.
+fn hatching(a: (f64, f64), b: (f64, f64), n: (f64, f64), len: f64) -> Vec<Vec<(f64, f64)>> {
+    let span = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+    let t = ((b.0 - a.0) / span, (b.1 - a.1) / span);
+    let count = (span / len).round().max(2.0) as usize;
+    (0..=count)
+        .map(|k| {
+            let s = k as f64 / count as f64;
+            let p = (a.0 + s * (b.0 - a.0), a.1 + s * (b.1 - a.1));
+            vec![p, (p.0 + len * (n.0 - t.0), p.1 + len * (n.1 - t.1))]
+        })
+        .collect()
+}
+
+/// Point supports, masses and springs, actuator feet and sensors, each kind its own
+/// marker with a legend entry.
+fn mark_points(h: &mut HeatMap, plate: &Plate, run: &CaseRun) {
+    use super::plot::text::{si, significant};
+    let at = |node: usize| plate.grid.position(node);
+    let mut marks: Vec<(Shape, bool, &str, (f64, f64), String)> = Vec::new();
     for s in &plate.supports {
-        let (x, y) = plate.grid.position(s.node);
-        h.marks.push(MapMark {
-            x,
-            y,
-            label: "support".into(),
-            marker: Marker { shape: super::plot::Shape::Square, hollow: false },
-        });
+        let what = match s.kind {
+            PointSupportKind::Pinned => "pinned".to_string(),
+            PointSupportKind::Clamped => "clamped".to_string(),
+            PointSupportKind::Spring { k_w } => si(k_w, "N/m", 3),
+        };
+        marks.push((Shape::Square, false, "point support", at(s.node), what));
+    }
+    for m in &plate.point_masses {
+        marks.push((Shape::Circle, false, "point mass", at(m.node), format!("{} kg", significant(m.mass, 3))));
+    }
+    for k in &plate.springs {
+        marks.push((Shape::Diamond, true, "spring to the ground", at(k.node), si(k.stiffness, "N/m", 3)));
     }
     for lk in &run.system.links {
-        let Some(at) = lk.foot_at else { continue };
+        let Some(foot) = lk.foot_at else { continue };
         let name = crate::actuator::link_id(run.model.actuators[lk.actuator].name(), &lk.name);
-        let marker = Marker { shape: super::plot::Shape::TriangleUp, hollow: !lk.active };
-        h.marks.push(MapMark { x: at.x(), y: at.y().unwrap_or(0.0), label: name, marker });
+        let kind = if lk.active { "actuator foot: stack" } else { "actuator foot: leg" };
+        marks.push((Shape::TriangleUp, !lk.active, kind, (foot.x(), foot.y().unwrap_or(0.0)), name));
     }
     for s in &run.model.sensors {
-        let marker = Marker { shape: super::plot::Shape::Circle, hollow: true };
-        h.marks.push(MapMark { x: s.at.x(), y: s.at.y().unwrap_or(0.0), label: s.name.clone(), marker });
+        marks.push((Shape::Circle, true, "sensor", (s.at.x(), s.at.y().unwrap_or(0.0)), s.name.clone()));
     }
-    save(&h, dir, &format!("{stem}_layout"))
+    for (shape, hollow, kind, (x, y), label) in marks {
+        let marker = Marker { shape, hollow };
+        if !h.legend.iter().any(|e| e.label == kind) {
+            let black = RGBColor(0, 0, 0);
+            h.legend.push(Entry { label: kind.into(), color: black, swatch: Swatch::Markers, marker });
+        }
+        h.marks.push(MapMark { x, y, label, marker });
+    }
 }
 
 #[cfg(test)]

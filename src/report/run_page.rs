@@ -62,6 +62,10 @@ impl RunReport<'_> {
              harmonics left out carry, the beam modes' round-off, and how well energy balances.",
         );
         p.push(&self.accuracy());
+        if let Some(svg) = self.svg_named(&format!("{}_layout", self.stem())) {
+            p.section("layout", "Layout");
+            p.push(&figure(svg)?);
+        }
         let tags = analysis_tags(self.run);
         for (i, (r, tag)) in self.run.results.iter().zip(&tags).enumerate() {
             p.section(&format!("analysis-{tag}"), &format!("Analysis {}: {}", i + 1, tag.replace('_', " ")));
@@ -93,6 +97,13 @@ impl RunReport<'_> {
             env!("CARGO_PKG_VERSION")
         );
         Ok(p.finish(&title, &meta))
+    }
+
+    /// The SVG figure among the files written whose name is `name`.svg.
+    fn svg_named(&self, name: &str) -> Option<&std::path::PathBuf> {
+        self.files
+            .iter()
+            .find(|f| f.extension().is_some_and(|e| e == "svg") && f.file_stem().is_some_and(|s| s == name))
     }
 
     fn stem(&self) -> String {

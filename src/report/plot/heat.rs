@@ -6,10 +6,11 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::axis::{fit_range, linear_ticks, Axis};
+use super::legend::Legend;
 use super::text::plain;
 use super::{
-    check_values, de, font, titled, x_label_height, y_label_width, DrawResult, Drawable, HeatMap, MapGrid, DESC_PX,
-    TICK_PX,
+    check_values, de, font, plot_pixels, titled, x_label_height, y_label_width, DrawResult, Drawable, HeatMap, MapGrid,
+    DESC_PX, TICK_PX,
 };
 use crate::error::{Error, Result};
 
@@ -117,10 +118,15 @@ impl Drawable for HeatMap {
         } else {
             Axis::linear(zlo, zhi, &self.z_label, true)
         };
-        // Colour bar strip: 40 px of gradient plus its labels on the right (none for a
-        // map that is only a drawing: no `z_label`).
+        // Colour bar strip: 40 px of gradient plus its labels on the right; for a map that
+        // is only a drawing (no `z_label`), its legend there, if it has one.
         let bar_labels = y_label_width(root, &az.samples());
-        let bar_w = if self.z_label.is_empty() { 0 } else { bar_labels + 56 };
+        let legend = Legend { entries: self.legend.clone(), notes: Vec::new() };
+        let bar_w = match (self.z_label.is_empty(), legend.is_empty()) {
+            (false, _) => bar_labels + 56,
+            (true, false) => legend.width(root),
+            (true, true) => 0,
+        };
         let (w, _) = body.dim_in_pixel();
         let (main, bar) = body.split_horizontally(w.saturating_sub(bar_w));
         let (xe, ye) = (edges(&self.x), edges(&self.y));
@@ -154,6 +160,8 @@ impl Drawable for HeatMap {
         for line in &self.lines {
             c.draw_series(std::iter::once(PathElement::new(line.clone(), BLACK.stroke_width(2)))).map_err(de)?;
         }
+        c.draw_series(self.dashed.iter().map(|l| super::dashed(l.clone(), BLACK))).map_err(de)?;
+        c.draw_series(self.thin.iter().map(|l| PathElement::new(l.clone(), BLACK.stroke_width(1)))).map_err(de)?;
         for m in &self.marks {
             let area = c.plotting_area().strip_coord_spec();
             let (bx, by) = area.get_base_pixel();
@@ -171,7 +179,8 @@ impl Drawable for HeatMap {
         }
 
         if self.z_label.is_empty() {
-            return Ok(());
+            let top = plot_pixels(&main, &c).1.start;
+            return if legend.is_empty() { Ok(()) } else { legend.draw(&bar, 0, top) };
         }
         let mut cb = ChartBuilder::on(&bar);
         cb.margin(12)

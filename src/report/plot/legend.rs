@@ -16,6 +16,10 @@ pub enum Swatch {
     Markers,
     Stems,
     Bar,
+    /// A thin line: a free edge.
+    Thin,
+    /// A line hatched on one side: a clamped edge.
+    Hatched,
 }
 
 /// One legend entry.
@@ -142,6 +146,14 @@ fn swatch<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, e: &Entry, (x, y): 
         Swatch::Stems => {
             area.draw(&PathElement::new(vec![(x + w / 2, y + h), (x + w / 2, y - h + 2)], stroke)).map_err(de)?;
             dot((x + w / 2, y - h + 2))
+        }
+        Swatch::Thin => area.draw(&PathElement::new(vec![(x, y), (x + w, y)], e.color.stroke_width(1))).map_err(de),
+        Swatch::Hatched => {
+            area.draw(&PathElement::new(vec![(x, y), (x + w, y)], stroke)).map_err(de)?;
+            let ticks = (0..4).map(|k| x + 4 + k * (w - 4) / 4);
+            ticks
+                .map(|u| PathElement::new(vec![(u, y), (u - 5, y + 6)], e.color.stroke_width(1)))
+                .try_for_each(|t| area.draw(&t).map_err(de))
         }
         Swatch::Bar => area
             .draw(&Rectangle::new([(x + w / 4, y - h + 1), (x + 3 * w / 4, y + h - 1)], e.color.filled()))

@@ -552,6 +552,12 @@ pub struct HeatMap {
     pub diverging: bool,
     /// Polylines drawn over the map (m): nodal lines, an outline.
     pub lines: Vec<Vec<(f64, f64)>>,
+    /// Polylines drawn dashed (m): simply supported edges.
+    pub dashed: Vec<Vec<(f64, f64)>>,
+    /// Polylines drawn thin (m): free edges, the hatching of clamped ones.
+    pub thin: Vec<Vec<(f64, f64)>>,
+    /// A legend right of a map without a colour bar (a drawing: what its symbols are).
+    pub legend: Vec<legend::Entry>,
     /// Points marked and labelled on the map: actuator feet, sensors, an optimum.
     pub marks: Vec<MapMark>,
     pub size: (u32, u32),
@@ -602,6 +608,9 @@ impl HeatMap {
             log_z: false,
             diverging: false,
             lines: Vec::new(),
+            dashed: Vec::new(),
+            thin: Vec::new(),
+            legend: Vec::new(),
             marks: Vec::new(),
             size: (1000, 700),
         }
