@@ -20,7 +20,7 @@ pub fn plot_profiles(
     let panels = profiles
         .iter()
         .map(|p| {
-            let xl = crate::report::sweep::axis_text(&p.variable, &p.unit, actuators);
+            let xl = crate::report::sweep::axis_text(&p.variable, p.unit, actuators);
             let mut lp = LinePlot::new("", xl, format!("{} ({unit})", label.replace('_', " ")));
             // A break in the line is where the constraints exclude the candidates: say so.
             let name = match p.gaps.is_empty() {

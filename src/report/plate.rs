@@ -187,12 +187,16 @@ fn hatching(a: (f64, f64), b: (f64, f64), n: (f64, f64), len: f64) -> Vec<Vec<(f
         .collect()
 }
 
+/// A point to mark: its marker shape, whether hollow, its kind (the legend entry), where
+/// (m) and its label.
+type PointMark<'a> = (Shape, bool, &'a str, (f64, f64), String);
+
 /// Point supports, masses and springs, actuator feet and sensors, each kind its own
 /// marker with a legend entry.
 fn mark_points(h: &mut HeatMap, plate: &Plate, run: &CaseRun) {
     use super::plot::text::{si, significant};
     let at = |node: usize| plate.grid.position(node);
-    let mut marks: Vec<(Shape, bool, &str, (f64, f64), String)> = Vec::new();
+    let mut marks: Vec<PointMark> = Vec::new();
     for s in &plate.supports {
         let what = match s.kind {
             PointSupportKind::Pinned => "pinned".to_string(),

@@ -152,7 +152,7 @@ impl BarChart {
         for (i, cat) in self.categories.iter().enumerate() {
             let (x, _) = c.backend_coord(&(i as f64, base));
             for (k, line) in cat.lines().enumerate() {
-                let y = plot.1.end + 6 as i32 + row() as i32 / 2 + k as i32 * row() as i32;
+                let y = plot.1.end + 6_i32 + row() as i32 / 2 + k as i32 * row() as i32;
                 text::draw(chart_area, line, (x - bx, y), TICK_PX, HPos::Center, false)?;
             }
         }

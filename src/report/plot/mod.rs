@@ -822,7 +822,7 @@ fn axis_texts<DB: DrawingBackend>(
     let y_mid = (yr.start + yr.end) / 2;
     let d = DESC_PX as i32;
     text::draw(area, x_label, (x_mid, yr.end + (TICK_PX + 16) as i32 + d / 2), DESC_PX, HPos::Center, false)?;
-    text::draw(area, y_label, (12 as i32 + d / 2 + 2, y_mid), DESC_PX, HPos::Center, true)
+    text::draw(area, y_label, (12_i32 + d / 2 + 2, y_mid), DESC_PX, HPos::Center, true)
 }
 
 /// A chart's plotting area in pixels of `area` (plotters gives it in the backend's).
