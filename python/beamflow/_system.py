@@ -89,7 +89,9 @@ class Modes:
     ``frequencies_hz`` (Hz). Bare beam (:meth:`Case.modes`): ``analytic_hz`` and
     ``relative_error`` against the closed form where one exists (else empty),
     ``roundoff_bound`` per mode, ``node_x`` (m) and ``shapes`` with one row per mode: w at
-    each node (m/√kg, mass-normalised). Coupled (:meth:`Case.coupled_modes`): ``shapes``
+    each node (m/√kg, mass-normalised). On a plate also ``node_y`` (m); on an imported
+    model ``node_y``, ``node_z`` (m) and ``node_id`` (the model's own node numbers);
+    ``None`` on a beam. Coupled (:meth:`Case.coupled_modes`): ``shapes``
     with one row per mode over the global DOFs of ``dofs`` (mass-normalised).
     """
 
@@ -97,6 +99,9 @@ class Modes:
     shapes: Quantity
     coupled: bool
     node_x: Optional[Quantity] = None
+    node_y: Optional[Quantity] = None
+    node_z: Optional[Quantity] = None
+    node_id: Optional[np.ndarray] = None
     analytic_hz: Optional[Quantity] = None
     relative_error: Optional[Quantity] = None
     roundoff_bound: Optional[Quantity] = None
@@ -114,6 +119,9 @@ def _modes(raw: Dict[str, Any], coupled: bool) -> Modes:
         Quantity(raw["shapes_w"], "m/sqrt(kg)", "mass-normalised mode shapes: w at each node, one row per mode"),
         False,
         node_x=Quantity(raw["node_x"], "m", "node coordinates"),
+        node_y=Quantity(raw["node_y"], "m", "node y coordinates") if "node_y" in raw else None,
+        node_z=Quantity(raw["node_z"], "m", "node z coordinates") if "node_z" in raw else None,
+        node_id=np.asarray(raw["node_id"]) if "node_id" in raw else None,
         analytic_hz=Quantity(raw["analytic_hz"], "Hz", "closed-form natural frequencies"),
         relative_error=Quantity(raw["relative_error"], "1", "(f - f_analytic)/f_analytic"),
         roundoff_bound=Quantity(raw["roundoff_bound"], "1", "bound on each frequency's relative round-off error"),

@@ -51,8 +51,9 @@ pub fn system<'py>(py: Python<'py>, lc: LoadedCase) -> PyResult<Bound<'py, PyDic
     Ok(d)
 }
 
-/// The bare beam's modes (`beamflow modes`): frequencies, closed-form references and the
-/// mode shapes' w at every node.
+/// The bare structure's modes (`beamflow modes`): frequencies, closed-form references and
+/// the mode shapes' w at every node, with the nodes' coordinates (x; y on a plate; y, z and
+/// ids on an imported model).
 pub fn bare_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResult<Bound<'py, PyDict>> {
     let r = background::run(py, move || {
         let structure = beamflow::case::build::build_structure(&lc)?;
@@ -66,6 +67,15 @@ pub fn bare_modes<'py>(py: Python<'py>, lc: LoadedCase, count: usize) -> PyResul
     d.set_item("roundoff_bound", array(py, r.roundoff_bound, &[m])?)?;
     d.set_item("reference", r.reference)?;
     d.set_item("node_x", array(py, r.node_x, &[nx])?)?;
+    // A plate's and an imported model's nodes are not on one line: y (and z, and the
+    // source model's node ids) place the shapes on the structure.
+    if !r.node_y.is_empty() {
+        d.set_item("node_y", array(py, r.node_y.clone(), &[r.node_y.len()])?)?;
+    }
+    if !r.node_z.is_empty() {
+        d.set_item("node_z", array(py, r.node_z.clone(), &[r.node_z.len()])?)?;
+        d.set_item("node_id", array(py, r.node_id.clone(), &[r.node_id.len()])?)?;
+    }
     d.set_item("shapes_w", array(py, r.shapes_w.concat(), &[m, nx])?)?;
     Ok(d)
 }

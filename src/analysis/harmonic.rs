@@ -36,7 +36,7 @@ pub struct HarmonicResult {
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub point_y: Vec<f64>,
     /// The response points as located on the structure (x, (x, y), or a node and its
-    /// component), for the figures to name them.
+    /// component): the figures name them, the results write their y, z, node and component.
     #[serde(skip)]
     pub point_at: Vec<Location>,
     pub point_names: Vec<String>,

@@ -173,6 +173,12 @@ pub struct ModesResult {
     /// Node y coordinates (m) on a plate; empty on a beam.
     #[serde(skip)]
     pub node_y: Vec<f64>,
+    /// Node z coordinates (m) and node ids (the source model's numbering) on an imported
+    /// model; empty on a beam and a plate.
+    #[serde(skip)]
+    pub node_z: Vec<f64>,
+    #[serde(skip)]
+    pub node_id: Vec<i64>,
     /// On a plate, every node DOF of each mode (row per mode, `node·kinds + kind`, zero
     /// where fixed): what the plate's shape functions interpolate between nodes.
     #[serde(skip)]
@@ -342,6 +348,11 @@ pub fn run(structure: &Structure, count: usize) -> Result<ModesResult> {
         rigid_body_modes,
         node_x: (0..structure.n_nodes()).map(|n| structure.node_location(n).x()).collect(),
         node_y: (0..structure.n_nodes()).filter_map(|n| structure.node_location(n).y()).collect(),
+        node_z: (0..structure.n_nodes()).filter_map(|n| structure.node_location(n).z()).collect(),
+        node_id: (0..structure.n_nodes())
+            .filter_map(|n| structure.node_location(n).node_component())
+            .map(|p| p.0)
+            .collect(),
         shapes_w,
         modes,
         coupled: None,

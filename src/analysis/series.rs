@@ -7,6 +7,7 @@ use crate::assembly::{LinkDofs, Model, System};
 use crate::power::balance::EnergyBalance;
 use crate::power::point::instantaneous_power;
 use crate::power::spectra::{power_from_acceleration, power_per_harmonic};
+use crate::structure::Location;
 use num_complex::Complex64;
 use serde::Serialize;
 use std::f64::consts::PI;
@@ -21,6 +22,9 @@ pub struct LinkSeries {
     /// Foot y on a plate (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub foot_y: Option<f64>,
+    /// The foot's point on the structure (z, node and component on an imported model).
+    #[serde(skip)]
+    pub foot_at: Option<Location>,
     /// Stretch u = z_top − z_foot (m) and its rate (m/s).
     pub stretch: Vec<f64>,
     pub stretch_rate: Vec<f64>,
@@ -47,6 +51,7 @@ impl LinkSeries {
             name: lk.name.clone(),
             foot_x: lk.foot_at.map(|a| a.x()),
             foot_y: lk.foot_at.and_then(|a| a.y()),
+            foot_at: lk.foot_at,
             ..Default::default()
         }
     }
@@ -68,6 +73,7 @@ impl LinkSeries {
             name: self.name.clone(),
             foot_x: self.foot_x,
             foot_y: self.foot_y,
+            foot_at: self.foot_at,
             stretch: t(&self.stretch),
             stretch_rate: t(&self.stretch_rate),
             f_stiffness: t(&self.f_stiffness),
@@ -150,6 +156,9 @@ pub struct SensorSeries {
     /// y on a plate (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub y: Option<f64>,
+    /// The point on the structure (z, node and component on an imported model).
+    #[serde(skip)]
+    pub at: Option<Location>,
     pub w: Vec<f64>,
     pub v: Vec<f64>,
     pub a: Vec<f64>,
@@ -219,6 +228,9 @@ pub struct LoadSeries {
     /// y on a plate (m).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub y: Option<f64>,
+    /// The point on the structure (z, node and component on an imported model).
+    #[serde(skip)]
+    pub at: Option<Location>,
     pub force: Vec<f64>,
     pub w: Vec<f64>,
     pub v: Vec<f64>,

@@ -725,7 +725,7 @@ fn reconstruct(
     }
     for se in &model.sensors {
         let [w, v, a] = synth.with_rates(&gather(q, &sys.w_at(model, &se.at, "sensor.x")?));
-        res.sensors.push(SensorSeries { name: se.name.clone(), x: se.at.x(), y: se.at.y(), w, v, a });
+        res.sensors.push(SensorSeries { name: se.name.clone(), x: se.at.x(), y: se.at.y(), at: Some(se.at), w, v, a });
     }
     Ok(())
 }
@@ -742,7 +742,7 @@ fn reconstruct_loads(
     let mut synth = PeriodSynthesis::new(res.t.len(), 2.0 * PI / res.period);
     for ((l, pattern), force) in model.loads.iter().zip(&sys.loads).zip(samples) {
         let [w, v, a] = synth.with_rates(&gather(q, pattern));
-        res.loads.push(LoadSeries { name: l.name.clone(), x: l.at.x(), y: l.at.y(), force, w, v, a });
+        res.loads.push(LoadSeries { name: l.name.clone(), x: l.at.x(), y: l.at.y(), at: Some(l.at), force, w, v, a });
     }
 }
 

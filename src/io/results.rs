@@ -18,6 +18,7 @@ use crate::case::LoadedCase;
 use crate::error::Result;
 use crate::power::balance::EnergyBalance;
 use crate::power::record::RecordAnalysis;
+use crate::structure::{Location, Structure};
 use std::path::Path;
 
 /// Writes one self-describing file for a case run (atomically).
@@ -47,10 +48,7 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
         let at: Vec<_> = (0..s.n_nodes()).map(|n| s.node_location(n)).collect();
         let x: Vec<f64> = at.iter().map(|a| a.x()).collect();
         m.write_f64("node_x", &x, &[x.len()], "m", "structure node coordinates")?;
-        let y: Vec<f64> = at.iter().filter_map(|a| a.y()).collect();
-        if !y.is_empty() {
-            m.write_f64("node_y", &y, &[y.len()], "m", "plate node coordinates")?;
-        }
+        write_node_places(&m, &at)?;
     }
     m.write_str_list(
         "actuators",
@@ -58,7 +56,9 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
     )?;
     for (i, r) in run.results.iter().enumerate() {
         match r {
-            AnalysisResult::Modes(x) => write_modes(&f.group(&format!("analysis_{i}_modes"))?, x)?,
+            AnalysisResult::Modes(x) => {
+                write_modes(&f.group(&format!("analysis_{i}_modes"))?, x, run.model.structure.as_ref())?
+            }
             AnalysisResult::Harmonic(x) => write_harmonic(&f.group(&format!("analysis_{i}_harmonic"))?, x)?,
             AnalysisResult::Transient(x) => write_transient(&f.group(&format!("analysis_{i}_transient"))?, x, run)?,
             AnalysisResult::SteadyState(x) => write_steady(&f.group(&format!("analysis_{i}_steady_state"))?, x, run)?,
@@ -173,7 +173,7 @@ fn write_measured<S: GroupSink>(g: &S, c: &Comparison) -> Result<()> {
     }
 }
 
-fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
+fn write_modes<S: GroupSink>(g: &S, r: &ModesResult, structure: Option<&Structure>) -> Result<()> {
     let n = r.frequencies_hz.len();
     g.attr_str("reference", &r.reference)?;
     g.attr_i64("rigid_body_modes", r.rigid_body_modes as i64)?;
@@ -197,6 +197,9 @@ fn write_modes<S: GroupSink>(g: &S, r: &ModesResult) -> Result<()> {
     )?;
     let nx = r.node_x.len();
     g.write_f64("node_x", &r.node_x, &[nx], "m", "node coordinates")?;
+    if let Some(s) = structure {
+        write_node_places(g, &(0..s.n_nodes()).map(|n| s.node_location(n)).collect::<Vec<_>>())?;
+    }
     let flat: Vec<f64> = r.shapes_w.iter().flatten().copied().collect();
     g.write_f64(
         "shapes_w",
@@ -235,6 +238,7 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
     g.write_f64("frequency_hz", &r.frequency_hz, &[nf], "Hz", "analysis frequencies")?;
     g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, sensors, then (coupled) link feet")?;
+    write_point_places(g, &r.point_at)?;
     g.write_str_list("point_names", &r.point_names)?;
     let mob: Vec<_> = r.mobility.iter().flat_map(|m| m.iter().flatten().copied()).collect();
     g.write_c64(
@@ -283,6 +287,63 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     Ok(())
 }
 
+/// Where a point is beyond its x (which each group writes under its own name): attribute
+/// `<prefix>y_m` (m) on a plate and an imported model; `<prefix>z_m` (m), `<prefix>node`
+/// (the source model's id) and `<prefix>component` (`uz`, `-uz`, …) on an imported model.
+/// Nothing on a beam, whose groups stay as they were.
+fn write_place<S: GroupSink>(g: &S, prefix: &str, at: &Location) -> Result<()> {
+    if let Some(y) = at.y() {
+        g.attr_f64(&format!("{prefix}y_m"), y)?;
+    }
+    if let Some(z) = at.z() {
+        g.attr_f64(&format!("{prefix}z_m"), z)?;
+    }
+    if let Some((node, component)) = at.node_component() {
+        g.attr_i64(&format!("{prefix}node"), node)?;
+        g.attr_str(&format!("{prefix}component"), &component)?;
+    }
+    Ok(())
+}
+
+/// The nodes' coordinates beyond `node_x`: `node_y` (m) on a plate and an imported model,
+/// `node_z` (m) and `node_id` on an imported model.
+fn write_node_places<S: GroupSink>(g: &S, at: &[Location]) -> Result<()> {
+    let y: Vec<f64> = at.iter().filter_map(Location::y).collect();
+    if !y.is_empty() {
+        g.write_f64("node_y", &y, &[y.len()], "m", "node y coordinates (plate or imported model)")?;
+    }
+    let z: Vec<f64> = at.iter().filter_map(Location::z).collect();
+    if !z.is_empty() {
+        g.write_f64("node_z", &z, &[z.len()], "m", "node z coordinates (imported model)")?;
+    }
+    let id: Vec<i64> = at.iter().filter_map(|a| a.node_component()).map(|p| p.0).collect();
+    if !id.is_empty() {
+        g.write_i64("node_id", &id, &[id.len()], "1", "node ids as the imported model numbers them")?;
+    }
+    Ok(())
+}
+
+/// The response points' coordinates beyond `point_x`: `point_y` (m) on a plate and an
+/// imported model, `point_z` (m), `point_node` and `point_component` on an imported model.
+fn write_point_places<S: GroupSink>(g: &S, at: &[Location]) -> Result<()> {
+    let n = at.len();
+    let y: Vec<f64> = at.iter().filter_map(Location::y).collect();
+    if !y.is_empty() && y.len() == n {
+        g.write_f64("point_y", &y, &[n], "m", "response points' y (plate or imported model)")?;
+    }
+    let z: Vec<f64> = at.iter().filter_map(Location::z).collect();
+    if !z.is_empty() && z.len() == n {
+        g.write_f64("point_z", &z, &[n], "m", "response points' z (imported model)")?;
+    }
+    let nodes: Vec<(i64, String)> = at.iter().filter_map(Location::node_component).collect();
+    if !nodes.is_empty() && nodes.len() == n {
+        let id: Vec<i64> = nodes.iter().map(|p| p.0).collect();
+        g.write_i64("point_node", &id, &[n], "1", "response points' node ids (imported model)")?;
+        g.write_str_list("point_component", &nodes.into_iter().map(|p| p.1).collect::<Vec<_>>())?;
+    }
+    Ok(())
+}
+
 fn write_energy<S: GroupSink>(g: &S, name: &str, e: &EnergyBalance) -> Result<()> {
     let s = g.group(name)?;
     s.attr_f64("input_J", e.input)?;
@@ -310,6 +371,9 @@ fn write_series<S: GroupSink>(
         let lg = g.group(&format!("links/{}", link_group_name(run, l)))?;
         if let Some(x) = l.foot_x {
             lg.attr_f64("foot_x_m", x)?;
+        }
+        if let Some(at) = &l.foot_at {
+            write_place(&lg, "foot_", at)?;
         }
         for (name, data, unit, desc) in [
             ("stretch", &l.stretch, "m", "u = z_top - z_foot"),
@@ -343,6 +407,9 @@ fn write_series<S: GroupSink>(
     for s in sensors {
         let sg = g.group(&format!("sensors/{}", s.name))?;
         sg.attr_f64("x_m", s.x)?;
+        if let Some(at) = &s.at {
+            write_place(&sg, "", at)?;
+        }
         sg.write_f64("w", &s.w, &[s.w.len()], "m", "beam displacement")?;
         sg.write_f64("v", &s.v, &[s.v.len()], "m/s", "beam velocity")?;
         sg.write_f64("a", &s.a, &[s.a.len()], "m/s^2", "beam acceleration")?;
@@ -356,6 +423,9 @@ fn write_loads<S: GroupSink>(g: &S, series: &[LoadSeries], spectra: &[LoadSpectr
     for (j, l) in series.iter().enumerate() {
         let lg = g.group(&format!("loads/{}", l.name))?;
         lg.attr_f64("x_m", l.x)?;
+        if let Some(at) = &l.at {
+            write_place(&lg, "", at)?;
+        }
         lg.write_f64("force", &l.force, &[l.force.len()], "N", "prescribed force on the beam, positive up")?;
         lg.write_f64("w", &l.w, &[l.w.len()], "m", "beam displacement at the load")?;
         lg.write_f64("v", &l.v, &[l.v.len()], "m/s", "beam velocity at the load")?;

@@ -56,7 +56,7 @@ pub fn tables(root: &Group) -> Vec<(String, Table)> {
                 add("coupled_modes", per_index(c, "frequencies_hz", Some("mode"), &[]));
                 add(
                     "coupled_mode_shapes",
-                    g.datasets.get("node_x").and_then(|x| shapes(x, c.datasets.get("shapes_w")?)),
+                    g.datasets.get("node_x").and_then(|x| shapes(g, x, c.datasets.get("shapes_w")?)),
                 );
             }
         } else if gname.ends_with("_harmonic") {
@@ -171,20 +171,20 @@ fn point_power(g: &Group) -> Option<Table> {
     let mut names = strings(g, "link_names");
     let mut power = real(g.datasets.get("mean_power")?)?.to_vec();
     let mut kind = vec!["link".to_string(); names.len()];
-    let mut x: Vec<f64> =
-        names.iter().map(|l| g.group(&format!("links/{l}")).map_or(f64::NAN, |lg| attr_f64(lg, "foot_x_m"))).collect();
+    // Each point's group and the prefix of its position attributes.
+    let mut at: Vec<(Option<&Group>, &str)> = names.iter().map(|l| (g.group(&format!("links/{l}")), "foot_")).collect();
     for (name, lg) in g.group("loads").map(|c| &c.groups).into_iter().flatten() {
         if lg.attrs.contains_key("mean_power_W") {
             names.push(name.clone());
             kind.push("load".into());
-            x.push(attr_f64(lg, "x_m"));
+            at.push((Some(lg), ""));
             power.push(attr_f64(lg, "mean_power_W"));
         }
     }
     let mut t = Table::default();
     t.push(Column::text("point", names));
     t.push(Column::text("kind", kind));
-    t.push(Column::num("x", "m", x));
+    t.columns.extend(point_places(&at));
     t.push(Column::num("mean_power", "W", power));
     if let Some(m) = g.group("modal") {
         let residual: Vec<f64> = ["point_residual", "load_residual"]
@@ -327,6 +327,33 @@ fn measurements(g: &Group, quantity: &str) -> Option<Table> {
     Some(table)
 }
 
+/// The points' positions from their groups' attributes (`<prefix>x_m`, …): `x`, and where
+/// any point has them `y`, `z` (m), `node` and `component` (an imported model's). A point
+/// without a position (a foot on the ground) has NaN, −1 and an empty component.
+fn point_places(at: &[(Option<&Group>, &str)]) -> Vec<Column> {
+    let f = |key: &str| -> Vec<f64> {
+        at.iter().map(|(g, p)| g.map_or(f64::NAN, |g| attr_f64(g, &format!("{p}{key}")))).collect()
+    };
+    let has = |key: &str| at.iter().any(|(g, p)| g.is_some_and(|g| g.attrs.contains_key(&format!("{p}{key}"))));
+    let mut cols = vec![Column::num("x", "m", f("x_m"))];
+    for key in ["y", "z"].into_iter().filter(|k| has(&format!("{k}_m"))) {
+        cols.push(Column::num(key, "m", f(&format!("{key}_m"))));
+    }
+    if has("node") {
+        let node = |(g, p): &(Option<&Group>, &str)| match g.and_then(|g| g.attrs.get(&format!("{p}node"))) {
+            Some(Attr::I64(n)) => *n,
+            _ => -1,
+        };
+        let component = |(g, p): &(Option<&Group>, &str)| match g.and_then(|g| g.attrs.get(&format!("{p}component"))) {
+            Some(Attr::Str(c)) => c.clone(),
+            _ => String::new(),
+        };
+        cols.push(Column::int("node", at.iter().map(node).collect()));
+        cols.push(Column::text("component", at.iter().map(component).collect()));
+    }
+    cols
+}
+
 /// The bare beam's natural frequencies, with the closed-form ones where they exist.
 fn modes(g: &Group) -> Option<Table> {
     per_index(g, "frequencies_hz", Some("mode"), &["analytic_hz", "relative_error", "roundoff_bound"])
@@ -334,14 +361,23 @@ fn modes(g: &Group) -> Option<Table> {
 
 /// Mode shapes: node coordinate, then one column per mode.
 fn mode_shapes(g: &Group) -> Option<Table> {
-    shapes(g.datasets.get("node_x")?, g.datasets.get("shapes_w")?)
+    shapes(g, g.datasets.get("node_x")?, g.datasets.get("shapes_w")?)
 }
 
-/// Node coordinates `x` and a modes × nodes matrix `s` as columns.
-fn shapes(x: &Dataset, s: &Dataset) -> Option<Table> {
+/// Node coordinates `x` (and, where the modes group `g` has them, `node_y`, `node_z` and
+/// `node_id`) and a modes × nodes matrix `s` as columns.
+fn shapes(g: &Group, x: &Dataset, s: &Dataset) -> Option<Table> {
     let (&[nm, nx], Some(v)) = (s.shape.as_slice(), real(s)) else { return None };
     let mut t = Table::default();
     t.columns.extend(columns("node_x", x, nx));
+    for name in ["node_y", "node_z"] {
+        t.columns.extend(g.datasets.get(name).map(|d| columns(name, d, nx)).unwrap_or_default());
+    }
+    if let Some(Data::I64(id)) = g.datasets.get("node_id").map(|d| &d.data).filter(|_| nx > 0) {
+        if id.len() == nx {
+            t.push(Column::int("node_id", id.clone()));
+        }
+    }
     for r in 0..nm {
         t.push(Column::num(format!("shapes_w mode {}", r + 1), &s.unit, v[r * nx..(r + 1) * nx].to_vec()));
     }

@@ -69,6 +69,26 @@ impl Location {
         }
     }
 
+    /// The z coordinate (m) of a point of an imported model; None on a beam and a plate.
+    pub fn z(&self) -> Option<f64> {
+        match *self {
+            Location::Beam { .. } | Location::Plate { .. } => None,
+            Location::Node { xyz, .. } | Location::Near { xyz, .. } => Some(xyz[2]),
+        }
+    }
+
+    /// The node id (as the source model numbers it) and the signed component (`uz`, `-uz`,
+    /// as a case file writes it) of a resolved point of an imported model; None elsewhere.
+    pub fn node_component(&self) -> Option<(i64, String)> {
+        match *self {
+            Location::Node { node, component, sign, .. } => {
+                let c = crate::imported::COMPONENTS.get(component as usize).unwrap_or(&"?");
+                Some((node, format!("{}{c}", if sign < 0 { "-" } else { "" })))
+            }
+            _ => None,
+        }
+    }
+
     /// The point `along` (m) from this one in the in-plane direction `psi` (rad from +x; a
     /// beam has only ψ = 0). Written as (x + along) on a beam so that it reproduces the
     /// beam's own arithmetic exactly. On an imported model the direction is
