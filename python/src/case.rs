@@ -25,9 +25,16 @@ pub struct NativeCase {
     text: Option<String>,
 }
 
+/// Refuses what `beamflow check` refuses once the structure is built (an imported model's
+/// unknown node, a point off a plate, a frame's feet), with its messages. The budget is
+/// the machine's default; `check()` and `run()` hold the analyses to the one they are given.
+fn built(lc: &LoadedCase) -> beamflow::Result<()> {
+    beamflow::analysis::plan::built_within(lc, &beamflow::analysis::budget::Budget::default()).map(drop)
+}
+
 impl NativeCase {
     fn parse(text: &str, file: &str, dir: PathBuf) -> beamflow::Result<NativeCase> {
-        LoadedCase::from_str(text, file, dir.clone())?;
+        built(&LoadedCase::from_str(text, file, dir.clone())?)?;
         let doc = toml::from_str(text)
             .map_err(|e| Error::Parse { file: file.to_string(), message: e.to_string().trim_end().to_string() })?;
         Ok(NativeCase { doc, file: file.to_string(), dir, text: Some(text.to_string()) })
@@ -72,7 +79,7 @@ impl NativeCase {
             }
         }
         let field = changes.iter().map(|(p, _)| p.as_str()).collect::<Vec<_>>().join(", ");
-        next.loaded().map_err(|e| match e {
+        next.loaded().and_then(|lc| built(&lc)).map_err(|e| match e {
             Error::Parse { file, message } => Error::input(file, &field, message),
             e => e,
         })?;
@@ -110,7 +117,7 @@ impl NativeCase {
             return Err(Error::input(name, "<case>", "a case is a table (a dict)")).py_err();
         }
         let c = NativeCase { doc, file: name.to_string(), dir, text: None };
-        c.loaded().py_err()?;
+        built(&c.loaded().py_err()?).py_err()?;
         Ok(c)
     }
 

@@ -5,6 +5,7 @@ same files, and a bad matrix raises naming the file and the entry."""
 from __future__ import annotations
 
 import json
+import subprocess
 import math
 from pathlib import Path
 
@@ -70,3 +71,36 @@ def test_a_non_symmetric_stiffness_raises_naming_the_file(tmp_path: Path) -> Non
 def test_a_dof_table_with_a_missing_column_is_refused(tmp_path: Path) -> None:
     with pytest.raises(ValueError, match="missing column"):
         beamflow.imported(np.eye(1), np.eye(1), {"row": [1], "node": [1]}, folder=tmp_path)
+
+
+PORTAL = "cases/portal-frame/portal-frame.toml"
+
+
+def test_an_unknown_node_is_refused_at_once_as_beamflow_check_refuses_it(tmp_path: Path, cli: Path) -> None:
+    text = Path(PORTAL).read_text().replace('at = [0.45, 1.0, 0.0]', "node = 9999", 1)
+    bad = Path("cases/portal-frame") / f"nonode-{tmp_path.name}.toml"
+    bad.write_text(text)
+    try:
+        cli_says = subprocess.run([str(cli), "check", str(bad)], capture_output=True, text=True)
+        assert cli_says.returncode != 0 and "9999" in cli_says.stderr
+        with pytest.raises(beamflow.InputError) as e:
+            beamflow.Case.from_file(str(bad))
+        assert str(e.value).strip() in cli_says.stderr, (str(e.value), cli_says.stderr)
+    finally:
+        bad.unlink()
+    case = beamflow.Case.from_file(PORTAL)
+    with pytest.raises(beamflow.InputError, match="9999"):
+        case["actuator[0].node"] = 9999
+    assert "node" not in case.to_dict()["actuator"][0], "a refused change changes nothing"
+    actuator = {k: v for k, v in case.to_dict()["actuator"][0].items() if k != "at"}
+    with pytest.raises(beamflow.InputError, match="9999"):
+        beamflow.Case.from_dict({**case.to_dict(), "actuator": [{**actuator, "node": 9999}]}, base_dir="cases/portal-frame")
+
+
+def test_modes_of_a_plate_and_an_imported_model_place_their_nodes() -> None:
+    plate = beamflow.Case.from_file("cases/plate-frame.toml").modes(3)
+    assert plate.node_y is not None and len(plate.node_y) == len(plate.node_x) == plate.shapes.shape[1]
+    assert plate.node_z is None
+    portal = beamflow.Case.from_file(PORTAL).modes(3)
+    assert len(portal.node_z) == len(portal.node_y) == len(portal.node_id) == len(portal.node_x)
+    assert beamflow.Case.from_file("cases/paper-beam.toml").modes(3).node_y is None

@@ -31,6 +31,17 @@ pub fn model_and_system(lc: &LoadedCase) -> Result<(Model, System)> {
 /// and assembled. (Fine meshes are not refused: the solves refine against their round-off,
 /// see [`crate::analysis::roundoff`].)
 pub fn model_and_system_within(lc: &LoadedCase, budget: &Budget) -> Result<(Model, System)> {
+    let mut model = built_within(lc, budget)?;
+    calibrate(&mut model).map_err(|e| e.in_file(&lc.file))?;
+    let system = System::assemble(&model).map_err(|e| e.in_file(&lc.file))?;
+    Ok((model, system))
+}
+
+/// The case's model built exactly as written, its mesh held to `budget` before it is
+/// built and the model after: the checks of `beamflow check` that need the structure (an
+/// imported model's node ids and components, points on a plate, a frame's feet), without
+/// calibrating damping or assembling.
+pub fn built_within(lc: &LoadedCase, budget: &Budget) -> Result<Model> {
     if let Some(c) = cost::mesh(lc) {
         budget.admit(&c).map_err(|e| e.in_file(&lc.file))?;
     }
@@ -43,11 +54,9 @@ pub fn model_and_system_within(lc: &LoadedCase, budget: &Budget) -> Result<(Mode
             }
         }
     }
-    let mut model = build_model(lc)?;
+    let model = build_model(lc)?;
     budget.admit(&cost::model(&model)).map_err(|e| e.in_file(&lc.file))?;
-    calibrate(&mut model).map_err(|e| e.in_file(&lc.file))?;
-    let system = System::assemble(&model).map_err(|e| e.in_file(&lc.file))?;
-    Ok((model, system))
+    Ok(model)
 }
 
 /// Turns Rayleigh damping given by ratio into its coefficients (other damping is left as
