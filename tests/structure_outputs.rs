@@ -103,3 +103,51 @@ fn imported_results_name_each_point_by_node_component_and_position() {
     let points = header(&out.join("portal-frame_analysis_1_steady_state_point_power.csv"));
     assert_eq!(points[..7], ["point", "kind", "x", "y", "z", "node", "component"]);
 }
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn a_plate_run_names_the_plate_and_calls_its_round_off_an_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    run(&plate_case(dir.path()), &out);
+    let v = json(&out.join("p.json"));
+    let steady = &v["analyses"][2];
+    assert!(steady["structure_dissipation_w"].as_f64().unwrap() > 0.0);
+    assert_eq!(steady["structure_dissipation_w"], steady["beam_dissipation_w"], "the old key stays");
+    assert_eq!(steady["mesh_roundoff_kind"], "estimate");
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    for beam in ["base: beam", "into the beam", "in the beam", "beam modes", "beam dissipation"] {
+        assert!(!html.contains(beam), "the plate's report says {beam:?}");
+    }
+    assert!(html.contains("power dissipated in the plate") && html.contains("an estimate, not a bound"));
+}
+
+#[test]
+fn a_harmonic_analysis_without_forces_states_no_balance() {
+    let dir = tempfile::tempdir().unwrap();
+    let case = dir.path().join("tf.toml");
+    std::fs::write(
+        &case,
+        "[beam.mesh]\nelements = 20\n[damping]\nkind = \"rayleigh\"\na0 = 5.0\na1 = 1e-5\n\
+         [[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\n\
+         [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n\
+         [[analysis]]\ntype = \"harmonic\"\nsystem = \"coupled\"\n[analysis.frequencies]\nvalues = [30.0, 60.0]\n\
+         [output]\nplots = false\n",
+    )
+    .unwrap();
+    let out = dir.path().join("out");
+    let o = beamflow(&["run", case.to_str().unwrap(), "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let console = String::from_utf8_lossy(&o.stdout).to_string() + &String::from_utf8_lossy(&o.stderr);
+    assert!(console.contains("max energy-balance error n/a (no forcing)"), "{console}");
+    let h = &json(&out.join("tf.json"))["analyses"][0];
+    assert!(h["max_balance_error"].is_null() && h["mesh_roundoff"].is_null(), "{h}");
+    assert_eq!(h["forced"], false);
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(html.contains("n/a (no forcing)"));
+    let tree = beamflow::io::hdf5::ResultsReader::open(out.join("tf.h5")).unwrap().read_tree().unwrap();
+    assert_eq!(attr(&tree, "analysis_0_harmonic", "forced"), Attr::I64(0));
+}

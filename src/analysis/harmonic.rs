@@ -72,6 +72,14 @@ pub struct HarmonicResult {
     pub transfer_interface: Vec<Vec<Vec<Complex64>>>,
 }
 
+impl HarmonicResult {
+    /// Whether the analysis applied a force: without one (transfer functions only) no power
+    /// goes in and there is no energy balance to state.
+    pub fn forced(&self) -> bool {
+        self.input_power.first().is_some_and(|p| !p.is_empty())
+    }
+}
+
 /// An input of the coupled system's transfer functions: its load pattern and the stack
 /// force it stands for (actuator, for a drive).
 struct TransferInput {

@@ -236,6 +236,7 @@ fn write_harmonic<S: GroupSink>(g: &S, r: &HarmonicResult) -> Result<()> {
     let np = r.point_x.len();
     let nforce = r.input_power.first().map_or(0, Vec::len);
     g.attr_f64("mesh_roundoff", r.mesh_roundoff)?;
+    g.attr_i64("forced", r.forced() as i64)?;
     g.write_f64("frequency_hz", &r.frequency_hz, &[nf], "Hz", "analysis frequencies")?;
     g.write_f64("point_x", &r.point_x, &[np], "m", "response points: force points, sensors, then (coupled) link feet")?;
     write_point_places(g, &r.point_at)?;

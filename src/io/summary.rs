@@ -27,6 +27,9 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
             }
             AnalysisResult::Harmonic(h) => {
                 let mut v = json!({"type": "harmonic", "frequency_hz": h.frequency_hz, "total_power_w": h.total_power, "dissipated_power_w": h.dissipated_power, "max_balance_error": h.balance_error.iter().fold(0.0f64, |a, b| a.max(*b)), "mesh_roundoff": h.mesh_roundoff});
+                if !h.forced() {
+                    unforced(&mut v);
+                }
                 if !h.transfer_inputs.is_empty() {
                     v["system"] = json!("coupled");
                     v["transfer_inputs"] = json!(h.transfer_inputs);
@@ -43,8 +46,8 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 let mut v = json!({"type": "transient", "dt_s": t.dt, "steps_per_period": t.steps_per_period, "harmonics": t.harmonics, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
                        "settling_estimate": finite_or_null(t.settling_estimate), "mesh_roundoff": t.mesh_roundoff,
                        "mean_power_w": points, "net_power_w": by_name(&actuators, &t.net_power), "load_power_w": load_powers(&t.load_spectra), "transmitted_force_amplitude_at_drive_n": amp,
-                       "beam_dissipation_w": t.beam_dissipation,
-                       "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error(), "beam_last_period": t.energy_last_period.beam.relative_error()}});
+                       "beam_dissipation_w": t.beam_dissipation, "structure_dissipation_w": t.beam_dissipation,
+                       "energy_balance_rel_error": {"beam_run": balance(&t.energy_run.beam), "system_run": balance(&t.energy_run.system), "beam_last_period": balance(&t.energy_last_period.beam)}});
                 add_reduction(&mut v, t.reduction.as_ref());
                 if let Some(rec) = &t.record {
                     v = record_summary(t, rec, &actuators);
@@ -60,7 +63,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 let amp: Map<String, Value> = s.spectra.iter().enumerate().map(|(l, sp)| (link_name(l), json!(sp.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
                 let modal = s.modal.as_ref().map(|m| json!({"mode_frequency_hz": m.mode_frequency_hz, "power_participation": m.power_participation, "point_residual_w": m.point_residual, "load_residual_w": m.load_residual, "modal_dissipation_w": m.dissipation}));
                 let mut v = json!({"type": "steady_state", "harmonics": s.harmonics, "truncation_estimate": finite_or_null(s.truncation_estimate), "mesh_roundoff": s.mesh_roundoff, "mean_power_w": points, "net_power_w": by_name(&actuators, &s.net_power), "load_power_w": load_powers(&s.load_spectra), "modal": modal,
-                       "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error});
+                       "transmitted_force_amplitude_at_drive_n": amp, "beam_dissipation_w": s.beam_dissipation, "structure_dissipation_w": s.beam_dissipation, "energy_balance_rel_error": s.balance_error});
                 add_reduction(&mut v, s.reduction.as_ref());
                 v
             }
@@ -69,9 +72,10 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     // Each solve's round-off bound beside the tolerance it is held to.
     let tolerance = run.model.roundoff_tolerance;
     for (a, r) in analyses.iter_mut().zip(&run.results) {
-        if let Some(bound) = r.mesh_roundoff() {
+        if let Some(bound) = r.mesh_roundoff().filter(|_| a["mesh_roundoff"].is_number()) {
             a["roundoff_tolerance"] = json!(tolerance);
             a["roundoff_holds"] = json!(bound <= tolerance);
+            a["mesh_roundoff_kind"] = json!(roundoff_kind(run));
         }
     }
     if run.model.structure.is_none() {
@@ -100,7 +104,7 @@ fn measured(c: &crate::analysis::case_run::Comparison) -> Value {
 /// and balance are not defined: they stay in the summary (one shape for every case) as
 /// null, and the transmitted forces carry the result.
 fn without_beam(a: &mut Value) {
-    for key in ["mean_power_w", "net_power_w", "beam_dissipation_w", "truncation_estimate"] {
+    for key in ["mean_power_w", "net_power_w", "beam_dissipation_w", "structure_dissipation_w", "truncation_estimate"] {
         if a.get(key).is_some() {
             a[key] = Value::Null;
         }
@@ -119,6 +123,45 @@ fn without_beam(a: &mut Value) {
     }
 }
 
+/// A harmonic analysis that applies no force (transfer functions only) puts no power in:
+/// there is nothing to balance and no input power whose round-off could be bounded, so
+/// both are null, not a perfect 0.
+fn unforced(v: &mut Value) {
+    v["max_balance_error"] = Value::Null;
+    v["mesh_roundoff"] = Value::Null;
+    v["forced"] = json!(false);
+}
+
+/// An energy balance's relative error, or null when it has nothing to balance (no work in,
+/// none dissipated, none stored): 0 there would claim a perfect balance.
+fn balance(e: &crate::power::balance::EnergyBalance) -> Value {
+    if e.input == 0.0 && e.dissipated == 0.0 && e.stored_change == 0.0 {
+        Value::Null
+    } else {
+        json!(e.relative_error())
+    }
+}
+
+/// What `mesh_roundoff` is: a bound on a beam, whose round-off law was measured and whose
+/// solves are refined against element rows; an estimate on a plate or an imported model,
+/// which follow the beam's law without that refinement (docs/structures.md).
+fn roundoff_kind(run: &CaseRun) -> &'static str {
+    match run.model.structure {
+        Some(crate::structure::Structure::Beam(_)) | None => "bound",
+        Some(_) => "estimate",
+    }
+}
+
+/// The word for the structure a run's power goes into: `beam`, `plate`, `model` (an
+/// imported one) or, on a rigid base, `base`.
+pub fn structure_word(summary: &Value) -> &str {
+    match summary["structure"].as_str() {
+        Some("none") | None => "base",
+        Some("imported") => "model",
+        Some(s) => s,
+    }
+}
+
 /// A non-periodic run: no period, so none of a periodic run's fields (harmonics, periods,
 /// settling, mean power per period); instead the record's quantities — energy delivered and
 /// mean power over the record per point and per actuator, the estimator of its spectra and
@@ -130,8 +173,8 @@ fn record_summary(t: &crate::analysis::transient::TransientResult, rec: &RecordA
     let end: Map<String, Value> = rec.points.iter().map(|p| (p.name.clone(), json!(p.end_activity))).collect();
     let e = &rec.estimate;
     json!({"type": "transient", "dt_s": t.dt, "steps_run": t.steps_run, "mesh_roundoff": t.mesh_roundoff,
-        "beam_dissipated_energy_j": t.energy_run.beam.dissipated,
-        "energy_balance_rel_error": {"beam_run": t.energy_run.beam.relative_error(), "system_run": t.energy_run.system.relative_error()},
+        "beam_dissipated_energy_j": t.energy_run.beam.dissipated, "structure_dissipated_energy_j": t.energy_run.beam.dissipated,
+        "energy_balance_rel_error": {"beam_run": balance(&t.energy_run.beam), "system_run": balance(&t.energy_run.system)},
         "record": {"duration_s": rec.duration, "band_hz": [rec.band.0, rec.band.1],
             "estimator": e.reason, "description": e.describe(rec.dt, rec.segments),
             "segment_s": rec.segment_s, "segments": rec.segments,
@@ -194,21 +237,15 @@ pub fn headline_text(v: &Value) -> String {
             if let Some(f) = a["transmitted_force_amplitude_at_drive_n"].as_object().filter(|_| v["base"] == "rigid") {
                 s += &rigid_forces(f);
             }
-            if let Some(m) = a["mean_power_w"].as_object() {
-                // Named after the structure the power goes into ("beam", "plate", an imported
-                // "model").
-                let into = match v["structure"].as_str() {
-                    Some("none") | None => "base",
-                    Some("imported") => "model",
-                    Some(s) => s,
-                };
-                for (k, p) in m {
-                    let line = format!("mean power into the {into} at {k}");
-                    s += &format!("  {line:<52} {:>12}\n", watts(p));
-                }
+            // Named after the structure the power goes into.
+            let into = structure_word(v);
+            for (k, p) in a["mean_power_w"].as_object().into_iter().flatten() {
+                let line = format!("mean power into the {into} at {k}");
+                s += &format!("  {line:<52} {:>12}\n", watts(p));
             }
             for (k, p) in a["load_power_w"].as_object().into_iter().flatten() {
-                s += &format!("  mean power into the beam by load {k:<19} {:>12}\n", watts(p));
+                let line = format!("mean power into the {into} by load {k}");
+                s += &format!("  {line:<52} {:>12}\n", watts(p));
             }
             for (name, p) in a["net_power_w"].as_object().into_iter().flatten() {
                 s += &format!("  net power of {name:<39} {:>12}\n", watts(p));
@@ -232,10 +269,10 @@ pub fn headline_text(v: &Value) -> String {
             s += &measured_line(m);
         }
         if a["type"] == "harmonic" {
+            let error = a["max_balance_error"].as_f64().map_or("n/a (no forcing)".into(), |e| format!("{e:.2e}"));
             s += &format!(
-                "harmonic: {} frequencies, max energy-balance error {:.2e}\n",
-                a["frequency_hz"].as_array().map_or(0, Vec::len),
-                a["max_balance_error"].as_f64().unwrap_or(0.0)
+                "harmonic: {} frequencies, max energy-balance error {error}\n",
+                a["frequency_hz"].as_array().map_or(0, Vec::len)
             )
         }
     }

@@ -25,6 +25,11 @@ pub const FILE: &str = "report.html";
 const SETTLING_WARN: f64 = 1e-3;
 /// Harmonics left out carrying more than this share of the largest point power.
 const TRUNCATION_WARN: f64 = 1e-4;
+/// What a plate's or an imported model's `mesh_roundoff` is.
+const ROUNDOFF_ESTIMATE: &str =
+    "relative, an estimate, not a bound: it follows the round-off law measured on beams (docs/structures.md)";
+/// Why a harmonic analysis without forces states no balance.
+const UNFORCED: &str = "no force applied (transfer functions only): nothing to balance";
 /// An energy balance worse than this points to a problem with the model or the run.
 const BALANCE_WARN: f64 = 1e-6;
 /// A modal reduction whose point powers are off by more than this.
@@ -59,7 +64,7 @@ impl RunReport<'_> {
         p.section("accuracy", "Accuracy");
         p.para(
             "What each result states about its own accuracy: how far a transient had settled, what the \
-             harmonics left out carry, the beam modes' round-off, and how well energy balances.",
+             harmonics left out carry, the solves' round-off, and how well energy balances.",
         );
         p.push(&self.accuracy());
         if let Some(svg) = self.svg_named(&format!("{}_layout", self.stem())) {
@@ -92,7 +97,10 @@ impl RunReport<'_> {
         let meta = format!(
             "case <code>{}</code> · base: {} · actuators: {} · beamflow {}",
             escape(&self.lc.file),
-            escape(self.summary["base"].as_str().unwrap_or("?")),
+            escape(match self.summary["structure"].as_str() {
+                Some("none") | None => "rigid",
+                Some(kind) => kind,
+            }),
             escape(&self.run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>().join(", ")),
             env!("CARGO_PKG_VERSION")
         );
@@ -104,6 +112,12 @@ impl RunReport<'_> {
         self.files
             .iter()
             .find(|f| f.extension().is_some_and(|e| e == "svg") && f.file_stem().is_some_and(|s| s == name))
+    }
+
+    /// The structure the power goes into, as the page names it (`beam`, `plate`, `model`,
+    /// `base` on a rigid one).
+    fn word(&self) -> &str {
+        crate::io::summary::structure_word(self.summary)
     }
 
     fn stem(&self) -> String {
@@ -122,7 +136,7 @@ impl RunReport<'_> {
             let mut row =
                 |what: String, v: &Value, unit: &str| rows.push(vec![cell(&tag), cell(&what), num(f(v), unit)]);
             for (name, v) in a["net_power_w"].as_object().into_iter().flatten() {
-                row(format!("net power into the beam of {name}"), v, "W");
+                row(format!("net power into the {} of {name}", self.word()), v, "W");
             }
             for (k, v) in a["mean_power_w"].as_object().into_iter().flatten() {
                 row(format!("mean power at {k}"), v, "W");
@@ -130,8 +144,8 @@ impl RunReport<'_> {
             for (k, v) in a["load_power_w"].as_object().into_iter().flatten() {
                 row(format!("mean power of load {k}"), v, "W");
             }
-            if a["beam_dissipation_w"].is_number() {
-                row("power dissipated in the beam".into(), &a["beam_dissipation_w"], "W");
+            if a["structure_dissipation_w"].is_number() {
+                row(format!("power dissipated in the {}", self.word()), &a["structure_dissipation_w"], "W");
             }
             for (k, v) in a["transmitted_force_amplitude_at_drive_n"].as_object().into_iter().flatten() {
                 row(format!("transmitted force amplitude at the drive frequency, {k}"), v, "N");
@@ -201,7 +215,10 @@ impl RunReport<'_> {
                     &format!("share of the largest point power the harmonics beyond {} carry", a["harmonics"]),
                 );
             }
-            if a["mesh_roundoff"].is_number() {
+            if a["mesh_roundoff"].is_number() && a["mesh_roundoff_kind"] == "estimate" {
+                // The law behind it was measured on beams only: not a bound here.
+                row("round-off of the point powers", &a["mesh_roundoff"], "", ROUNDOFF_ESTIMATE);
+            } else if a["mesh_roundoff"].is_number() {
                 row("round-off of the beam modes", &a["mesh_roundoff"], "", "relative, bound on mode 1");
             }
             match &a["energy_balance_rel_error"] {
@@ -210,7 +227,9 @@ impl RunReport<'_> {
                         row(&format!("energy balance ({})", k.replace('_', " ")), v, "", "relative error");
                     }
                 }
-                v if v.is_number() => row("energy balance", v, "", "net input against beam dissipation"),
+                v if v.is_number() => {
+                    row("energy balance", v, "", &format!("net input against {} dissipation", self.word()))
+                }
                 _ => {}
             }
             if a["max_balance_error"].is_number() {
@@ -218,6 +237,9 @@ impl RunReport<'_> {
             }
             if let Some(e) = a.get("reduction").map(|r| &r["error"]["max_relative_error"]).filter(|e| e.is_number()) {
                 row("modal reduction", e, "", "point powers against the full model, relative");
+            }
+            if a["forced"] == false {
+                rows.push(vec![cell(&tag), cell("energy balance"), cell("n/a (no forcing)"), cell(UNFORCED)]);
             }
         }
         table(&["analysis", "estimate", "value", "meaning"], &rows)
@@ -339,6 +361,7 @@ impl RunReport<'_> {
             let lk = &run.system.links[l];
             format!("{}: {}", run.model.actuators[lk.actuator].name(), lk.name.replace('_', " "))
         };
+        let word = self.word();
         let mut s = String::new();
         match r {
             AnalysisResult::Modes(m) => {
@@ -356,7 +379,7 @@ impl RunReport<'_> {
                 s += &format!("<p>Reference: {}</p>\n", escape(&m.reference));
                 s += &table(&["mode", "f", "closed form", "relative error", "round-off bound"], &rows);
                 if let Some(c) = &m.coupled {
-                    s += &coupled_modes(m, c);
+                    s += &coupled_modes(m, c, word);
                 }
             }
             AnalysisResult::Harmonic(h) => {
@@ -374,12 +397,12 @@ impl RunReport<'_> {
                 if h.input_power.first().is_some_and(|p| !p.is_empty()) {
                     s += &details(
                         &format!("Input power and dissipation at {} frequencies", rows.len()),
-                        &table(&["frequency", "input power", "beam dissipation", "balance error"], &rows),
+                        &table(&["frequency", "input power", &format!("{word} dissipation"), "balance error"], &rows),
                     );
                 }
                 if !h.transfer_inputs.is_empty() {
                     s += &format!(
-                        "<p>Transfer functions of the beam with its actuators attached, from {} inputs ({}) to {} \
+                        "<p>Transfer functions of the {word} with its actuators attached, from {} inputs ({}) to {} \
                          response points ({}): magnitude and phase in the figure below, complex values in the \
                          HDF5 file (<code>transfer_velocity</code>, <code>transfer_interface</code>).</p>\n",
                         h.transfer_inputs.len(),
@@ -393,9 +416,14 @@ impl RunReport<'_> {
                 s += &point_powers(&t.mean_power, &t.spectra, &link);
                 s += &harmonics(&t.spectra, &link);
                 s += &table(
-                    &["energy balance", "net input power", "beam dissipation", "relative error (last period)"],
+                    &[
+                        "energy balance",
+                        "net input power",
+                        &format!("{word} dissipation"),
+                        "relative error (last period)",
+                    ],
                     &[vec![
-                        cell("beam, steady state"),
+                        cell(&format!("{word}, steady state")),
                         num(t.net_power.iter().sum(), "W"),
                         num(t.beam_dissipation, "W"),
                         num(t.energy_last_period.beam.relative_error(), ""),
@@ -413,9 +441,9 @@ impl RunReport<'_> {
                 s += &point_powers(&ss.mean_power, &ss.spectra, &link);
                 s += &harmonics(&ss.spectra, &link);
                 s += &table(
-                    &["energy balance", "net input power", "beam dissipation", "relative error"],
+                    &["energy balance", "net input power", &format!("{word} dissipation"), "relative error"],
                     &[vec![
-                        cell("beam"),
+                        cell(word),
                         num(
                             ss.net_power.iter().sum::<f64>()
                                 + ss.load_spectra.iter().map(|l| l.power_total).sum::<f64>(),
@@ -438,7 +466,7 @@ impl RunReport<'_> {
                         })
                         .collect();
                     s += &details(
-                        &format!("Power and energy by bare-beam mode ({} modes)", rows.len()),
+                        &format!("Power and energy by bare-{word} mode ({} modes)", rows.len()),
                         &table(&["mode", "f", "share of net power", "dissipated power", "kinetic energy"], &rows),
                     );
                 }
@@ -449,7 +477,11 @@ impl RunReport<'_> {
 }
 
 /// The coupled system's natural frequencies beside the bare-beam mode each resembles.
-fn coupled_modes(m: &crate::analysis::modes::ModesResult, c: &crate::analysis::modes::CoupledModes) -> String {
+fn coupled_modes(
+    m: &crate::analysis::modes::ModesResult,
+    c: &crate::analysis::modes::CoupledModes,
+    word: &str,
+) -> String {
     let rows: Vec<Vec<String>> = (0..c.frequencies_hz.len())
         .map(|r| {
             let pair = c.shapes_w.get(r).and_then(|w| super::coupled::counterpart(m, w));
@@ -463,7 +495,7 @@ fn coupled_modes(m: &crate::analysis::modes::ModesResult, c: &crate::analysis::m
         })
         .collect();
     format!(
-        "<p>With the actuators attached (their bodies: {}), the closest bare-beam mode by shape \
+        "<p>With the actuators attached (their bodies: {}), the closest bare-{word} mode by shape \
          (MAC of w at the nodes):</p>\n{}",
         escape(&c.body_names.join(", ")),
         table(&["coupled mode", "f", "bare mode", "bare f", "MAC"], &rows)
