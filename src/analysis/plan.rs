@@ -109,7 +109,8 @@ pub fn rayleigh_from_ratio(structure: &Structure, zeta: f64, modes: [usize; 2]) 
             "damping.modes",
             format!(
                 "{span} of the bare {} (it is not held against rigid motion; frequencies zero up to round-off), \
-                 where a damping ratio has no meaning: give elastic modes, e.g. modes = [{}, {}]",
+                 where a damping ratio has no meaning: give elastic modes, e.g. `[damping]` modes = [{}, {}] \
+                 (without a `[damping]` table the ratio is set at modes 1 and 3)",
                 structure.noun(),
                 rigid + 1,
                 rigid + 3
