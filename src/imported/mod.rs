@@ -198,9 +198,7 @@ impl Imported {
         tolerance: Option<f64>,
     ) -> std::result::Result<usize, String> {
         let name = COMPONENTS[component];
-        if xyz.iter().any(|v| !v.is_finite()) {
-            return Err(format!("{xyz:?} is not a finite point: give its x, y, z in metres"));
-        }
+        crate::structure::location::finite_point(&xyz)?;
         let mut order: Vec<(f64, usize)> = (0..self.nodes.len())
             .filter(|&i| self.row(i, component).is_some())
             .map(|i| (distance(&self.nodes[i].xyz, &xyz), i))

@@ -128,6 +128,14 @@ impl Location {
     }
 }
 
+/// Refuses a point given by coordinates (m) that are not all finite, saying what to write.
+pub fn finite_point(xyz: &[f64; 3]) -> std::result::Result<(), String> {
+    match xyz.iter().all(|v| v.is_finite()) {
+        true => Ok(()),
+        false => Err(format!("{xyz:?} is not a finite point: give its x, y, z in metres")),
+    }
+}
+
 /// (cos ψ, sin ψ) with the round-off of a direction along an axis removed: ψ = 90° in
 /// radians is not π/2 exactly, and cos ψ ≈ 6e-17 would put a foot written to stand on an
 /// edge a hair outside it.

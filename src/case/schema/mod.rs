@@ -120,10 +120,8 @@ impl Extent {
                     Err(format!("{at} is outside the plate [0, {lx}] × [0, {ly}] m"))
                 }
             }
-            (Extent::Imported, Location::Near { xyz, .. }) if xyz.iter().any(|v| !v.is_finite()) => {
-                Err(format!("{xyz:?} is not a finite point: give its x, y, z in metres"))
-            }
-            (Extent::Imported, Location::Node { .. } | Location::Near { .. }) => Ok(()),
+            (Extent::Imported, Location::Near { xyz, .. }) => crate::structure::location::finite_point(&xyz),
+            (Extent::Imported, Location::Node { .. }) => Ok(()),
             (Extent::Imported, _) => {
                 Err("an imported model takes a point as `node` (its id) or `at = [x, y, z]` (m), \
                  with `component` (e.g. \"uz\")"
