@@ -898,11 +898,19 @@ impl<'s> HarmonicSolver<'s> {
         // does not settle.
         match &mut self.coupled {
             Some(mc) if self.refinement.as_ref().is_none_or(|r| !r.can_refine()) => {
-                for (done, &k) in active.iter().enumerate() {
-                    task.set(done as u64)?;
-                    mc.factorize(k as f64 * w0)?;
-                    let rhs = self.q[k].clone();
-                    if !mc.solve_in_place(&mut self.q[k]) {
+                let rhs: Vec<Vec<Complex64>> = active.iter().map(|&k| self.q[k].clone()).collect();
+                let omegas: Vec<f64> = active.iter().map(|&k| k as f64 * w0).collect();
+                let mut xs: Vec<&mut [Complex64]> = self
+                    .q
+                    .iter_mut()
+                    .enumerate()
+                    .filter(|(k, _)| active.contains(k))
+                    .map(|(_, q)| &mut q[..])
+                    .collect();
+                let settled = mc.solve_at(&omegas, &mut xs)?;
+                task.set(active.len() as u64)?;
+                for ((&k, rhs), settled) in active.iter().zip(rhs).zip(settled) {
+                    if !settled {
                         let dk = self.dk.get_or_insert_with(|| DynamicStiffness::of(sys));
                         self.q[k] = rhs;
                         dk.factorize(k as f64 * w0)?;

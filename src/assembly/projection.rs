@@ -16,6 +16,7 @@
 
 use super::dofs::DofMap;
 use num_complex::Complex64;
+use std::collections::HashMap;
 use std::sync::Arc;
 
 /// T of a reduced system.
@@ -43,6 +44,10 @@ pub struct Factored {
     pub modes: usize,
     /// The static shapes x_k over the structure's DOFs.
     pub shapes: Vec<Arc<Vec<f64>>>,
+    /// Every shape's value x_k(i) at the structure DOFs i where the placement has read it
+    /// already (the attachment patterns' DOFs, off their flexibility): a row of T there
+    /// reads nothing of the shapes, which lie scattered over the structure.
+    pub shapes_at: HashMap<usize, Vec<f64>>,
     /// Y, row-major `shapes × residual columns`.
     pub y: Vec<f64>,
     /// B, row-major `modes × residual columns`.
@@ -66,13 +71,23 @@ impl Factored {
         if i < self.structure_dofs() {
             let phi_i = &self.phi[i * nm..(i + 1) * nm];
             row[..nm].copy_from_slice(phi_i);
+            let mut on_shapes = vec![0.0; self.shapes.len()];
+            self.add_shapes_at(i, 1.0, &mut on_shapes);
             for c in 0..nq {
-                let from_shapes: f64 = self.shapes.iter().enumerate().map(|(a, x)| self.y[a * nq + c] * x[i]).sum();
+                let from_shapes: f64 = on_shapes.iter().enumerate().map(|(a, x)| self.y[a * nq + c] * x).sum();
                 let from_modes: f64 = phi_i.iter().enumerate().map(|(r, p)| p * self.b[r * nq + c]).sum();
                 row[nm + c] = from_shapes - from_modes;
             }
         } else if let Some(k) = self.bodies.iter().position(|&d| d == i) {
             row[nm + nq + k] = 1.0;
+        }
+    }
+
+    /// coef·x_k(i) into `on_shapes[k]`, for every shape k.
+    fn add_shapes_at(&self, i: usize, coef: f64, on_shapes: &mut [f64]) {
+        match self.shapes_at.get(&i) {
+            Some(at) => on_shapes.iter_mut().zip(at).for_each(|(s, x)| *s += coef * x),
+            None => on_shapes.iter_mut().zip(&self.shapes).for_each(|(s, x)| *s += coef * x[i]),
         }
     }
 
@@ -86,7 +101,7 @@ impl Factored {
             if i < ns {
                 let phi_i = &self.phi[i * nm..(i + 1) * nm];
                 row[..nm].iter_mut().zip(phi_i).for_each(|(r, p)| *r += coef * p);
-                on_shapes.iter_mut().zip(&self.shapes).for_each(|(s, x)| *s += coef * x[i]);
+                self.add_shapes_at(i, coef, &mut on_shapes);
             } else if let Some(k) = self.bodies.iter().position(|&d| d == i) {
                 row[nm + nq + k] += coef;
             }

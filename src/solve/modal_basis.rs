@@ -220,18 +220,31 @@ pub fn reduce(full: &System, modes: &Modes, opts: &ReductionOptions) -> Result<R
 /// numbered after the `first_body` structure coordinates. A reduced basis is for viscous
 /// damping: hysteretic damping is refused before.
 pub(super) fn reduced_system(full: &System, basis: Projection, matrices: [Csr; 6], first_body: usize) -> System {
+    let links = links_on(full, &basis);
+    reduced_system_with(full, basis, matrices, first_body, links)
+}
+
+/// `full`'s links on the reduced coordinates of `basis`.
+pub(super) fn links_on(full: &System, basis: &Projection) -> Vec<LinkDofs> {
+    let on_basis = |l: &LinkDofs| LinkDofs {
+        stretch: basis.row_combination(&l.stretch),
+        foot: basis.row_combination(&l.foot),
+        foot_dof: None,
+        ..l.clone()
+    };
+    full.links.iter().map(on_basis).collect()
+}
+
+/// [`reduced_system`] with `full`'s links on the basis already formed ([`links_on`]).
+pub(super) fn reduced_system_with(
+    full: &System,
+    basis: Projection,
+    matrices: [Csr; 6],
+    first_body: usize,
+    links: Vec<LinkDofs>,
+) -> System {
     let [m, c, k, m_beam, c_beam, k_beam] = matrices;
     let nr = basis.n_reduced;
-    let links: Vec<LinkDofs> = full
-        .links
-        .iter()
-        .map(|l| LinkDofs {
-            stretch: basis.row_combination(&l.stretch),
-            foot: basis.row_combination(&l.foot),
-            foot_dof: None,
-            ..l.clone()
-        })
-        .collect();
     let combine = |bs: &[Vec<(usize, f64)>]| -> Vec<_> { bs.iter().map(|b| basis.row_combination(b)).collect() };
     let (drives, loads) = (combine(&full.drives), combine(&full.loads));
     let envelope = Csr::envelope_of(nr, &[&m, &c, &k]);
@@ -428,25 +441,29 @@ impl Basis<'_> {
 /// round-off of their diagonal pair (the orthogonality relations' rounding), which are set
 /// to zero in `r` too: `r` is then the sparse matrix's dense form, entry for entry.
 pub(super) fn sparse_of_dense(r: &mut [f64], nr: usize) -> Csr {
-    let (mut indptr, mut indices, mut data) = (vec![0], Vec::with_capacity(nr * nr), Vec::with_capacity(nr * nr));
     let root: Vec<f64> = (0..nr).map(|a| r[a * nr + a].abs().sqrt()).collect();
-    let (mut row_indices, mut row_data) = (vec![0; nr], vec![0.0; nr]);
+    let mut indptr = Vec::with_capacity(nr + 1);
+    indptr.push(0);
+    let (mut indices, mut data) = (vec![0; r.len()], vec![0.0; r.len()]);
+    let mut len = 0;
     for (a, row) in r.chunks_exact_mut(nr).enumerate() {
         let bound = DROP * root[a];
         // Every entry of the row is written and the kept ones advance: no branch per
         // entry, whose outcome a dense block's pattern leaves to chance.
-        let mut len = 0;
+        let (row_indices, row_data) = (&mut indices[len..len + nr], &mut data[len..len + nr]);
+        let mut kept = 0;
         for (b, (v, &root_b)) in row.iter_mut().zip(&root).enumerate() {
             let keep = (*v != 0.0) & ((a == b) | (v.abs() > bound * root_b));
-            row_indices[len] = b;
-            row_data[len] = *v;
-            len += keep as usize;
+            row_indices[kept] = b;
+            row_data[kept] = *v;
+            kept += keep as usize;
             *v = if keep { *v } else { 0.0 };
         }
-        indices.extend_from_slice(&row_indices[..len]);
-        data.extend_from_slice(&row_data[..len]);
-        indptr.push(indices.len());
+        len += kept;
+        indptr.push(len);
     }
+    indices.truncate(len);
+    data.truncate(len);
     Csr::from_sorted_rows(nr, indptr, indices, data)
 }
 

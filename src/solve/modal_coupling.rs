@@ -166,9 +166,16 @@ impl ModalCoupling {
     /// Factorises at circular frequency ω (rad/s). Fails where a mode's own dynamic
     /// stiffness or the coupled system is singular (an undamped resonance).
     pub fn factorize(&mut self, omega: f64) -> Result<()> {
+        let mut f = std::mem::take(&mut self.factor);
+        let done = self.factor_at(omega, &mut f);
+        self.factor = f;
+        done
+    }
+
+    /// [`ModalCoupling::factorize`] into `f`.
+    fn factor_at(&self, omega: f64, f: &mut Factor) -> Result<()> {
         let (nd, nr, p) = (self.nd, self.nr, self.links());
         let (c_m, c_c) = (-omega * omega, Complex64::new(0.0, omega));
-        let f = &mut self.factor;
         f.omega = omega;
         f.lambda_inv.clear();
         for i in 0..nd {
@@ -237,48 +244,79 @@ impl ModalCoupling {
     /// matrices (see the module's doc comment). False where the refinement did not settle:
     /// `x` is then not the solution.
     pub fn solve_in_place(&self, x: &mut [Complex64]) -> bool {
-        let b = x.to_vec();
-        self.precondition(x);
-        let mut last = f64::INFINITY;
-        for _ in 0..MAX_STEPS {
-            let mut r = self.residual(&b, x);
-            self.precondition(&mut r);
-            let (step, size) = (norm(&r), norm(x));
-            x.iter_mut().zip(&r).for_each(|(x, d)| *x += d);
-            // The next correction is this one contracted as the last was: settled when
-            // that is below SETTLED too.
-            let next = if last.is_finite() { step * (step / last) } else { step };
-            if step <= SETTLED * size || (next <= SETTLED * size && step <= NOISE * size) {
-                return true;
-            }
-            if step > 0.5 * last {
-                return step <= NOISE * size;
-            }
-            last = step;
-        }
-        false
+        self.refine(&[&self.factor], &mut [x])[0]
     }
 
-    /// b − (K − ω²M + iωC)·x at the factorised ω.
-    fn residual(&self, b: &[Complex64], x: &[Complex64]) -> Vec<Complex64> {
-        let n = b.len();
-        let omega = self.factor.omega;
+    /// Solves at each circular frequency of `omegas` (rad/s) the right-hand side in the same
+    /// place of `xs`, in place, as [`ModalCoupling::factorize`] and
+    /// [`ModalCoupling::solve_in_place`] would one at a time (the same bits); per frequency,
+    /// whether its refinement settled. The refinement's residuals of every frequency are
+    /// formed in one pass over the system's matrices, which would otherwise be read from
+    /// memory once per frequency and step.
+    pub fn solve_at(&self, omegas: &[f64], xs: &mut [&mut [Complex64]]) -> Result<Vec<bool>> {
+        let mut factors: Vec<Factor> = omegas.iter().map(|_| Factor::default()).collect();
+        for (&omega, f) in omegas.iter().zip(&mut factors) {
+            self.factor_at(omega, f)?;
+        }
+        Ok(self.refine(&factors.iter().collect::<Vec<_>>(), xs))
+    }
+
+    /// The preconditioned refinement of each right-hand side `xs[j]` at the frequency of
+    /// `factors[j]`, in place; per right-hand side, whether it settled.
+    fn refine(&self, factors: &[&Factor], xs: &mut [&mut [Complex64]]) -> Vec<bool> {
+        let b: Vec<Vec<Complex64>> = xs.iter().map(|x| x.to_vec()).collect();
+        for (f, x) in factors.iter().zip(xs.iter_mut()) {
+            self.precondition(f, x);
+        }
+        let mut last = vec![f64::INFINITY; xs.len()];
+        let mut settled: Vec<Option<bool>> = vec![None; xs.len()];
+        for _ in 0..MAX_STEPS {
+            let open: Vec<usize> = (0..xs.len()).filter(|&j| settled[j].is_none()).collect();
+            if open.is_empty() {
+                break;
+            }
+            let at: Vec<(f64, &[Complex64], &[Complex64])> =
+                open.iter().map(|&j| (factors[j].omega, &b[j][..], &xs[j][..])).collect();
+            for (mut r, &j) in self.residuals(&at).into_iter().zip(&open) {
+                self.precondition(factors[j], &mut r);
+                let (step, size) = (norm(&r), norm(xs[j]));
+                xs[j].iter_mut().zip(&r).for_each(|(x, d)| *x += d);
+                // The next correction is this one contracted as the last was: settled when
+                // that is below SETTLED too.
+                let next = if last[j].is_finite() { step * (step / last[j]) } else { step };
+                if step <= SETTLED * size || (next <= SETTLED * size && step <= NOISE * size) {
+                    settled[j] = Some(true);
+                } else if step > 0.5 * last[j] {
+                    settled[j] = Some(step <= NOISE * size);
+                }
+                last[j] = step;
+            }
+        }
+        settled.into_iter().map(|s| s == Some(true)).collect()
+    }
+
+    /// b − (K − ω²M + iωC)·x of each (ω, b, x) in `at`, row by row: a row of K, M and C is
+    /// read once for all of them.
+    fn residuals(&self, at: &[(f64, &[Complex64], &[Complex64])]) -> Vec<Vec<Complex64>> {
+        let n = self.nd + self.nr;
         let [k, m, c] = &*self.totals;
-        let (re, im): (Vec<f64>, Vec<f64>) = x.iter().map(|z| (z.re, z.im)).unzip();
-        (0..n)
-            .map(|i| {
-                let row = i * n..(i + 1) * n;
-                let [real_re, real_im, damped_re, damped_im] =
-                    row_products(&k[row.clone()], &m[row.clone()], &c[row], -omega * omega, &re, &im);
-                b[i] - Complex64::new(real_re - omega * damped_im, real_im + omega * damped_re)
-            })
-            .collect()
+        let parts: Vec<(Vec<f64>, Vec<f64>)> =
+            at.iter().map(|(_, _, x)| x.iter().map(|z| (z.re, z.im)).unzip()).collect();
+        let mut out: Vec<Vec<Complex64>> = at.iter().map(|_| Vec::with_capacity(n)).collect();
+        for i in 0..n {
+            let row = i * n..(i + 1) * n;
+            let (k, m, c) = (&k[row.clone()], &m[row.clone()], &c[row]);
+            for ((r, &(omega, b, _)), (re, im)) in out.iter_mut().zip(at).zip(&parts) {
+                let [real_re, real_im, damped_re, damped_im] = row_products(k, m, c, -omega * omega, re, im);
+                r.push(b[i] - Complex64::new(real_re - omega * damped_im, real_im + omega * damped_re));
+            }
+        }
+        out
     }
 
     /// The coupled form's solve (the preconditioner), in place.
-    fn precondition(&self, x: &mut [Complex64]) {
+    fn precondition(&self, f: &Factor, x: &mut [Complex64]) {
         let (nd, nr, p) = (self.nd, self.nr, self.links());
-        let f = &self.factor;
         let b_scaled: Vec<Complex64> = (0..nd).map(|i| x[i] * f.lambda_inv[i]).collect();
         let mut y: Vec<Complex64> = (0..p)
             .map(|l| (0..nd).map(|i| self.feet[l * nd + i] * b_scaled[i]).sum())

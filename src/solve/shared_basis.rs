@@ -39,11 +39,12 @@
 //! structure's matrices is assembled per placement.
 
 use super::modal_basis::{
-    at, mul, pencil_basis, reduced_system, residual_flexibility, sparse_of_dense, Reduction, ReductionOptions,
+    at, links_on, mul, pencil_basis, reduced_system_with, residual_flexibility, sparse_of_dense, Reduction,
+    ReductionOptions,
 };
 use crate::analysis::budget::machine_memory;
 use crate::assembly::projection::Factored;
-use crate::assembly::{DofMap, Projection, System};
+use crate::assembly::{DofMap, LinkDofs, Projection, System};
 use crate::error::{Error, Result};
 use crate::linalg::sparse_ldlt::OwnedLdlt;
 use crate::linalg::{dot, dots, symmetrise, Csr};
@@ -119,16 +120,30 @@ struct Combined {
 }
 
 impl Combined {
-    /// The patterns' Gram matrix Wᵀ·G·W (row-major, symmetrised) of G_kl = L_kᵀ·v_l, v_l the
-    /// `field` of shape l: x_aᵀ·x_b's flexibility b_aᵀ·K⁻¹·b_b for x itself, x_aᵀ·M·x_b for
-    /// K⁻¹·M·x, x_aᵀ·C·x_b for K⁻¹·C·x.
-    fn gram(&self, field: impl Fn(&StaticShape) -> &[f64]) -> Vec<f64> {
-        let (n, p) = (self.loads.len(), self.weights.len());
-        let mut g = vec![0.0; n * n];
+    /// G_kl = L_kᵀ·v_l (row-major n × n) for the three fields v of each kept shape: x
+    /// itself (the flexibility L_kᵀ·K⁻¹·L_l), K⁻¹·M·x (x_kᵀ·M·x_l) and K⁻¹·C·x (x_kᵀ·C·x_l),
+    /// as read (symmetric up to K⁻¹'s rounding): the flexibility's entries are the shapes'
+    /// values at the loads, which rows of T take as they are. The reads are scattered over
+    /// the kept shapes and miss the caches, so the three fields are read side by side.
+    fn grams(&self) -> [Vec<f64>; 3] {
+        let n = self.loads.len();
+        let mut g = [vec![0.0; n * n], vec![0.0; n * n], vec![0.0; n * n]];
         for (l, shape) in self.shapes.iter().enumerate() {
-            let v = field(shape);
-            self.loads.iter().enumerate().for_each(|(k, load)| g[k * n + l] = at(load, v));
+            let fields = [&shape.x[..], &shape.kmx[..], &shape.kcx[..]];
+            for (k, load) in self.loads.iter().enumerate() {
+                for (g, v) in g.iter_mut().zip(fields) {
+                    g[k * n + l] = at(load, v);
+                }
+            }
         }
+        g
+    }
+
+    /// The patterns' Gram matrix Wᵀ·G·W (row-major, symmetrised) of a Gram matrix G of
+    /// the kept shapes ([`Combined::grams`], symmetrised first).
+    fn on_patterns(&self, g: &[f64]) -> Vec<f64> {
+        let (n, p) = (self.loads.len(), self.weights.len());
+        let mut g = g.to_vec();
         symmetrise(&mut g, n);
         let mut gw = vec![0.0; n * p];
         for (b, wb) in self.weights.iter().enumerate() {
@@ -144,6 +159,20 @@ impl Combined {
         }
         symmetrise(&mut r, p);
         r
+    }
+
+    /// Each kept shape's value at the DOF of each unit load, from the flexibility `g_x` as
+    /// read ([`Combined::grams`]), for the shapes `used` (by DOF; none where the loads are
+    /// the patterns themselves).
+    fn values_at_loads(&self, g_x: &[f64], used: &[usize]) -> HashMap<usize, Vec<f64>> {
+        let n = self.loads.len();
+        let unit = |load: &Pattern| match load[..] {
+            [(d, 1.0)] => Some(d),
+            _ => None,
+        };
+        let dofs: Option<Vec<usize>> = self.loads.iter().map(unit).collect();
+        let rows = dofs.into_iter().flatten().enumerate();
+        rows.map(|(k, d)| (d, used.iter().map(|&l| g_x[k * n + l]).collect())).collect()
     }
 }
 
@@ -193,6 +222,8 @@ impl ShapeCache {
 struct PlacementResidual {
     /// The kept shapes x_k the static shapes x_a are combined from.
     shapes: Vec<Arc<Vec<f64>>>,
+    /// Their values at the attachment patterns' DOFs ([`Factored::shapes_at`]).
+    shapes_at: HashMap<usize, Vec<f64>>,
     /// W·Y (kept shapes × columns), B = [α_a]·Y (modes × columns), row-major.
     y: Vec<f64>,
     b: Vec<f64>,
@@ -207,6 +238,7 @@ impl PlacementResidual {
     fn none() -> Self {
         PlacementResidual {
             shapes: Vec::new(),
+            shapes_at: HashMap::new(),
             y: Vec::new(),
             b: Vec::new(),
             omega: Vec::new(),
@@ -424,10 +456,18 @@ impl SharedBasis {
         }
         let k_diag: Vec<f64> = self.omega.iter().chain(&res.omega).map(|w| w * w).collect();
         let residual_omega = res.omega;
-        let factored =
-            Factored { phi: Arc::clone(&self.phi), modes: nm, shapes: res.shapes, y: res.y, b: res.b, bodies };
+        let factored = Factored {
+            phi: Arc::clone(&self.phi),
+            modes: nm,
+            shapes: res.shapes,
+            shapes_at: res.shapes_at,
+            y: res.y,
+            b: res.b,
+            bodies,
+        };
         let basis = Projection::factored(attached.dofs.clone(), factored);
-        let [mut m, mut c, mut k] = attachments_on_basis(attached, &basis, nm + nq);
+        let links = links_on(attached, &basis);
+        let [mut m, mut c, mut k] = attachments_on_basis(attached, &links, nr, nm + nq);
         for (r, s) in [(&mut m, &m_beam), (&mut c, &c_beam)] {
             r.iter_mut().zip(s).for_each(|(x, y)| *x += y);
         }
@@ -436,7 +476,7 @@ impl SharedBasis {
         let [k, m, c] = dense.each_mut().map(|r| sparse_of_dense(r, nr));
         let [m_beam, c_beam] = [m_beam, c_beam].map(|mut r| sparse_of_dense(&mut r, nr));
         let k_beam = diagonal(&k_diag);
-        let mut system = reduced_system(attached, basis, [m, c, k, m_beam, c_beam, k_beam], nm + nq);
+        let mut system = reduced_system_with(attached, basis, [m, c, k, m_beam, c_beam, k_beam], nm + nq, links);
         system.dense = Some(Arc::new(dense));
         Ok(Reduction {
             system,
@@ -464,27 +504,23 @@ impl SharedBasis {
     fn residual(&self, s: &Statics, patterns: &[Pattern]) -> Result<PlacementResidual> {
         let (nm, p) = (self.modes(), patterns.len());
         let combined = self.static_shapes(s, patterns);
+        let [g_x, g_m, g_c] = combined.grams();
         let on_phi: Vec<Vec<f64>> = patterns.iter().map(|b| self.on_modes(&self.phi, b)).collect();
-        let (live, kg) = residual_flexibility(&combined.gram(|x| &x.x), &on_phi, &self.omega);
+        let (live, kg) = residual_flexibility(&combined.on_patterns(&g_x), &on_phi, &self.omega);
         let q = live.len();
         let mut dropped = p - q;
         // Φᵀ·M·x_a and Φᵀ·C·x_a from the shared K⁻¹·M·Φ and K⁻¹·C·Φ; α_a by two passes of
         // M-orthogonalisation (Φᵀ·M·Φ is I to round-off), as the explicit vectors get.
         let phi_m_x: Vec<Vec<f64>> = live.iter().map(|&a| self.on_modes(&s.k_inv_m_phi, &patterns[a])).collect();
         let phi_c_x: Vec<Vec<f64>> = live.iter().map(|&a| self.on_modes(&s.k_inv_c_phi, &patterns[a])).collect();
+        let on_first = mat_vecs(&self.phi_m, &phi_m_x, nm);
         let alpha: Vec<Vec<f64>> = phi_m_x
             .iter()
-            .map(|p| {
-                let mut al = p.clone();
-                let left = sub(p, &mat_vec(&self.phi_m, &al, nm));
-                al.iter_mut().zip(left).for_each(|(x, d)| *x += d);
-                al
-            })
+            .zip(&on_first)
+            .map(|(p, once)| p.iter().zip(sub(p, once)).map(|(x, d)| x + d).collect())
             .collect();
         // (Φᵀ·A·Φ)·α_a, which both the Gram matrices and the coupling blocks need.
-        let on_alpha =
-            |phi_a_phi: &[f64]| -> Vec<Vec<f64>> { alpha.iter().map(|al| mat_vec(phi_a_phi, al, nm)).collect() };
-        let (m_alpha, c_alpha) = (on_alpha(&self.phi_m), on_alpha(&self.phi_c));
+        let (m_alpha, c_alpha) = (mat_vecs(&self.phi_m, &alpha, nm), mat_vecs(&self.phi_c, &alpha, nm));
         // ψ_aᵀ·A·ψ_b = x_aᵀ·A·x_b − α_aᵀ·(Φᵀ·A·x_b) − (Φᵀ·A·x_a)ᵀ·α_b + α_aᵀ·(Φᵀ·A·Φ)·α_b.
         let psi_gram = |shapes_gram: Vec<f64>, phi_a_x: &[Vec<f64>], p_alpha: &[Vec<f64>]| -> Vec<f64> {
             let mut r: Vec<f64> = (0..q * q).map(|x| shapes_gram[live[x / q] * p + live[x % q]]).collect();
@@ -497,8 +533,8 @@ impl SharedBasis {
             symmetrise(&mut r, q);
             r
         };
-        let mg = psi_gram(combined.gram(|x| &x.kmx), &phi_m_x, &m_alpha);
-        let cg = psi_gram(combined.gram(|x| &x.kcx), &phi_c_x, &c_alpha);
+        let mg = psi_gram(combined.on_patterns(&g_m), &phi_m_x, &m_alpha);
+        let cg = psi_gram(combined.on_patterns(&g_c), &phi_c_x, &c_alpha);
         let (y, omega) = pencil_basis(&kg, &Mat::<f64>::from_fn(q, q, |a, b| mg[a * q + b]))?;
         let nq = omega.len();
         dropped += q - nq;
@@ -522,12 +558,13 @@ impl SharedBasis {
             symmetrise(&mut r, nq);
             r
         };
-        let (shapes, wy) = on_kept_shapes(&combined, &live, &y, nq);
+        let (used, wy) = on_kept_shapes(&combined, &live, &y, nq);
         Ok(PlacementResidual {
+            shapes: used.iter().map(|&k| Arc::clone(&combined.shapes[k].x)).collect(),
+            shapes_at: combined.values_at_loads(&g_x, &used),
             b: times_y(&alpha, &y, nm, nq),
             m_blocks: (coupling(&phi_m_x, &m_alpha), on_columns(&mg)),
             c_blocks: (coupling(&phi_c_x, &c_alpha), on_columns(&cg)),
-            shapes,
             y: wy,
             omega,
             dropped,
@@ -572,8 +609,7 @@ fn times_y(v: &[Vec<f64>], y: &[f64], rows: usize, nq: usize) -> Vec<f64> {
 /// k·g·gᵀ and c·g·gᵀ on the stretch g = top − foot, m_f·f·fᵀ on the foot f — and, for M,
 /// the bodies' own mass blocks, on DOFs whose rows of T are unit rows. So Tᵀ·A·T is
 /// Σ w·(Tᵀ·g)·(Tᵀ·g)ᵀ: O(links × n²), whatever the number of DOFs the feet touch.
-fn attachments_on_basis(attached: &System, basis: &Projection, first_body: usize) -> [Vec<f64>; 3] {
-    let nr = basis.n_reduced;
+fn attachments_on_basis(attached: &System, links: &[LinkDofs], nr: usize, first_body: usize) -> [Vec<f64>; 3] {
     let mut out = [vec![0.0; nr * nr], vec![0.0; nr * nr], vec![0.0; nr * nr]];
     let mut dense = vec![0.0; nr];
     let mut rank_one = |r: &mut [f64], w: f64, g: &[(usize, f64)]| {
@@ -588,11 +624,10 @@ fn attachments_on_basis(attached: &System, basis: &Projection, first_body: usize
         }
     };
     let [m, c, k] = &mut out;
-    for link in &attached.links {
-        let g = basis.row_combination(&link.stretch);
-        rank_one(k, link.k, &g);
-        rank_one(c, link.c, &g);
-        rank_one(m, link.foot_mass, &basis.row_combination(&link.foot));
+    for link in links {
+        rank_one(k, link.k, &link.stretch);
+        rank_one(c, link.c, &link.stretch);
+        rank_one(m, link.foot_mass, &link.foot);
     }
     let ns = attached.dofs.n - attached.dofs.bodies.iter().map(Vec::len).sum::<usize>();
     let bodies: Vec<usize> = attached.dofs.bodies.iter().flatten().copied().collect();
@@ -619,16 +654,19 @@ fn diagonal(d: &[f64]) -> Csr {
     Csr::from_triplets(d.len(), &trip)
 }
 
-/// A·x for a row-major n × n symmetric A (Φᵀ·M·Φ, Φᵀ·C·Φ, symmetrised), column by column:
+/// A·x of each x in `xs` for a row-major n × n symmetric A (Φᵀ·M·Φ, Φᵀ·C·Φ, symmetrised),
+/// column by column, A read once for all of them:
 /// A's columns are its rows, so each entry gets the terms A_ij·x_j in the order of a row's
 /// dot product (the same bits), and the columns' updates run in vector lanes where the
 /// dot products are one chain of dependent additions each.
-fn mat_vec(a: &[f64], x: &[f64], n: usize) -> Vec<f64> {
-    let mut r = vec![-0.0; n];
-    for (column, &xj) in a.chunks_exact(n).zip(x) {
-        r.iter_mut().zip(column).for_each(|(ri, aij)| *ri += aij * xj);
+fn mat_vecs(a: &[f64], xs: &[Vec<f64>], n: usize) -> Vec<Vec<f64>> {
+    let mut rs = vec![vec![-0.0; n]; xs.len()];
+    for (j, column) in a.chunks_exact(n).enumerate() {
+        for (r, x) in rs.iter_mut().zip(xs) {
+            r.iter_mut().zip(column).for_each(|(ri, aij)| *ri += aij * x[j]);
+        }
     }
-    r
+    rs
 }
 
 fn sub(a: &[f64], b: &[f64]) -> Vec<f64> {
@@ -667,8 +705,8 @@ fn dofs_of(patterns: &[Pattern], ns: usize) -> Vec<usize> {
 
 /// The residual columns' static part X·Y = Σ_k x_k·(W·Y)_k on the kept shapes x_k of
 /// `combined`, for Y (row-major, the `live` patterns × `nq` columns): the shapes whose
-/// rows of W·Y are not zero, and those rows.
-fn on_kept_shapes(combined: &Combined, live: &[usize], y: &[f64], nq: usize) -> (Vec<Arc<Vec<f64>>>, Vec<f64>) {
+/// rows of W·Y are not zero (by index), and those rows.
+fn on_kept_shapes(combined: &Combined, live: &[usize], y: &[f64], nq: usize) -> (Vec<usize>, Vec<f64>) {
     let n = combined.loads.len();
     let mut wy = vec![0.0; n * nq];
     for (i, &a) in live.iter().enumerate() {
@@ -677,8 +715,8 @@ fn on_kept_shapes(combined: &Combined, live: &[usize], y: &[f64], nq: usize) -> 
         }
     }
     let used: Vec<usize> = (0..n).filter(|&k| wy[k * nq..(k + 1) * nq].iter().any(|&v| v != 0.0)).collect();
-    let shapes = used.iter().map(|&k| Arc::clone(&combined.shapes[k].x)).collect();
-    (shapes, used.iter().flat_map(|&k| wy[k * nq..(k + 1) * nq].to_vec()).collect())
+    let rows = used.iter().flat_map(|&k| wy[k * nq..(k + 1) * nq].to_vec()).collect();
+    (used, rows)
 }
 
 /// Pattern b as a vector over the structure's DOFs, added into `x`.
@@ -738,8 +776,10 @@ mod tests {
             p.expand(&e)[..ns].iter().map(|z| z.re).collect()
         };
         let t: Vec<Vec<f64>> = (0..nm + nq).map(column).collect();
-        // Rows of T agree with its columns.
-        for d in (0..ns).step_by(7) {
+        // Rows of T agree with its columns, the feet's rows (read off the flexibility, not
+        // the shapes) too.
+        let feet = attached.links.iter().flat_map(|l| l.foot.iter().map(|&(d, _)| d)).filter(|&d| d < ns);
+        for d in (0..ns).step_by(7).chain(feet) {
             let row = p.row_dense(d);
             for (c, tc) in t.iter().enumerate() {
                 assert!((row[c] - tc[d]).abs() <= 1e-12 * tc.iter().fold(0.0f64, |m, x| m.max(x.abs())));
