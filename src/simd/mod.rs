@@ -25,6 +25,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod band;
+pub mod complex_rows;
 pub mod lanes;
 pub mod twofold;
 pub mod update;

@@ -42,6 +42,7 @@
 use crate::assembly::System;
 use crate::error::{Error, Result};
 use crate::linalg::Csr;
+use crate::simd::complex_rows::kmc_row;
 use num_complex::Complex64;
 use std::sync::Arc;
 
@@ -307,7 +308,7 @@ impl ModalCoupling {
             let row = i * n..(i + 1) * n;
             let (k, m, c) = (&k[row.clone()], &m[row.clone()], &c[row]);
             for ((r, &(omega, b, _)), (re, im)) in out.iter_mut().zip(at).zip(&parts) {
-                let [real_re, real_im, damped_re, damped_im] = row_products(k, m, c, -omega * omega, re, im);
+                let [real_re, real_im, damped_re, damped_im] = kmc_row(k, m, c, -omega * omega, re, im);
                 r.push(b[i] - Complex64::new(real_re - omega * damped_im, real_im + omega * damped_re));
             }
         }
@@ -332,36 +333,6 @@ impl ModalCoupling {
         }
         x[nd..].copy_from_slice(x_r);
     }
-}
-
-/// Lanes of the row products' partial sums: independent sums the compiler keeps in
-/// vector registers.
-const LANES: usize = 4;
-
-/// Σ_j (k_j + c_m·m_j)·(re_j, im_j) and Σ_j c_j·(re_j, im_j): one row of (K − ω²M)·x and
-/// C·x for x = re + i·im.
-fn row_products(k: &[f64], m: &[f64], c: &[f64], c_m: f64, re: &[f64], im: &[f64]) -> [f64; 4] {
-    let mut sums = [[0.0; LANES]; 4];
-    let chunks = k.len() / LANES * LANES;
-    for j0 in (0..chunks).step_by(LANES) {
-        for l in 0..LANES {
-            let j = j0 + l;
-            let real = k[j] + c_m * m[j];
-            sums[0][l] += real * re[j];
-            sums[1][l] += real * im[j];
-            sums[2][l] += c[j] * re[j];
-            sums[3][l] += c[j] * im[j];
-        }
-    }
-    let mut out = sums.map(|s| s.iter().sum::<f64>());
-    for j in chunks..k.len() {
-        let real = k[j] + c_m * m[j];
-        out[0] += real * re[j];
-        out[1] += real * im[j];
-        out[2] += c[j] * re[j];
-        out[3] += c[j] * im[j];
-    }
-    out
 }
 
 fn norm(x: &[Complex64]) -> f64 {
