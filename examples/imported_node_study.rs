@@ -4,8 +4,8 @@
 //! DOF map, as `[output] matrices = true` writes them), an inertial actuator at 83 Hz
 //! swept over the w-nodes of a box (`nodes_in`), 9 harmonics, its steady state reduced.
 //!
-//! `cargo run --release --example imported_node_study [nx ny box_mm]` (default 100 80 150:
-//! 32,000 DOFs, the box 0.10–0.25 m, 961 nodes) prints the wall time per case on 2 threads,
+//! `cargo run --release --example imported_node_study [nx ny box_mm threads]` (default 100
+//! 80 150 2: 32,000 DOFs, the box 0.10–0.25 m, 961 nodes) prints the wall time per case,
 //! from the first case finished to the last (the shared modes, the static shapes solved up
 //! front and the check on the full model fall outside it), and the sweep's total.
 
@@ -27,7 +27,7 @@ const ACTUATOR: &str = "[[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\nat
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let arg = |i: usize, default: f64| std::env::args().nth(i).map_or(Ok(default), |s| s.parse::<f64>());
-    let (nx, ny, box_mm) = (arg(1, 100.0)?, arg(2, 80.0)?, arg(3, 150.0)?);
+    let (nx, ny, box_mm, threads) = (arg(1, 100.0)?, arg(2, 80.0)?, arg(3, 150.0)?, arg(4, 2.0)? as usize);
     let dir = std::env::temp_dir().join(format!("beamflow-imported-study-{}", std::process::id()));
     std::fs::create_dir_all(&dir)?;
 
@@ -55,7 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let finished: Arc<Mutex<Vec<Instant>>> = Arc::default();
     let log = Arc::clone(&finished);
     let opts = RunOptions {
-        threads: Some(2),
+        threads: Some(threads),
         on_evaluated: Some(Arc::new(move |_| log.lock().unwrap().push(Instant::now()))),
         ..Default::default()
     };
@@ -67,10 +67,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let per_case = last.duration_since(*first).as_secs_f64() * 1e3 / (times.len().max(2) - 1) as f64;
     let check = table.reduction.as_ref().ok_or("the sweep was not reduced")?;
     println!(
-        "{} DOFs, {} nodes, {} modes: {per_case:.2} ms wall per case (2 threads), sweep {total:.1} s, check {:.1e}",
+        "{} DOFs, {} nodes, {} modes: {per_case:.2} ms wall per case ({threads} thread{}), sweep {total:.1} s, check {:.1e}",
         sys.n(),
         times.len(),
         check.modes_kept,
+        if threads == 1 { "" } else { "s" },
         check.max_relative_error
     );
     std::fs::remove_dir_all(&dir)?;
