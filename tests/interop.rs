@@ -197,6 +197,11 @@ fn a_rigid_base_reports_forces_and_no_beam_fields_in_the_same_shape() {
         assert!(t[key].is_null(), "{key}: {}", t[key]);
     }
     assert!(t["energy_balance_rel_error"]["beam_run"].is_null());
+    assert!(t["energy_balance_rel_error"]["structure_run"].is_null());
+    let balance = &beam["analyses"][1]["energy_balance_rel_error"];
+    assert!(balance["structure_last_period"].as_f64().is_some(), "{balance}");
+    assert_eq!(balance["structure_last_period"], balance["beam_last_period"]);
+    assert_eq!(balance["structure_run"], balance["beam_run"]);
     assert!(t["energy_balance_rel_error"]["system_run"].as_f64().unwrap() < 1e-9);
     // The same keys as a transient on the beam.
     assert_eq!(analysis_keys(&rigid)[0], analysis_keys(&beam)[1]);

@@ -273,6 +273,7 @@ fn a_step_at_default_settings_gives_the_harmonic_frfs() {
         assert!(a.get(key).is_none(), "{key} in a record's summary: {a}");
     }
     assert!(a["energy_balance_rel_error"].get("beam_last_period").is_none());
+    assert_eq!(a["energy_balance_rel_error"]["structure_run"], a["energy_balance_rel_error"]["beam_run"]);
     let rj = &a["record"];
     assert_eq!(rj["estimator"], "decayed");
     assert!(rj["mean_power_w"]["load1"].as_f64().unwrap().is_finite());

@@ -112,11 +112,14 @@ fn json(path: &Path) -> serde_json::Value {
 fn a_plate_run_names_the_plate_and_calls_its_round_off_an_estimate() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    run(&plate_case(dir.path()), &out);
+    let tree = run(&plate_case(dir.path()), &out);
     let v = json(&out.join("p.json"));
     let steady = &v["analyses"][2];
     assert!(steady["structure_dissipation_w"].as_f64().unwrap() > 0.0);
     assert_eq!(steady["structure_dissipation_w"], steady["beam_dissipation_w"], "the old key stays");
+    let dissipation = |name: &str| attr(&tree, "analysis_2_steady_state", name);
+    assert!(matches!(dissipation("structure_dissipation_W"), Attr::F64(w) if w > 0.0));
+    assert_eq!(dissipation("structure_dissipation_W"), dissipation("beam_dissipation_W"), "the old attribute stays");
     assert_eq!(steady["mesh_roundoff_kind"], "estimate");
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     for beam in ["base: beam", "into the beam", "in the beam", "beam modes", "beam dissipation"] {

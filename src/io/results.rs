@@ -598,6 +598,7 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
     let beam = run.model.structure.is_some();
     if beam && r.record.is_none() {
         g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
+        g.attr_f64("structure_dissipation_W", r.beam_dissipation)?;
     }
     write_series(g, &r.t, &r.links, &r.bodies, &r.drives, &r.sensors, run)?;
     write_spectra(g, &r.links, &r.spectra, run)?;
@@ -673,6 +674,7 @@ fn write_steady<S: GroupSink>(g: &S, r: &SteadyStateResult, run: &CaseRun) -> Re
     }
     g.attr_i64("harmonics", r.harmonics as i64)?;
     g.attr_f64("beam_dissipation_W", r.beam_dissipation)?;
+    g.attr_f64("structure_dissipation_W", r.beam_dissipation)?;
     g.attr_f64("balance_error", r.balance_error)?;
     g.write_f64(
         "beam_dissipation_per_harmonic",

@@ -47,7 +47,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                        "settling_estimate": finite_or_null(t.settling_estimate), "mesh_roundoff": t.mesh_roundoff,
                        "mean_power_w": points, "net_power_w": by_name(&actuators, &t.net_power), "load_power_w": load_powers(&t.load_spectra), "transmitted_force_amplitude_at_drive_n": amp,
                        "beam_dissipation_w": t.beam_dissipation, "structure_dissipation_w": t.beam_dissipation,
-                       "energy_balance_rel_error": {"beam_run": balance(&t.energy_run.beam), "system_run": balance(&t.energy_run.system), "beam_last_period": balance(&t.energy_last_period.beam)}});
+                       "energy_balance_rel_error": {"beam_run": balance(&t.energy_run.beam), "structure_run": balance(&t.energy_run.beam), "system_run": balance(&t.energy_run.system), "beam_last_period": balance(&t.energy_last_period.beam), "structure_last_period": balance(&t.energy_last_period.beam)}});
                 add_reduction(&mut v, t.reduction.as_ref());
                 if let Some(rec) = &t.record {
                     v = record_summary(t, rec, &actuators);
@@ -111,7 +111,7 @@ fn without_beam(a: &mut Value) {
     }
     match a.get_mut("energy_balance_rel_error") {
         Some(Value::Object(m)) => {
-            for key in ["beam_run", "beam_last_period"] {
+            for key in ["beam_run", "structure_run", "beam_last_period", "structure_last_period"] {
                 m.insert(key.into(), Value::Null);
             }
         }
@@ -174,7 +174,7 @@ fn record_summary(t: &crate::analysis::transient::TransientResult, rec: &RecordA
     let e = &rec.estimate;
     json!({"type": "transient", "dt_s": t.dt, "steps_run": t.steps_run, "mesh_roundoff": t.mesh_roundoff,
         "beam_dissipated_energy_j": t.energy_run.beam.dissipated, "structure_dissipated_energy_j": t.energy_run.beam.dissipated,
-        "energy_balance_rel_error": {"beam_run": balance(&t.energy_run.beam), "system_run": balance(&t.energy_run.system)},
+        "energy_balance_rel_error": {"beam_run": balance(&t.energy_run.beam), "structure_run": balance(&t.energy_run.beam), "system_run": balance(&t.energy_run.system)},
         "record": {"duration_s": rec.duration, "band_hz": [rec.band.0, rec.band.1],
             "estimator": e.reason, "description": e.describe(rec.dt, rec.segments),
             "segment_s": rec.segment_s, "segments": rec.segments,
