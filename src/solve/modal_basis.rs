@@ -441,29 +441,25 @@ impl Basis<'_> {
 /// round-off of their diagonal pair (the orthogonality relations' rounding), which are set
 /// to zero in `r` too: `r` is then the sparse matrix's dense form, entry for entry.
 pub(super) fn sparse_of_dense(r: &mut [f64], nr: usize) -> Csr {
+    let (mut indptr, mut indices, mut data) = (vec![0], Vec::with_capacity(nr * nr), Vec::with_capacity(nr * nr));
     let root: Vec<f64> = (0..nr).map(|a| r[a * nr + a].abs().sqrt()).collect();
-    let mut indptr = Vec::with_capacity(nr + 1);
-    indptr.push(0);
-    let (mut indices, mut data) = (vec![0; r.len()], vec![0.0; r.len()]);
-    let mut len = 0;
+    let (mut row_indices, mut row_data) = (vec![0; nr], vec![0.0; nr]);
     for (a, row) in r.chunks_exact_mut(nr).enumerate() {
         let bound = DROP * root[a];
         // Every entry of the row is written and the kept ones advance: no branch per
         // entry, whose outcome a dense block's pattern leaves to chance.
-        let (row_indices, row_data) = (&mut indices[len..len + nr], &mut data[len..len + nr]);
-        let mut kept = 0;
+        let mut len = 0;
         for (b, (v, &root_b)) in row.iter_mut().zip(&root).enumerate() {
             let keep = (*v != 0.0) & ((a == b) | (v.abs() > bound * root_b));
-            row_indices[kept] = b;
-            row_data[kept] = *v;
-            kept += keep as usize;
+            row_indices[len] = b;
+            row_data[len] = *v;
+            len += keep as usize;
             *v = if keep { *v } else { 0.0 };
         }
-        len += kept;
-        indptr.push(len);
+        indices.extend_from_slice(&row_indices[..len]);
+        data.extend_from_slice(&row_data[..len]);
+        indptr.push(indices.len());
     }
-    indices.truncate(len);
-    data.truncate(len);
     Csr::from_sorted_rows(nr, indptr, indices, data)
 }
 
