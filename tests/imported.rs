@@ -179,9 +179,27 @@ fn an_inertial_actuator_on_the_plate_exported_and_imported_puts_in_the_same_powe
                  [[analysis]]\ntype = \"steady_state\"\n[[analysis]]\ntype = \"modes\"\ncount = 8\n";
     let shaker = "[[actuator]]\ntype = \"inertial\"\nname = \"shaker\"\n";
     let on_node = |dofs: &Path| format!("{shaker}node = {}\ncomponent = \"w\"\n", node_at(dofs, 0.15, 0.2));
-    let (a, b, _dir, _) = round_trip(plate, &format!("{shaker}at = [0.15, 0.2]\n"), on_node, drive);
+    let (a, b, _dir, out) = round_trip(plate, &format!("{shaker}at = [0.15, 0.2]\n"), on_node, drive);
     let (d, at) = largest_difference(&a, &b, &BOUNDS, "");
     assert!(d <= 1e-8, "largest relative difference {d:e} at {at}");
+    // The whole system's DOF map places each plate row at its node, as the structure's
+    // own map does; the actuator body's rows have no position.
+    let lines = |name: &str| -> Vec<Vec<String>> {
+        let text = std::fs::read_to_string(out.join(name)).unwrap();
+        text.lines().skip(1).map(|l| l.split(',').map(String::from).collect()).collect()
+    };
+    let structure_rows = lines("native_structure_dofs.csv");
+    let own: std::collections::HashMap<String, (String, String)> =
+        structure_rows.iter().map(|f| (f[1].clone(), (f[2].clone(), f[3].clone()))).collect();
+    let system = lines("native_dofs.csv");
+    let (body, plate_rows): (Vec<_>, Vec<_>) = system.iter().partition(|f| f[6] == "shaker");
+    assert_eq!(body.len(), 1, "one body row, the top mass");
+    assert!(body.iter().all(|f| f[1].is_empty() && f[2].is_empty() && f[3].is_empty() && f[5] == "z_t"));
+    assert_eq!(plate_rows.len(), structure_rows.len());
+    for f in plate_rows {
+        assert_eq!(own[&f[1]], (f[2].clone(), f[3].clone()), "row {} of node {}", f[0], f[1]);
+        assert!(f[4].is_empty(), "a plate row has no z: {f:?}");
+    }
 }
 
 /// A spring–mass chain written by hand: M, K and a map, in a folder.

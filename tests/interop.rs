@@ -13,11 +13,12 @@ type DofLine = (usize, Option<usize>, Option<f64>, String, String);
 fn dof_map(path: &Path) -> Vec<DofLine> {
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
-    assert_eq!(lines.next(), Some("row,node,x_m,kind,actuator"));
+    assert_eq!(lines.next(), Some("row,node,x_m,y_m,z_m,kind,actuator"));
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
-            (f[0].parse::<usize>().unwrap() - 1, f[1].parse().ok(), f[2].parse().ok(), f[3].into(), f[4].into())
+            assert!(f[3].is_empty() && f[4].is_empty(), "a beam's rows have no y or z: {l}");
+            (f[0].parse::<usize>().unwrap() - 1, f[1].parse().ok(), f[2].parse().ok(), f[5].into(), f[6].into())
         })
         .collect()
 }

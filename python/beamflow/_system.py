@@ -16,11 +16,14 @@ __all__ = ["System", "DofMap", "Modes"]
 class DofMap:
     """What each global DOF is, as columns of length ``n``.
 
-    ``node``: the beam node (−1 for an actuator body DOF); ``x``: the node's position (m,
-    NaN for a body DOF); ``kind``: ``"w"`` (m), ``"theta"`` (rad), or the body DOF's name
-    (``"z_t"`` of an inertial actuator, ``"y"``, ``"phi"`` of a frame); ``actuator``: the
-    actuator a body DOF belongs to (empty for the beam). DOFs fixed by supports have no
-    index.
+    ``node``: the structure's node (its index; −1 for an actuator body DOF); ``x``, ``y``,
+    ``z``: the node's position (m; NaN for a body DOF and where the structure has no such
+    coordinate: ``y`` on a beam, ``z`` on a beam and a plate); ``node_id``: the source
+    model's node number on an imported model (−1 elsewhere); ``kind``: ``"w"`` (m),
+    ``"theta"`` (rad), a plate's ``"w_x"``, ``"w_y"``, ``"w_xy"``, an imported model's
+    component (``"uz"``, ``"rx"``, …), or the body DOF's name (``"z_t"`` of an inertial
+    actuator, ``"y"``, ``"phi"`` of a frame); ``actuator``: the actuator a body DOF belongs
+    to (empty for the structure). DOFs fixed by supports have no index.
     """
 
     index: np.ndarray
@@ -28,6 +31,9 @@ class DofMap:
     x: Quantity
     kind: List[str]
     actuator: List[str]
+    y: Optional[Quantity] = None
+    z: Optional[Quantity] = None
+    node_id: Optional[np.ndarray] = None
 
     def __len__(self) -> int:
         return len(self.index)
@@ -44,11 +50,24 @@ class DofMap:
         """The map as a pandas DataFrame (needs pandas)."""
         import pandas as pd
 
-        return pd.DataFrame({"node": self.node, "x": np.asarray(self.x), "kind": self.kind, "actuator": self.actuator}, index=pd.Index(self.index, name="dof"))
+        columns = {"node": self.node, "x": np.asarray(self.x)}
+        for name in ("y", "z"):
+            if getattr(self, name) is not None:
+                columns[name] = np.asarray(getattr(self, name))
+        if self.node_id is not None:
+            columns["node_id"] = self.node_id
+        columns.update({"kind": self.kind, "actuator": self.actuator})
+        return pd.DataFrame(columns, index=pd.Index(self.index, name="dof"))
 
 
 def _dofmap(raw: Dict[str, Any]) -> DofMap:
-    return DofMap(raw["index"], raw["node"], Quantity(raw["x"], "m", "beam node position of the DOF"), list(raw["kind"]), list(raw["actuator"]))
+    """The map, with ``y``, ``z`` and ``node_id`` only where the structure has them."""
+    has = lambda c: bool(np.any(~np.isnan(raw[c])))  # noqa: E731
+    y = Quantity(raw["y"], "m", "node y of the DOF") if has("y") else None
+    z = Quantity(raw["z"], "m", "node z of the DOF") if has("z") else None
+    ids = raw["node_id"] if np.any(raw["node_id"] >= 0) else None
+    x = Quantity(raw["x"], "m", "node x of the DOF")
+    return DofMap(raw["index"], raw["node"], x, list(raw["kind"]), list(raw["actuator"]), y, z, ids)
 
 
 @dataclass(frozen=True)

@@ -23,16 +23,23 @@ fn csr<'py>(py: Python<'py>, m: &Csr) -> PyResult<Bound<'py, PyAny>> {
         .into_any())
 }
 
-/// The DOF map as columns: for each global DOF its beam node (−1 for an actuator body),
-/// the node's x (NaN for a body), its kind (`w`, `theta`, or the body DOF's name) and the
-/// actuator it belongs to (empty for the beam).
+/// The DOF map as columns: for each global DOF its structure node (−1 for an actuator
+/// body), the node's x, y, z (NaN for a body and where the structure has no such
+/// coordinate), the source model's node number on an imported model (−1 elsewhere), its
+/// kind (`w`, `theta`, … or the body DOF's name) and the actuator it belongs to (empty
+/// for the structure).
 fn dof_table<'py>(py: Python<'py>, model: &beamflow::assembly::Model, sys: &System) -> PyResult<Bound<'py, PyDict>> {
     let rows = beamflow::assembly::dof_rows(model, sys);
     let n = rows.len();
     let t = PyDict::new(py);
     t.set_item("index", array(py, (0..n as i64).collect(), &[n])?)?;
     t.set_item("node", array(py, rows.iter().map(|r| r.node.map_or(-1, |v| v as i64)).collect(), &[n])?)?;
-    t.set_item("x", array(py, rows.iter().map(|r| r.x.unwrap_or(f64::NAN)).collect(), &[n])?)?;
+    let column =
+        |f: fn(&beamflow::assembly::DofRow) -> Option<f64>| rows.iter().map(|r| f(r).unwrap_or(f64::NAN)).collect();
+    t.set_item("x", array(py, column(|r| r.x), &[n])?)?;
+    t.set_item("y", array(py, column(|r| r.y), &[n])?)?;
+    t.set_item("z", array(py, column(|r| r.z), &[n])?)?;
+    t.set_item("node_id", array(py, rows.iter().map(|r| r.node_id.unwrap_or(-1)).collect(), &[n])?)?;
     t.set_item("kind", rows.iter().map(|r| r.kind.clone()).collect::<Vec<_>>())?;
     t.set_item("actuator", rows.iter().map(|r| r.actuator.clone().unwrap_or_default()).collect::<Vec<_>>())?;
     Ok(t)

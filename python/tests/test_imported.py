@@ -104,3 +104,28 @@ def test_modes_of_a_plate_and_an_imported_model_place_their_nodes() -> None:
     portal = beamflow.Case.from_file(PORTAL).modes(3)
     assert len(portal.node_z) == len(portal.node_y) == len(portal.node_id) == len(portal.node_x)
     assert beamflow.Case.from_file("cases/paper-beam.toml").modes(3).node_y is None
+
+
+def test_dof_maps_of_a_plate_and_an_imported_model_place_their_rows() -> None:
+    plate = beamflow.Case.from_file("cases/plate-frame.toml").system()
+    d = plate.dofs
+    w = d.where("w")
+    assert len(w) > 0 and d.y is not None and d.z is None and d.node_id is None
+    # Every row of one node sits at that node's (x, y); a body row has no position.
+    for kind in ("w_x", "w_y", "w_xy"):
+        rows = d.where(kind)
+        by_node = {n: (x, y) for n, x, y in zip(d.node[w], np.asarray(d.x)[w], np.asarray(d.y)[w])}
+        assert all(by_node.get(n, (x, y)) == (x, y) for n, x, y in zip(d.node[rows], np.asarray(d.x)[rows], np.asarray(d.y)[rows]))
+    body = [i for i, a in enumerate(d.actuator) if a]
+    assert body and np.isnan(np.asarray(d.y)[body]).all()
+    assert 0 <= np.nanmin(d.x) and 0 <= np.nanmin(d.y) and np.nanmax(d.y) > 0
+    portal = beamflow.Case.from_file(PORTAL).system()
+    p = portal.dofs
+    assert p.z is not None and p.node_id is not None and p.y is not None
+    structure = [i for i, a in enumerate(p.actuator) if not a]
+    assert (p.node_id[structure] >= 0).all() and (p.node_id[[i for i in range(len(p)) if i not in structure]] == -1).all()
+    # The source model's DOF map places its nodes where beamflow's rows say they are.
+    folder = Path(PORTAL).parent
+    table = {int(r[1]): (float(r[2]), float(r[3]), float(r[4])) for r in (l.split(",") for l in (folder / "portal_dofs.csv").read_text().splitlines()[1:] if l)}
+    for i in structure:
+        assert table[int(p.node_id[i])] == (float(p.x[i]), float(p.y[i]), float(p.z[i]))

@@ -615,9 +615,13 @@ pub struct DofRow {
     pub index: usize,
     /// Structure node (None for an actuator body DOF).
     pub node: Option<usize>,
-    /// Position of the node (m).
+    /// Position of the node (m): x always, y on a plate and an imported model, z on an
+    /// imported model.
     pub x: Option<f64>,
     pub y: Option<f64>,
+    pub z: Option<f64>,
+    /// The node's number in the source model of an imported structure.
+    pub node_id: Option<i64>,
     pub kind: String,
     /// Actuator name (for a body DOF).
     pub actuator: Option<String>,
@@ -627,7 +631,16 @@ pub struct DofRow {
 pub fn dof_rows(model: &Model, sys: &System) -> Vec<DofRow> {
     let n = sys.dofs.n;
     let mut rows: Vec<DofRow> = (0..n)
-        .map(|index| DofRow { index, node: None, x: None, y: None, kind: String::new(), actuator: None })
+        .map(|index| DofRow {
+            index,
+            node: None,
+            x: None,
+            y: None,
+            z: None,
+            node_id: None,
+            kind: String::new(),
+            actuator: None,
+        })
         .collect();
     if let Some(s) = &model.structure {
         for node in 0..sys.dofs.n_nodes() {
@@ -637,6 +650,8 @@ pub fn dof_rows(model: &Model, sys: &System) -> Vec<DofRow> {
                     rows[d].node = Some(node);
                     rows[d].x = Some(at.x());
                     rows[d].y = at.y();
+                    rows[d].z = at.z();
+                    rows[d].node_id = at.node_component().map(|(id, _)| id);
                     rows[d].kind = kind.to_string();
                 }
             }

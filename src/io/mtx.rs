@@ -33,14 +33,18 @@ pub fn write_system_matrix(path: &Path, mat: &CsMat<f64>) -> Result<()> {
 }
 
 /// Writes the DOF map of a system as CSV beside its matrices: one line per row/column
-/// (1-based `row` as in the Matrix Market files, the beam node, its x in m, the DOF kind
-/// and the actuator a body DOF belongs to), so a matrix row can be named.
+/// (1-based `row` as in the Matrix Market files, the structure's `node` — its index, or on
+/// an imported model the source model's node number —, the node's x, y, z in m where the
+/// structure has them, the DOF kind and the actuator a body DOF belongs to), so a matrix
+/// row can be named.
 pub fn write_dof_map(path: &Path, rows: &[crate::assembly::DofRow]) -> Result<()> {
-    let mut text = String::from("row,node,x_m,kind,actuator\n");
+    let mut text = String::from("row,node,x_m,y_m,z_m,kind,actuator\n");
+    let real = |v: Option<f64>| v.map(|v| format!("{v:?}")).unwrap_or_default();
     for r in rows {
-        let node = r.node.map(|v| v.to_string()).unwrap_or_default();
-        let x = r.x.map(|v| format!("{v:?}")).unwrap_or_default();
-        text += &format!("{},{node},{x},{},{}\n", r.index + 1, r.kind, r.actuator.as_deref().unwrap_or(""));
+        let node = r.node_id.map(|v| v.to_string()).or(r.node.map(|v| v.to_string())).unwrap_or_default();
+        let (x, y, z) = (real(r.x), real(r.y), real(r.z));
+        let actuator = r.actuator.as_deref().unwrap_or("");
+        text += &format!("{},{node},{x},{y},{z},{},{actuator}\n", r.index + 1, r.kind);
     }
     super::atomic::write_atomic_string(path, &text)
 }
