@@ -22,9 +22,8 @@ pub fn bare_modes(structure: &Structure, count: usize) -> Result<Modes> {
 /// calibration's): a plate or an imported model beyond [`FEW_MODES_DENSE_LIMIT`] DOFs takes
 /// shift-invert Lanczos on its sparse factor, which costs O(DOFs) where the dense solver
 /// finds every mode in O(DOFs³) (a 20 × 16 plate's 1,281 DOFs: seconds of work for three
-/// modes). A free structure (singular K), which the sparse path does not shift, and every
-/// beam (whose calibration keeps its dense path bit for bit up to [`DENSE_EIGEN_LIMIT`]) take
-/// [`bare_modes`].
+/// modes). Every beam (whose calibration keeps its dense path bit for bit up to
+/// [`DENSE_EIGEN_LIMIT`]) takes [`bare_modes`], as does a model the sparse path fails on.
 pub fn few_bare_modes(structure: &Structure, count: usize) -> Result<Modes> {
     few_bare_modes_of(structure, &bare_system(structure)?, count)
 }
@@ -79,8 +78,8 @@ pub fn bare_modes_of(structure: &Structure, sys: &System, count: usize) -> Resul
     // K enters through its square-root factor built from the element rows when it has one
     // (a supported structure): that keeps the lowest modes of fine meshes accurate
     // (round-off ~ε·elements² instead of ~ε·elements⁴ for K as assembled). An unsupported
-    // structure has none and takes the assembled K (the dense path shifts it, the sparse
-    // path reports it).
+    // structure has none and takes the assembled K (shifted by a little of M: see
+    // `lanczos::modes_sparse` and `eigen::modes`).
     let root = structure.beam().and_then(|beam| structure_stiffness_root(beam, &sys.dofs).ok());
     // Dense reduction up to a few thousand DOFs (all modes at once, robust); beyond that,
     // or when only a few modes of a large model are wanted, shift-invert Lanczos (linear

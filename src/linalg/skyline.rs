@@ -186,6 +186,11 @@ impl<T: Scalar> SkylineLdlt<T> {
         self.first.len()
     }
 
+    /// The pivots D.
+    pub fn pivots(&self) -> &[T] {
+        &self.diag
+    }
+
     /// The factor's storage: envelope `first`, row offsets `start` (n + 1 of them), the
     /// values (L strictly below the diagonal, D in the diagonal slot) and D.
     pub fn into_parts(self) -> (Vec<usize>, Vec<usize>, Vec<T>, Vec<T>) {

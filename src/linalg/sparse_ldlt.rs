@@ -116,17 +116,20 @@ impl SparsePattern {
             )
             .map_err(|LdltError::ZeroPivot { index }| self.singular(self.zero_pivot(index), 0.0, &a))?;
         let pivots = self.pivots(&l);
+        let mut smallest = f64::INFINITY;
         for (k, &d) in pivots.iter().enumerate() {
             let dof = self.original(k);
             let scale = self.diagonal(&a, dof).abs().max(f64::MIN_POSITIVE);
             if !d.is_finite() || d.abs() <= TINY_PIVOT * scale {
                 return Err(self.singular(k, d, &a));
             }
+            smallest = smallest.min(d.abs() / scale);
         }
         if let Some(t) = task {
             t.set(1)?;
         }
-        Ok(SparseLdlt { pattern: self, negative: pivots.iter().filter(|&&d| d < 0.0).count(), values: l })
+        let negative = pivots.iter().filter(|&&d| d < 0.0).count();
+        Ok(SparseLdlt { pattern: self, negative, smallest, values: l })
     }
 
     /// The values of Σ cᵢ·Aᵢ on the analysed lower triangle.
@@ -206,6 +209,8 @@ pub struct SparseLdlt<'p> {
     pattern: &'p SparsePattern,
     values: Vec<f64>,
     negative: usize,
+    /// The smallest |pivot| over its row's diagonal entry.
+    smallest: f64,
 }
 
 impl SparseLdlt<'_> {
@@ -218,6 +223,12 @@ impl SparseLdlt<'_> {
     /// of the matrix itself.
     pub fn negative_pivots(&self) -> usize {
         self.negative
+    }
+
+    /// The smallest |pivot| relative to its row's diagonal entry: near round-off where the
+    /// matrix is singular up to round-off (a free structure's K).
+    pub fn smallest_pivot_ratio(&self) -> f64 {
+        self.smallest
     }
 
     /// Bytes of the factor's values.

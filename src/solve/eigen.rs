@@ -72,9 +72,9 @@ pub fn modes(k: &Csr, m: &Csr, dofs: &[usize], count: usize) -> Result<Modes> {
     // λ_max of a fine mesh (rotations carry little mass) is 10⁹ times λ₁: that costs five
     // digits at 200 elements. A free structure has a singular K; shift it by σ·M then.
     let mut shift = 0.0;
-    let llt = match kd.llt(Side::Lower) {
-        Ok(f) => f,
-        Err(_) => {
+    let llt = match kd.llt(Side::Lower).ok().filter(|f| !rigid_pivot(f.L(), &kd)) {
+        Some(f) => f,
+        None => {
             let tk: f64 = (0..n).map(|i| kd[(i, i)]).sum();
             let tm: f64 = (0..n).map(|i| md[(i, i)]).sum();
             shift = 1e-6 * tk / tm;
@@ -89,6 +89,15 @@ pub fn modes(k: &Csr, m: &Csr, dofs: &[usize], count: usize) -> Result<Modes> {
         }
     };
     reduce(llt.L(), md, shift, dofs, count, false)
+}
+
+/// Whether the Cholesky factor L of K has a pivot L_ii² below 10⁻⁸ of K_ii: a free
+/// structure's K is singular, but round-off can leave its factor positive, with pivots of
+/// ~10⁻¹³ of the diagonal on the rigid-body motions (a held plate's smallest is ≈ 0.4 of
+/// it). Reducing with that factor carries the round-off into every mode (residuals of
+/// 10⁻⁵ on a free plate's elastic modes); shifted by a little of M it does not.
+fn rigid_pivot(l: MatRef<'_, f64>, k: &Mat<f64>) -> bool {
+    (0..k.nrows()).any(|i| l[(i, i)] * l[(i, i)] < 1e-8 * k[(i, i)])
 }
 
 /// The lowest `count` modes of (K, M) over all of M's DOFs, with K = RᵀR given by its

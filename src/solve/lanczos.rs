@@ -15,8 +15,8 @@ use crate::error::{Error, Result};
 use crate::linalg::{dot, BandedR, Csr, Skyline, SparsePattern};
 use faer::{Mat, Side};
 
-/// The `count` modes of (K, M) nearest above the shift σ (rad²/s²; use 0 for the lowest
-/// modes of a supported structure). All of the system's DOFs take part.
+/// The `count` modes of (K, M) nearest above the shift σ (rad²/s²; 0 for the lowest modes,
+/// a free structure's rigid-body modes among them). All of the system's DOFs take part.
 ///
 /// Factorises K − σM as assembled: for σ = 0 on a very fine mesh that loses ~ε·(elements)⁴
 /// of the lowest eigenvalues; [`lowest_modes_from_root`] keeps ~ε·(elements)².
@@ -24,11 +24,48 @@ pub fn modes_shift_invert(k: &Csr, m: &Csr, envelope: &[usize], count: usize, si
     // The argument error first: with count 0 and a singular K − σM the user would otherwise
     // see the factorisation's error instead.
     check_sizes(m, count)?;
-    let mut a = Skyline::zeros(envelope.to_vec());
-    k.add_into_skyline(1.0, &mut a);
-    m.add_into_skyline(-sigma, &mut a);
-    let fac = a.factorize()?;
+    let factor = |sigma: f64| {
+        let mut a = Skyline::zeros(envelope.to_vec());
+        k.add_into_skyline(1.0, &mut a);
+        m.add_into_skyline(-sigma, &mut a);
+        let f = a.factorize()?;
+        let ratio =
+            f.pivots().iter().enumerate().map(|(i, d)| d.abs() / a.get(i, i).abs()).fold(f64::INFINITY, f64::min);
+        Ok((f, ratio))
+    };
+    let (fac, sigma) = lowest_or_free(k, m, sigma, factor)?;
     run(m, count, sigma, &|x| fac.solve_in_place(x), Start::Plain, false)
+}
+
+/// The factor of K − σM, or for the lowest modes (σ = 0) of a free structure, whose K is
+/// singular, of K − σ_f·M at the shift σ_f of [`free_shift`]: the rigid-body modes then come
+/// first, at ω ≈ 0, as the dense solver finds them. K counts as singular where its
+/// factorisation fails or leaves a pivot below 10⁻⁸ of its diagonal entry (round-off can
+/// leave a free plate's factor with pivots of 10⁻¹³ of it, a held plate's smallest is ≈ 0.4
+/// of it; a factor that near singular would carry its round-off into every mode). `factor`
+/// returns the factor and its smallest pivot ratio. Any other failure is the first
+/// factorisation's error.
+fn lowest_or_free<F>(k: &Csr, m: &Csr, sigma: f64, factor: impl Fn(f64) -> Result<(F, f64)>) -> Result<(F, f64)> {
+    let first = factor(sigma);
+    if sigma != 0.0 || matches!(first, Ok((_, ratio)) if ratio >= 1e-8) {
+        return first.map(|(f, _)| (f, sigma));
+    }
+    let shift = free_shift(k, m);
+    match (factor(shift), first) {
+        (Ok((f, _)), _) => Ok((f, shift)),
+        (Err(_), Ok((f, _))) => Ok((f, sigma)),
+        (Err(_), Err(e)) => Err(e),
+    }
+}
+
+/// −10⁻⁶ of tr K / tr M (rad²/s²): far below the lowest elastic eigenvalue of any mesh
+/// the solver takes (their ratio to the stiffest DOF's is ≳ 10⁻¹²), yet K − σ_f·M keeps
+/// pivots of ~10⁻⁶ of its diagonal on the rigid-body motions, which a positive definite
+/// factorisation resolves to round-off. The same shift as the dense solver's
+/// ([`super::eigen::modes`]).
+fn free_shift(k: &Csr, m: &Csr) -> f64 {
+    let trace = |a: &Csr| (0..a.dim()).map(|i| a.get(i, i)).sum::<f64>();
+    -1e-6 * trace(k) / trace(m)
 }
 
 /// The `count` modes of (K, M) nearest above the shift σ, factorising K − σM with the
@@ -51,7 +88,12 @@ pub fn modes_sparse(k: &Csr, m: &Csr, count: usize, sigma: f64) -> Result<Modes>
 /// them at another shift too orders them once).
 pub fn modes_on_pattern(pattern: &SparsePattern, k: &Csr, m: &Csr, count: usize, sigma: f64) -> Result<Modes> {
     check_sizes(m, count)?;
-    let fac = pattern.factorize(&[(1.0, k), (-sigma, m)])?;
+    let factor = |sigma: f64| {
+        let f = pattern.factorize(&[(1.0, k), (-sigma, m)])?;
+        let ratio = f.smallest_pivot_ratio();
+        Ok((f, ratio))
+    };
+    let (fac, sigma) = lowest_or_free(k, m, sigma, factor)?;
     run(m, count, sigma, &|x| fac.solve_in_place(x), Start::Purified, false)
 }
 
