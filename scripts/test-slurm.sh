@@ -9,7 +9,7 @@
 # Compared with `cmp`, whole files: the merged HDF5 table against `beamflow sweep` run in one
 # process (the file carries no timestamp: every attribute, the sweep and base-case texts and
 # every /table dataset must be the same bytes), and the best-case table (.best.md) and the
-# figure (.net_power.png) the merge writes against the single run's.
+# figure (.net_power.png, .svg) the merge writes against the single run's.
 #
 # Installs Debian's slurm-wlm and munge with apt-get when Slurm or munge is missing, and fails
 # with the reason when it cannot: the test never passes without running. Needs root (slurmd
@@ -141,11 +141,11 @@ check_task_log() {
 }
 
 # Removes the merged table, figure and best-case table, so that the next merge writes new ones.
-remove_merged() { rm -f "$out.h5" "$out.net_power.png" "$out.best.md"; }
+remove_merged() { rm -f "$out.h5" "$out.net_power.png" "$out.net_power.svg" "$out.best.md"; }
 
 compare_with_single() {
     local what=$1 ext
-    for ext in h5 best.md net_power.png; do
+    for ext in h5 best.md net_power.png net_power.svg; do
         if ! cmp "$tmp/single/placement-frame.$ext" "$out.$ext"; then
             if [ "$ext" = h5 ]; then
                 echo "h5dump difference, 17 digits (single-process < > Slurm merge):" >&2

@@ -285,3 +285,45 @@ fn a_large_plate_reduces_on_its_modes_below_the_cutoff() {
     let d = max_rel(&r.mean_power, &f.mean_power);
     assert!(d <= 1e-6, "reduced against full: {d:e}");
 }
+
+/// A reduced steady state whose default nine harmonics leave more than the tolerance out
+/// (a stiff corner takes little power, so harmonics far above the drive matter to it)
+/// raises its count on the same reduction to the one the tolerance asks for, and agrees
+/// with the full model's powers (its own automatic count) within the reduction's stated
+/// error, where nine harmonics did not.
+#[test]
+fn a_reduced_steady_state_raises_its_harmonics_to_the_tolerance() {
+    let plate = "[plate]\nlength_x = 0.6\nlength_y = 0.4\nthickness = 0.002\nyoungs_modulus = 70e9\n\
+                 poisson_ratio = 0.33\ndensity = 2700.0\n[plate.mesh]\nelements = [12, 8]\n[plate.edges]\n\
+                 x0 = \"clamped\"\nx1 = \"free\"\ny0 = \"simply_supported\"\ny1 = \"simply_supported\"\n\
+                 [[actuator]]\ntype = \"frame\"\nname = \"frame\"\nat = [0.4, 0.25]\ndirection = 120.0\n\
+                 [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 120.0\n\
+                 [[actuator]]\ntype = \"inertial\"\nname = \"corner\"\nat = [0.01, 0.01]\n\
+                 [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 120.0\n";
+    let run = run_text(
+        &format!(
+            "{plate}[[analysis]]\ntype = \"steady_state\"\nreduction = \"auto\"\n\
+             [[analysis]]\ntype = \"steady_state\"\n"
+        ),
+        "corner.toml",
+    );
+    let [AnalysisResult::SteadyState(r), AnalysisResult::SteadyState(f)] = &run.results[..] else {
+        panic!("two steady states")
+    };
+    let nine = run_text(
+        &format!("{plate}[[analysis]]\ntype = \"steady_state\"\nreduction = \"auto\"\nharmonics = 9\n"),
+        "nine.toml",
+    );
+    let AnalysisResult::SteadyState(nine) = &nine.results[0] else { panic!("a steady state") };
+    assert!(nine.truncation_estimate > 1e-6, "nine harmonics leave out only {:e}", nine.truncation_estimate);
+    assert!(
+        r.harmonics > 9 && r.truncation_estimate <= 1e-6,
+        "{} harmonics leave {:e}",
+        r.harmonics,
+        r.truncation_estimate
+    );
+    let stated = r.reduction.as_ref().and_then(|rep| rep.error.as_ref()).expect("an error estimate").max_relative_error;
+    let d = max_rel(&r.mean_power, &f.mean_power);
+    assert!(d <= stated * 1.01 + 2e-6, "reduced against full: {d:e}, stated {stated:e}");
+    assert!(max_rel(&nine.mean_power, &f.mean_power) > 10.0 * d, "nine harmonics were as close");
+}

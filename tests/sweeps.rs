@@ -511,7 +511,9 @@ fn cli_sweep_shards_merge_and_report() {
     let merged = d.path("all.h5");
     let (ok, text) = run(&[&os("merge"), &p(&d.path("s1.h5")), &p(&d.path("s2.h5")), &os("--out"), &p(&merged)]);
     assert!(ok && text.contains("20 cases"), "{text}");
-    assert!(d.path("all.net_power.png").exists());
+    // The figure in the default formats, PNG and SVG, and no PDF unless asked for.
+    assert!(d.path("all.net_power.png").exists() && d.path("all.net_power.svg").exists());
+    assert!(!d.path("all.net_power.pdf").exists());
     let md = std::fs::read_to_string(d.path("all.best.md")).unwrap();
     assert!(md.contains("| rank |") && md.contains("Best and worst position for each"), "{md}");
     // The best case in the table is the one with the largest net power.

@@ -2,7 +2,7 @@
 
 use super::case_inputs;
 use crate::analysis::budget::Budget;
-use crate::analysis::case_run::{AnalysisResult, CaseRun};
+use crate::analysis::case_run::AnalysisResult;
 use crate::analysis::modes;
 use crate::app::runner::run_case_within;
 use crate::case::build::build_structure;
@@ -28,7 +28,8 @@ pub fn modes(case: &Path, count: Option<usize>, json: Option<&Path>) -> Result<(
         return Err(Error::input("<cli>", "--count", "must be at least 1"));
     }
     let structure = build_structure(&lc)?;
-    let r = modes::run(&structure, count)?;
+    // A failure of the solve is the structure's: named by its file and table.
+    let r = modes::run(&structure, count).map_err(|e| e.in_analysis(&lc.file, structure.kind()))?;
     crate::say!("{}", modes_table(&r));
     if let Some(path) = json {
         let text = serde_json::to_string_pretty(&r).expect("plain data serialises");
@@ -88,15 +89,12 @@ fn warn_implausible(lc: &LoadedCase) {
     }
 }
 
-/// Says on standard error, besides the summary, which records' spectra cannot be trusted
-/// and what to do ([`crate::power::record::warnings`]).
-fn warn_untrustworthy(file: &str, run: &CaseRun) {
-    for (i, r) in run.results.iter().enumerate() {
-        if let AnalysisResult::Transient(t) = r {
-            for w in t.record.iter().flat_map(|rec| &rec.estimate.warnings) {
-                crate::app::console::note_line(format_args!("warning: {file}: analysis[{i}]: {w}"));
-            }
-        }
+/// Says on standard error, besides the summary, what the report's warnings say of the
+/// run's accuracy (a record whose spectra cannot be trusted, harmonics or settling short of
+/// the tolerance, a poor energy balance or reduction) and what to do.
+fn warn_inaccurate(report: &crate::report::run_page::RunReport) {
+    for w in report.accuracy_warnings() {
+        crate::app::console::note_line(format_args!("warning: {}: {w}", report.lc.file));
     }
 }
 
@@ -237,7 +235,7 @@ pub fn run(
         }
     }
     crate::say!("{}", crate::io::summary::headline_text(&summary));
-    warn_untrustworthy(&lc.file, &run);
+    warn_inaccurate(&crate::report::run_page::RunReport { lc: &lc, run: &run, summary: &summary, files: &finals });
     if let Some(j) = json {
         crate::app::console::write_text_or_stdout(j, &text)?;
     }

@@ -293,9 +293,22 @@ impl RunReport<'_> {
         format!("<h3>Measured beside predicted</h3>\n{}", table(&head, &rows))
     }
 
-    /// Warnings a reader should not miss, from the stated accuracies.
+    /// Warnings a reader should not miss: the case's likely slips of units, what the run's
+    /// stated accuracies say ([`Self::accuracy_warnings`]) and, on a rigid base, what its
+    /// result means.
     pub fn warnings(&self) -> Vec<String> {
         let mut w = crate::case::plausible::warnings(&self.lc.case);
+        w.extend(self.accuracy_warnings());
+        if self.summary["base"] == "rigid" {
+            w.push("Rigid base: nothing moves the base, so no power flows into it; the transmitted forces carry the result.".into());
+        }
+        w
+    }
+
+    /// What the run's stated accuracies and measurements warn of, each led by its
+    /// analysis: the console prints these after the results, the report lists them.
+    pub fn accuracy_warnings(&self) -> Vec<String> {
+        let mut w = Vec::new();
         for (a, tag) in self.analyses().into_iter().zip(analysis_tags(self.run)) {
             if a["converged"] == false {
                 w.push(format!(
@@ -347,9 +360,6 @@ impl RunReport<'_> {
                 c.max_abs_error_db(),
                 c.tolerance_db.unwrap_or(f64::NAN)
             ));
-        }
-        if self.summary["base"] == "rigid" {
-            w.push("Rigid base: nothing moves the base, so no power flows into it; the transmitted forces carry the result.".into());
         }
         w
     }

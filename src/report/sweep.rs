@@ -161,27 +161,29 @@ fn beside(out: &Path, suffix: &str) -> Result<PathBuf> {
     crate::io::paths::output_file(&dir, &format!("{stem}.{suffix}"))
 }
 
-const FIGURE: &str = "net_power.png";
+const FIGURE: &str = "net_power";
 const BEST: &str = "best.md";
 const REPORT: &str = "report.html";
 
 /// The report files [`plot`], [`write_markdown`] and [`write_report`] may write beside the
-/// table `out`.
+/// table `out` (the figure in every format a run can ask for).
 pub fn files_beside(out: &Path) -> Vec<PathBuf> {
-    [FIGURE, BEST, REPORT].iter().filter_map(|s| beside(out, s).ok()).collect()
+    let figures = crate::report::plot::Format::ALL.map(|f| format!("{FIGURE}.{}", f.ext()));
+    figures.iter().map(String::as_str).chain([BEST, REPORT]).filter_map(|s| beside(out, s).ok()).collect()
 }
 
-/// Writes the figures for a table next to `out` (`<stem>.net_power.png`) and returns the
-/// files written (none if the table's shape has no figure).
+/// Writes the figure for a table next to `out` (`<stem>.net_power.png`, and `.svg`, `.pdf`
+/// where the run's figure formats ask for them) and returns the files written (none if
+/// the table's shape has no figure).
 pub fn plot(t: &SweepTable, out: &Path) -> Result<Vec<PathBuf>> {
-    let png = beside(out, FIGURE)?;
-    match figure(t) {
-        Some(f) => {
-            f.render(&png)?;
-            Ok(vec![png])
-        }
-        None => Ok(Vec::new()),
+    let Some(f) = figure(t) else { return Ok(Vec::new()) };
+    let mut written = Vec::new();
+    for format in crate::report::plot::figure_formats() {
+        let path = beside(out, &format!("{FIGURE}.{}", format.ext()))?;
+        f.render(&path)?;
+        written.push(path);
     }
+    Ok(written)
 }
 
 /// Writes `<stem>.report.html` next to `out`: the best cases and the figure in one

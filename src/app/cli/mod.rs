@@ -12,7 +12,8 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-/// Vibrational power flow from piezoelectric force actuators into beams.
+/// Vibrational power flow from piezoelectric force actuators into beams, plates and
+/// imported FE models.
 #[derive(Parser, Debug)]
 #[command(name = "beamflow", version, about, long_about = None)]
 pub struct Cli {
@@ -33,7 +34,8 @@ pub struct Cli {
 
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Natural modes of a case's bare beam, against closed-form values where they exist.
+    /// Natural modes of a case's bare structure (beam, plate or imported model), against
+    /// closed-form values where they exist.
     Modes {
         /// The case file (TOML; see docs/case-format.md).
         case: PathBuf,

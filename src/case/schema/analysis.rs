@@ -340,7 +340,8 @@ pub enum AnalysisSpec {
     /// Periodic steady state solved in the frequency domain.
     SteadyState {
         /// Harmonics kept; default: the fewest whose neglected rest changes no point power
-        /// by more than `harmonic_tolerance` (9 on a modal-reduced model).
+        /// by more than `harmonic_tolerance` (on a modal-reduced model 9, which set its
+        /// cut-off, raised on that reduction where 9 leave out more than the tolerance).
         #[serde(default, skip_serializing_if = "Option::is_none")]
         harmonics: Option<usize>,
         /// Relative truncation tolerance of the automatic harmonic count.
