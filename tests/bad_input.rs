@@ -254,4 +254,9 @@ fn a_frame_along_an_edge_stands_on_it() {
     let msg = case_error(&frame(0.0, 91.0));
     assert!(msg.contains("actuator[0].direction") && msg.contains("outside the plate"), "{msg}");
     assert!(!msg.contains("0.00000000"), "round-off written out in full: {msg}");
+    // An angle beyond a turn either way keeps no digits of what was meant.
+    for direction in ["1e300", "400.0", "-361.0"] {
+        let msg = case_error(&frame(0.25, 0.0).replace("direction = 0", &format!("direction = {direction}")));
+        assert!(msg.contains("actuator[0].direction") && msg.contains("within −360 to 360 degrees"), "{msg}");
+    }
 }

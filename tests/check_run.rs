@@ -113,6 +113,65 @@ fn slips_of_units_are_named() {
     let r = beamflow(&["check", long.to_str().unwrap()]);
     let err = String::from_utf8_lossy(&r.stderr);
     assert!(!r.status.success() && err.contains("lengths are in metres (730 mm is 0.73)"), "{err}");
+    // A plate's slips are its own fields', and a plate case's beam defaults are not read.
+    let plate = |field: &str, value: &str| {
+        let mut fields = vec![("length_x", "0.6"), ("length_y", "0.4"), ("thickness", "0.002")];
+        fields.extend([("youngs_modulus", "70e9"), ("poisson_ratio", "0.33"), ("density", "2700.0")]);
+        let table: String =
+            fields.iter().map(|(k, v)| format!("{k} = {}\n", if *k == field { value } else { v })).collect();
+        let edges = "[plate.edges]\nx0 = \"simply_supported\"\nx1 = \"simply_supported\"\ny0 = \"simply_supported\"\ny1 = \"simply_supported\"\n";
+        let at = sine.replace("x_e = 0.15", "at = [0.2, 0.15]");
+        let path = dir.path().join(format!("plate_{field}.toml"));
+        std::fs::write(&path, format!("[plate]\n{table}{edges}{at}[[analysis]]\ntype = \"modes\"\n")).unwrap();
+        let r = beamflow(&["check", path.to_str().unwrap()]);
+        (r.status.success(), String::from_utf8_lossy(&r.stderr).into_owned())
+    };
+    for (field, value, hint) in [
+        ("youngs_modulus", "70", "moduli are in Pa (70 GPa is 7e10)"),
+        ("density", "2.7", "densities are in kg/m³"),
+        ("length_x", "600", "lengths are in metres"),
+    ] {
+        let (ok, err) = plate(field, value);
+        assert!(ok && err.contains(&format!("`plate.{field}`")) && err.contains(hint), "{field}: {err}");
+    }
+    let (ok, err) = plate("density", "2700.0");
+    assert!(ok && !err.contains("warning"), "{err}");
+}
+
+/// A foot where the plate cannot move (a held edge, a pinned point support) takes no
+/// power: `check` says which foot and why; a foot on a free edge or off the support is
+/// not named.
+#[test]
+fn feet_on_held_points_are_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let check = |edges: [&str; 4], at: &str, support: &str| {
+        let path = dir.path().join("held.toml");
+        let [x0, x1, y0, y1] = edges;
+        std::fs::write(
+            &path,
+            format!(
+                "[plate]\nlength_x = 0.6\nlength_y = 0.4\nthickness = 0.002\nyoungs_modulus = 70e9\n\
+                 poisson_ratio = 0.33\ndensity = 2700.0\n[plate.edges]\nx0 = \"{x0}\"\nx1 = \"{x1}\"\n\
+                 y0 = \"{y0}\"\ny1 = \"{y1}\"\n{support}[[actuator]]\ntype = \"frame\"\nat = {at}\n\
+                 [actuator.voltage]\nkind = \"sine\"\namplitude = 12.0\nfrequency = 60.0\n"
+            ),
+        )
+        .unwrap();
+        let r = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow")).args(["check"]).arg(&path).output().unwrap();
+        assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+        String::from_utf8_lossy(&r.stderr).into_owned()
+    };
+    let held = ["clamped", "simply_supported", "simply_supported", "free"];
+    let err = check(held, "[0.2, 0.0]", "");
+    for foot in ["stack foot at (0.2, 0) m", "left leg foot", "right leg foot"] {
+        assert!(err.contains(foot) && err.contains("simply supported edge `plate.edges.y0`"), "{foot}: {err}");
+    }
+    assert!(check(held, "[0.2, 0.4]", "").is_empty(), "the free edge y1 moves");
+    let pinned = "[[plate.support]]\nat = [0.3, 0.2]\nkind = \"pinned\"\n";
+    let err = check(held, "[0.3, 0.2]", pinned);
+    assert!(err.contains("stack foot at (0.3, 0.2) m is on a point support"), "{err}");
+    assert!(!err.contains("leg foot"), "the legs are off the support: {err}");
+    assert!(check(held, "[0.3, 0.25]", pinned).is_empty());
 }
 
 /// A mesh file of 10⁶ nodes for an analysis that solves on the mesh is refused from a

@@ -1,5 +1,6 @@
 //! Values that are admissible but unlikely to be meant: a slip of units (a 730 m beam where
-//! 730 mm was meant, a modulus in GPa, a density in g/cm³). They are not refused — a user may
+//! 730 mm was meant, a modulus in GPa, a density in g/cm³), an actuator's foot where the
+//! plate is held. They are not refused — a user may
 //! mean them — but `check`, `run` and the report say what looks wrong and the likely slip.
 //!
 //! The ranges span the structures and actuators this tool is for (laboratory beams of
@@ -26,24 +27,101 @@ const BEAM: [Range; 5] = [
     Range { field: "beam.density", low: 100.0, high: 25_000.0, hint: "densities are in kg/m³ (steel is 7850)" },
 ];
 
-/// Warnings for the values of `case` that look like a slip, each naming the field.
+const PLATE: [Range; 5] = [
+    Range { field: "plate.length_x", low: 0.01, high: 20.0, hint: "lengths are in metres (600 mm is 0.6)" },
+    Range { field: "plate.length_y", low: 0.01, high: 20.0, hint: "lengths are in metres (400 mm is 0.4)" },
+    Range { field: "plate.thickness", low: 1e-5, high: 0.5, hint: "lengths are in metres (2 mm is 0.002)" },
+    Range { field: "plate.youngs_modulus", low: 1e8, high: 1.5e12, hint: "moduli are in Pa (70 GPa is 7e10)" },
+    Range { field: "plate.density", low: 100.0, high: 25_000.0, hint: "densities are in kg/m³ (aluminium is 2700)" },
+];
+
+/// Warnings for the values of `case` that look like a slip, each naming the field, and
+/// for actuator feet where a plate is held.
 pub fn warnings(case: &Case) -> Vec<String> {
-    let b = &case.beam;
-    let mut w: Vec<String> = BEAM
+    let mut w = slips(case);
+    if let Some(p) = &case.plate {
+        w.extend(held_feet(case, p));
+    }
+    w
+}
+
+/// The values of `case` that look like a slip of units, each naming the field.
+fn slips(case: &Case) -> Vec<String> {
+    let mut w = match (&case.plate, &case.imported) {
+        (Some(p), _) => outside(&PLATE, [p.length_x, p.length_y, p.thickness, p.youngs_modulus, p.density]),
+        // An imported model's matrices carry their own units.
+        (None, Some(_)) => Vec::new(),
+        (None, None) => beam_warnings(&case.beam),
+    };
+    for (i, a) in case.actuator.iter().enumerate() {
+        w.extend(drive_warnings(&format!("actuator[{i}].voltage"), &a.voltage, "V", 1000.0));
+    }
+    w
+}
+
+/// The values outside their plausible `ranges`, each with its likely slip.
+fn outside(ranges: &[Range], values: [f64; 5]) -> Vec<String> {
+    ranges
         .iter()
-        .zip([b.length, b.width, b.thickness, b.youngs_modulus, b.density])
+        .zip(values)
         .filter(|(r, v)| !(r.low..=r.high).contains(v))
         .map(|(r, v)| format!("`{}` = {} lies outside {} to {}: {}", r.field, num(v), num(r.low), num(r.high), r.hint))
-        .collect();
+        .collect()
+}
+
+/// Actuator feet where the plate cannot move — on a clamped or simply supported edge, or on
+/// a pinned or clamped point support — so that no power enters there: admissible (a leg
+/// may stand on a support), but seldom meant for the stack.
+fn held_feet(case: &Case, p: &super::schema::PlateSpec) -> Vec<String> {
+    use super::schema::{EdgeSpec, PlateSupportKindSpec};
+    let tol = 1e-9 * p.length_x.max(p.length_y);
+    let near = |a: f64, b: f64| (a - b).abs() <= tol;
+    let e = &p.edges;
+    let edges = [
+        ("x0", e.x0, 0.0, true),
+        ("x1", e.x1, p.length_x, true),
+        ("y0", e.y0, 0.0, false),
+        ("y1", e.y1, p.length_y, false),
+    ];
+    let mut w = Vec::new();
+    for (i, a) in case.actuator.iter().enumerate() {
+        for (foot, at) in a.feet() {
+            let crate::structure::Location::Plate { x, y } = at else { continue };
+            let on_edge = edges
+                .iter()
+                .find(|(_, kind, c, along_x)| *kind != EdgeSpec::Free && near(if *along_x { x } else { y }, *c));
+            let on_support = p
+                .support
+                .iter()
+                .find(|s| s.kind != PlateSupportKindSpec::Spring && near(s.at[0], x) && near(s.at[1], y));
+            let what = match (on_edge, on_support) {
+                (Some((name, kind, ..)), _) => {
+                    let kind = if *kind == EdgeSpec::Clamped { "clamped" } else { "simply supported" };
+                    format!("on the {kind} edge `plate.edges.{name}`")
+                }
+                (None, Some(_)) => "on a point support (`plate.support`)".to_string(),
+                (None, None) => continue,
+            };
+            w.push(format!(
+                "`actuator[{i}]`: the {foot} foot at ({}, {}) m is {what}: the plate does not move there, so no \
+                 power enters at it",
+                num(round_to_9(x)),
+                num(round_to_9(y))
+            ));
+        }
+    }
+    w
+}
+
+/// A beam's slips of units, and a beam too thick for Euler–Bernoulli theory.
+fn beam_warnings(b: &super::schema::BeamSpec) -> Vec<String> {
+    let mut w = outside(&BEAM, [b.length, b.width, b.thickness, b.youngs_modulus, b.density]);
     if b.thickness > 0.1 * b.length {
         w.push(format!(
             "`beam.thickness` is {:.0} % of `beam.length`: Euler–Bernoulli beams are slender (thickness below a \
              tenth of the length); shear and rotary inertia, left out here, matter at this ratio",
             100.0 * b.thickness / b.length
         ));
-    }
-    for (i, a) in case.actuator.iter().enumerate() {
-        w.extend(drive_warnings(&format!("actuator[{i}].voltage"), &a.voltage, "V", 1000.0));
     }
     w
 }
@@ -52,7 +130,7 @@ pub fn warnings(case: &Case) -> Vec<String> {
 /// beside it: a refusal often follows from one elsewhere (a 730 m beam makes every stack
 /// too stiff for it).
 pub fn blame_slips(e: Error, case: &Case) -> Error {
-    let slips = warnings(case);
+    let slips = slips(case);
     match e {
         Error::Input { file, field, reason } if !slips.is_empty() => Error::Input {
             file,
@@ -61,6 +139,12 @@ pub fn blame_slips(e: Error, case: &Case) -> Error {
         },
         e => e,
     }
+}
+
+/// `v` to 9 significant digits: a foot's position computed from the stack's and the
+/// direction carries round-off a reader need not see.
+fn round_to_9(v: f64) -> f64 {
+    format!("{v:.8e}").parse().unwrap_or(v)
 }
 
 /// A number as a person writes it: plain where that is short, else with an exponent.

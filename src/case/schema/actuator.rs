@@ -464,9 +464,7 @@ impl ActuatorSpec {
                 ));
             }
             self.point().location().map_err(|why| Error::input(file, format!("{f}.component"), why))?;
-            if !self.direction.is_finite() {
-                return Err(Error::input(file, format!("{f}.direction"), "must be finite (degrees from +x)"));
-            }
+            direction(file, &f, self.direction)?;
         } else if self.node.is_some() {
             return Err(Error::input(
                 file,
@@ -484,9 +482,7 @@ impl ActuatorSpec {
             if self.at.is_none() {
                 return Err(Error::input(file, format!("{f}.at"), "a plate takes the stack foot as `at = [x, y]` (m)"));
             }
-            if !self.direction.is_finite() {
-                return Err(Error::input(file, format!("{f}.direction"), "must be finite (degrees from +x)"));
-            }
+            direction(file, &f, self.direction)?;
             for (foot, at) in self.feet() {
                 if let Err(why) = extent.holds(&at) {
                     let field = if foot == "stack" { format!("{f}.at") } else { format!("{f}.direction") };
@@ -550,4 +546,20 @@ mod tests {
         let e = parse("type = \"frame\"\nm_t = 0.1\n").unwrap_err();
         assert!(e.contains("`m_t` applies only to an inertial"), "{e}");
     }
+}
+
+/// A frame's in-plane direction (degrees from +x) within one turn either way: beyond it
+/// the angle's sine and cosine keep no digits of what was meant (10³⁰⁰ degrees).
+fn direction(file: &str, f: &str, degrees: f64) -> Result<()> {
+    if !(-360.0..=360.0).contains(&degrees) {
+        return Err(Error::input(
+            file,
+            format!("{f}.direction"),
+            format!(
+                "{} is not an angle within −360 to 360 degrees from +x",
+                if degrees.abs() < 1e6 { format!("{degrees}") } else { format!("{degrees:e}") }
+            ),
+        ));
+    }
+    Ok(())
 }
