@@ -260,3 +260,25 @@ fn a_frame_along_an_edge_stands_on_it() {
         assert!(msg.contains("actuator[0].direction") && msg.contains("within −360 to 360 degrees"), "{msg}");
     }
 }
+
+/// Two points whose grid lines would make a sliver of elements (10 µm wide beside 25 mm)
+/// are refused before any solve, naming both points and the ways out; on one line, far
+/// enough apart, or attached through shape functions, they are accepted.
+#[test]
+fn points_a_hair_apart_are_refused_naming_both() {
+    let plate = "[plate]\nlength_x = 0.6\nlength_y = 0.4\nthickness = 0.002\nyoungs_modulus = 70e9\n\
+        poisson_ratio = 0.33\ndensity = 2700.0\n[plate.mesh]\nelements = [24, 16]\n{mesh}[plate.edges]\n\
+        x0 = \"simply_supported\"\nx1 = \"simply_supported\"\ny0 = \"simply_supported\"\ny1 = \"simply_supported\"\n\
+        [[actuator]]\ntype = \"inertial\"\nat = [0.2, 0.15]\n";
+    let case = |sensor_x: f64, mesh: &str| {
+        format!("{}{SINE}[[sensor]]\nname = \"s\"\nat = [{sensor_x}, 0.3]\n", plate.replace("{mesh}", mesh))
+    };
+    let msg = case_error(&case(0.20001, ""));
+    for needle in ["sensor[0].at", "actuator[0] stack foot", "1.000e-5 m", "through_points = false", "2.5e-4 m apart"] {
+        assert!(msg.contains(needle), "`{needle}` in: {msg}");
+    }
+    for (x, mesh) in [(0.2, ""), (0.201, ""), (0.20001, "through_points = false\n")] {
+        let lc = LoadedCase::from_str(&case(x, mesh), "ok.toml", PathBuf::from(".")).unwrap();
+        assert!(beamflow::analysis::plan::calibrated_model(&lc).is_ok(), "sensor at x = {x} with {mesh:?}");
+    }
+}

@@ -53,24 +53,65 @@ pub fn required_points(case: &Case) -> Vec<RequiredPoint> {
 }
 
 /// The points of a plate case that attach to the plate: every actuator foot, sensor, load,
-/// harmonic force, point support, mass and spring.
-pub fn plate_points(case: &Case, p: &PlateSpec) -> Vec<(f64, f64)> {
-    let mut pts: Vec<Location> = Vec::new();
-    for a in &case.actuator {
-        pts.extend(a.feet().into_iter().map(|f| f.1));
+/// harmonic force, point support, mass and spring, each named after the field that places
+/// it.
+pub fn plate_points(case: &Case, p: &PlateSpec) -> Vec<((f64, f64), String)> {
+    let mut pts: Vec<(Location, String)> = Vec::new();
+    for (i, a) in case.actuator.iter().enumerate() {
+        pts.extend(a.feet().into_iter().map(|(foot, at)| (at, format!("actuator[{i}] {foot} foot"))));
     }
-    pts.extend(case.sensor.iter().map(|s| s.location()));
-    pts.extend(case.load.iter().map(|l| l.location()));
-    for an in &case.analysis {
+    pts.extend(case.sensor.iter().enumerate().map(|(i, s)| (s.location(), format!("sensor[{i}].at"))));
+    pts.extend(case.load.iter().enumerate().map(|(i, l)| (l.location(), format!("load[{i}].at"))));
+    for (i, an) in case.analysis.iter().enumerate() {
         if let AnalysisSpec::Harmonic { force, .. } = an {
-            pts.extend(force.iter().map(|f| f.location()));
+            let named = force.iter().enumerate().map(|(j, f)| (f.location(), format!("analysis[{i}].force[{j}].at")));
+            pts.extend(named);
         }
     }
-    let mut xy: Vec<(f64, f64)> = pts.iter().map(|l| (l.x(), l.y().unwrap_or(0.0))).collect();
-    xy.extend(p.support.iter().map(|s| (s.at[0], s.at[1])));
-    xy.extend(p.point_mass.iter().map(|s| (s.at[0], s.at[1])));
-    xy.extend(p.spring.iter().map(|s| (s.at[0], s.at[1])));
+    let mut xy: Vec<((f64, f64), String)> =
+        pts.into_iter().map(|(l, name)| ((l.x(), l.y().unwrap_or(0.0)), name)).collect();
+    let at = |kind: &str, i: usize, at: [f64; 2]| ((at[0], at[1]), format!("plate.{kind}[{i}].at"));
+    xy.extend(p.support.iter().enumerate().map(|(i, s)| at("support", i, s.at)));
+    xy.extend(p.point_mass.iter().enumerate().map(|(i, s)| at("point_mass", i, s.at)));
+    xy.extend(p.spring.iter().enumerate().map(|(i, s)| at("spring", i, s.at)));
     xy
+}
+
+/// Smallest gap between two grid lines through points, as a fraction of the nominal
+/// element L/n: a line through each of two points closer than that makes a sliver of
+/// elements beside full ones, whose stiffness (∝ 1/h³ across it) swamps the plate's
+/// bending in round-off.
+const SLIVER: f64 = 0.01;
+
+/// Refuses two points whose grid lines along x (or y) would be closer than [`SLIVER`] of an
+/// element but not the same line, naming both and what to do.
+fn refuse_slivers(file: &str, pts: &[((f64, f64), String)], lengths: [f64; 2], elements: [usize; 2]) -> Result<()> {
+    for (axis, name) in [(0, "x"), (1, "y")] {
+        let coord = |p: &((f64, f64), String)| if axis == 0 { p.0 .0 } else { p.0 .1 };
+        let mut sorted: Vec<&((f64, f64), String)> = pts.iter().collect();
+        sorted.sort_by(|a, b| coord(a).total_cmp(&coord(b)));
+        let (same, h) = (1e-9 * lengths[axis], lengths[axis] / elements[axis].max(1) as f64);
+        for w in sorted.windows(2) {
+            let gap = coord(w[1]) - coord(w[0]);
+            if gap > same && gap < SLIVER * h {
+                return Err(Error::input(
+                    file,
+                    w[1].1.clone(),
+                    format!(
+                        "{name} = {} lies {gap:.3e} m from {name} = {} of `{}`: a grid line through each makes \
+                         elements {gap:.1e} m wide beside ones of {h:.3e} m, too thin to solve accurately. Put \
+                         both on one line (the same {name}), at least {:.1e} m apart, or set \
+                         `plate.mesh.through_points = false`",
+                        coord(w[1]),
+                        coord(w[0]),
+                        w[0].1,
+                        SLIVER * h
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The plate's grid and its elements' sheets: a mesh file's, or the generated grid (lines
@@ -84,9 +125,13 @@ fn plate_mesh(lc: &LoadedCase, p: &PlateSpec) -> Result<PlateMesh> {
             e => e,
         });
     }
-    let pts = plate_points(&lc.case, p);
-    let through: &[(f64, f64)] = if p.mesh.through_points() { &pts } else { &[] };
     let [nx, ny] = p.mesh.elements();
+    let named = plate_points(&lc.case, p);
+    if p.mesh.through_points() {
+        refuse_slivers(&lc.file, &named, [p.length_x, p.length_y], [nx, ny])?;
+    }
+    let pts: Vec<(f64, f64)> = named.into_iter().map(|(at, _)| at).collect();
+    let through: &[(f64, f64)] = if p.mesh.through_points() { &pts } else { &[] };
     let grid = Grid::through(p.length_x, p.length_y, nx, ny, through);
     Ok(PlateMesh { grid, sheets: Vec::new(), element_sheet: Vec::new() })
 }

@@ -269,11 +269,13 @@ pub fn headline_text(v: &Value) -> String {
             s += &measured_line(m);
         }
         if a["type"] == "harmonic" {
-            let error = a["max_balance_error"].as_f64().map_or("n/a (no forcing)".into(), |e| format!("{e:.2e}"));
-            s += &format!(
-                "harmonic: {} frequencies, max energy-balance error {error}\n",
-                a["frequency_hz"].as_array().map_or(0, Vec::len)
-            )
+            let count = a["frequency_hz"].as_array().map_or(0, Vec::len);
+            s += &match a["max_balance_error"].as_f64() {
+                Some(e) => format!("harmonic: {count} frequencies, max energy-balance error {e:.2e}\n"),
+                None => format!(
+                    "harmonic: {count} frequencies of transfer functions (no force applied: no power to balance)\n"
+                ),
+            }
         }
     }
     s.trim_end().to_string()

@@ -423,7 +423,7 @@ impl RunReport<'_> {
                 }
             }
             AnalysisResult::Transient(t) if t.record.is_none() => {
-                s += &point_powers(&t.mean_power, &t.spectra, &link);
+                s += &point_powers(&t.mean_power, &t.spectra, &link, word);
                 s += &harmonics(&t.spectra, &link);
                 s += &table(
                     &[
@@ -448,7 +448,7 @@ impl RunReport<'_> {
                 }
             }
             AnalysisResult::SteadyState(ss) => {
-                s += &point_powers(&ss.mean_power, &ss.spectra, &link);
+                s += &point_powers(&ss.mean_power, &ss.spectra, &link, word);
                 s += &harmonics(&ss.spectra, &link);
                 s += &table(
                     &["energy balance", "net input power", &format!("{word} dissipation"), "relative error"],
@@ -513,14 +513,15 @@ fn coupled_modes(
 }
 
 /// Mean power at each point and its transmitted-force amplitude at the drive frequency.
-fn point_powers(mean: &[f64], spectra: &[LinkSpectrum], link: &dyn Fn(usize) -> String) -> String {
+fn point_powers(mean: &[f64], spectra: &[LinkSpectrum], link: &dyn Fn(usize) -> String, word: &str) -> String {
     let rows: Vec<Vec<String>> = (0..mean.len())
         .map(|l| {
             let f1 = spectra[l].transmitted.get(1).map_or(f64::NAN, |c| c.norm());
             vec![cell(&link(l)), num(mean[l], "W"), num(f1, "N")]
         })
         .collect();
-    table(&["point", "mean power into the base", "|F| at the drive frequency"], &rows)
+    let into = format!("mean power into the {word}");
+    table(&["point", &into, "|F| at the drive frequency"], &rows)
 }
 
 /// Power per harmonic and transmitted-force amplitude of every point.
