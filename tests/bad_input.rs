@@ -282,3 +282,22 @@ fn points_a_hair_apart_are_refused_naming_both() {
         assert!(beamflow::analysis::plan::calibrated_model(&lc).is_ok(), "sensor at x = {x} with {mesh:?}");
     }
 }
+
+/// A point written the beam's way on a plate, a position that is not a number, and a
+/// beam's `x_e` with a plate's `direction` are each told the plate's way.
+#[test]
+fn beam_ways_on_a_plate_are_told_the_plates() {
+    let plate = "[plate]\nlength_x = 0.6\nlength_y = 0.4\nthickness = 0.002\nyoungs_modulus = 70e9\n\
+        poisson_ratio = 0.33\ndensity = 2700.0\n[plate.edges]\nx0 = \"clamped\"\nx1 = \"clamped\"\n\
+        y0 = \"clamped\"\ny1 = \"clamped\"\n";
+    let frame = |foot: &str| format!("{plate}[[actuator]]\ntype = \"frame\"\n{foot}\n{SINE}");
+    expect(
+        &format!("{}[[sensor]]\nname = \"s\"\nx = 0.45\n", frame("at = [0.2, 0.2]")),
+        &["sensor[0].at", "a plate takes its points as `at = [x, y]` (m), not `x`"],
+    );
+    expect(&frame("at = [nan, 0.15]"), &["actuator[0].at", "NaN is not a finite number", "[x, y] (m)"]);
+    expect(
+        &frame("x_e = 0.2\ndirection = 30.0"),
+        &["actuator[0]", "needs `at` (plate)", "a beam's frame stands along it"],
+    );
+}

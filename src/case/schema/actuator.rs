@@ -205,9 +205,13 @@ impl TryFrom<ActuatorToml> for ActuatorSpec {
             return Err("give the stack foot as `x_e` on a beam or as `at = [x, y]` on a plate, not both".into());
         }
         if t.direction.is_some() && t.at.is_none() && t.node.is_none() {
-            return Err("`direction` turns a frame about its stack foot: it needs `at` (plate) or `node` or `at` \
-                 (imported model)"
-                .into());
+            let beam =
+                if t.x_e.is_some() { "; a beam's frame stands along it, at `x_e`, with no direction" } else { "" };
+            return Err(format!(
+                "`direction` turns a frame about its stack foot: it needs `at` (plate) or `node` or `at` \
+                 (imported model){beam}"
+            )
+            .into());
         }
         if t.direction.is_some() && t.legs.is_some() {
             return Err("`direction` places a frame's legs and `legs` names their nodes: give one, not both".into());

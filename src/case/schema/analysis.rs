@@ -174,10 +174,12 @@ pub fn at_length(at: &[f64], extent: super::Extent) -> std::result::Result<(), S
         super::Extent::Imported => (3, "[x, y, z] (m), the position of a node of the imported model"),
         _ => (2, "[x, y] (m), the position on the plate"),
     };
-    if at.len() == want {
-        Ok(())
-    } else {
-        Err(format!("{} numbers: give {form}", at.len()))
+    if at.len() != want {
+        return Err(format!("{} numbers: give {form}", at.len()));
+    }
+    match at.iter().find(|v| !v.is_finite()) {
+        Some(v) => Err(format!("{v} is not a finite number: give {form}")),
+        None => Ok(()),
     }
 }
 

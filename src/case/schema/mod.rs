@@ -165,7 +165,19 @@ fn on_structure(file: &str, f: &str, p: &analysis::PointSpec, extent: Extent) ->
         Extent::Beam { .. } | Extent::Rigid => (format!("{f}.x"), p.x.is_some()),
     };
     if !given {
-        return Err(Error::input(file, field, "required: the point's position on the structure"));
+        let how = match extent {
+            Extent::Plate { .. } => "a plate takes its points as `at = [x, y]` (m)",
+            Extent::Imported => {
+                "an imported model takes its points as `node` (with `component`) or `at = [x, y, z]` (m)"
+            }
+            Extent::Beam { .. } | Extent::Rigid => "a beam takes its points as `x` (m)",
+        };
+        let wrong = [(p.x.is_some(), "x"), (p.at.is_some(), "at"), (p.node.is_some(), "node")];
+        let reason = match wrong.iter().find(|(g, _)| *g) {
+            Some((_, name)) => format!("{how}, not `{name}`"),
+            None => format!("required: the point's position on the structure ({how})"),
+        };
+        return Err(Error::input(file, field, reason));
     }
     if let Some(at) = &p.at {
         analysis::at_length(at, extent).map_err(|why| Error::input(file, format!("{f}.at"), why))?;
