@@ -113,7 +113,7 @@ fn a_position_is_the_node_there_within_the_tolerance_and_refused_beyond_it() {
         (format!("at = [{x}, 0.0]"), "actuator[0].at", "[x, y, z]"),
         (format!("node = {id}\ntolerance = 0.001"), "actuator[0].tolerance", "goes with"),
         (format!("at = [{x}, 0.0, 0.0]\ntolerance = -1.0"), "actuator[0].tolerance", "zero or positive"),
-        (format!("at = [{x}, 0.0, nan]"), "actuator[0].at", "not a finite point"),
+        (format!("at = [{x}, 0.0, nan]"), "actuator[0].at", "not a finite number"),
     ] {
         let e = m.power("bad", &format!("{inertial}\n{point}")).unwrap_err();
         assert!(e.contains("bad.toml") && e.contains(field) && e.contains(expect), "{e} ({field}: {expect})");

@@ -495,3 +495,18 @@ fn placement_optimum_on_the_plate_matches_a_dense_grid() {
         best.inputs[1]
     );
 }
+
+/// More modes asked for than a very coarse mesh has free DOFs: those it has come back, and
+/// the table says how many were asked for and why fewer came.
+#[test]
+fn fewer_modes_than_asked_are_told() {
+    let s = build_structure(&case(&plate_case("simply_supported", 1, 1, ""))).unwrap();
+    let r = modes::run(&s, 8).unwrap();
+    let n = modes::bare_system(&s).unwrap().n();
+    assert_eq!(r.frequencies_hz.len(), n.min(8));
+    assert!(n < 8, "{n} free DOFs");
+    let table = beamflow::app::commands::modes_table(&r);
+    assert!(table.contains(&format!("8 modes asked for, and the mesh has {n} free DOFs")), "{table}");
+    let fine = modes::run(&build_structure(&case(&plate_case("simply_supported", 4, 4, ""))).unwrap(), 8).unwrap();
+    assert!(!beamflow::app::commands::modes_table(&fine).contains("asked for"));
+}

@@ -164,6 +164,10 @@ pub struct ModesResult {
     /// How many of the lowest modes are rigid-body modes (a structure not held against
     /// rigid motion, e.g. a free plate): frequencies zero up to round-off.
     pub rigid_body_modes: usize,
+    /// The modes asked for: more than the structure's free DOFs give (a very coarse mesh)
+    /// and only those come back.
+    #[serde(skip)]
+    pub requested: usize,
     #[serde(skip)]
     pub modes: Modes,
     /// Node coordinates (m) and the w of each mode at each node (row per mode).
@@ -345,6 +349,7 @@ pub fn run(structure: &Structure, count: usize) -> Result<ModesResult> {
         reference,
         roundoff_bound,
         rigid_body_modes,
+        requested: count,
         node_x: (0..structure.n_nodes()).map(|n| structure.node_location(n).x()).collect(),
         node_y: (0..structure.n_nodes()).filter_map(|n| structure.node_location(n).y()).collect(),
         node_z: (0..structure.n_nodes()).filter_map(|n| structure.node_location(n).z()).collect(),

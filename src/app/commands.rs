@@ -56,6 +56,14 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
             s += &format!("{:>4}  {:>14.6}\n", i + 1, f);
         }
     }
+    let found = r.frequencies_hz.len();
+    if found < r.requested {
+        s += &format!(
+            "note: {} modes asked for, and the mesh has {found} free DOFs: a finer mesh gives more (and more \
+             accurate) modes.\n",
+            r.requested
+        );
+    }
     let rigid = r.rigid_body_modes;
     if rigid > 0 {
         let span = if rigid == 1 {

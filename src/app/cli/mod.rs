@@ -21,11 +21,13 @@ pub struct Cli {
     #[arg(long, global = true)]
     pub quiet: bool,
     /// Resolution of PNG figures in dots per inch (default 100, e.g. 1000 × 600 pixels for a
-    /// plot; 50 to 600). SVG figures do not depend on it.
+    /// plot; 50 to 600), for the commands that draw figures. SVG figures do not depend on
+    /// it.
     #[arg(long, global = true, value_name = "DPI", allow_negative_numbers = true)]
     pub dpi: Option<i64>,
-    /// Formats of every figure, comma-separated: png, svg, pdf (default png,svg). SVG is
-    /// always among them: the HTML reports hold it. PDF is vector, for publishers.
+    /// Formats of every figure the command draws, comma-separated: png, svg, pdf (default
+    /// png,svg). SVG is always among them: the HTML reports hold it. PDF is vector, for
+    /// publishers.
     #[arg(long, global = true, value_name = "LIST", value_delimiter = ',')]
     pub formats: Option<Vec<String>>,
     #[command(subcommand)]

@@ -210,8 +210,7 @@ impl TryFrom<ActuatorToml> for ActuatorSpec {
             return Err(format!(
                 "`direction` turns a frame about its stack foot: it needs `at` (plate) or `node` or `at` \
                  (imported model){beam}"
-            )
-            .into());
+            ));
         }
         if t.direction.is_some() && t.legs.is_some() {
             return Err("`direction` places a frame's legs and `legs` names their nodes: give one, not both".into());
@@ -468,7 +467,7 @@ impl ActuatorSpec {
                 ));
             }
             self.point().location().map_err(|why| Error::input(file, format!("{f}.component"), why))?;
-            direction(file, &f, self.direction)?;
+            direction(file, f, self.direction)?;
         } else if self.node.is_some() {
             return Err(Error::input(
                 file,
@@ -486,7 +485,7 @@ impl ActuatorSpec {
             if self.at.is_none() {
                 return Err(Error::input(file, format!("{f}.at"), "a plate takes the stack foot as `at = [x, y]` (m)"));
             }
-            direction(file, &f, self.direction)?;
+            direction(file, f, self.direction)?;
             for (foot, at) in self.feet() {
                 if let Err(why) = extent.holds(&at) {
                     let field = if foot == "stack" { format!("{f}.at") } else { format!("{f}.direction") };
@@ -505,6 +504,22 @@ impl ActuatorSpec {
         self.voltage.validate(file, &format!("{f}.voltage"))?;
         Ok(())
     }
+}
+
+/// A frame's in-plane direction (degrees from +x) within one turn either way: beyond it
+/// the angle's sine and cosine keep no digits of what was meant (10³⁰⁰ degrees).
+fn direction(file: &str, f: &str, degrees: f64) -> Result<()> {
+    if !(-360.0..=360.0).contains(&degrees) {
+        return Err(Error::input(
+            file,
+            format!("{f}.direction"),
+            format!(
+                "{} is not an angle within −360 to 360 degrees from +x",
+                if degrees.abs() < 1e6 { format!("{degrees}") } else { format!("{degrees:e}") }
+            ),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -550,20 +565,4 @@ mod tests {
         let e = parse("type = \"frame\"\nm_t = 0.1\n").unwrap_err();
         assert!(e.contains("`m_t` applies only to an inertial"), "{e}");
     }
-}
-
-/// A frame's in-plane direction (degrees from +x) within one turn either way: beyond it
-/// the angle's sine and cosine keep no digits of what was meant (10³⁰⁰ degrees).
-fn direction(file: &str, f: &str, degrees: f64) -> Result<()> {
-    if !(-360.0..=360.0).contains(&degrees) {
-        return Err(Error::input(
-            file,
-            format!("{f}.direction"),
-            format!(
-                "{} is not an angle within −360 to 360 degrees from +x",
-                if degrees.abs() < 1e6 { format!("{degrees}") } else { format!("{degrees:e}") }
-            ),
-        ));
-    }
-    Ok(())
 }
