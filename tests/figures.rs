@@ -309,6 +309,15 @@ damping = 1.0
 [[sensor]]
 name = "corner"
 at = [0.5, 0.4]
+[[actuator]]
+type = "frame"
+name = "drive"
+at = [0.25, 0.2]
+direction = 30.0
+[actuator.voltage]
+kind = "sine"
+amplitude = 12.0
+frequency = 60.0
 [[analysis]]
 type = "modes"
 count = 2
@@ -323,6 +332,9 @@ count = 2
     for t in ["point mass", "0.05 kg", "spring to the ground", "20 kN/m", "clamped edge", "free edge", "sensor"] {
         assert!(texts.iter().any(|s| s == t), "`{t}` is not in the layout: {texts:?}");
     }
+    // The actuator is named once, at its stack; its three feet are marked, the legs unnamed.
+    assert_eq!(texts.iter().filter(|s| s.contains("drive")).count(), 1, "{texts:?}");
+    assert!(texts.iter().any(|s| s == "actuator foot: leg") && texts.iter().any(|s| s == "actuator foot: stack"));
     let html = std::fs::read_to_string(out.join("report.html")).unwrap();
     let layout = html.find("<figure id=\"fig-layout_layout\">").expect("the layout is in the report");
     assert!(html.find("<h2 id=\"layout\">").is_some_and(|h| h < layout), "under its own heading");

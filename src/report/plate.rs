@@ -211,11 +211,28 @@ fn mark_points(h: &mut HeatMap, plate: &Plate, run: &CaseRun) {
     for k in &plate.springs {
         marks.push((Shape::Diamond, true, "spring to the ground", at(k.node), si(k.stiffness, "N/m", 3)));
     }
-    for lk in &run.system.links {
-        let Some(foot) = lk.foot_at else { continue };
-        let name = crate::actuator::link_id(run.model.actuators[lk.actuator].name(), &lk.name);
-        let kind = if lk.active { "actuator foot: stack" } else { "actuator foot: leg" };
-        marks.push((Shape::TriangleUp, !lk.active, kind, (foot.x(), foot.y().unwrap_or(0.0)), name));
+    // An actuator is named once, at its stack's foot; a frame's legs are joined by a thin
+    // line (its base), so that two frames side by side stay apart without a label per foot.
+    for (a, actuator) in run.model.actuators.iter().enumerate() {
+        let feet: Vec<_> = run
+            .system
+            .links
+            .iter()
+            .filter(|lk| lk.actuator == a)
+            .filter_map(|lk| lk.foot_at.map(|foot| (lk.active, (foot.x(), foot.y().unwrap_or(0.0)))))
+            .collect();
+        let legs: Vec<(f64, f64)> = feet.iter().filter(|f| !f.0).map(|f| f.1).collect();
+        if legs.len() == 2 {
+            h.thin.push(legs.clone());
+        }
+        for (active, at) in feet {
+            let (kind, label) = if active {
+                ("actuator foot: stack", actuator.name().to_string())
+            } else {
+                ("actuator foot: leg", String::new())
+            };
+            marks.push((Shape::TriangleUp, !active, kind, at, label));
+        }
     }
     for s in &run.model.sensors {
         marks.push((Shape::Circle, true, "sensor", (s.at.x(), s.at.y().unwrap_or(0.0)), s.name.clone()));
