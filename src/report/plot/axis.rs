@@ -128,7 +128,9 @@ impl LogTicks {
         let mut bold = match decades {
             d if d > 2.5 => at(&[1.0], every),
             d if d > 1.0 => at(&[1.0, 2.0, 5.0], 1),
-            _ => at(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], 1),
+            // 1.5 as well: a range ending a little above a power of ten (4 to 16) would
+            // otherwise leave the top fifth of the axis unlabelled.
+            _ => at(&[1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0], 1),
         };
         if bold.len() < 2 {
             bold = nice_ticks(lo, hi, 6);
@@ -344,6 +346,7 @@ mod tests {
         assert!(ay.light.contains(&3e-6) && ay.light.len() > 30);
         let ap = Axis::log(4e-6, 1.6e-5, "power (W)", true);
         assert_eq!((ap.samples()[0].as_str(), ap.label.as_str()), ("4", "power (µW)"));
+        assert_eq!(ap.samples().last().map(String::as_str), Some("15"), "the top fifth labelled");
         // Too many decades for decimals: powers of ten, in the unit itself.
         let aw = Axis::log(3e-12, 2e-3, "power (W)", true);
         assert_eq!((aw.samples()[0].as_str(), aw.label.as_str()), ("10⁻¹⁰", "power (W)"));
