@@ -274,10 +274,10 @@ fn points_a_hair_apart_are_refused_naming_both() {
         format!("{}{SINE}[[sensor]]\nname = \"s\"\nat = [{sensor_x}, 0.3]\n", plate.replace("{mesh}", mesh))
     };
     let msg = case_error(&case(0.20001, ""));
-    for needle in ["sensor[0].at", "actuator[0] stack foot", "1.000e-5 m", "through_points = false", "2.5e-4 m apart"] {
+    for needle in ["sensor[0].at", "actuator[0] stack foot", "1.000e-5 m", "through_points = false", "2.5e-5 m apart"] {
         assert!(msg.contains(needle), "`{needle}` in: {msg}");
     }
-    for (x, mesh) in [(0.2, ""), (0.201, ""), (0.20001, "through_points = false\n")] {
+    for (x, mesh) in [(0.2, ""), (0.2001, ""), (0.20001, "through_points = false\n")] {
         let lc = LoadedCase::from_str(&case(x, mesh), "ok.toml", PathBuf::from(".")).unwrap();
         assert!(beamflow::analysis::plan::calibrated_model(&lc).is_ok(), "sensor at x = {x} with {mesh:?}");
     }

@@ -101,7 +101,7 @@ fn warn_implausible(lc: &LoadedCase) {
 /// run's accuracy (a record whose spectra cannot be trusted, harmonics or settling short of
 /// the tolerance, a poor energy balance or reduction) and what to do.
 fn warn_inaccurate(report: &crate::report::run_page::RunReport) {
-    for w in report.accuracy_warnings() {
+    for w in report.console_warnings() {
         crate::app::console::note_line(format_args!("warning: {}: {w}", report.lc.file));
     }
 }

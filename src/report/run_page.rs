@@ -306,8 +306,18 @@ impl RunReport<'_> {
     }
 
     /// What the run's stated accuracies and measurements warn of, each led by its
-    /// analysis: the console prints these after the results, the report lists them.
+    /// analysis: the report lists them.
     pub fn accuracy_warnings(&self) -> Vec<String> {
+        self.warnings_of(true)
+    }
+
+    /// [`Self::accuracy_warnings`] but a round-off bound above its tolerance, which the run
+    /// says on the console as it finds it: what the console prints after the results.
+    pub fn console_warnings(&self) -> Vec<String> {
+        self.warnings_of(false)
+    }
+
+    fn warnings_of(&self, roundoff: bool) -> Vec<String> {
         let mut w = Vec::new();
         for (a, tag) in self.analyses().into_iter().zip(analysis_tags(self.run)) {
             if a["converged"] == false {
@@ -328,7 +338,7 @@ impl RunReport<'_> {
                     f(&a["truncation_estimate"])
                 ));
             }
-            if a["roundoff_holds"] == false {
+            if roundoff && a["roundoff_holds"] == false {
                 w.push(format!(
                     "{tag}: the point powers' round-off bound is {:.1e}, above the tolerance {:.0e} (`beam.mesh.roundoff_tolerance`).",
                     f(&a["mesh_roundoff"]),

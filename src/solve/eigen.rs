@@ -91,13 +91,13 @@ pub fn modes(k: &Csr, m: &Csr, dofs: &[usize], count: usize) -> Result<Modes> {
     reduce(llt.L(), md, shift, dofs, count, false)
 }
 
-/// Whether the Cholesky factor L of K has a pivot L_ii² below 10⁻⁸ of K_ii: a free
-/// structure's K is singular, but round-off can leave its factor positive, with pivots of
-/// ~10⁻¹³ of the diagonal on the rigid-body motions (a held plate's smallest is ≈ 0.4 of
-/// it). Reducing with that factor carries the round-off into every mode (residuals of
+/// Whether the Cholesky factor L of K has a pivot L_ii² below
+/// [`super::lanczos::RIGID_PIVOT`] of K_ii: a free structure's K is singular, but round-off
+/// can leave its factor positive, with pivots of ~10⁻¹³ of the diagonal on the rigid-body
+/// motions. Reducing with that factor carries the round-off into every mode (residuals of
 /// 10⁻⁵ on a free plate's elastic modes); shifted by a little of M it does not.
 fn rigid_pivot(l: MatRef<'_, f64>, k: &Mat<f64>) -> bool {
-    (0..k.nrows()).any(|i| l[(i, i)] * l[(i, i)] < 1e-8 * k[(i, i)])
+    (0..k.nrows()).any(|i| l[(i, i)] * l[(i, i)] < super::lanczos::RIGID_PIVOT * k[(i, i)])
 }
 
 /// The lowest `count` modes of (K, M) over all of M's DOFs, with K = RᵀR given by its

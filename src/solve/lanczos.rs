@@ -40,23 +40,31 @@ pub fn modes_shift_invert(k: &Csr, m: &Csr, envelope: &[usize], count: usize, si
 /// The factor of K − σM, or for the lowest modes (σ = 0) of a free structure, whose K is
 /// singular, of K − σ_f·M at the shift σ_f of [`free_shift`]: the rigid-body modes then come
 /// first, at ω ≈ 0, as the dense solver finds them. K counts as singular where its
-/// factorisation fails or leaves a pivot below 10⁻⁸ of its diagonal entry (round-off can
-/// leave a free plate's factor with pivots of 10⁻¹³ of it, a held plate's smallest is ≈ 0.4
-/// of it; a factor that near singular would carry its round-off into every mode). `factor`
-/// returns the factor and its smallest pivot ratio. Any other failure is the first
-/// factorisation's error.
+/// factorisation fails or leaves a pivot below [`RIGID_PIVOT`] of its diagonal entry
+/// (round-off can leave a free plate's factor positive; a factor that near singular would
+/// carry its round-off into every mode). `factor` returns the factor and its smallest pivot
+/// ratio. Any other failure is the first factorisation's error.
 fn lowest_or_free<F>(k: &Csr, m: &Csr, sigma: f64, factor: impl Fn(f64) -> Result<(F, f64)>) -> Result<(F, f64)> {
-    let first = factor(sigma);
-    if sigma != 0.0 || matches!(first, Ok((_, ratio)) if ratio >= 1e-8) {
-        return first.map(|(f, _)| (f, sigma));
-    }
+    // The first factor is dropped before the shifted one is built: a large model's factor
+    // is the memory the budget counts once.
+    let first_error = match factor(sigma) {
+        Ok((f, ratio)) if sigma != 0.0 || ratio >= RIGID_PIVOT => return Ok((f, sigma)),
+        Ok(_) => None,
+        Err(e) if sigma != 0.0 => return Err(e),
+        Err(e) => Some(e),
+    };
     let shift = free_shift(k, m);
-    match (factor(shift), first) {
+    match (factor(shift), first_error) {
         (Ok((f, _)), _) => Ok((f, shift)),
-        (Err(_), Ok((f, _))) => Ok((f, sigma)),
-        (Err(_), Err(e)) => Err(e),
+        (Err(e), None) => factor(sigma).map(|(f, _)| (f, sigma)).map_err(|_| e),
+        (Err(_), Some(e)) => Err(e),
     }
 }
+
+/// A pivot below this fraction of its diagonal entry is a rigid-body motion up to round-off
+/// (a free plate's: 10⁻¹⁵ to 10⁻¹³), not a stiff part of a held structure (a held plate's
+/// smallest is ≈ 0.4; a link 10⁹ times stiffer than the elements beside it leaves ≈ 10⁻⁹).
+pub const RIGID_PIVOT: f64 = 1e-11;
 
 /// −10⁻⁶ of tr K / tr M (rad²/s²): far below the lowest elastic eigenvalue of any mesh
 /// the solver takes (their ratio to the stiffest DOF's is ≳ 10⁻¹²), yet K − σ_f·M keeps
