@@ -460,8 +460,12 @@ impl Runner<'_> {
         let rs = ReductionSettings::of_spec(rs, model.modal_ratios());
         let (red, mut report) = self.reduced.get(model, self.system, &rs, h)?;
         let mut r = steady_state::run_counted(model, &red, HarmonicCount::Fixed(h), samples)?;
+        // Where the samples cannot resolve the count the tolerance asks for, the default
+        // count's result stands, its truncation estimate stated and warned of.
         if matches!(count, HarmonicCount::Tolerance(tol) if r.truncation_estimate > tol) {
-            r = steady_state::run_counted(model, &red, count, samples)?;
+            if let Ok(more) = steady_state::run_counted(model, &red, count, samples) {
+                r = more;
+            }
         }
         if rs.error_estimate {
             let full = steady_state::run(model, self.reference()?, r.harmonics, samples)?;
