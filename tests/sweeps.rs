@@ -559,3 +559,22 @@ fn sweep_title_is_escaped_in_best_md() {
         }
     }
 }
+
+/// With `--csv` the table's CSV beside it is an output too: a sweep whose own file is that
+/// CSV's path is refused before anything runs, and the file is left as it was.
+#[test]
+fn the_csv_beside_a_table_never_replaces_an_input() {
+    let _serial = exclusive();
+    let d = Dir::new();
+    let text = "base = \"base.toml\"\n[[parameter]]\npath = \"actuator[0].x_e\"\nvalues = [0.1, 0.3]\n";
+    let sp = d.write("t.csv", text);
+    let out = d.path("t.h5");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_beamflow"))
+        .args([std::ffi::OsStr::new("sweep"), sp.as_os_str(), "--out".as_ref(), out.as_os_str(), "--csv".as_ref()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && err.contains("--out") && err.contains("t.csv"), "{err}");
+    assert_eq!(std::fs::read_to_string(&sp).unwrap(), text);
+    assert!(!out.exists());
+}

@@ -22,7 +22,7 @@ pub fn sweep_into(
 ) -> Result<(Execution, Vec<PathBuf>)> {
     let mut inputs = vec![Input::new(file, "the sweep file")];
     inputs.extend(s.base.input_files(&s.file).into_iter().map(|(p, what)| Input::new(p, what)));
-    refuse_overwrite(out, &inputs)?;
+    refuse_overwrite(out, csv, &inputs)?;
     check_csv_name(out, csv)?;
     let (_, cost) = s.cases_cost(opts.shard);
     opts.budget.admit(&cost).map_err(|e| e.in_file(&s.file))?;
@@ -40,7 +40,7 @@ pub fn merge(shards: &[PathBuf], out: &Path, csv: bool, plots: bool) -> Result<(
         return Err(Error::input("<cli>", "SHARD", "give the shard files to merge"));
     }
     let inputs: Vec<Input> = shards.iter().map(|p| Input::new(p, "a shard to merge")).collect();
-    refuse_overwrite(out, &inputs)?;
+    refuse_overwrite(out, csv, &inputs)?;
     check_csv_name(out, csv)?;
     let t = sweep::merge_files(shards)?;
     let _lock = OutputLock::file(out)?;
@@ -74,11 +74,14 @@ fn check_csv_name(out: &Path, csv: bool) -> Result<()> {
     Ok(())
 }
 
-/// Refuses an `--out` table whose file, checkpoint folder or report files (beside it)
-/// would replace one of `inputs`.
-fn refuse_overwrite(out: &Path, inputs: &[Input]) -> Result<()> {
+/// Refuses an `--out` table whose file, checkpoint folder, report files or (with `csv`)
+/// CSV table beside it would replace one of `inputs`.
+fn refuse_overwrite(out: &Path, csv: bool, inputs: &[Input]) -> Result<()> {
     let mut outputs = vec![out.to_path_buf(), sweep::parts_dir(out)];
     outputs.extend(report::files_beside(out));
+    if csv {
+        outputs.push(out.with_extension("csv"));
+    }
     for o in &outputs {
         refuse_input("--out", o, inputs)?;
     }
