@@ -102,8 +102,11 @@ def test_two_cases_in_two_threads_take_less_than_1_6_times_one() -> None:
 
 def test_python_runs_while_a_case_solves() -> None:
     """Independent of core count: the main thread keeps running Python code during a
-    solve in another thread (with the GIL held, it would stall for the whole solve)."""
-    case = long_case(600)
+    solve in another thread (with the GIL held, it would stall for the whole solve).
+    The solve is sized from a timed short one to last about a second on any machine."""
+    short = 200
+    took = seconds(long_case(short).run)
+    case = long_case(max(short, int(short * 1.0 / max(took, 1e-3))))
     worker = threading.Thread(target=case.run)
     gaps, last = [], time.perf_counter()
     start = last
