@@ -344,6 +344,7 @@ fn coupled_powers(body: &Body, hz: f64, f_p: f64, a0: f64, a1: f64) -> Vec<f64> 
 #[test]
 fn actuators_on_the_plate_match_the_coupled_navier_model() {
     use beamflow::analysis::case_run::AnalysisResult;
+    use beamflow::analysis::mesh_estimate::MeshCheck;
     let (a0, a1, hz, volts) = (4.0, 3.0e-6, 83.0, 50.0);
     let (k_p, c_p, m_p, d_p) = (3.0e7, 200.0, 0.03, 1.3e-7);
     let f_p = k_p * d_p * volts;
@@ -395,6 +396,27 @@ fn actuators_on_the_plate_match_the_coupled_navier_model() {
             let AnalysisResult::SteadyState(s) = &run.results[0] else { panic!("a steady state") };
             let error = expected.iter().zip(&s.mean_power).map(|(p, fe)| (fe - p).abs() / scale).fold(0.0, f64::max);
             assert!(s.balance_error < 1e-8, "balance {:e}", s.balance_error);
+            // The grid's stated error estimate (against half the elements each way) is at
+            // least each link's and the net power's actual error, each against its own.
+            let Some(MeshCheck::Estimate(m)) = &run.mesh[0] else { panic!("no mesh estimate: {:?}", run.mesh) };
+            for (l, (p, fe)) in expected.iter().zip(&s.mean_power).enumerate() {
+                let actual = (fe - p).abs() / p.abs();
+                assert!(
+                    m.relative_error[l] >= actual,
+                    "{nx} × {ny}, link {l}: estimate {:e} < actual {actual:e}",
+                    m.relative_error[l]
+                );
+            }
+            let actual = rel(s.net_power[0], total);
+            assert!(
+                m.net_power_relative_error[0] >= actual,
+                "{nx} × {ny}: net estimate {:e} < actual {actual:e}",
+                m.net_power_relative_error[0]
+            );
+            eprintln!(
+                "{nx} × {ny}: estimate {:?}, net {:e} (actual {actual:e})",
+                m.relative_error, m.net_power_relative_error[0]
+            );
             errors.push((error, rel(s.beam_dissipation, total)));
         }
         match errors.as_slice() {

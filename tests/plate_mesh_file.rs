@@ -55,6 +55,7 @@ fn frequencies(lc: &LoadedCase, count: usize) -> Vec<f64> {
 #[test]
 fn uniform_lines_give_the_generated_grid() {
     use beamflow::analysis::case_run::AnalysisResult;
+    use beamflow::analysis::mesh_estimate::MeshCheck;
     let dir = tempfile::tempdir().unwrap();
     let (nx, ny) = (20, 16);
     // Not on a grid line of the 20 × 16 grid (every 25 mm).
@@ -77,9 +78,13 @@ fn uniform_lines_give_the_generated_grid() {
     let power = |lc: &LoadedCase| {
         let run = beamflow::app::runner::run_case(lc).unwrap();
         let AnalysisResult::SteadyState(s) = &run.results[0] else { panic!("a steady state") };
-        s.mean_power.clone()
+        (s.mean_power.clone(), run.mesh[0].clone())
     };
-    let (pg, pf) = (power(&generated), power(&from_file));
+    let ((pg, mg), (pf, mf)) = (power(&generated), power(&from_file));
+    // The generated grid states its error against half its elements; a mesh file's grid
+    // has no coarser grid, and says so.
+    assert!(matches!(mg, Some(MeshCheck::Estimate(ref e)) if e.coarse_elements == [10, 8]), "{mg:?}");
+    assert!(matches!(mf, Some(MeshCheck::NotEstimated(ref why)) if why.contains("mesh file")), "{mf:?}");
     assert!(!pg.is_empty() && pg.iter().all(|p| p.abs() > 0.0), "{pg:?}");
     for (a, b) in pg.iter().zip(&pf) {
         assert!(rel(*b, *a) < 1e-12, "point power {b:e} W from the file vs {a:e} W generated");

@@ -311,6 +311,13 @@ class Analysis(Group):
         return self.groups.get("reduction")
 
     @property
+    def mesh_estimate(self) -> Optional[Group]:
+        """A plate's grid error estimate (``relative_error`` per link against a grid of
+        half the elements each way, ``max_relative_error``), a ``not_estimated`` reason,
+        or None where the analysis has no plate point powers."""
+        return self.groups.get("mesh_estimate")
+
+    @property
     def balance(self) -> Dict[str, float]:
         """Energy-balance and accuracy estimates (relative errors, dimensionless).
 
@@ -318,7 +325,7 @@ class Analysis(Group):
         and the system's balance over the run and the last period, and ``final_change`` (the
         last period-to-period change of the powers that decided settling). Harmonic: the
         largest ``balance_error`` over the frequencies. A reduced run adds
-        ``reduction_max_relative_error``.
+        ``reduction_max_relative_error``; a plate's grid estimate, ``mesh_max_relative_error``.
         """
         out: Dict[str, float] = {}
         if self.kind == "steady_state":
@@ -337,6 +344,9 @@ class Analysis(Group):
         red = self.reduction
         if red is not None and "max_relative_error" in red.attrs:
             out["reduction_max_relative_error"] = float(red.attrs["max_relative_error"])
+        mesh = self.mesh_estimate
+        if mesh is not None and "max_relative_error" in mesh.attrs:
+            out["mesh_max_relative_error"] = float(mesh.attrs["max_relative_error"])
         return out
 
 

@@ -131,3 +131,20 @@ def test_dof_maps_of_a_plate_and_an_imported_model_place_their_rows() -> None:
     table = {int(r[1]): (float(r[2]), float(r[3]), float(r[4])) for r in (l.split(",") for l in (folder / "portal_dofs.csv").read_text().splitlines()[1:] if l)}
     for i in structure:
         assert table[int(p.node_id[i])] == (float(p.x[i]), float(p.y[i]), float(p.z[i]))
+
+
+def test_a_plates_steady_state_states_its_grids_error_as_the_command_line_does(cli_runs: dict) -> None:
+    """The grid's error estimate (against half the elements each way) is in the results
+    and the summary, and is the command line's to the last bit."""
+    results = beamflow.Case.from_file("cases/plate-frame.toml").run()
+    ss = results.analysis("steady_state")
+    mesh = ss.mesh_estimate
+    assert mesh is not None and list(mesh["coarse_elements"]) == [10, 8]
+    relative = np.asarray(mesh["relative_error"])
+    assert relative.shape == (3,) and (relative > 0).all()
+    assert ss.balance["mesh_max_relative_error"] == float(mesh.attrs["max_relative_error"]) >= relative.max()
+    _, js = cli_runs["cases/plate-frame.toml"]
+    cli = json.loads(Path(js).read_text())["analyses"][0]["mesh_estimate"]
+    assert cli["max_relative_error"] == ss.balance["mesh_max_relative_error"]
+    assert results.summary["analyses"][0]["mesh_estimate"] == cli
+    assert beamflow.Case.from_file("cases/beam-frame-12V-60Hz.toml").run().analysis("steady_state").mesh_estimate is None

@@ -27,6 +27,9 @@ pub struct CaseRun {
     pub results: Vec<AnalysisResult>,
     /// The case's measurements against each periodic analysis' prediction.
     pub measured: Vec<Comparison>,
+    /// Per result, in case order: its plate grid's error estimate, or why it has none
+    /// (None: not a plate's point powers).
+    pub mesh: Vec<Option<crate::analysis::mesh_estimate::MeshCheck>>,
 }
 
 /// The largest energy-balance error a result may have (relative): the analyses balance to

@@ -11,6 +11,7 @@ pub mod cost;
 pub mod drive;
 pub mod harmonic;
 pub mod measured;
+pub mod mesh_estimate;
 pub mod modes;
 pub mod plan;
 pub mod reduction;

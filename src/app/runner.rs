@@ -5,6 +5,7 @@ use crate::analysis::case_run::{AnalysisResult, CaseRun, BALANCE_TOLERANCE};
 use crate::analysis::cost;
 use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
+use crate::analysis::mesh_estimate::{self, MeshCheck, MeshEstimate};
 use crate::analysis::modes;
 use crate::analysis::plan;
 use crate::analysis::reduction::{self, ReductionReport, ReductionSettings};
@@ -235,8 +236,19 @@ fn structure_only(structure: &Structure) -> DofMap {
 /// `budget`.
 pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
     let (model, system, measured) = planned(lc, budget)?;
-    let mut run =
-        Runner { model: &model, system: &system, reduced: ReducedCache::default(), complete: OnceCell::new() };
+    let results = run_analyses(lc, &model, &system, true)?;
+    let mesh = mesh_checks(lc, &results, budget);
+    let link_name =
+        |l: &crate::analysis::series::LinkSeries| crate::actuator::link_id(model.actuators[l.actuator].name(), &l.name);
+    let measured =
+        crate::analysis::measured::compare_all(&results, &measured, &link_name).map_err(|e| e.in_file(&lc.file))?;
+    Ok(CaseRun { model, system, results, measured, mesh })
+}
+
+/// Runs the case's analyses in order on its planned model and system. `roundoff`: whether
+/// a round-off bound above the tolerance is said (or refused, if the case is strict).
+fn run_analyses(lc: &LoadedCase, model: &Model, system: &System, roundoff: bool) -> Result<Vec<AnalysisResult>> {
+    let mut run = Runner { model, system, reduced: ReducedCache::default(), complete: OnceCell::new() };
     let mut results = Vec::new();
     let structure = model.structure.as_ref();
     for (i, spec) in lc.case.analysis.iter().enumerate() {
@@ -250,15 +262,15 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
             AnalysisSpec::Modes { count } => {
                 let s = need_beam()?;
                 let r = modes::run(s, *count).map_err(|e| structure_only(s).locate(e, structure)).and_then(|mut r| {
-                    r.coupled = modes::coupled_modes(&model, &system, *count)?;
+                    r.coupled = modes::coupled_modes(model, system, *count)?;
                     Ok(AnalysisResult::Modes(r))
                 });
                 (r, Some(&system.dofs))
             }
             AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Coupled } => {
                 need_beam()?;
-                let forces = harmonic_forces(force, &model);
-                let r = harmonic::run(&model, &system, &frequencies.list(), &forces, None);
+                let forces = harmonic_forces(force, model);
+                let r = harmonic::run(model, system, &frequencies.list(), &forces, None);
                 (r.map(AnalysisResult::Harmonic), Some(&system.dofs))
             }
             AnalysisSpec::Harmonic { frequencies, force, system: HarmonicSystem::Bare } => {
@@ -286,14 +298,80 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
         };
         let r = r.map_err(|e| located(e).in_analysis(&lc.file, &field))?;
         refuse_unsound(&lc.file, i, spec, &r)?;
-        hold_roundoff(lc, &model, &field, &r)?;
+        if roundoff {
+            hold_roundoff(lc, model, &field, &r)?;
+        }
         results.push(r);
     }
-    let link_name =
-        |l: &crate::analysis::series::LinkSeries| crate::actuator::link_id(model.actuators[l.actuator].name(), &l.name);
-    let measured =
-        crate::analysis::measured::compare_all(&results, &measured, &link_name).map_err(|e| e.in_file(&lc.file))?;
-    Ok(CaseRun { model, system, results, measured })
+    Ok(results)
+}
+
+/// The point powers (per link, net per actuator) of a result whose grid error a coarser
+/// plate grid estimates: a steady state, or a transient of a periodic drive.
+fn periodic_powers(r: &AnalysisResult) -> Option<(&[f64], &[f64])> {
+    match r {
+        AnalysisResult::SteadyState(s) => Some((&s.mean_power, &s.net_power)),
+        AnalysisResult::Transient(t) if t.record.is_none() => Some((&t.mean_power, &t.net_power)),
+        _ => None,
+    }
+}
+
+/// Each result's mesh estimate (None where it has no point powers on a plate): the same
+/// analyses run again on a generated plate grid of half the elements each way
+/// ([`crate::analysis::mesh_estimate`]). A coarser grid that cannot run them leaves the
+/// results as they are, with the reason.
+fn mesh_checks(lc: &LoadedCase, results: &[AnalysisResult], budget: &Budget) -> Vec<Option<MeshCheck>> {
+    let mut checks = vec![None; results.len()];
+    let Some(plate) = lc.case.plate.as_ref().filter(|_| lc.case.base == crate::case::BaseKind::Beam) else {
+        return checks;
+    };
+    let wanted: Vec<usize> =
+        (0..results.len()).filter(|&i| periodic_powers(&results[i]).is_some_and(|(p, _)| !p.is_empty())).collect();
+    if wanted.is_empty() || plate.mesh.error_estimate == Some(false) {
+        return checks;
+    }
+    let elements = plate.mesh.elements();
+    let coarse = if plate.mesh.file.is_some() {
+        Err("a mesh file's grid is as written, with no coarser grid to compare it with".to_string())
+    } else {
+        let c = coarse_case(lc, &wanted);
+        planned(&c, budget).and_then(|(model, system, _)| run_analyses(&c, &model, &system, false)).map_err(|e| {
+            let [cx, cy] = mesh_estimate::coarser(elements);
+            format!("the grid of {cx} × {cy} elements it is estimated with did not run: {e}")
+        })
+    };
+    for (k, &i) in wanted.iter().enumerate() {
+        let fine = periodic_powers(&results[i]).expect("wanted");
+        checks[i] = Some(match &coarse {
+            Ok(c) => match periodic_powers(&c[k]) {
+                Some(cp) => MeshCheck::Estimate(MeshEstimate::between(elements, fine, cp)),
+                None => MeshCheck::NotEstimated("the coarser grid's run has no point powers".into()),
+            },
+            Err(why) => MeshCheck::NotEstimated(why.clone()),
+        });
+    }
+    checks
+}
+
+/// The case on a generated plate grid of half the elements each way, with only the
+/// analyses `wanted` (by index), no measurements, no history, and no estimates of its own.
+fn coarse_case(lc: &LoadedCase, wanted: &[usize]) -> LoadedCase {
+    let mut c = lc.clone();
+    let plate = c.case.plate.as_mut().expect("a plate case");
+    plate.mesh.elements = Some(mesh_estimate::coarser(plate.mesh.elements()));
+    plate.mesh.error_estimate = Some(false);
+    c.case.measurement.clear();
+    c.case.output.full_history = false;
+    c.case.output.history_every = 1;
+    c.case.analysis = wanted.iter().map(|&i| lc.case.analysis[i].clone()).collect();
+    for a in &mut c.case.analysis {
+        if let AnalysisSpec::SteadyState { reduction: Some(r), .. }
+        | AnalysisSpec::Transient { reduction: Some(r), .. } = a
+        {
+            r.error_estimate = false;
+        }
+    }
+    c
 }
 
 /// Refuses a result that holds a non-finite number or misses its energy balance by more

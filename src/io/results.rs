@@ -6,6 +6,7 @@ use crate::actuator::link_id;
 use crate::analysis::case_run::Comparison;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
 use crate::analysis::harmonic::HarmonicResult;
+use crate::analysis::mesh_estimate::MeshCheck;
 use crate::analysis::modes::ModesResult;
 use crate::analysis::reduction::ReductionReport;
 use crate::analysis::series::{
@@ -62,6 +63,15 @@ pub fn write_into<S: GroupSink>(f: &S, lc: &LoadedCase, run: &CaseRun) -> Result
             AnalysisResult::Harmonic(x) => write_harmonic(&f.group(&format!("analysis_{i}_harmonic"))?, x)?,
             AnalysisResult::Transient(x) => write_transient(&f.group(&format!("analysis_{i}_transient"))?, x, run)?,
             AnalysisResult::SteadyState(x) => write_steady(&f.group(&format!("analysis_{i}_steady_state"))?, x, run)?,
+        }
+    }
+    for (i, m) in run.mesh.iter().enumerate() {
+        let kind = match run.results[i] {
+            AnalysisResult::Transient(_) => "transient",
+            _ => "steady_state",
+        };
+        if let Some(m) = m {
+            write_mesh_estimate(&f.group(&format!("analysis_{i}_{kind}/mesh_estimate"))?, m)?;
         }
     }
     for c in &run.measured {
@@ -560,6 +570,25 @@ fn write_spectra<S: GroupSink>(g: &S, links: &[LinkSeries], spectra: &[LinkSpect
         )?;
     }
     Ok(())
+}
+
+/// A plate grid's error estimate (the coarser grid's powers beside the differences), or
+/// why there is none.
+fn write_mesh_estimate<S: GroupSink>(g: &S, m: &MeshCheck) -> Result<()> {
+    let e = match m {
+        MeshCheck::NotEstimated(why) => return g.attr_str("not_estimated", why),
+        MeshCheck::Estimate(e) => e,
+    };
+    g.attr_f64("max_relative_error", e.max_relative_error)?;
+    g.attr_f64("order", crate::analysis::mesh_estimate::ORDER)?;
+    let grid = |n: [usize; 2]| n.map(|k| k as f64);
+    g.write_f64("elements", &grid(e.elements), &[2], "1", "generated grid's elements along x and y")?;
+    g.write_f64("coarse_elements", &grid(e.coarse_elements), &[2], "1", "the coarser grid's, half each way")?;
+    let n = e.relative_error.len();
+    g.write_f64("coarse_mean_power", &e.coarse_mean_power, &[n], "W", "mean power per link on the coarser grid")?;
+    g.write_f64("relative_error", &e.relative_error, &[n], "1", "|P_h - P_2h| / |P_h| per link")?;
+    let a = e.net_power_relative_error.len();
+    g.write_f64("net_power_relative_error", &e.net_power_relative_error, &[a], "1", "the same per actuator's net power")
 }
 
 fn write_powers<S: GroupSink>(g: &S, mean: &[f64], net: &[f64], run: &CaseRun) -> Result<()> {

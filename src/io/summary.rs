@@ -2,6 +2,7 @@
 
 use crate::actuator::link_id;
 use crate::analysis::case_run::{AnalysisResult, CaseRun};
+use crate::analysis::mesh_estimate::{self, MeshCheck};
 use crate::analysis::series::LoadSpectrum;
 use crate::case::LoadedCase;
 use crate::power::record::RecordAnalysis;
@@ -78,6 +79,11 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
             a["mesh_roundoff_kind"] = json!(roundoff_kind(run));
         }
     }
+    for (a, m) in analyses.iter_mut().zip(&run.mesh) {
+        if let Some(m) = m {
+            a["mesh_estimate"] = mesh_estimate(m, &link_name, &actuators);
+        }
+    }
     if run.model.structure.is_none() {
         analyses.iter_mut().for_each(without_beam);
     }
@@ -90,6 +96,23 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     json!({"case": lc.file, "title": lc.case.title, "base": if run.model.structure.is_some() { "beam" } else { "rigid" },
            "structure": run.model.structure.as_ref().map_or("none", |s| s.kind()),
            "actuators": run.model.actuators.iter().map(|a| a.name().to_string()).collect::<Vec<_>>(), "analyses": analyses})
+}
+
+/// A plate grid's error estimate with each number under its point's or actuator's name, or
+/// why there is none.
+fn mesh_estimate(m: &MeshCheck, link_name: &dyn Fn(usize) -> String, actuators: &[&str]) -> Value {
+    match m {
+        MeshCheck::Estimate(e) => {
+            let per_link = |v: &[f64]| -> Map<String, Value> {
+                v.iter().enumerate().map(|(l, x)| (link_name(l), json!(x))).collect()
+            };
+            json!({"elements": e.elements, "coarse_elements": e.coarse_elements, "order": mesh_estimate::ORDER,
+                   "max_relative_error": e.max_relative_error, "relative_error": per_link(&e.relative_error),
+                   "net_power_relative_error": by_name(actuators, &e.net_power_relative_error),
+                   "coarse_mean_power_w": per_link(&e.coarse_mean_power)})
+        }
+        MeshCheck::NotEstimated(why) => json!({"not_estimated": why}),
+    }
 }
 
 /// A measurement against the prediction: where, what, and the errors.
@@ -265,6 +288,9 @@ pub fn headline_text(v: &Value) -> String {
                 }
             }
         }
+        if let Some(m) = a.get("mesh_estimate") {
+            s += &mesh_line(m);
+        }
         for m in a["measurements"].as_array().into_iter().flatten() {
             s += &measured_line(m);
         }
@@ -279,6 +305,20 @@ pub fn headline_text(v: &Value) -> String {
         }
     }
     s.trim_end().to_string()
+}
+
+/// The grid's error estimate in a line: the largest difference of a point's or an
+/// actuator's net power from the coarser grid's, or why there is none.
+fn mesh_line(m: &Value) -> String {
+    let grid = |k: &str| format!("{} × {}", m[k][0], m[k][1]);
+    match m["max_relative_error"].as_f64() {
+        Some(e) => format!(
+            "  plate grid {}: point powers within {e:.1e} of a {} grid's (the grid's error estimate)\n",
+            grid("elements"),
+            grid("coarse_elements")
+        ),
+        None => format!("  plate grid: no error estimate ({})\n", m["not_estimated"].as_str().unwrap_or("?")),
+    }
 }
 
 /// One measurement's errors: at the drive frequency, the largest over the harmonics

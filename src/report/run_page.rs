@@ -34,6 +34,8 @@ const UNFORCED: &str = "no force applied (transfer functions only): nothing to b
 const BALANCE_WARN: f64 = 1e-6;
 /// A modal reduction whose point powers are off by more than this.
 const REDUCTION_WARN: f64 = 1e-3;
+/// A plate grid's error estimate above which a reader is warned: a percent.
+const MESH_WARN: f64 = 1e-2;
 
 /// Everything the page is made from.
 pub struct RunReport<'a> {
@@ -64,7 +66,8 @@ impl RunReport<'_> {
         p.section("accuracy", "Accuracy");
         p.para(
             "What each result states about its own accuracy: how far a transient had settled, what the \
-             harmonics left out carry, the solves' round-off, and how well energy balances.",
+             harmonics left out carry, the solves' round-off, how well energy balances and, on a plate, \
+             how far its grid's point powers are from a coarser grid's.",
         );
         p.push(&self.accuracy());
         if let Some(svg) = self.svg_named(&format!("{}_layout", self.stem())) {
@@ -238,6 +241,21 @@ impl RunReport<'_> {
             if let Some(e) = a.get("reduction").map(|r| &r["error"]["max_relative_error"]).filter(|e| e.is_number()) {
                 row("modal reduction", e, "", "point powers against the full model, relative");
             }
+            if let Some(m) = a.get("mesh_estimate") {
+                let e = &m["max_relative_error"];
+                if e.is_number() {
+                    let c = &m["coarse_elements"];
+                    row(
+                        "plate grid",
+                        e,
+                        "",
+                        &format!("point powers against a {} × {} grid's, relative (estimate)", c[0], c[1]),
+                    );
+                } else {
+                    let why = m["not_estimated"].as_str().unwrap_or("?");
+                    rows.push(vec![cell(&tag), cell("plate grid"), cell("not estimated"), cell(why)]);
+                }
+            }
             if a["forced"] == false {
                 rows.push(vec![cell(&tag), cell("energy balance"), cell("n/a (no forcing)"), cell(UNFORCED)]);
             }
@@ -353,6 +371,18 @@ impl RunReport<'_> {
                 balances.into_iter().filter(|e| e.is_finite()).reduce(f64::max).filter(|e| *e > BALANCE_WARN)
             {
                 w.push(format!("{tag}: energy balances only to {e:.1e} (relative)."));
+            }
+            if let Some(m) = a.get("mesh_estimate") {
+                let e = f(&m["max_relative_error"]);
+                if e > MESH_WARN {
+                    w.push(format!(
+                        "{tag}: the plate grid's point powers differ from a {} × {} grid's by up to {e:.1e}: \
+                         refine `plate.mesh.elements` (a doubling cuts the difference about fourfold).",
+                        m["coarse_elements"][0], m["coarse_elements"][1]
+                    ));
+                } else if let Some(why) = m["not_estimated"].as_str() {
+                    w.push(format!("{tag}: no estimate of the plate grid's error: {why}."));
+                }
             }
             let red = a.get("reduction").map_or(f64::NAN, |r| f(&r["error"]["max_relative_error"]));
             if red > REDUCTION_WARN {

@@ -41,6 +41,11 @@ pub struct PlateMeshSpec {
     pub through_points: Option<bool>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub file: Option<String>,
+    /// Whether each steady state and periodic transient is also run on a grid of half the
+    /// elements each way, to estimate the grid's error in every point power (default on
+    /// a generated grid; a mesh file has no coarser grid).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error_estimate: Option<bool>,
 }
 
 /// The generated grid's elements when none are given.
@@ -56,6 +61,11 @@ impl PlateMeshSpec {
     pub fn through_points(&self) -> bool {
         self.through_points.unwrap_or(true)
     }
+
+    /// Whether the run estimates the grid's error (default: on a generated grid).
+    pub fn error_estimate(&self) -> bool {
+        self.error_estimate.unwrap_or(self.file.is_none())
+    }
 }
 
 /// The mesh as a results file and a sweep see it: a generated grid with its defaults
@@ -63,7 +73,12 @@ impl PlateMeshSpec {
 fn resolved_mesh<S: serde::Serializer>(m: &PlateMeshSpec, s: S) -> std::result::Result<S::Ok, S::Error> {
     let resolved = match m.file {
         Some(_) => m.clone(),
-        None => PlateMeshSpec { elements: Some(m.elements()), through_points: Some(m.through_points()), file: None },
+        None => PlateMeshSpec {
+            elements: Some(m.elements()),
+            through_points: Some(m.through_points()),
+            file: None,
+            error_estimate: Some(m.error_estimate()),
+        },
     };
     resolved.serialize(s)
 }
@@ -172,6 +187,14 @@ impl PlateSpec {
                     "plate.mesh.through_points",
                     "a mesh file's grid lines are as written: points between them attach through the elements' \
                      shape functions; drop `through_points`",
+                ))
+            }
+            (Some(_), _, _) if p.mesh.error_estimate == Some(true) => {
+                return Err(Error::input(
+                    file,
+                    "plate.mesh.error_estimate",
+                    "the estimate compares the generated grid with one of half its elements; a mesh file's grid \
+                     is as written: compare two mesh files' runs yourself, or give `elements`",
                 ))
             }
             _ => {}
