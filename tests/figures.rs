@@ -329,7 +329,10 @@ count = 2
         .unwrap();
     let svg = std::fs::read_to_string(out.join("layout_layout.svg")).unwrap();
     let texts: Vec<String> = labels(&svg).into_iter().map(|l| l.text).collect();
-    for t in ["point mass", "0.05 kg", "spring to the ground", "20 kN/m", "clamped edge", "free edge", "sensor"] {
+    let frame_base = "frame base (joins its legs)";
+    for t in
+        ["point mass", "0.05 kg", "spring to the ground", "20 kN/m", "clamped edge", "free edge", "sensor", frame_base]
+    {
         assert!(texts.iter().any(|s| s == t), "`{t}` is not in the layout: {texts:?}");
     }
     // The actuator is named once, at its stack; its three feet are marked, the legs unnamed.

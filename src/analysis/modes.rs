@@ -168,6 +168,9 @@ pub struct ModesResult {
     /// and only those come back.
     #[serde(skip)]
     pub requested: usize,
+    /// The bare structure's free DOFs: no more modes than these exist.
+    #[serde(skip)]
+    pub free_dofs: usize,
     #[serde(skip)]
     pub modes: Modes,
     /// Node coordinates (m) and the w of each mode at each node (row per mode).
@@ -350,6 +353,7 @@ pub fn run(structure: &Structure, count: usize) -> Result<ModesResult> {
         roundoff_bound,
         rigid_body_modes,
         requested: count,
+        free_dofs: sys.n(),
         node_x: (0..structure.n_nodes()).map(|n| structure.node_location(n).x()).collect(),
         node_y: (0..structure.n_nodes()).filter_map(|n| structure.node_location(n).y()).collect(),
         node_z: (0..structure.n_nodes()).filter_map(|n| structure.node_location(n).z()).collect(),

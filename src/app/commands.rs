@@ -57,11 +57,17 @@ pub fn modes_table(r: &modes::ModesResult) -> String {
         }
     }
     let found = r.frequencies_hz.len();
-    if found < r.requested {
+    if found < r.requested && found >= r.free_dofs {
         s += &format!(
             "note: {} modes asked for, and the mesh has {found} free DOFs: a finer mesh gives more (and more \
              accurate) modes.\n",
             r.requested
+        );
+    } else if found < r.requested {
+        s += &format!(
+            "note: {} modes asked for, {found} found among the {} free DOFs: the others have no finite \
+             frequency (DOFs without mass, as a model with massless rotations has).\n",
+            r.requested, r.free_dofs
         );
     }
     let rigid = r.rigid_body_modes;

@@ -187,6 +187,9 @@ fn hatching(a: (f64, f64), b: (f64, f64), n: (f64, f64), len: f64) -> Vec<Vec<(f
         .collect()
 }
 
+/// The legend's name for the line joining a frame actuator's legs.
+const FRAME_BASE: &str = "frame base (joins its legs)";
+
 /// A point to mark: its marker shape, whether hollow, its kind (the legend entry), where
 /// (m) and its label.
 type PointMark<'a> = (Shape, bool, &'a str, (f64, f64), String);
@@ -211,8 +214,9 @@ fn mark_points(h: &mut HeatMap, plate: &Plate, run: &CaseRun) {
     for k in &plate.springs {
         marks.push((Shape::Diamond, true, "spring to the ground", at(k.node), si(k.stiffness, "N/m", 3)));
     }
-    // An actuator is named once, at its stack's foot; a frame's legs are joined by a thin
-    // line (its base), so that two frames side by side stay apart without a label per foot.
+    // An actuator is named once, at its stack's foot; a frame's legs are joined by a solid
+    // line (its rigid base, unhatched: not a clamped edge), so that two frames side by side
+    // stay apart without a label per foot.
     for (a, actuator) in run.model.actuators.iter().enumerate() {
         let feet: Vec<_> = run
             .system
@@ -223,7 +227,16 @@ fn mark_points(h: &mut HeatMap, plate: &Plate, run: &CaseRun) {
             .collect();
         let legs: Vec<(f64, f64)> = feet.iter().filter(|f| !f.0).map(|f| f.1).collect();
         if legs.len() == 2 {
-            h.thin.push(legs.clone());
+            h.lines.push(legs.clone());
+            if !h.legend.iter().any(|e| e.label == FRAME_BASE) {
+                let black = RGBColor(0, 0, 0);
+                h.legend.push(Entry {
+                    label: FRAME_BASE.into(),
+                    color: black,
+                    swatch: Swatch::Line,
+                    marker: Marker::nth(0),
+                });
+            }
         }
         for (active, at) in feet {
             let (kind, label) = if active {

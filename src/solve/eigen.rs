@@ -77,7 +77,7 @@ pub fn modes(k: &Csr, m: &Csr, dofs: &[usize], count: usize) -> Result<Modes> {
         None => {
             let tk: f64 = (0..n).map(|i| kd[(i, i)]).sum();
             let tm: f64 = (0..n).map(|i| md[(i, i)]).sum();
-            shift = 1e-6 * tk / tm;
+            shift = super::lanczos::free_shift_size(tk, tm);
             let shifted = Mat::from_fn(n, n, |i, j| kd[(i, j)] + shift * md[(i, j)]);
             shifted.llt(Side::Lower).map_err(|_| {
                 Error::Numerical(

@@ -66,14 +66,20 @@ fn lowest_or_free<F>(k: &Csr, m: &Csr, sigma: f64, factor: impl Fn(f64) -> Resul
 /// smallest is ≈ 0.4; a link 10⁹ times stiffer than the elements beside it leaves ≈ 10⁻⁹).
 pub const RIGID_PIVOT: f64 = 1e-11;
 
-/// −10⁻⁶ of tr K / tr M (rad²/s²): far below the lowest elastic eigenvalue of any mesh
-/// the solver takes (their ratio to the stiffest DOF's is ≳ 10⁻¹²), yet K − σ_f·M keeps
+/// How far below zero a free structure's lowest modes are sought, from the traces of K and
+/// M: 10⁻⁶ of tr K / tr M (rad²/s²), far below the lowest elastic eigenvalue of any mesh
+/// the solvers take (their ratio to the stiffest DOF's is ≳ 10⁻¹²), yet K + s·M keeps
 /// pivots of ~10⁻⁶ of its diagonal on the rigid-body motions, which a positive definite
-/// factorisation resolves to round-off. The same shift as the dense solver's
-/// ([`super::eigen::modes`]).
+/// factorisation resolves to round-off. The dense solver ([`super::eigen::modes`]) and
+/// this one both shift by it.
+pub fn free_shift_size(trace_k: f64, trace_m: f64) -> f64 {
+    1e-6 * trace_k / trace_m
+}
+
+/// The shift σ_f = −[`free_shift_size`] of the sparse factor K − σ_f·M.
 fn free_shift(k: &Csr, m: &Csr) -> f64 {
     let trace = |a: &Csr| (0..a.dim()).map(|i| a.get(i, i)).sum::<f64>();
-    -1e-6 * trace(k) / trace(m)
+    -free_shift_size(trace(k), trace(m))
 }
 
 /// The `count` modes of (K, M) nearest above the shift σ, factorising K − σM with the
