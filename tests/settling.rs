@@ -106,3 +106,22 @@ fn a_point_force_beating_against_mode_one_states_a_bound() {
     eprintln!("beat: {periods} periods, error {err:.4e}, estimate {est:.4e}");
     assert!(err > 0.5 * est, "the bound is tight: error {err:e}, estimate {est:e}");
 }
+
+/// A run stopped at half the periods it needs states about how many it needs in all, from
+/// the decay over its last periods: no fewer than it takes, and not far more (the beating
+/// inertial case, whose distance rises and falls within each beat).
+#[test]
+fn an_unsettled_run_says_about_how_many_periods_it_needs() {
+    let lc = shipped("beam-inertial-12V-60Hz.toml");
+    let taken = run(&lc, None).periods_run;
+    let built = calibrated_model(&lc).unwrap();
+    let sys = System::assemble(&built).unwrap();
+    let spec = lc.case.analysis.iter().find(|a| matches!(a, AnalysisSpec::Transient { .. })).unwrap();
+    let mut s = beamflow::app::runner::transient_settings(spec, None).unwrap();
+    s.max_periods = taken / 2;
+    let short = transient::run(&built, &sys, &s).unwrap();
+    assert!(!short.converged && !short.periods_given);
+    let needed = short.periods_needed.expect("a decaying start-up transient");
+    eprintln!("settles after {taken} periods; after {} it asks for {needed}", taken / 2);
+    assert!(needed >= taken && needed as f64 <= 1.5 * taken as f64, "{needed} for {taken}");
+}

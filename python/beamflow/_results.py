@@ -208,9 +208,11 @@ class Analysis(Group):
         if self.settled is not False:
             return None
         left, periods = float(self.attrs["settling_estimate"]), int(self.attrs["periods_run"])
+        needed = self.attrs.get("periods_needed")
+        about = f" (the decay over the last periods asks for about {int(needed)} in all)" if needed is not None else ""
         return (
             f"analysis {self.index} (transient) NOT settled after {periods} periods: start-up transient left "
-            f"{left:.1e} (relative), so its powers are not the steady state's; raise `max_periods`"
+            f"{left:.1e} (relative), so its powers are not the steady state's; raise `max_periods`{about}"
         )
 
     def _members(self, name: str) -> Dict[str, Group]:

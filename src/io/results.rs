@@ -619,6 +619,9 @@ fn write_transient<S: GroupSink>(g: &S, r: &TransientResult, run: &CaseRun) -> R
         if r.settling_estimate.is_finite() {
             g.attr_f64("settling_estimate", r.settling_estimate)?;
         }
+        if let Some(n) = r.periods_needed {
+            g.attr_i64("periods_needed", n as i64)?;
+        }
         g.attr_i64("harmonics", r.harmonics as i64)?;
     } else {
         g.attr_i64("steps_run", r.steps_run as i64)?;

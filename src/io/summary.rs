@@ -45,7 +45,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
                 }
                 let amp: Map<String, Value> = t.spectra.iter().enumerate().map(|(l, s)| (link_name(l), json!(s.transmitted.get(1).map_or(0.0, |c| c.norm())))).collect();
                 let mut v = json!({"type": "transient", "dt_s": t.dt, "steps_per_period": t.steps_per_period, "harmonics": t.harmonics, "periods_run": t.periods_run, "converged": t.converged, "final_change": t.final_change,
-                       "settling_estimate": finite_or_null(t.settling_estimate), "mesh_roundoff": t.mesh_roundoff,
+                       "settling_estimate": finite_or_null(t.settling_estimate), "periods_needed": t.periods_needed, "periods_given": t.periods_given, "mesh_roundoff": t.mesh_roundoff,
                        "mean_power_w": points, "net_power_w": by_name(&actuators, &t.net_power), "load_power_w": load_powers(&t.load_spectra), "transmitted_force_amplitude_at_drive_n": amp,
                        "beam_dissipation_w": t.beam_dissipation, "structure_dissipation_w": t.beam_dissipation,
                        "energy_balance_rel_error": {"beam_run": balance(&t.energy_run.beam), "structure_run": balance(&t.energy_run.beam), "system_run": balance(&t.energy_run.system), "beam_last_period": balance(&t.energy_last_period.beam), "structure_last_period": balance(&t.energy_last_period.beam)}});
@@ -366,12 +366,25 @@ fn transient_status(a: &Value) -> String {
         }
         (Some(false), Some(e)) => {
             s += &format!(
-            "  NOT settled after {periods} periods: start-up transient left {e:.1e} (relative); raise `max_periods`\n"
-        )
+                "  NOT settled after {periods} periods: start-up transient left {e:.1e} (relative); {}\n",
+                raise_periods(a)
+            )
         }
         _ => s += &format!("  ran {periods} period(s)\n"),
     }
     s
+}
+
+/// What an unsettled periodic run's reader should raise, and to about what, where its
+/// decay tells.
+pub fn raise_periods(a: &Value) -> String {
+    let field = if a["periods_given"] == true { "periods" } else { "max_periods" };
+    let short = a["periods_run"].as_u64().is_some_and(|n| n < crate::analysis::transient::DECAY_PERIODS as u64);
+    match a["periods_needed"].as_u64() {
+        Some(n) => format!("raise `{field}` (the decay over the last periods asks for about {n} in all)"),
+        None if short => format!("raise `{field}`"),
+        None => format!("raise `{field}` (the start-up transient was not decaying over the last periods)"),
+    }
 }
 
 /// A non-periodic run: its record, how its spectra are averaged, and the energy each point

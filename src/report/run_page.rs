@@ -340,9 +340,10 @@ impl RunReport<'_> {
         for (a, tag) in self.analyses().into_iter().zip(analysis_tags(self.run)) {
             if a["converged"] == false {
                 w.push(format!(
-                    "{tag}: NOT settled after {} periods; the start-up transient left {:.1e} (relative). Raise `max_periods`.",
+                    "{tag}: NOT settled after {} periods; the start-up transient left {:.1e} (relative); {}.",
                     a["periods_run"],
-                    f(&a["settling_estimate"])
+                    f(&a["settling_estimate"]),
+                    crate::io::summary::raise_periods(a)
                 ));
             } else if f(&a["settling_estimate"]) > SETTLING_WARN {
                 w.push(format!("{tag}: the start-up transient left {:.1e} (relative).", f(&a["settling_estimate"])));

@@ -13,6 +13,7 @@ mod record;
 mod records;
 mod reference;
 mod settle;
+pub use settle::DECAY_PERIODS;
 mod stability;
 mod step;
 
@@ -106,6 +107,12 @@ pub struct TransientResult {
     /// state of the same discrete system (the measured distance plus a margin for round-off;
     /// see [`settle`]; NaN for a non-periodic drive).
     pub settling_estimate: f64,
+    /// A run that did not settle: about how many periods in all it would need, from the
+    /// decay of its start-up transient over its last periods (None where that does not
+    /// decay, or fewer than 20 periods ran).
+    pub periods_needed: Option<usize>,
+    /// Whether the case fixed the periods (`periods`) rather than a most (`max_periods`).
+    pub periods_given: bool,
     /// The relative round-off of the point powers that `settling_estimate` does not
     /// measure: on a fine mesh whose steps use the element rows, the bound of the refined
     /// periodic state it is measured against; else the measured envelope of the step's
@@ -335,6 +342,8 @@ fn integrate(model: &Model, sys: &System, s: &TransientSettings, timing: DriveTi
         converged,
         final_change: settle.change(),
         settling_estimate: settle.remaining(),
+        periods_needed: if converged { None } else { settle.periods_needed() },
+        periods_given: s.periods.is_some(),
         mesh_roundoff: roundoff,
         energy_run: ledger.run,
         energy_last_period: ledger.last_period,

@@ -42,6 +42,8 @@ pub(super) struct SettleCheck {
     previous: Option<Metrics>,
     change: f64,
     remaining: f64,
+    /// `remaining` after each period so far.
+    history: Vec<f64>,
 }
 
 impl SettleCheck {
@@ -50,7 +52,15 @@ impl SettleCheck {
     /// δ for what the measured distance cannot see, or, without one, between neighbouring
     /// periods.
     pub fn new(tolerance: f64, reference: Option<Metrics>, margin: f64) -> Self {
-        SettleCheck { tolerance, reference, margin, previous: None, change: f64::NAN, remaining: f64::NAN }
+        SettleCheck {
+            tolerance,
+            reference,
+            margin,
+            previous: None,
+            change: f64::NAN,
+            remaining: f64::NAN,
+            history: Vec::new(),
+        }
     }
 
     /// Takes the record of the period just run (`links` the system's links): whether the
@@ -63,6 +73,7 @@ impl SettleCheck {
         let settled = match &self.reference {
             Some(r) => {
                 self.remaining = (relative_change(&metrics, r) + self.margin) / (1.0 - self.margin);
+                self.history.push(self.remaining);
                 // No comparison resolves less than its round-off: a tolerance below twice
                 // the margin is held at that.
                 self.remaining < self.tolerance.max(2.0 * self.margin)
@@ -83,6 +94,38 @@ impl SettleCheck {
     pub fn remaining(&self) -> f64 {
         self.remaining
     }
+
+    /// About how many periods in all the run would need to settle, from the decay of its
+    /// distance over the last periods; None where fewer than [`DECAY_PERIODS`] ran against
+    /// a periodic state, or the distance does not decay there.
+    pub fn periods_needed(&self) -> Option<usize> {
+        periods_to_reach(&self.history, self.tolerance.max(2.0 * self.margin))
+    }
+}
+
+/// The fewest periods whose decay [`periods_to_reach`] measures.
+pub const DECAY_PERIODS: usize = 20;
+
+/// Periods in all until `distance` (one entry per period so far) falls below `target`, at
+/// the rate it decays over its last 40 %: the peaks of that span's two halves (a lightly
+/// damped mode beats against the drive, so the distance rises and falls within a beat),
+/// their log-ratio per period, extrapolated from the later peak as if it were the last
+/// period (the later peak is at most the last value's envelope: a conservative start).
+pub fn periods_to_reach(distance: &[f64], target: f64) -> Option<usize> {
+    let n = distance.len();
+    if n < DECAY_PERIODS || !(target > 0.0) {
+        return None;
+    }
+    let half = n / 5;
+    let peak = |d: &[f64]| d.iter().fold(0.0f64, |a, &b| a.max(b));
+    let (early, late) = (peak(&distance[n - 2 * half..n - half]), peak(&distance[n - half..]));
+    if !(late > 0.0 && late < early) {
+        return None;
+    }
+    let rate = (early / late).ln() / half as f64;
+    let more = ((late / target).ln() / rate).ceil().max(0.0);
+    // Beyond any count a run could take, the answer is "far more", not a number.
+    (more < 1e9).then(|| n + more as usize)
 }
 
 /// What a period is judged by: the mean power at each interface point, then at each point
@@ -118,6 +161,23 @@ fn relative_change(metrics: &Metrics, base: &Metrics) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A distance decaying as e^{−0.05 p}, beating (|cos| of a 12-period beat, never below
+    /// a tenth of its envelope): the periods it needs to reach 1e-4 are predicted at or
+    /// beyond the first period whose envelope is below it, and within 10 % of it; a
+    /// distance that does not decay, or too short a run, predicts nothing.
+    #[test]
+    fn the_decay_over_the_last_periods_predicts_the_periods_needed() {
+        let envelope = |p: f64| 0.5 * (-0.05 * p).exp();
+        let d: Vec<f64> = (0..100)
+            .map(|p| envelope(p as f64) * (0.1 + 0.9 * (std::f64::consts::PI * p as f64 / 12.0).cos().abs()))
+            .collect();
+        let exact = ((0.5f64 / 1e-4).ln() / 0.05).ceil() as usize;
+        let predicted = periods_to_reach(&d, 1e-4).unwrap();
+        assert!(predicted >= exact && (predicted as f64) < 1.1 * exact as f64, "{predicted} vs {exact}");
+        assert_eq!(periods_to_reach(&vec![1e-2; 100], 1e-4), None);
+        assert_eq!(periods_to_reach(&d[..10], 1e-4), None);
+    }
 
     /// A spring link (k = 1000 N/m, no damper, no foot mass) whose stretch and foot velocity
     /// are `u` and `v` at every sample: F_T = k·u, power k·u·v.
