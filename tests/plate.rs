@@ -532,3 +532,22 @@ fn fewer_modes_than_asked_are_told() {
     let fine = modes::run(&build_structure(&case(&plate_case("simply_supported", 4, 4, ""))).unwrap(), 8).unwrap();
     assert!(!beamflow::app::commands::modes_table(&fine).contains("asked for"));
 }
+
+/// A point load's power is estimated against the coarser grid too; a grid that halving
+/// leaves as it was (one element asked each way: only the lines through the points) says
+/// it has no estimate and why, and its results stand.
+#[test]
+fn the_grid_estimate_covers_loads_and_names_a_grid_it_cannot_coarsen() {
+    use beamflow::analysis::mesh_estimate::MeshCheck;
+    let load =
+        "[damping]\nkind = \"rayleigh\"\na0 = 4.0\na1 = 3.0e-6\n[[load]]\nname = \"shaker\"\nat = [0.17, 0.23]\n\
+                [load.force]\nkind = \"sine\"\namplitude = 1.0\nfrequency = 83.0\n\
+                [[analysis]]\ntype = \"steady_state\"\nharmonics = 1\nsamples_per_period = 32\n";
+    let run = beamflow::app::runner::run_case(&case(&plate_case("simply_supported", 20, 16, load))).unwrap();
+    let Some(MeshCheck::Estimate(e)) = &run.mesh[0] else { panic!("{:?}", run.mesh) };
+    assert_eq!(e.load_relative_error.len(), 1);
+    assert!(e.load_relative_error[0] > 0.0 && e.max_relative_error >= e.load_relative_error[0], "{e:?}");
+    let run = beamflow::app::runner::run_case(&case(&plate_case("simply_supported", 1, 1, load))).unwrap();
+    let Some(MeshCheck::NotEstimated(why)) = &run.mesh[0] else { panic!("{:?}", run.mesh) };
+    assert!(why.contains("cannot be coarsened along x and y"), "{why}");
+}

@@ -5,7 +5,7 @@ use crate::analysis::case_run::{AnalysisResult, CaseRun, BALANCE_TOLERANCE};
 use crate::analysis::cost;
 use crate::analysis::drive::{DriveTiming, Step};
 use crate::analysis::harmonic::{self, PointForce};
-use crate::analysis::mesh_estimate::{self, MeshCheck, MeshEstimate};
+use crate::analysis::mesh_estimate::{self, MeshCheck, MeshEstimate, PointPowers};
 use crate::analysis::modes;
 use crate::analysis::plan;
 use crate::analysis::reduction::{self, ReductionReport, ReductionSettings};
@@ -236,8 +236,8 @@ fn structure_only(structure: &Structure) -> DofMap {
 /// `budget`.
 pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
     let (model, system, measured) = planned(lc, budget)?;
-    let results = run_analyses(lc, &model, &system, true)?;
-    let mesh = mesh_checks(lc, &results, budget);
+    let results = run_analyses(lc, &model, &system, None)?;
+    let mesh = mesh_checks(lc, &model, &results, budget);
     let link_name =
         |l: &crate::analysis::series::LinkSeries| crate::actuator::link_id(model.actuators[l.actuator].name(), &l.name);
     let measured =
@@ -245,13 +245,20 @@ pub fn run_case_within(lc: &LoadedCase, budget: &Budget) -> Result<CaseRun> {
     Ok(CaseRun { model, system, results, measured, mesh })
 }
 
-/// Runs the case's analyses in order on its planned model and system. `roundoff`: whether
-/// a round-off bound above the tolerance is said (or refused, if the case is strict).
-fn run_analyses(lc: &LoadedCase, model: &Model, system: &System, roundoff: bool) -> Result<Vec<AnalysisResult>> {
+/// Runs the case's analyses in order on its planned model and system: every one, a
+/// round-off bound above the tolerance said (or refused, if the case is strict); or for a
+/// plate's coarser grid `only` those by index, round-off left to the case's own run.
+fn run_analyses(
+    lc: &LoadedCase,
+    model: &Model,
+    system: &System,
+    only: Option<&[usize]>,
+) -> Result<Vec<AnalysisResult>> {
     let mut run = Runner { model, system, reduced: ReducedCache::default(), complete: OnceCell::new() };
     let mut results = Vec::new();
     let structure = model.structure.as_ref();
-    for (i, spec) in lc.case.analysis.iter().enumerate() {
+    let wanted = |i: usize| only.is_none_or(|o| o.contains(&i));
+    for (i, spec) in lc.case.analysis.iter().enumerate().filter(|(i, _)| wanted(*i)) {
         let field = format!("analysis[{i}]");
         let need_beam = || {
             structure
@@ -298,7 +305,7 @@ fn run_analyses(lc: &LoadedCase, model: &Model, system: &System, roundoff: bool)
         };
         let r = r.map_err(|e| located(e).in_analysis(&lc.file, &field))?;
         refuse_unsound(&lc.file, i, spec, &r)?;
-        if roundoff {
+        if only.is_none() {
             hold_roundoff(lc, model, &field, &r)?;
         }
         results.push(r);
@@ -306,46 +313,68 @@ fn run_analyses(lc: &LoadedCase, model: &Model, system: &System, roundoff: bool)
     Ok(results)
 }
 
-/// The point powers (per link, net per actuator) of a result whose grid error a coarser
-/// plate grid estimates: a steady state, or a transient of a periodic drive.
-fn periodic_powers(r: &AnalysisResult) -> Option<(&[f64], &[f64])> {
+/// The point powers of a result whose grid error a coarser plate grid estimates: a steady
+/// state, or a transient of a periodic drive (a non-periodic record: Err, why not).
+fn periodic_powers(r: &AnalysisResult) -> Option<std::result::Result<PointPowers, &'static str>> {
+    let loads = |l: &[crate::analysis::series::LoadSpectrum]| l.iter().map(|s| s.power_total).collect();
     match r {
-        AnalysisResult::SteadyState(s) => Some((&s.mean_power, &s.net_power)),
-        AnalysisResult::Transient(t) if t.record.is_none() => Some((&t.mean_power, &t.net_power)),
+        AnalysisResult::SteadyState(s) => Some(Ok(PointPowers {
+            links: s.mean_power.clone(),
+            net: s.net_power.clone(),
+            loads: loads(&s.load_spectra),
+        })),
+        AnalysisResult::Transient(t) if t.record.is_none() => Some(Ok(PointPowers {
+            links: t.mean_power.clone(),
+            net: t.net_power.clone(),
+            loads: loads(&t.load_spectra),
+        })),
+        AnalysisResult::Transient(_) => {
+            Some(Err("a non-periodic record's energies and spectra are not compared between grids: compare two \
+                      grids' runs yourself"))
+        }
+        _ => None,
+    }
+}
+
+/// The elements of a plate model's grid along x and y, as built.
+fn built_grid(model: &Model) -> Option<[usize; 2]> {
+    match model.structure.as_ref()? {
+        Structure::Plate(p) => Some([p.grid.nx(), p.grid.ny()]),
         _ => None,
     }
 }
 
 /// Each result's mesh estimate (None where it has no point powers on a plate): the same
 /// analyses run again on a generated plate grid of half the elements each way
-/// ([`crate::analysis::mesh_estimate`]). A coarser grid that cannot run them leaves the
-/// results as they are, with the reason.
-fn mesh_checks(lc: &LoadedCase, results: &[AnalysisResult], budget: &Budget) -> Vec<Option<MeshCheck>> {
+/// ([`crate::analysis::mesh_estimate`]). A coarser grid that cannot run them, or is no
+/// coarser, leaves the results as they are, with the reason.
+fn mesh_checks(lc: &LoadedCase, model: &Model, results: &[AnalysisResult], budget: &Budget) -> Vec<Option<MeshCheck>> {
     let mut checks = vec![None; results.len()];
-    let Some(plate) = lc.case.plate.as_ref().filter(|_| lc.case.base == crate::case::BaseKind::Beam) else {
-        return checks;
-    };
-    let wanted: Vec<usize> =
-        (0..results.len()).filter(|&i| periodic_powers(&results[i]).is_some_and(|(p, _)| !p.is_empty())).collect();
-    if wanted.is_empty() || plate.mesh.error_estimate == Some(false) {
+    let (Some(plate), Some(fine_grid)) = (lc.case.plate.as_ref(), built_grid(model)) else { return checks };
+    if plate.mesh.error_estimate == Some(false) {
         return checks;
     }
-    let elements = plate.mesh.elements();
+    let mut wanted = Vec::new();
+    for (i, r) in results.iter().enumerate() {
+        match periodic_powers(r) {
+            Some(Ok(p)) if !(p.links.is_empty() && p.loads.is_empty()) => wanted.push((i, p)),
+            Some(Err(why)) => checks[i] = Some(MeshCheck::NotEstimated(why.into())),
+            _ => {}
+        }
+    }
+    if wanted.is_empty() {
+        return checks;
+    }
     let coarse = if plate.mesh.file.is_some() {
         Err("a mesh file's grid is as written, with no coarser grid to compare it with".to_string())
     } else {
-        let c = coarse_case(lc, &wanted);
-        planned(&c, budget).and_then(|(model, system, _)| run_analyses(&c, &model, &system, false)).map_err(|e| {
-            let [cx, cy] = mesh_estimate::coarser(elements);
-            format!("the grid of {cx} × {cy} elements it is estimated with did not run: {e}")
-        })
+        coarse_run(lc, fine_grid, &wanted.iter().map(|w| w.0).collect::<Vec<_>>(), budget)
     };
-    for (k, &i) in wanted.iter().enumerate() {
-        let fine = periodic_powers(&results[i]).expect("wanted");
-        checks[i] = Some(match &coarse {
-            Ok(c) => match periodic_powers(&c[k]) {
-                Some(cp) => MeshCheck::Estimate(MeshEstimate::between(elements, fine, cp)),
-                None => MeshCheck::NotEstimated("the coarser grid's run has no point powers".into()),
+    for (k, (i, fine)) in wanted.iter().enumerate() {
+        checks[*i] = Some(match &coarse {
+            Ok((grid, c)) => match periodic_powers(&c[k]) {
+                Some(Ok(cp)) => MeshCheck::Estimate(MeshEstimate::between((fine_grid, *grid), fine, &cp)),
+                _ => MeshCheck::NotEstimated("the coarser grid's run has no point powers".into()),
             },
             Err(why) => MeshCheck::NotEstimated(why.clone()),
         });
@@ -353,9 +382,38 @@ fn mesh_checks(lc: &LoadedCase, results: &[AnalysisResult], budget: &Budget) -> 
     checks
 }
 
-/// The case on a generated plate grid of half the elements each way, with only the
-/// analyses `wanted` (by index), no measurements, no history, and no estimates of its own.
-fn coarse_case(lc: &LoadedCase, wanted: &[usize]) -> LoadedCase {
+/// The analyses `wanted` (by index) of the case on a generated plate grid of half the
+/// elements each way, and that grid as built; or why there is none: a grid that halving
+/// leaves as it was along a side, or a coarser grid that refused or failed (its reason,
+/// which names the case's own field and analysis).
+fn coarse_run(
+    lc: &LoadedCase,
+    fine_grid: [usize; 2],
+    wanted: &[usize],
+    budget: &Budget,
+) -> std::result::Result<([usize; 2], Vec<AnalysisResult>), String> {
+    let c = coarse_case(lc);
+    let asked = c.case.plate.as_ref().map_or([0, 0], |p| p.mesh.elements());
+    let failed = |e: Error| {
+        // Nothing of the case's own run is lost when its coarser grid fails.
+        let text = e.to_string().replace("; nothing was written", "");
+        format!("the coarser grid ({} × {} elements asked) could not run it: {text}", asked[0], asked[1])
+    };
+    let (model, system) = match planned(&c, budget) {
+        Ok((model, system, _)) => (model, system),
+        Err(e) => return Err(failed(e)),
+    };
+    let grid = built_grid(&model).unwrap_or(fine_grid);
+    if let Some(why) = mesh_estimate::not_coarser(fine_grid, grid) {
+        return Err(why);
+    }
+    run_analyses(&c, &model, &system, Some(wanted)).map(|r| (grid, r)).map_err(failed)
+}
+
+/// The case on a generated plate grid of half the elements each way, every analysis kept
+/// (their force points keep their grid lines, their indices the case's), no measurements,
+/// no history, and no estimates of its own.
+fn coarse_case(lc: &LoadedCase) -> LoadedCase {
     let mut c = lc.clone();
     let plate = c.case.plate.as_mut().expect("a plate case");
     plate.mesh.elements = Some(mesh_estimate::coarser(plate.mesh.elements()));
@@ -363,7 +421,6 @@ fn coarse_case(lc: &LoadedCase, wanted: &[usize]) -> LoadedCase {
     c.case.measurement.clear();
     c.case.output.full_history = false;
     c.case.output.history_every = 1;
-    c.case.analysis = wanted.iter().map(|&i| lc.case.analysis[i].clone()).collect();
     for a in &mut c.case.analysis {
         if let AnalysisSpec::SteadyState { reduction: Some(r), .. }
         | AnalysisSpec::Transient { reduction: Some(r), .. } = a

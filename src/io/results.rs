@@ -582,13 +582,22 @@ fn write_mesh_estimate<S: GroupSink>(g: &S, m: &MeshCheck) -> Result<()> {
     g.attr_f64("max_relative_error", e.max_relative_error)?;
     g.attr_f64("order", crate::analysis::mesh_estimate::ORDER)?;
     let grid = |n: [usize; 2]| n.map(|k| k as f64);
-    g.write_f64("elements", &grid(e.elements), &[2], "1", "generated grid's elements along x and y")?;
-    g.write_f64("coarse_elements", &grid(e.coarse_elements), &[2], "1", "the coarser grid's, half each way")?;
+    g.write_f64("elements", &grid(e.elements), &[2], "1", "the grid's elements along x and y, as built")?;
+    g.write_f64("coarse_elements", &grid(e.coarse_elements), &[2], "1", "the coarser grid's, as built")?;
     let n = e.relative_error.len();
     g.write_f64("coarse_mean_power", &e.coarse_mean_power, &[n], "W", "mean power per link on the coarser grid")?;
     g.write_f64("relative_error", &e.relative_error, &[n], "1", "|P_h - P_2h| / |P_h| per link")?;
     let a = e.net_power_relative_error.len();
-    g.write_f64("net_power_relative_error", &e.net_power_relative_error, &[a], "1", "the same per actuator's net power")
+    g.write_f64(
+        "net_power_relative_error",
+        &e.net_power_relative_error,
+        &[a],
+        "1",
+        "the same per actuator's net power",
+    )?;
+    let l = e.load_relative_error.len();
+    g.write_f64("coarse_load_power", &e.coarse_load_power, &[l], "W", "mean power per point load on the coarser grid")?;
+    g.write_f64("load_relative_error", &e.load_relative_error, &[l], "1", "the same per point load's power")
 }
 
 fn write_powers<S: GroupSink>(g: &S, mean: &[f64], net: &[f64], run: &CaseRun) -> Result<()> {

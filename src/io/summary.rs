@@ -81,7 +81,8 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
     }
     for (a, m) in analyses.iter_mut().zip(&run.mesh) {
         if let Some(m) = m {
-            a["mesh_estimate"] = mesh_estimate(m, &link_name, &actuators);
+            let loads: Vec<&str> = run.model.loads.iter().map(|l| l.name.as_str()).collect();
+            a["mesh_estimate"] = mesh_estimate(m, &link_name, &actuators, &loads);
         }
     }
     if run.model.structure.is_none() {
@@ -100,7 +101,7 @@ pub fn summary(lc: &LoadedCase, run: &CaseRun) -> Value {
 
 /// A plate grid's error estimate with each number under its point's or actuator's name, or
 /// why there is none.
-fn mesh_estimate(m: &MeshCheck, link_name: &dyn Fn(usize) -> String, actuators: &[&str]) -> Value {
+fn mesh_estimate(m: &MeshCheck, link_name: &dyn Fn(usize) -> String, actuators: &[&str], loads: &[&str]) -> Value {
     match m {
         MeshCheck::Estimate(e) => {
             let per_link = |v: &[f64]| -> Map<String, Value> {
@@ -109,7 +110,9 @@ fn mesh_estimate(m: &MeshCheck, link_name: &dyn Fn(usize) -> String, actuators: 
             json!({"elements": e.elements, "coarse_elements": e.coarse_elements, "order": mesh_estimate::ORDER,
                    "max_relative_error": e.max_relative_error, "relative_error": per_link(&e.relative_error),
                    "net_power_relative_error": by_name(actuators, &e.net_power_relative_error),
-                   "coarse_mean_power_w": per_link(&e.coarse_mean_power)})
+                   "coarse_mean_power_w": per_link(&e.coarse_mean_power),
+                   "load_relative_error": by_name(loads, &e.load_relative_error),
+                   "coarse_load_power_w": by_name(loads, &e.coarse_load_power)})
         }
         MeshCheck::NotEstimated(why) => json!({"not_estimated": why}),
     }

@@ -378,7 +378,7 @@ impl RunReport<'_> {
                 if e > MESH_WARN {
                     w.push(format!(
                         "{tag}: the plate grid's point powers differ from a {} × {} grid's by up to {e:.1e}: \
-                         refine `plate.mesh.elements` (a doubling cuts the difference about fourfold).",
+                         refine `plate.mesh.elements` until this difference is below what you need.",
                         m["coarse_elements"][0], m["coarse_elements"][1]
                     ));
                 } else if let Some(why) = m["not_estimated"].as_str() {
