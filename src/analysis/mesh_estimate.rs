@@ -8,6 +8,7 @@
 //! asymptotic. It is an estimate, not a bound: two grids in the asymptotic range show the
 //! rate, no pair of grids proves it (docs/structures.md, "Accuracy").
 
+use crate::power::point::relative_to_own;
 use serde::Serialize;
 
 /// The observed order of the point powers' convergence on plate grids.
@@ -51,9 +52,9 @@ impl MeshEstimate {
     /// The estimate from the powers of the fine grid of `elements` and of the coarse grid
     /// of `coarse_elements` (as built).
     pub fn between(grids: ([usize; 2], [usize; 2]), fine: &PointPowers, coarse: &PointPowers) -> Self {
-        let relative_error = relative(&fine.links, &coarse.links);
-        let net_power_relative_error = relative(&fine.net, &coarse.net);
-        let load_relative_error = relative(&fine.loads, &coarse.loads);
+        let relative_error = relative_to_own(&fine.links, &coarse.links);
+        let net_power_relative_error = relative_to_own(&fine.net, &coarse.net);
+        let load_relative_error = relative_to_own(&fine.loads, &coarse.loads);
         let max_relative_error = relative_error
             .iter()
             .chain(&net_power_relative_error)
@@ -89,22 +90,6 @@ pub fn not_coarser(fine: [usize; 2], coarse: [usize; 2]) -> Option<String> {
             coarse[1]
         )
     })
-}
-
-/// |c − f| / |f| per entry, |f| floored at 1e-6 of the largest |f|.
-fn relative(fine: &[f64], coarse: &[f64]) -> Vec<f64> {
-    let floor = 1e-6 * fine.iter().fold(0.0f64, |a, p| a.max(p.abs()));
-    fine.iter()
-        .zip(coarse)
-        .map(|(&f, &c)| {
-            let d = f.abs().max(floor);
-            if d > 0.0 {
-                (c - f).abs() / d
-            } else {
-                (c - f).abs()
-            }
-        })
-        .collect()
 }
 
 /// A result's mesh estimate, or why it has none.

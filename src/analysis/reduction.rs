@@ -12,6 +12,7 @@
 use super::drive::common_period;
 use crate::assembly::{Model, System};
 use crate::error::{Error, Result};
+use crate::power::point::relative_to_own;
 use crate::solve::eigen::Modes;
 use crate::solve::modal_basis::{self as red, ReductionOptions};
 use crate::solve::shared_basis::{Pattern, SharedBasis};
@@ -79,29 +80,14 @@ impl ReductionError {
     /// The difference of the point powers (W, per link) and net powers (W, per actuator)
     /// of a reduced model from the full model's, at `harmonics` harmonics.
     pub fn between(harmonics: usize, full: (&[f64], &[f64]), reduced: (&[f64], &[f64])) -> Self {
-        let rel = |a: f64, b: f64, floor: f64| {
-            let d = b.abs().max(floor);
-            if d > 0.0 {
-                (a - b).abs() / d
-            } else {
-                (a - b).abs()
-            }
-        };
-        let largest = |v: &[f64]| v.iter().fold(0.0f64, |a, p| a.max(p.abs()));
-        let (scale, net_scale) = (largest(full.0), largest(full.1));
-        let relative_error: Vec<f64> = reduced.0.iter().zip(full.0).map(|(&r, &f)| rel(r, f, 1e-6 * scale)).collect();
+        let relative_error = relative_to_own(full.0, reduced.0);
         ReductionError {
             harmonics,
             full_mean_power: full.0.to_vec(),
             reduced_mean_power: reduced.0.to_vec(),
             max_relative_error: relative_error.iter().fold(0.0f64, |a, &b| a.max(b)),
             relative_error,
-            net_power_relative_error: reduced
-                .1
-                .iter()
-                .zip(full.1)
-                .map(|(&r, &f)| rel(r, f, 1e-6 * net_scale))
-                .collect(),
+            net_power_relative_error: relative_to_own(full.1, reduced.1),
         }
     }
 

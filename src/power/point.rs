@@ -34,6 +34,17 @@ pub fn own_scales(values: &[f64]) -> Vec<f64> {
     values.iter().map(|x| x.abs().max(floor)).collect()
 }
 
+/// |other_i − reference_i| / scale_i per entry, each scale the reference's [`own_scales`]
+/// (where every reference value vanishes, the difference itself).
+pub fn relative_to_own(reference: &[f64], other: &[f64]) -> Vec<f64> {
+    reference
+        .iter()
+        .zip(other)
+        .zip(own_scales(reference))
+        .map(|((r, o), s)| if s > 0.0 { (o - r).abs() / s } else { (o - r).abs() })
+        .collect()
+}
+
 /// The largest of |a_i − b_i| / scale_i, each difference relative to its own scale (a zero
 /// scale counts a zero difference only: 0/0 is taken as 0).
 pub fn largest_relative(a: &[f64], b: &[f64], scales: &[f64]) -> f64 {
