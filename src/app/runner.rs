@@ -304,7 +304,7 @@ fn run_analyses(
             None => e,
         };
         let r = r.map_err(|e| located(e).in_analysis(&lc.file, &field))?;
-        refuse_unsound(&lc.file, i, spec, &r)?;
+        refuse_unsound(&lc.file, i, spec, &r, if only.is_none() { "; nothing was written" } else { "" })?;
         if only.is_none() {
             hold_roundoff(lc, model, &field, &r)?;
         }
@@ -394,11 +394,8 @@ fn coarse_run(
 ) -> std::result::Result<([usize; 2], Vec<AnalysisResult>), String> {
     let c = coarse_case(lc);
     let asked = c.case.plate.as_ref().map_or([0, 0], |p| p.mesh.elements());
-    let failed = |e: Error| {
-        // Nothing of the case's own run is lost when its coarser grid fails.
-        let text = e.to_string().replace("; nothing was written", "");
-        format!("the coarser grid ({} × {} elements asked) could not run it: {text}", asked[0], asked[1])
-    };
+    let failed =
+        |e: Error| format!("the coarser grid ({} × {} elements asked) could not run it: {e}", asked[0], asked[1]);
     let (model, system) = match planned(&c, budget) {
         Ok((model, system, _)) => (model, system),
         Err(e) => return Err(failed(e)),
@@ -433,8 +430,9 @@ fn coarse_case(lc: &LoadedCase) -> LoadedCase {
 
 /// Refuses a result that holds a non-finite number or misses its energy balance by more
 /// than [`BALANCE_TOLERANCE`]: such numbers describe no motion of the model, so they are
-/// never reported as a success. The message names the setting that closes the gap.
-fn refuse_unsound(file: &str, i: usize, spec: &AnalysisSpec, r: &AnalysisResult) -> Result<()> {
+/// never reported as a success. The message names the setting that closes the gap, and
+/// `outcome` what became of the run (the case's own: nothing was written).
+fn refuse_unsound(file: &str, i: usize, spec: &AnalysisSpec, r: &AnalysisResult, outcome: &str) -> Result<()> {
     if let Some(q) = r.non_finite() {
         return Err(Error::input(
             file,
@@ -442,7 +440,7 @@ fn refuse_unsound(file: &str, i: usize, spec: &AnalysisSpec, r: &AnalysisResult)
             format!(
                 "the result is not a finite number ({q}): the inputs are out of the range double precision \
                  can carry (amplitudes, material constants or frequencies many orders of magnitude from \
-                 physical values) or the solution diverged; nothing was written"
+                 physical values) or the solution diverged{outcome}"
             ),
         ));
     }
@@ -464,8 +462,7 @@ fn refuse_unsound(file: &str, i: usize, spec: &AnalysisSpec, r: &AnalysisResult)
         field,
         format!(
             "the energy balance ({what}) is off by {e:.3e} of its terms, above the tolerance \
-             {BALANCE_TOLERANCE:e}: the result is not a solution of the model; {advice} are needed; \
-             nothing was written"
+             {BALANCE_TOLERANCE:e}: the result is not a solution of the model; {advice} are needed{outcome}"
         ),
     ))
 }
